@@ -1,0 +1,268 @@
+"""Assembly of the drivetrain matrices from the model, with the checks that guard them.
+
+The matrices are never typed by hand: every element contributes its blocks through
+:meth:`~mechdyn.drivetrain.elements.Element.blocks`, rigid meshes become a transformation
+θ = T q to independent coordinates q, and the reduced matrices are Tᵀ M T, Tᵀ K T, Tᵀ C T.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+from mechdyn.drivetrain.model import Drivetrain
+from mechdyn.errors import ModelCheckError
+
+__all__ = ["Assembly", "assemble", "check_matrices"]
+
+_TOL = 1e-10
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """The assembled drivetrain.
+
+    Attributes
+    ----------
+    drivetrain : Drivetrain
+        The model it was assembled from.
+    T : scipy.sparse.csr_array
+        (n_disks, n_coordinates) transformation θ = T q; one entry per row (each disk follows one
+        independent coordinate through rigid meshes).
+    coordinate_names : tuple of str
+        The disk that each independent coordinate is (the first disk of its rigidly geared group).
+    mass : ndarray
+        Reduced inertias (the reduced mass matrix is diagonal), kg·m².
+    K, C : scipy.sparse.csr_array
+        Reduced stiffness (N·m/rad) and damping (N·m·s/rad) matrices.
+    rigid_body_vectors : ndarray
+        (n_disks, n_free) exact rigid-body motions, one per free branch.
+    """
+
+    drivetrain: Drivetrain
+    T: sp.csr_array
+    coordinate_names: tuple[str, ...]
+    mass: np.ndarray
+    K: sp.csr_array
+    C: sp.csr_array
+    rigid_body_vectors: np.ndarray
+
+    @property
+    def n(self) -> int:
+        """Number of independent coordinates."""
+        return self.mass.size
+
+    @property
+    def n_rigid_body(self) -> int:
+        """Number of rigid-body modes (free branches)."""
+        return self.rigid_body_vectors.shape[1]
+
+    @cached_property
+    def K_full(self) -> sp.csr_array:
+        """Stiffness over all disks before the rigid-mesh reduction, N·m/rad."""
+        return _scatter(self.drivetrain, "stiffness")
+
+    @cached_property
+    def C_full(self) -> sp.csr_array:
+        """Damping over all disks before the rigid-mesh reduction, N·m·s/rad."""
+        return _scatter(self.drivetrain, "damping")
+
+
+def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
+    idx = drivetrain.disk_index
+    rows, cols, vals = [], [], []
+    for _, b in drivetrain.element_blocks:
+        block = getattr(b, which)
+        if block is None:
+            continue
+        dofs = np.array([idx[d] for d in b.disks])
+        r, c = np.meshgrid(dofs, dofs, indexing="ij")
+        rows.append(r.ravel())
+        cols.append(c.ravel())
+        vals.append(np.asarray(block, dtype=float).ravel())
+    n = len(drivetrain.disks)
+    if not rows:
+        return sp.csr_array((n, n))
+    return sp.coo_array(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    ).tocsr()
+
+
+def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
+    """θ = T q for the rigid-mesh constraints; each disk follows its group's first disk."""
+    idx = drivetrain.disk_index
+    n = len(drivetrain.disks)
+    links = []
+    for e, b in drivetrain.element_blocks:
+        if b.constraint is None:
+            continue
+        if len(b.disks) != 2:  # pragma: no cover - no such element yet
+            raise ModelCheckError("only two-disk constraints can be reduced", element=e.name)
+        ca, cb = b.constraint
+        links.append((idx[b.disks[0]], idx[b.disks[1]], -ca / cb, e))
+    if not links:
+        return sp.csr_array(sp.identity(n, format="csr")), drivetrain.disk_names
+    group, amp, locked = drivetrain._propagate(links)
+    for e in locked:
+        if e is not None:
+            raise ModelCheckError(
+                "closes a loop of rigid gear meshes whose ratios disagree, so the train cannot turn; "
+                "make one mesh of the loop flexible or correct the ratios",
+                element=e.name,
+            )
+    n_groups = int(group.max()) + 1
+    T = sp.csr_array((amp, (np.arange(n), group)), shape=(n, n_groups))
+    first = [int(np.flatnonzero(group == g)[0]) for g in range(n_groups)]
+    return T, tuple(drivetrain.disk_names[i] for i in first)
+
+
+def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
+    """Assemble the reduced mass, stiffness and damping matrices of a drivetrain.
+
+    Parameters
+    ----------
+    drivetrain : Drivetrain
+    check : bool
+        Run the element and rigid-body checks (default). See Notes.
+
+    Returns
+    -------
+    Assembly
+
+    Raises
+    ------
+    ModelCheckError
+        Naming the element whose block is not symmetric or not positive semi-definite, or which
+        resists the rigid-body rotation of a free branch (a stiffness that grounds a free drivetrain),
+        or a loop of rigid meshes that locks the train.
+
+    Notes
+    -----
+    Checks: every element block symmetric and positive semi-definite; the assembled K annihilates
+    the exact rigid-body motion of each free branch (so the number of zero modes equals the number
+    of free branches). Together they make K symmetric semi-definite with the right null space.
+    """
+    T, names = _reduction(drivetrain)
+    J = drivetrain.inertias
+    mass = np.asarray(T.multiply(T).T @ J)  # T has one entry per row, so TᵀMT is diagonal
+    rigid = drivetrain.free_branches()
+    R = np.column_stack(rigid) if rigid else np.zeros((len(J), 0))
+    asm = Assembly(
+        drivetrain=drivetrain,
+        T=T,
+        coordinate_names=names,
+        mass=mass,
+        K=sp.csr_array(T.T @ _scatter(drivetrain, "stiffness") @ T),
+        C=sp.csr_array(T.T @ _scatter(drivetrain, "damping") @ T),
+        rigid_body_vectors=R,
+    )
+    if check:
+        _check_elements(drivetrain)
+        _check_rigid_body(asm)
+    return asm
+
+
+def _check_elements(drivetrain: Drivetrain) -> None:
+    for e, b in drivetrain.element_blocks:
+        for which in ("mass", "stiffness", "damping"):
+            block = getattr(b, which)
+            if block is None:
+                continue
+            scale = max(float(np.max(np.abs(block))), np.finfo(float).tiny)
+            if not np.allclose(block, block.T, rtol=0, atol=_TOL * scale):
+                raise ModelCheckError(f"its {which} block is not symmetric: {block.tolist()}", element=e.name)
+            lowest = float(np.linalg.eigvalsh(block).min())
+            if lowest < -_TOL * scale:
+                raise ModelCheckError(
+                    f"its {which} block is not positive semi-definite (eigenvalue {lowest:.4g})",
+                    element=e.name,
+                )
+
+
+def _check_rigid_body(asm: Assembly) -> None:
+    dt = asm.drivetrain
+    idx = dt.disk_index
+    for r in asm.rigid_body_vectors.T:
+        for e, b in dt.element_blocks:
+            if b.stiffness is None:
+                continue
+            re = r[[idx[d] for d in b.disks]]
+            if not np.any(re):
+                continue
+            scale = np.abs(b.stiffness).max() * np.abs(re).max()
+            if np.abs(b.stiffness @ re).max() > 1e-9 * scale:
+                raise ModelCheckError(
+                    "its stiffness resists the rigid-body rotation of a free branch (it grounds a "
+                    "free drivetrain); check its ratio or radii against the meshes of that branch",
+                    element=e.name,
+                )
+
+
+def check_matrices(
+    M: np.ndarray,
+    K: np.ndarray,
+    *,
+    expected_rigid_body_modes: int,
+    dof_names: Sequence[str] | None = None,
+    rigid_body_vectors: np.ndarray | None = None,
+    rtol: float = 1e-9,
+) -> None:
+    """Check a (possibly hand-made) pair of mass and stiffness matrices.
+
+    Parameters
+    ----------
+    M, K : array_like
+        Square mass (kg·m²) and stiffness (N·m/rad) matrices.
+    expected_rigid_body_modes : int
+        Number of free branches (1 for a free drivetrain, 0 for a grounded one).
+    dof_names : sequence of str, optional
+        Names of the degrees of freedom for the messages.
+    rigid_body_vectors : ndarray, optional
+        (n, n_free) expected rigid-body motions (e.g. :attr:`Assembly.rigid_body_vectors`); rows of
+        K that do not annihilate them are named. Without them, the rows whose entries do not sum to
+        zero are named, which is right for a chain without gears.
+    rtol : float
+        Eigenvalues of M⁻¹K below ``rtol`` times the largest count as zero.
+
+    Raises
+    ------
+    ModelCheckError
+        Naming the first asymmetric entry, the negative eigenvalue, or the zero-mode count and the
+        degrees of freedom whose stiffness row does not balance (a stray grounding term).
+    """
+    M = np.asarray(M, dtype=float)
+    K = np.asarray(K, dtype=float)
+    n = K.shape[0]
+    names = list(dof_names) if dof_names is not None else [f"dof {i + 1}" for i in range(n)]
+    for label, A in (("M", M), ("K", K)):
+        if A.shape != (n, n):
+            raise ModelCheckError(f"{label} has shape {A.shape}; expected ({n}, {n})")
+        diff = np.abs(A - A.T)
+        if diff.max() > _TOL * np.abs(A).max():
+            i, j = np.unravel_index(np.argmax(diff), diff.shape)
+            raise ModelCheckError(
+                f"{label} is not symmetric: {label}[{names[i]}, {names[j]}] = {A[i, j]:.6g} but "
+                f"{label}[{names[j]}, {names[i]}] = {A[j, i]:.6g}"
+            )
+    from scipy.linalg import eigh
+
+    lam, vec = eigh(K, M)
+    big = np.abs(lam).max()
+    if lam.min() < -rtol * big:
+        worst = names[int(np.argmax(np.abs(vec[:, 0])))]
+        raise ModelCheckError(f"K is not positive semi-definite (eigenvalue {lam.min():.4g}, mostly at {worst})")
+    zero = int(np.sum(np.abs(lam) <= rtol * big))
+    if zero != expected_rigid_body_modes:
+        R = np.ones((n, 1)) if rigid_body_vectors is None else np.asarray(rigid_body_vectors).reshape(n, -1)
+        residual = np.abs(K @ R).max(axis=1)
+        scale = np.abs(K).max(axis=1) * np.abs(R).max()
+        unbalanced = [names[i] for i in range(n) if residual[i] > rtol * scale[i]]
+        hint = f"; rows of K that resist the rigid-body motion: {', '.join(unbalanced)}" if unbalanced else ""
+        raise ModelCheckError(
+            f"K has {zero} zero (rigid-body) mode(s); expected {expected_rigid_body_modes}, one per "
+            f"free branch{hint}"
+        )

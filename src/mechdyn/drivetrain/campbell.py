@@ -1,0 +1,168 @@
+"""Campbell (interference) diagram: excitation orders against natural frequencies over a speed range."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.drivetrain.modal import ModalResult, modal
+from mechdyn.drivetrain.model import Drivetrain
+from mechdyn.errors import ModelError
+from mechdyn.units import to_si
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["CampbellResult", "ExcitationLine", "campbell"]
+
+
+@dataclass(frozen=True)
+class ExcitationLine:
+    """An excitation whose frequency is proportional to the reference speed.
+
+    Attributes
+    ----------
+    label : str
+        E.g. ``"1× shaft line 3–4"`` or ``"1× mesh G1 (96 teeth)"``.
+    kind : {"shaft", "mesh"}
+    per_rev : float
+        Excitation cycles per revolution of the reference disk.
+    """
+
+    label: str
+    kind: str
+    per_rev: float
+
+    def frequency_hz(self, speed_rad_s: np.ndarray | float) -> np.ndarray:
+        """Excitation frequency, Hz, at reference speeds in rad/s."""
+        return self.per_rev * np.asarray(speed_rad_s) / (2.0 * np.pi)
+
+
+@dataclass(frozen=True)
+class CampbellResult:
+    """Excitation lines and natural frequencies over a reference speed range.
+
+    Attributes
+    ----------
+    modal : ModalResult
+    reference : str
+        The disk whose speed is the abscissa.
+    speed_range : (float, float)
+        Reference speeds, rad/s.
+    lines : tuple of ExcitationLine
+    """
+
+    modal: ModalResult
+    reference: str
+    speed_range: tuple[float, float]
+    lines: tuple[ExcitationLine, ...]
+
+    @property
+    def crossings(self) -> list[dict[str, Any]]:
+        """Every intersection of an excitation line with a natural frequency inside the range.
+
+        Each item has ``line``, ``kind``, ``mode`` (1-based), ``frequency_hz`` and ``speed_rpm``
+        (reference speed at the crossing), sorted by speed.
+        """
+        lo, hi = self.speed_range
+        out = []
+        for line in self.lines:
+            for m, f in enumerate(self.modal.frequencies_hz):
+                speed = 2.0 * np.pi * f / line.per_rev
+                if lo <= speed <= hi:
+                    out.append(
+                        {
+                            "line": line.label,
+                            "kind": line.kind,
+                            "mode": m + 1,
+                            "frequency_hz": float(f),
+                            "speed_rpm": float(speed * 60.0 / (2.0 * np.pi)),
+                        }
+                    )
+        return sorted(out, key=lambda c: c["speed_rpm"])
+
+    def to_frame(self) -> pd.DataFrame:
+        """The crossings as a table."""
+        import pandas as pd
+
+        return pd.DataFrame(self.crossings, columns=["line", "kind", "mode", "frequency_hz", "speed_rpm"])
+
+    def plot(self, ax: Any = None, max_frequency_hz: float | None = None) -> Any:
+        """Draw the Campbell diagram; returns the matplotlib axes."""
+        from mechdyn.drivetrain.plots import plot_campbell
+
+        return plot_campbell(self, ax=ax, max_frequency_hz=max_frequency_hz)
+
+
+def _span(names: Sequence[str]) -> str:
+    return names[0] if len(names) == 1 else f"{names[0]}–{names[-1]}"
+
+
+def campbell(
+    drivetrain: Drivetrain,
+    speed_range: tuple[Any, Any],
+    *,
+    reference: str | None = None,
+    shaft_orders: Sequence[float] = (1.0,),
+    mesh_orders: Sequence[float] = (1.0,),
+    modes: ModalResult | None = None,
+    rigid_gears: bool = False,
+) -> CampbellResult:
+    """Campbell diagram of a geared drivetrain.
+
+    Parameters
+    ----------
+    drivetrain : Drivetrain
+    speed_range : (speed, speed)
+        Lowest and highest speed of the reference disk (quantities such as ``"3000 rpm"``, or rad/s).
+    reference : str, optional
+        The disk whose speed is given; default the first disk.
+    shaft_orders : sequence of float
+        Orders of each shaft line's own speed (1 = once per revolution of that line).
+    mesh_orders : sequence of float
+        Harmonics of each mesh's tooth-passing frequency (teeth × shaft speed); meshes without teeth
+        have no mesh line.
+    modes : ModalResult, optional
+        Reuse modes already computed.
+    rigid_gears : bool
+        Natural frequencies of the rigid-gear model.
+
+    Returns
+    -------
+    CampbellResult
+
+    Notes
+    -----
+    Each shaft line (disks joined by shafts) turns at its mean speed ratio to the reference, from
+    the mesh ratios (teeth first). The gear-mesh frequency is N_a ω_a/2π = N_b ω_b/2π. Natural
+    frequencies of a torsional model without gyroscopic terms do not depend on speed, so the
+    crossings are where order × speed equals a natural frequency (e.g. Rao, *Rotor Dynamics*, ch. 8).
+    """
+    ref = reference or drivetrain.disk_names[0]
+    lo, hi = (to_si(s, "rad/s", plain_is_si=True) for s in speed_range)
+    if not 0 <= lo < hi:
+        raise ModelError(f"speed range {lo:g}..{hi:g} rad/s must satisfy 0 ≤ low < high")
+    ratios = drivetrain.speed_ratios(ref)
+    idx = drivetrain.disk_index
+    lines: list[ExcitationLine] = []
+    for names in drivetrain.shaft_lines():
+        ratio = ratios[idx[names[0]]]
+        if not np.isfinite(ratio):
+            continue
+        for k in shaft_orders:
+            lines.append(ExcitationLine(f"{k:g}× shaft line {_span(names)}", "shaft", k * ratio))
+    for mesh in drivetrain.meshes:
+        if mesh.teeth is None:
+            continue
+        ratio = ratios[idx[mesh.disks[0]]]
+        if not np.isfinite(ratio):
+            continue
+        for h in mesh_orders:
+            lines.append(
+                ExcitationLine(f"{h:g}× mesh {mesh.name} ({mesh.teeth[0]}/{mesh.teeth[1]} teeth)", "mesh", h * mesh.teeth[0] * ratio)
+            )
+    result = modes if modes is not None else modal(drivetrain, rigid_gears=rigid_gears)
+    return CampbellResult(result, ref, (lo, hi), tuple(lines))

@@ -1,0 +1,458 @@
+"""Drivetrain elements: disks, shafts, gear meshes, grounded springs and dampers.
+
+Sign convention
+---------------
+Every disk angle θ is measured in one global sense (counter-clockwise looking along +z, the shafts
+being parallel). An *external* mesh turns its gears in opposite senses: the contact compression along
+the line of action is δ = r_a θ_a + r_b θ_b, so a rigid external mesh imposes θ_a = −n θ_b. An
+*internal* mesh turns both the same way: δ = r_a θ_a − r_b θ_b and θ_a = +n θ_b. Here r are base radii
+and n = N_b / N_a (teeth) is the ratio |θ_a / θ_b|.
+
+Every element implements one protocol, :meth:`Element.blocks`, returning the disks it connects and its
+contributions to the mass, stiffness and damping matrices and, for a rigid mesh, its constraint row.
+The assembler knows no element type by name.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field, replace
+from typing import Any, Literal
+
+import numpy as np
+
+from mechdyn.errors import ModelError, ModelWarning
+from mechdyn.units import UnitError, to_si
+
+__all__ = [
+    "Disk",
+    "Element",
+    "ElementBlocks",
+    "GearMesh",
+    "GroundDamper",
+    "GroundSpring",
+    "Shaft",
+]
+
+#: Relative disagreement above which two sources of a gear ratio are reported.
+RATIO_TOLERANCE = 0.005
+
+
+@dataclass(frozen=True)
+class ElementBlocks:
+    """What one element contributes to the assembled matrices.
+
+    Attributes
+    ----------
+    disks : tuple of str
+        The disks (degrees of freedom) the blocks refer to, in order.
+    mass, stiffness, damping : ndarray or None
+        Square blocks over ``disks`` in kg·m², N·m/rad and N·m·s/rad.
+    constraint : ndarray or None
+        A row ``c`` with ``c @ θ[disks] = 0`` (rigid gear mesh).
+    load_row : ndarray or None
+        The element's internal load as ``load_row @ θ[disks]`` (shaft torque in N·m, mesh force in N).
+    load_unit : str
+        Unit of that load.
+    grounds : bool
+        True when the element ties its disk to the frame through a stiffness.
+    """
+
+    disks: tuple[str, ...]
+    mass: np.ndarray | None = None
+    stiffness: np.ndarray | None = None
+    damping: np.ndarray | None = None
+    constraint: np.ndarray | None = None
+    load_row: np.ndarray | None = None
+    load_unit: str = ""
+    grounds: bool = False
+
+
+def _si(owner: str, field_name: str, value: Any, unit: str) -> float:
+    try:
+        return to_si(value, unit, plain_is_si=True)
+    except UnitError as exc:
+        raise ModelError(str(exc), element=owner, field=field_name) from None
+
+
+def _positive(owner: str, field_name: str, value: float, unit: str, *, allow_zero=False) -> float:
+    ok = value >= 0 if allow_zero else value > 0
+    if not ok:
+        need = "zero or positive" if allow_zero else "positive"
+        raise ModelError(f"{value:g} {unit} must be {need}", element=owner, field=field_name)
+    return value
+
+
+def _name(name: Any) -> str:
+    if not isinstance(name, str) or not name.strip():
+        raise ModelError(f"name {name!r} must be a non-empty text")
+    return name.strip()
+
+
+class Element:
+    """Base of the drivetrain elements: a name and the :meth:`blocks` protocol."""
+
+    name: str
+
+    def blocks(self) -> ElementBlocks:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def transmission(self) -> float | None:
+        """θ_b / θ_a in a motion that loads this two-disk element not at all; None if not a link."""
+        return None
+
+
+@dataclass(frozen=True)
+class Disk(Element):
+    """A rigid disk (one torsional degree of freedom).
+
+    Parameters
+    ----------
+    name : str
+        Unique name, referred to by shafts and meshes.
+    inertia : float or quantity
+        Polar moment of inertia J, kg·m² (e.g. ``"4.0369e-3 kg*m^2"``).
+    """
+
+    name: str
+    inertia: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "name", _name(self.name))
+        j = _si(self.name, "inertia", self.inertia, "kg*m^2")
+        object.__setattr__(self, "inertia", _positive(self.name, "inertia", j, "kg·m²"))
+
+    @classmethod
+    def from_geometry(
+        cls,
+        name: str,
+        *,
+        thickness: Any,
+        outer_diameter: Any,
+        inner_diameter: Any = 0.0,
+        density: Any,
+    ) -> Disk:
+        """Disk of a hollow cylinder: J = ρ h π (D_o⁴ − D_i⁴) / 32.
+
+        Parameters
+        ----------
+        thickness, outer_diameter, inner_diameter : float or quantity
+            h, D_o, D_i in m.
+        density : float or quantity
+            ρ in kg/m³.
+
+        Notes
+        -----
+        Polar moment of inertia of an annular cylinder about its axis (any dynamics text, e.g.
+        Meriam & Kraige, *Engineering Mechanics: Dynamics*, Appendix B).
+        """
+        h = _positive(name, "thickness", _si(name, "thickness", thickness, "m"), "m")
+        do = _positive(name, "outer_diameter", _si(name, "outer_diameter", outer_diameter, "m"), "m")
+        di = _si(name, "inner_diameter", inner_diameter, "m")
+        _positive(name, "inner_diameter", di, "m", allow_zero=True)
+        if di >= do:
+            raise ModelError(
+                f"inner diameter {di:g} m must be smaller than the outer diameter {do:g} m",
+                element=name,
+                field="inner_diameter",
+            )
+        rho = _positive(name, "density", _si(name, "density", density, "kg/m^3"), "kg/m³")
+        return cls(name, rho * h * math.pi * (do**4 - di**4) / 32.0)
+
+    def blocks(self) -> ElementBlocks:
+        return ElementBlocks((self.name,), mass=np.array([[self.inertia]]))
+
+
+def _pair(owner: str, disks: Any) -> tuple[str, str]:
+    if isinstance(disks, str) or len(disks) != 2:
+        raise ModelError(f"{disks!r} must name exactly two disks", element=owner, field="disks")
+    a, b = (_name(d) for d in disks)
+    if a == b:
+        raise ModelError(f"connects disk {a!r} to itself", element=owner, field="disks")
+    return a, b
+
+
+@dataclass(frozen=True)
+class Shaft(Element):
+    """A torsional spring (and optional damper) between two disks.
+
+    Parameters
+    ----------
+    name : str
+    disks : (str, str)
+        The disks at its two ends.
+    stiffness : float or quantity
+        Torsional stiffness K, N·m/rad.
+    damping : float or quantity, optional
+        Torsional damping c, N·m·s/rad.
+    """
+
+    name: str
+    disks: tuple[str, str]
+    stiffness: float
+    damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "name", _name(self.name))
+        object.__setattr__(self, "disks", _pair(self.name, self.disks))
+        k = _si(self.name, "stiffness", self.stiffness, "N*m/rad")
+        object.__setattr__(self, "stiffness", _positive(self.name, "stiffness", k, "N·m/rad"))
+        c = _si(self.name, "damping", self.damping, "N*m*s/rad")
+        object.__setattr__(self, "damping", _positive(self.name, "damping", c, "N·m·s/rad", allow_zero=True))
+
+    @classmethod
+    def from_geometry(
+        cls,
+        name: str,
+        disks: tuple[str, str],
+        *,
+        length: Any,
+        diameter: Any,
+        shear_modulus: Any,
+        inner_diameter: Any = 0.0,
+        damping: Any = 0.0,
+    ) -> Shaft:
+        """Shaft of circular (solid or hollow) section: K = G π (d⁴ − d_i⁴) / (32 l).
+
+        Parameters
+        ----------
+        length, diameter, inner_diameter : float or quantity
+            l, d, d_i in m.
+        shear_modulus : float or quantity
+            G in Pa.
+
+        Notes
+        -----
+        Saint-Venant torsion of a circular section, J_p = π (d⁴ − d_i⁴)/32 (e.g. Timoshenko & Goodier,
+        *Theory of Elasticity*, §101).
+        """
+        length_m = _positive(name, "length", _si(name, "length", length, "m"), "m")
+        d = _positive(name, "diameter", _si(name, "diameter", diameter, "m"), "m")
+        di = _si(name, "inner_diameter", inner_diameter, "m")
+        _positive(name, "inner_diameter", di, "m", allow_zero=True)
+        if di >= d:
+            raise ModelError(
+                f"inner diameter {di:g} m must be smaller than the diameter {d:g} m",
+                element=name,
+                field="inner_diameter",
+            )
+        g = _positive(name, "shear_modulus", _si(name, "shear_modulus", shear_modulus, "Pa"), "Pa")
+        return cls(name, disks, g * math.pi * (d**4 - di**4) / (32.0 * length_m), damping)
+
+    def blocks(self) -> ElementBlocks:
+        unit = np.array([[1.0, -1.0], [-1.0, 1.0]])
+        return ElementBlocks(
+            self.disks,
+            stiffness=self.stiffness * unit,
+            damping=self.damping * unit if self.damping else None,
+            load_row=self.stiffness * np.array([-1.0, 1.0]),
+            load_unit="N*m",
+        )
+
+    def transmission(self) -> float:
+        return 1.0
+
+
+@dataclass(frozen=True)
+class GearMesh(Element):
+    """A gear mesh between two disks, rigid or flexible.
+
+    Parameters
+    ----------
+    name : str
+    disks : (str, str)
+        Gear a and gear b.
+    kind : {"external", "internal"}
+        External meshes reverse the sense of rotation, internal ones keep it.
+    teeth : (int, int), optional
+        N_a, N_b; sets the ratio n = N_b / N_a and the gear-mesh excitation orders.
+    ratio : float, optional
+        n = |θ_a / θ_b| when the teeth are not known.
+    base_radii : (float, float) or quantities, optional
+        r_a, r_b in m. Required for a flexible mesh.
+    stiffness : float or quantity, optional
+        Mesh stiffness k_c along the line of action, N/m. None makes the mesh rigid.
+    damping : float or quantity, optional
+        Mesh damping along the line of action, N·s/m.
+
+    Notes
+    -----
+    A rigid mesh is the constraint θ_a = ∓n θ_b, reduced out by a transformation (the driven side
+    then contributes n² J). A flexible mesh is the spring k_c on δ = r_a θ_a ± r_b θ_b, giving the block
+    k_c [[r_a², ±r_a r_b], [±r_a r_b, r_b²]] (+ external, − internal), e.g. Friswell et al.,
+    *Dynamics of Rotating Machines* (2010) §3.6, and SPEC §3. The rigid ratio comes from the teeth,
+    else ``ratio``, else the base radii; when teeth or ratio and base radii disagree by more than
+    0.5 % a :class:`~mechdyn.errors.ModelWarning` says so (the published turret data do), since the
+    flexible mesh's no-load motion then follows the base radii, not the teeth.
+    """
+
+    name: str
+    disks: tuple[str, str]
+    kind: Literal["external", "internal"] = "external"
+    teeth: tuple[int, int] | None = None
+    ratio: float | None = None
+    base_radii: tuple[float, float] | None = None
+    stiffness: float | None = None
+    damping: float = 0.0
+    _rigid_ratio: float = field(init=False, repr=False, compare=False, default=1.0)
+
+    def __post_init__(self) -> None:
+        name = _name(self.name)
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "disks", _pair(name, self.disks))
+        if self.kind not in ("external", "internal"):
+            raise ModelError(f"{self.kind!r} must be 'external' or 'internal'", element=name, field="kind")
+        sources: list[tuple[str, float]] = []
+        if self.teeth is not None:
+            teeth = tuple(self.teeth)
+            if len(teeth) != 2 or any(int(z) != z or z < 1 for z in teeth):
+                raise ModelError(f"{self.teeth!r} must be two positive whole numbers", element=name, field="teeth")
+            teeth = (int(teeth[0]), int(teeth[1]))
+            object.__setattr__(self, "teeth", teeth)
+            sources.append(("teeth", teeth[1] / teeth[0]))
+        if self.ratio is not None:
+            ratio = _positive(name, "ratio", _si(name, "ratio", self.ratio, ""), "")
+            object.__setattr__(self, "ratio", ratio)
+            sources.append(("given ratio" if not sources else "ratio", ratio))
+        if self.base_radii is not None:
+            if isinstance(self.base_radii, str) or len(self.base_radii) != 2:
+                raise ModelError(f"{self.base_radii!r} must be two radii", element=name, field="base_radii")
+            radii = tuple(
+                _positive(name, "base_radii", _si(name, "base_radii", r, "m"), "m") for r in self.base_radii
+            )
+            object.__setattr__(self, "base_radii", radii)
+            sources.append(("base_radii", radii[1] / radii[0]))
+        if not sources:
+            raise ModelError("give the teeth, the ratio or the base radii", element=name, field="teeth")
+        if self.stiffness is not None:
+            k = _positive(name, "stiffness", _si(name, "stiffness", self.stiffness, "N/m"), "N/m")
+            object.__setattr__(self, "stiffness", k)
+            if self.base_radii is None:
+                raise ModelError("a flexible mesh (with stiffness) needs base_radii", element=name, field="base_radii")
+        c = _si(name, "damping", self.damping, "N*s/m")
+        object.__setattr__(self, "damping", _positive(name, "damping", c, "N·s/m", allow_zero=True))
+        first_name, first = sources[0]
+        for other_name, other in sources[1:]:
+            if abs(other / first - 1.0) > RATIO_TOLERANCE:
+                if other_name == "ratio":  # teeth and a ratio are both kinematic: they must agree
+                    raise ModelError(
+                        f"ratio {other:g} disagrees with the teeth ratio {first:g}; give one of them",
+                        element=name,
+                        field="ratio",
+                    )
+                use = "the rigid mesh and the speed ratios use" if self.stiffness is None else (
+                    "the flexible mesh uses the base radii; --rigid-gears and the speed ratios use"
+                )
+                warnings.warn(
+                    f"mesh {name!r}: the {first_name} give ratio {first:.4g} but the base radii give "
+                    f"{other:.4g} ({100 * abs(other / first - 1):.1f} % apart); {use} {first:.4g}",
+                    ModelWarning,
+                    stacklevel=3,
+                )
+        object.__setattr__(self, "_rigid_ratio", first)
+
+    @property
+    def rigid(self) -> bool:
+        """True when the mesh is a kinematic constraint (no stiffness given)."""
+        return self.stiffness is None
+
+    @property
+    def speed_ratio(self) -> float:
+        """n = |θ_a / θ_b| = |ω_a / ω_b| from teeth, ratio or base radii (in that order)."""
+        return self._rigid_ratio
+
+    @property
+    def _sign(self) -> float:
+        return 1.0 if self.kind == "external" else -1.0
+
+    def as_rigid(self) -> GearMesh:
+        """The same mesh as a rigid constraint (its ratio from teeth, ratio or base radii)."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ModelWarning)  # already said for this mesh
+            return replace(self, stiffness=None, damping=0.0)
+
+    def blocks(self) -> ElementBlocks:
+        if self.rigid:
+            # θ_a ∓ n θ_b = 0, written as c·θ = 0
+            return ElementBlocks(self.disks, constraint=np.array([1.0, self._sign * self._rigid_ratio]))
+        ra, rb = self.base_radii  # type: ignore[misc]
+        v = np.array([ra, self._sign * rb])
+        outer = np.outer(v, v)
+        return ElementBlocks(
+            self.disks,
+            stiffness=self.stiffness * outer,
+            damping=self.damping * outer if self.damping else None,
+            load_row=self.stiffness * v,
+            load_unit="N",
+        )
+
+    def transmission(self) -> float:
+        if self.rigid:
+            return -self._sign / self._rigid_ratio
+        ra, rb = self.base_radii  # type: ignore[misc]
+        return -self._sign * ra / rb
+
+
+def _single(owner: str, disk: Any) -> tuple[str]:
+    if not isinstance(disk, str):
+        raise ModelError(f"{disk!r} must name one disk", element=owner, field="disk")
+    return (_name(disk),)
+
+
+@dataclass(frozen=True)
+class GroundSpring(Element):
+    """A torsional spring from a disk to the frame (motor stiffness, brake, clamp).
+
+    Parameters
+    ----------
+    name : str
+    disk : str
+    stiffness : float or quantity
+        N·m/rad.
+    """
+
+    name: str
+    disk: str
+    stiffness: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "name", _name(self.name))
+        _single(self.name, self.disk)
+        k = _si(self.name, "stiffness", self.stiffness, "N*m/rad")
+        object.__setattr__(self, "stiffness", _positive(self.name, "stiffness", k, "N·m/rad"))
+
+    def blocks(self) -> ElementBlocks:
+        return ElementBlocks(
+            (self.disk,),
+            stiffness=np.array([[self.stiffness]]),
+            load_row=np.array([self.stiffness]),
+            load_unit="N*m",
+            grounds=True,
+        )
+
+
+@dataclass(frozen=True)
+class GroundDamper(Element):
+    """A torsional viscous damper from a disk to the frame.
+
+    Parameters
+    ----------
+    name : str
+    disk : str
+    damping : float or quantity
+        N·m·s/rad.
+    """
+
+    name: str
+    disk: str
+    damping: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "name", _name(self.name))
+        _single(self.name, self.disk)
+        c = _si(self.name, "damping", self.damping, "N*m*s/rad")
+        object.__setattr__(self, "damping", _positive(self.name, "damping", c, "N·m·s/rad"))
+
+    def blocks(self) -> ElementBlocks:
+        return ElementBlocks((self.disk,), damping=np.array([[self.damping]]))

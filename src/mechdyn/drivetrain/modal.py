@@ -1,0 +1,203 @@
+"""Natural frequencies, mode shapes and modal energy of a drivetrain."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.drivetrain.assembly import Assembly, assemble
+from mechdyn.drivetrain.eigen import Solver, solve_eigen
+from mechdyn.drivetrain.model import Drivetrain
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["ModalResult", "modal"]
+
+
+def _unit_shapes(shapes: np.ndarray) -> np.ndarray:
+    """Scale each column to a largest magnitude of 1, that entry positive."""
+    if shapes.size == 0:
+        return shapes.copy()
+    i = np.argmax(np.abs(shapes), axis=0)
+    peak = shapes[i, np.arange(shapes.shape[1])]
+    return shapes / np.where(peak == 0, 1.0, peak)
+
+
+@dataclass(frozen=True)
+class ModalResult:
+    """Undamped modes of a drivetrain.
+
+    Attributes
+    ----------
+    assembly : Assembly
+        The assembled model the modes belong to.
+    omega : ndarray
+        Natural circular frequencies of the flexible modes, rad/s, ascending.
+    shapes : ndarray
+        (n_disks, n_modes) mass-normalised mode shapes for *every* disk, including disks removed by
+        rigid meshes (recovered as θ = T q), angles in rad for unit modal amplitude.
+    rigid_body_shapes : ndarray
+        (n_disks, n_rigid_body) rigid-body motions, largest entry 1.
+    solver : str
+        The eigen solver that ran.
+    reduced_shapes : ndarray
+        (n_coordinates, n_modes) the same modes on the independent coordinates (shapes = T @ this).
+    """
+
+    assembly: Assembly
+    omega: np.ndarray
+    shapes: np.ndarray
+    rigid_body_shapes: np.ndarray
+    solver: str
+    reduced_shapes: np.ndarray
+
+    @property
+    def drivetrain(self) -> Drivetrain:
+        return self.assembly.drivetrain
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """Natural frequencies of the flexible modes, Hz, ascending."""
+        return self.omega / (2.0 * np.pi)
+
+    @property
+    def rigid_body_modes(self) -> int:
+        """Number of rigid-body (zero-frequency) modes."""
+        return self.rigid_body_shapes.shape[1]
+
+    @property
+    def disk_names(self) -> tuple[str, ...]:
+        return self.drivetrain.disk_names
+
+    @cached_property
+    def unit_shapes(self) -> np.ndarray:
+        """Mode shapes scaled to a largest disk angle of +1."""
+        return _unit_shapes(self.shapes)
+
+    @cached_property
+    def strain_energy(self) -> tuple[tuple[str, ...], np.ndarray]:
+        """Share of each stiff element in each mode's strain energy.
+
+        Returns
+        -------
+        names : tuple of str
+            Elements with a stiffness (shafts, flexible meshes, grounded springs).
+        share : ndarray
+            (n_elements, n_modes), columns sum to 1.
+        """
+        dt = self.drivetrain
+        idx = dt.disk_index
+        names, rows = [], []
+        for e, b in dt.element_blocks:
+            if b.stiffness is None:
+                continue
+            phi = self.shapes[[idx[d] for d in b.disks]]
+            rows.append(0.5 * np.einsum("im,ij,jm->m", phi, b.stiffness, phi))
+            names.append(e.name)
+        energy = np.array(rows).reshape(len(rows), self.shapes.shape[1])
+        total = energy.sum(axis=0)
+        return tuple(names), energy / np.where(total == 0, 1.0, total)
+
+    @cached_property
+    def kinetic_energy(self) -> np.ndarray:
+        """(n_disks, n_modes) share of each disk in each mode's kinetic energy (columns sum to 1)."""
+        e = self.drivetrain.inertias[:, None] * self.shapes**2
+        total = e.sum(axis=0)
+        return e / np.where(total == 0, 1.0, total)
+
+    def dominant_element(self, mode: int) -> tuple[str, float]:
+        """The element holding the largest share of strain energy in flexible mode ``mode`` (0-based)."""
+        names, share = self.strain_energy
+        i = int(np.argmax(share[:, mode]))
+        return names[i], float(share[i, mode])
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per flexible mode: frequency, and the element and disk that dominate it."""
+        import pandas as pd
+
+        rows = []
+        for m, f in enumerate(self.frequencies_hz):
+            el, es = self.dominant_element(m)
+            d = int(np.argmax(self.kinetic_energy[:, m]))
+            rows.append(
+                {
+                    "mode": m + 1,
+                    "frequency_hz": f,
+                    "strain_energy_element": el,
+                    "strain_energy_share": es,
+                    "kinetic_energy_disk": self.disk_names[d],
+                    "kinetic_energy_share": float(self.kinetic_energy[d, m]),
+                }
+            )
+        return pd.DataFrame(rows)
+
+    def shapes_frame(self) -> pd.DataFrame:
+        """Unit-scaled mode shapes: one row per disk, one column per flexible mode (Hz in the name)."""
+        import pandas as pd
+
+        cols = {f"mode {m + 1} ({f:.4g} Hz)": self.unit_shapes[:, m] for m, f in enumerate(self.frequencies_hz)}
+        return pd.DataFrame(cols, index=pd.Index(self.disk_names, name="disk"))
+
+    def energy_frame(self) -> pd.DataFrame:
+        """Strain-energy share (%) of every stiff element, one column per flexible mode."""
+        import pandas as pd
+
+        names, share = self.strain_energy
+        cols = {f"mode {m + 1}": 100 * share[:, m] for m in range(share.shape[1])}
+        return pd.DataFrame(cols, index=pd.Index(names, name="element"))
+
+    def plot(self, modes: Any = None, ax: Any = None) -> Any:
+        """Plot unit-scaled mode shapes against disk; returns the matplotlib axes."""
+        from mechdyn.drivetrain.plots import plot_mode_shapes
+
+        return plot_mode_shapes(self, modes=modes, ax=ax)
+
+
+def modal(
+    model: Drivetrain | Assembly,
+    *,
+    n_modes: int | None = None,
+    solver: Solver = "auto",
+    rigid_gears: bool = False,
+) -> ModalResult:
+    """Undamped natural frequencies and mode shapes of a drivetrain.
+
+    Parameters
+    ----------
+    model : Drivetrain or Assembly
+    n_modes : int, optional
+        Number of lowest flexible modes; all when None.
+    solver : {"auto", "dense", "banded", "sparse"}
+        Eigen solver, see :func:`mechdyn.drivetrain.eigen.solve_eigen`.
+    rigid_gears : bool
+        Treat every gear mesh as a rigid constraint (:meth:`Drivetrain.with_rigid_gears`).
+
+    Returns
+    -------
+    ModalResult
+
+    Notes
+    -----
+    Solves K q = ω² M q on the coordinates left after the rigid-mesh reduction θ = T q (e.g.
+    Friswell et al., *Dynamics of Rotating Machines*, 2010, §3.6). The rigid-body modes are the exact
+    rigid motions of the free branches; their number is checked against K during assembly, so the
+    lowest that many eigenpairs are the zero modes and are set aside.
+    """
+    if isinstance(model, Drivetrain):
+        asm = assemble(model.with_rigid_gears() if rigid_gears else model)
+    else:
+        asm = assemble(model.drivetrain.with_rigid_gears()) if rigid_gears else model
+    n_rb = asm.n_rigid_body
+    want = None if n_modes is None else n_rb + n_modes
+    if asm.n == n_rb:
+        lam, Q, used = np.zeros(0), np.zeros((asm.n, 0)), "none"
+    else:
+        lam, Q, used = solve_eigen(asm.K, asm.mass, n_modes=want, solver=solver)
+    lam, Q = lam[n_rb:], Q[:, n_rb:]
+    omega = np.sqrt(np.clip(lam, 0.0, None))
+    shapes = np.asarray(asm.T @ Q)
+    return ModalResult(asm, omega, shapes, _unit_shapes(asm.rigid_body_vectors), used, Q)

@@ -1,0 +1,201 @@
+"""The drivetrain model: disks and the elements that connect them, as one immutable object."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, replace
+from functools import cached_property
+
+import numpy as np
+
+from mechdyn.drivetrain.elements import Disk, Element, ElementBlocks, GearMesh, Shaft
+from mechdyn.errors import ModelError
+
+__all__ = ["Drivetrain"]
+
+
+@dataclass(frozen=True)
+class Drivetrain:
+    """A torsional drivetrain: disks (degrees of freedom) and connecting/grounding elements.
+
+    Parameters
+    ----------
+    disks : sequence of Disk
+        One torsional degree of freedom each, in the order used for mode shapes.
+    elements : sequence of Element
+        Shafts, gear meshes, grounded springs and dampers; each refers to disks by name.
+    name : str
+        A title for tables, plots and the results store.
+
+    Notes
+    -----
+    The model is immutable; variants are new objects (:meth:`with_rigid_gears`,
+    :func:`dataclasses.replace`).
+    """
+
+    disks: tuple[Disk, ...]
+    elements: tuple[Element, ...] = ()
+    name: str = "drivetrain"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "disks", tuple(self.disks))
+        object.__setattr__(self, "elements", tuple(self.elements))
+        if not self.disks:
+            raise ModelError("a drivetrain needs at least one disk")
+        seen: set[str] = set()
+        for item in (*self.disks, *self.elements):
+            if item.name in seen:
+                raise ModelError("the name is used twice; give every disk and element its own name", element=item.name, field="name")
+            seen.add(item.name)
+        for d in self.disks:
+            if not isinstance(d, Disk):
+                raise ModelError(f"{type(d).__name__} is not a Disk", element=getattr(d, "name", None))
+        known = set(self.disk_names)
+        for e in self.elements:
+            if isinstance(e, Disk):
+                raise ModelError("a disk belongs in `disks`, not `elements`", element=e.name)
+            for d in e.blocks().disks:
+                if d not in known:
+                    raise ModelError(
+                        f"refers to disk {d!r}, which is not defined; defined disks: {', '.join(self.disk_names)}",
+                        element=e.name,
+                        field="disks",
+                    )
+
+    # -- naming -------------------------------------------------------------------------------
+    @property
+    def disk_names(self) -> tuple[str, ...]:
+        return tuple(d.name for d in self.disks)
+
+    @cached_property
+    def disk_index(self) -> dict[str, int]:
+        return {n: i for i, n in enumerate(self.disk_names)}
+
+    @property
+    def inertias(self) -> np.ndarray:
+        """Disk inertias J, kg·m², in disk order."""
+        return np.array([d.inertia for d in self.disks])
+
+    def element(self, name: str) -> Element | Disk:
+        """The disk or element called ``name``."""
+        for item in (*self.disks, *self.elements):
+            if item.name == name:
+                return item
+        raise KeyError(name)
+
+    @property
+    def meshes(self) -> tuple[GearMesh, ...]:
+        return tuple(e for e in self.elements if isinstance(e, GearMesh))
+
+    @cached_property
+    def element_blocks(self) -> tuple[tuple[Element | Disk, ElementBlocks], ...]:
+        """Every disk and element with its blocks, computed once."""
+        return tuple((e, e.blocks()) for e in (*self.disks, *self.elements))
+
+    # -- variants -----------------------------------------------------------------------------
+    def with_rigid_gears(self) -> Drivetrain:
+        """The same drivetrain with every gear mesh a rigid kinematic constraint."""
+        elements = tuple(e.as_rigid() if isinstance(e, GearMesh) else e for e in self.elements)
+        return replace(self, elements=elements, name=self.name)
+
+    def with_elements(self, elements: Iterable[Element]) -> Drivetrain:
+        """A copy with ``elements`` added (disks must already exist)."""
+        return replace(self, elements=(*self.elements, *elements))
+
+    # -- topology -----------------------------------------------------------------------------
+    def _links(self, only: type | None = None) -> list[tuple[int, int, float, Element]]:
+        idx = self.disk_index
+        out = []
+        for e, b in self.element_blocks:
+            t = e.transmission()
+            if t is None or len(b.disks) != 2 or (only is not None and not isinstance(e, only)):
+                continue
+            out.append((idx[b.disks[0]], idx[b.disks[1]], t, e))
+        return out
+
+    def _propagate(
+        self, links: Sequence[tuple[int, int, float, Element]]
+    ) -> tuple[np.ndarray, np.ndarray, list[Element | None]]:
+        """Label connected groups and the rigid-motion amplitude of each disk within its group.
+
+        Returns the group label per disk, the amplitude per disk (1 at the group's first disk), and
+        per group the first element that closes a loop with inconsistent ratios (None if none).
+        """
+        n = len(self.disks)
+        adj: list[list[tuple[int, float, Element]]] = [[] for _ in range(n)]
+        for a, b, t, e in links:
+            adj[a].append((b, t, e))
+            adj[b].append((a, 1.0 / t, e))
+        group = np.full(n, -1)
+        amp = np.zeros(n)
+        locked: list[Element | None] = []
+        for start in range(n):
+            if group[start] >= 0:
+                continue
+            g = len(locked)
+            locked.append(None)
+            group[start] = g
+            amp[start] = 1.0
+            stack = [start]
+            while stack:
+                i = stack.pop()
+                for j, t, e in adj[i]:
+                    if group[j] < 0:
+                        group[j] = g
+                        amp[j] = amp[i] * t
+                        stack.append(j)
+                    elif locked[g] is None and not np.isclose(amp[j], amp[i] * t, rtol=1e-9, atol=0):
+                        locked[g] = e
+        return group, amp, locked
+
+    @cached_property
+    def _components(self) -> tuple[np.ndarray, np.ndarray, list[Element | None]]:
+        return self._propagate(self._links())
+
+    @property
+    def component_of_disk(self) -> np.ndarray:
+        """Label of the connected branch (through shafts and meshes) of each disk."""
+        return self._components[0]
+
+    def free_branches(self) -> list[np.ndarray]:
+        """Rigid-body motions of the branches that can turn freely, one full-length vector each.
+
+        A branch is a set of disks connected through shafts and meshes. It turns freely (one
+        rigid-body mode) unless a grounded spring holds it or a loop of meshes with inconsistent
+        ratios locks it. The vector gives each disk's angle for a unit angle of the branch's first
+        disk, following shaft (1) and mesh (∓ratio) transmissions.
+        """
+        group, amp, locked = self._components
+        grounded = set()
+        for _, b in self.element_blocks:
+            if b.grounds:
+                grounded.update(group[self.disk_index[d]] for d in b.disks)
+        vectors = []
+        for g in range(len(locked)):
+            if g in grounded or locked[g] is not None:
+                continue
+            v = np.where(group == g, amp, 0.0)
+            vectors.append(v)
+        return vectors
+
+    def shaft_lines(self) -> list[tuple[str, ...]]:
+        """Groups of disks joined by shafts alone (each group turns at one mean speed)."""
+        group, _, _ = self._propagate(self._links(only=Shaft))
+        lines: dict[int, list[str]] = {}
+        for name, g in zip(self.disk_names, group, strict=True):
+            lines.setdefault(int(g), []).append(name)
+        return [tuple(v) for v in lines.values()]
+
+    def speed_ratios(self, reference: str) -> np.ndarray:
+        """|ω_disk / ω_reference| for every disk, from shafts (1) and mesh ratios (teeth first).
+
+        Disks not connected to ``reference`` get NaN.
+        """
+        if reference not in self.disk_index:
+            raise ModelError(f"reference disk {reference!r} is not defined; defined disks: {', '.join(self.disk_names)}")
+        links = [(a, b, -1.0 / e.speed_ratio if isinstance(e, GearMesh) else t, e) for a, b, t, e in self._links()]
+        group, amp, _ = self._propagate(links)
+        r = self.disk_index[reference]
+        out = np.abs(amp / amp[r])
+        out[group != group[r]] = np.nan
+        return out

@@ -1,0 +1,275 @@
+"""The drivetrain model file: TOML tables → :class:`Drivetrain` and analysis settings.
+
+A file has ``[model] type = "drivetrain"``, an optional ``[material]`` with defaults for elements
+given by geometry, arrays of tables ``[[disks]]``, ``[[shafts]]``, ``[[meshes]]``,
+``[[ground_springs]]``, ``[[ground_dampers]]``, and optional ``[campbell]`` and ``[response]``
+tables for those analyses. Every dimensional value carries its unit. See ``examples/``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from mechdyn.drivetrain.elements import Disk, GearMesh, GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.model import Drivetrain
+from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
+from mechdyn.errors import ModelFileError
+from mechdyn.io.fields import FileModel, quantity
+from mechdyn.io.modelfile import ModelSource, field_context, validate
+
+__all__ = ["CampbellSettings", "DrivetrainFile", "ResponseSettings", "build", "settings"]
+
+Inertia = quantity("kg*m^2")
+Length = quantity("m")
+Pressure = quantity("Pa")
+Density = quantity("kg/m^3")
+TorsionalStiffness = quantity("N*m/rad")
+TorsionalDamping = quantity("N*m*s/rad")
+LinearStiffness = quantity("N/m")
+LinearDamping = quantity("N*s/m")
+Speed = quantity("rad/s")
+Frequency = quantity("Hz")
+Torque = quantity("N*m")
+Angle = quantity("rad")
+Dimensionless = quantity("")
+PerSecond = quantity("1/s")
+Seconds = quantity("s")
+
+
+class ModelTable(FileModel):
+    type: Literal["drivetrain"]
+    name: str = "drivetrain"
+    description: str = ""
+    source: str = ""
+
+
+class MaterialTable(FileModel):
+    density: Density | None = None
+    shear_modulus: Pressure | None = None
+
+
+class DiskTable(FileModel):
+    name: str
+    inertia: Inertia | None = None
+    thickness: Length | None = None
+    outer_diameter: Length | None = None
+    inner_diameter: Length = 0.0
+    density: Density | None = None
+
+    @model_validator(mode="after")
+    def _one_way(self) -> DiskTable:
+        geometry = self.thickness is not None or self.outer_diameter is not None
+        if self.inertia is not None and geometry:
+            raise ValueError("give either inertia or geometry (thickness, outer_diameter), not both")
+        if self.inertia is None and (self.thickness is None or self.outer_diameter is None):
+            raise ValueError("give inertia, or thickness and outer_diameter (with density here or in [material])")
+        return self
+
+
+class ShaftTable(FileModel):
+    name: str
+    disks: tuple[str, str]
+    stiffness: TorsionalStiffness | None = None
+    length: Length | None = None
+    diameter: Length | None = None
+    inner_diameter: Length = 0.0
+    shear_modulus: Pressure | None = None
+    damping: TorsionalDamping = 0.0
+
+    @model_validator(mode="after")
+    def _one_way(self) -> ShaftTable:
+        geometry = self.length is not None or self.diameter is not None
+        if self.stiffness is not None and geometry:
+            raise ValueError("give either stiffness or geometry (length, diameter), not both")
+        if self.stiffness is None and (self.length is None or self.diameter is None):
+            raise ValueError("give stiffness, or length and diameter (with shear_modulus here or in [material])")
+        return self
+
+
+class MeshTable(FileModel):
+    name: str
+    disks: tuple[str, str]
+    kind: Literal["external", "internal"] = "external"
+    teeth: tuple[int, int] | None = None
+    ratio: Dimensionless | None = None
+    base_radii: tuple[Length, Length] | None = None
+    stiffness: LinearStiffness | None = None
+    damping: LinearDamping = 0.0
+
+
+class GroundSpringTable(FileModel):
+    name: str
+    disk: str
+    stiffness: TorsionalStiffness
+
+
+class GroundDamperTable(FileModel):
+    name: str
+    disk: str
+    damping: TorsionalDamping
+
+
+class CampbellTable(FileModel):
+    speed_range: tuple[Speed, Speed]
+    reference_disk: str | None = None
+    shaft_orders: list[float] = Field(default_factory=lambda: [1.0])
+    mesh_orders: list[float] = Field(default_factory=lambda: [1.0])
+
+
+class ExcitationTable(FileModel):
+    disk: str
+    amplitude: Torque
+    phase: Angle = 0.0
+
+
+class RayleighTable(FileModel):
+    alpha: PerSecond = 0.0
+    beta: Seconds = 0.0
+
+
+class ResponseTable(FileModel):
+    excitation: list[ExcitationTable] = Field(min_length=1)
+    frequency_range: tuple[Frequency, Frequency]
+    points: int = Field(default=1000, ge=2, le=200_000)
+    outputs: list[str] = Field(default_factory=list)
+    modal_damping: float | None = Field(default=None, ge=0.0, lt=1.0)
+    rayleigh: RayleighTable | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> ResponseTable:
+        lo, hi = self.frequency_range
+        if not 0 < lo < hi:
+            raise ValueError(f"frequency_range {lo:g}..{hi:g} Hz must satisfy 0 < low < high")
+        if self.modal_damping is not None and self.rayleigh is not None:
+            raise ValueError("give modal_damping or [response.rayleigh], not both")
+        return self
+
+
+class DrivetrainFile(FileModel):
+    """Schema of a drivetrain model file."""
+
+    model: ModelTable
+    material: MaterialTable = MaterialTable()
+    disks: list[DiskTable] = Field(min_length=1)
+    shafts: list[ShaftTable] = Field(default_factory=list)
+    meshes: list[MeshTable] = Field(default_factory=list)
+    ground_springs: list[GroundSpringTable] = Field(default_factory=list)
+    ground_dampers: list[GroundDamperTable] = Field(default_factory=list)
+    campbell: CampbellTable | None = None
+    response: ResponseTable | None = None
+
+
+def _where(table: str, i: int, name: str) -> str:
+    return f"[[{table}]] #{i + 1} (name = {name!r})"
+
+
+def _need(source: ModelSource, where: str, field: str, value: float | None, table: str) -> float:
+    if value is None:
+        raise ModelFileError(source.path, f"{where} → {field}", f"missing; give it here or in [{table}]")
+    return value
+
+
+def build(source: ModelSource) -> Drivetrain:
+    """Build the :class:`Drivetrain` described by a parsed model file."""
+    f = validate(DrivetrainFile, source)
+    mat = f.material
+    disks: list[Disk] = []
+    for i, d in enumerate(f.disks):
+        where = _where("disks", i, d.name)
+        with field_context(source, where):
+            if d.inertia is not None:
+                disks.append(Disk(d.name, d.inertia))
+            else:
+                rho = _need(source, where, "density", d.density if d.density is not None else mat.density, "material")
+                disks.append(
+                    Disk.from_geometry(
+                        d.name, thickness=d.thickness, outer_diameter=d.outer_diameter,
+                        inner_diameter=d.inner_diameter, density=rho,
+                    )
+                )
+    elements = []
+    for i, s in enumerate(f.shafts):
+        where = _where("shafts", i, s.name)
+        with field_context(source, where):
+            if s.stiffness is not None:
+                elements.append(Shaft(s.name, s.disks, s.stiffness, s.damping))
+            else:
+                g = s.shear_modulus if s.shear_modulus is not None else mat.shear_modulus
+                g = _need(source, where, "shear_modulus", g, "material")
+                elements.append(
+                    Shaft.from_geometry(
+                        s.name, s.disks, length=s.length, diameter=s.diameter,
+                        inner_diameter=s.inner_diameter, shear_modulus=g, damping=s.damping,
+                    )
+                )
+    for i, m in enumerate(f.meshes):
+        with field_context(source, _where("meshes", i, m.name)):
+            elements.append(
+                GearMesh(m.name, m.disks, kind=m.kind, teeth=m.teeth, ratio=m.ratio,
+                         base_radii=m.base_radii, stiffness=m.stiffness, damping=m.damping)
+            )
+    for i, g in enumerate(f.ground_springs):
+        with field_context(source, _where("ground_springs", i, g.name)):
+            elements.append(GroundSpring(g.name, g.disk, g.stiffness))
+    for i, g in enumerate(f.ground_dampers):
+        with field_context(source, _where("ground_dampers", i, g.name)):
+            elements.append(GroundDamper(g.name, g.disk, g.damping))
+    with field_context(source, "[model]"):
+        return Drivetrain(tuple(disks), tuple(elements), name=f.model.name)
+
+
+@dataclass(frozen=True)
+class CampbellSettings:
+    """The ``[campbell]`` table: reference speed range (rad/s), reference disk, orders."""
+
+    speed_range: tuple[float, float]
+    reference_disk: str | None
+    shaft_orders: tuple[float, ...]
+    mesh_orders: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class ResponseSettings:
+    """The ``[response]`` table: torques (N·m, complex), frequency range (Hz), outputs, damping."""
+
+    excitation: dict[str, complex]
+    frequency_range: tuple[float, float]
+    points: int
+    outputs: tuple[str, ...]
+    damping: ModalDamping | RayleighDamping
+
+
+def settings(source: ModelSource, drivetrain: Drivetrain) -> tuple[CampbellSettings | None, ResponseSettings | None]:
+    """Read the optional analysis tables of a drivetrain file, checking disk names."""
+    import cmath
+
+    f = validate(DrivetrainFile, source)
+    known = drivetrain.disk_names
+
+    def check(where: str, disk: str | None) -> None:
+        if disk is not None and disk not in known:
+            raise ModelFileError(source.path, where, f"{disk!r} is not a disk; defined disks: {', '.join(known)}", disk)
+
+    camp = None
+    if f.campbell is not None:
+        c = f.campbell
+        check("[campbell] → reference_disk", c.reference_disk)
+        camp = CampbellSettings(tuple(c.speed_range), c.reference_disk, tuple(c.shaft_orders), tuple(c.mesh_orders))
+    resp = None
+    if f.response is not None:
+        r = f.response
+        exc: dict[str, complex] = {}
+        for i, e in enumerate(r.excitation):
+            check(f"[response] → excitation #{i + 1} → disk", e.disk)
+            exc[e.disk] = exc.get(e.disk, 0) + cmath.rect(e.amplitude, e.phase)
+        for o in r.outputs:
+            check("[response] → outputs", o)
+        if r.rayleigh is not None:
+            damping: ModalDamping | RayleighDamping = RayleighDamping(r.rayleigh.alpha, r.rayleigh.beta)
+        else:
+            damping = ModalDamping(0.02 if r.modal_damping is None else r.modal_damping)
+        resp = ResponseSettings(exc, tuple(r.frequency_range), r.points, tuple(r.outputs), damping)
+    return camp, resp

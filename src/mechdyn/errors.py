@@ -1,0 +1,80 @@
+"""Errors and warnings that reach the user.
+
+Every error names what is wrong and where: the file and field of a model file, or the element of a
+model, the offending value, and what was expected instead. The command line prints them without a
+traceback.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = [
+    "MechdynError",
+    "ModelCheckError",
+    "ModelError",
+    "ModelFileError",
+    "ModelWarning",
+]
+
+
+class MechdynError(Exception):
+    """Base of every error mechdyn raises on purpose."""
+
+
+class ModelError(MechdynError, ValueError):
+    """A model (built in Python) is invalid.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong and what is expected.
+    element : str, optional
+        Name of the element (disk, shaft, mesh, ...) responsible.
+    field : str, optional
+        The element's field, e.g. ``"stiffness"``.
+    """
+
+    def __init__(self, message: str, *, element: str | None = None, field: str | None = None):
+        self.element = element
+        self.field = field
+        self.detail = message
+        where = ""
+        if element is not None:
+            where = f"element {element!r}"
+            if field is not None:
+                where += f", field {field!r}"
+            where += ": "
+        super().__init__(where + message)
+
+
+class ModelCheckError(ModelError):
+    """An assembled model fails a physical check (symmetry, semi-definiteness, rigid-body modes)."""
+
+
+class ModelFileError(MechdynError, ValueError):
+    """A model file cannot be read or is invalid.
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    location : str
+        The table and field, e.g. ``"[[meshes]] #2 (name = 'G1') → stiffness"``.
+    message : str
+        What is wrong, with the bad value and what was expected.
+    value : Any, optional
+        The offending value as read from the file.
+    """
+
+    def __init__(self, path: str, location: str, message: str, value: Any = None):
+        self.path = str(path)
+        self.location = location
+        self.value = value
+        self.detail = message
+        loc = f" {location}:" if location else ""
+        super().__init__(f"{self.path}:{loc} {message}")
+
+
+class ModelWarning(UserWarning):
+    """A model is valid but contains something the user should know (e.g. inconsistent gear data)."""

@@ -1,0 +1,210 @@
+"""Reading model files: TOML text → validated schema → immutable model.
+
+A model file names its type in ``[model] type = "..."``; each capability registers a builder for its
+type. Every failure becomes a :class:`~mechdyn.errors.ModelFileError` naming the file, the table and
+field, the value and what was expected.
+"""
+
+from __future__ import annotations
+
+import difflib
+import hashlib
+import importlib
+import tomllib
+import warnings
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TypeVar
+
+from pydantic import BaseModel, ValidationError
+
+from mechdyn.errors import ModelError, ModelFileError, ModelWarning
+
+__all__ = [
+    "ModelSource",
+    "field_context",
+    "load",
+    "load_with_source",
+    "register_model_type",
+    "validate",
+]
+
+# type name -> "module:function"; imported lazily so that `mechdyn.load` stays light.
+M = TypeVar("M", bound=BaseModel)
+
+_BUILDERS: dict[str, str] = {
+    "drivetrain": "mechdyn.drivetrain.schema:build",
+}
+
+
+def register_model_type(name: str, builder: str) -> None:
+    """Register ``"module:function"`` as the builder for model files of ``[model] type = name``."""
+    _BUILDERS[name] = builder
+
+
+@dataclass(frozen=True)
+class ModelSource:
+    """The file a model was read from: its path, exact text and SHA-256 of that text."""
+
+    path: str
+    text: str
+    sha256: str
+    data: Mapping[str, Any]
+
+    @property
+    def model_type(self) -> str:
+        return str(self.data["model"]["type"])
+
+
+def read(path: str | Path) -> ModelSource:
+    """Read and parse a TOML model file without building the model."""
+    p = Path(path)
+    if not p.is_file():
+        raise ModelFileError(str(p), "", "no such file; give the path of a .toml model file")
+    raw = p.read_bytes()
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ModelFileError(str(p), "", f"not UTF-8 text ({exc}); save the file as UTF-8") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelFileError(str(p), "", f"not valid TOML: {exc}") from None
+    model = data.get("model")
+    if not isinstance(model, dict):
+        raise ModelFileError(
+            str(p), "[model]", "missing; start the file with [model] and type = \"drivetrain\""
+        )
+    kind = model.get("type")
+    if kind not in _BUILDERS:
+        expected = ", ".join(repr(k) for k in sorted(_BUILDERS))
+        raise ModelFileError(
+            str(p), "[model] → type", f"{kind!r} is not a model type; expected one of {expected}", kind
+        )
+    return ModelSource(str(p), text, hashlib.sha256(raw).hexdigest(), data)
+
+
+def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
+    """Load a model file and return the model with the :class:`ModelSource` it came from."""
+    source = read(path)
+    module, _, func = _BUILDERS[source.model_type].partition(":")
+    builder: Callable[[ModelSource], Any] = getattr(importlib.import_module(module), func)
+    return builder(source), source
+
+
+def load(path: str | Path) -> Any:
+    """Load a model file (TOML with units) and return the immutable model it describes.
+
+    Parameters
+    ----------
+    path : str or Path
+        A model file whose ``[model]`` table names its ``type`` (e.g. ``"drivetrain"``).
+
+    Returns
+    -------
+    object
+        The model, e.g. a :class:`mechdyn.drivetrain.Drivetrain`.
+
+    Raises
+    ------
+    ModelFileError
+        With the file, the table and field, the bad value and what was expected.
+    """
+    return load_with_source(path)[0]
+
+
+def _describe_location(loc: tuple[Any, ...], data: Mapping[str, Any]) -> str:
+    parts: list[str] = []
+    node: Any = data
+    i = 0
+    while i < len(loc):
+        key = loc[i]
+        if isinstance(key, str) and i + 1 < len(loc) and isinstance(loc[i + 1], int):
+            idx = loc[i + 1]
+            item = node.get(key, [None] * (idx + 1))[idx] if isinstance(node, Mapping) else None
+            label = f"[[{key}]] #{idx + 1}"
+            if isinstance(item, Mapping) and "name" in item:
+                label += f" (name = {item['name']!r})"
+            parts.append(label)
+            node = item
+            i += 2
+            continue
+        if isinstance(key, str):
+            parts.append(f"[{key}]" if not parts and isinstance(node.get(key), Mapping) else key)
+            node = node.get(key) if isinstance(node, Mapping) else None
+        else:
+            parts.append(f"#{key + 1}")
+            node = node[key] if isinstance(node, list) and key < len(node) else None
+        i += 1
+    return " → ".join(parts)
+
+
+def _error_message(err: Mapping[str, Any], model: type[BaseModel] | None) -> str:
+    kind = err.get("type", "")
+    msg = str(err.get("msg", "invalid"))
+    loc = err.get("loc", ())
+    value = err.get("input")
+    if kind == "extra_forbidden":
+        field = str(loc[-1]) if loc else "?"
+        hint = ""
+        known = _known_fields(model, loc)
+        close = difflib.get_close_matches(field, known, n=1)
+        if close:
+            hint = f"; did you mean {close[0]!r}?"
+        elif known:
+            hint = f"; expected one of {', '.join(sorted(known))}"
+        return f"unknown field {field!r}{hint}"
+    if kind == "missing":
+        return "required field is missing"
+    msg = msg.removeprefix("Value error, ")
+    return f"{value!r}: {msg}" if value is not None and not isinstance(value, dict) else msg
+
+
+def _known_fields(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> list[str]:
+    node: Any = model
+    for key in loc[:-1]:
+        if isinstance(key, int) or node is None:
+            continue
+        field = getattr(node, "model_fields", {}).get(key)
+        if field is None:
+            return []
+        ann = field.annotation
+        for cand in (ann, *getattr(ann, "__args__", ())):
+            for c in (cand, *getattr(cand, "__args__", ())):
+                if isinstance(c, type) and issubclass(c, BaseModel):
+                    node = c
+                    break
+    return list(getattr(node, "model_fields", {}))
+
+
+def validate(schema: type[M], source: ModelSource) -> M:
+    """Validate parsed TOML against a schema, turning pydantic errors into a ModelFileError."""
+    try:
+        return schema.model_validate(source.data)
+    except ValidationError as exc:
+        errors = exc.errors()
+        first = errors[0]
+        location = _describe_location(tuple(first["loc"]), source.data)
+        message = _error_message(first, schema)
+        if len(errors) > 1:
+            message += f" (and {len(errors) - 1} more problem(s) in this file)"
+        raise ModelFileError(source.path, location, message, first.get("input")) from None
+
+
+@contextmanager
+def field_context(source: ModelSource, location: str) -> Iterator[None]:
+    """Attach a file location to model errors and warnings raised while building one table."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        except ModelError as exc:
+            field = f" → {exc.field}" if exc.field else ""
+            raise ModelFileError(source.path, location + field, exc.detail) from None
+        except ValueError as exc:
+            raise ModelFileError(source.path, location, str(exc)) from None
+    for w in caught:
+        category = w.category if issubclass(w.category, Warning) else ModelWarning
+        warnings.warn(f"{source.path}: {location}: {w.message}", category, stacklevel=3)

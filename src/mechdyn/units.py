@@ -1,0 +1,118 @@
+"""The package's one unit registry and the conversion to SI at the edges.
+
+Model files, the command line and public constructors accept quantities ("0.019 m", "80.8 GPa",
+"1500 rpm", a :class:`pint.Quantity`); everything behind them works on bare SI floats and NumPy arrays.
+A bare number given where a dimensional quantity is expected is rejected rather than guessed.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pint
+
+__all__ = ["Q_", "UnitError", "format_quantity", "to_si", "ureg"]
+
+ureg = pint.UnitRegistry()
+"""The package-wide :class:`pint.UnitRegistry`; quantities from other registries are rejected."""
+ureg.formatter.default_format = "~P"
+Q_ = ureg.Quantity
+
+
+class UnitError(ValueError):
+    """A value could not be read as a quantity of the expected dimension."""
+
+
+def _dimension_text(unit: str) -> str:
+    return str(ureg.Quantity(1.0, unit).dimensionality)
+
+
+def _coerce(value: Any, unit: str) -> pint.Quantity:
+    if isinstance(value, pint.Quantity):
+        if value._REGISTRY is not ureg:
+            # Quantities of another registry cannot be compared with ours.
+            value = ureg.Quantity(value.magnitude, str(value.units))
+        return value
+    if isinstance(value, str):
+        text = value.strip()
+        if not text:
+            raise UnitError(f"empty text; expected a quantity in {unit}, e.g. '1 {unit}'")
+        try:
+            q = ureg.Quantity(text)
+        except (pint.errors.PintError, ValueError, AttributeError, TypeError, SyntaxError) as exc:
+            raise UnitError(
+                f"cannot read {value!r} as a quantity ({exc}); expected a number and a unit "
+                f"of {_dimension_text(unit)}, e.g. '1 {unit}'"
+            ) from None
+        if not isinstance(q, pint.Quantity):  # a plain number written as text
+            q = ureg.Quantity(float(q), "")
+        return q
+    if isinstance(value, bool):
+        raise UnitError(f"got a boolean {value!r}; expected a quantity in {unit}")
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return ureg.Quantity(float(value), "")
+    raise UnitError(f"got {type(value).__name__} {value!r}; expected a quantity in {unit}")
+
+
+def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
+    """Convert a quantity to a float in the given (SI) unit.
+
+    Parameters
+    ----------
+    value : str, pint.Quantity or float
+        ``"80.8 GPa"``, ``ureg.Quantity(80.8, "GPa")``, or a plain number. A plain number is
+        accepted only where ``unit`` is dimensionless or angular (radians); elsewhere it is an error,
+        because guessing its unit would hide mistakes.
+    unit : str
+        The unit the solvers expect, e.g. ``"Pa"``, ``"N*m/rad"``, ``"kg*m^2"``.
+    plain_is_si : bool
+        Take a plain number as already in ``unit`` (the Python API's contract: floats are SI).
+        Model files and the command line leave this off, so a number there must carry its unit.
+
+    Returns
+    -------
+    float
+        The magnitude in ``unit``.
+
+    Raises
+    ------
+    UnitError
+        If the value is not a quantity of the dimension of ``unit``.
+    """
+    if plain_is_si and isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        out = float(value)
+        if not np.isfinite(out):
+            raise UnitError(f"{value!r} is not finite")
+        return out
+    q = _coerce(value, unit)
+    target = ureg.Quantity(1.0, unit)
+    if q.dimensionless and not target.dimensionless:
+        raise UnitError(
+            f"{value!r} has no unit; expected a quantity of {_dimension_text(unit)}, "
+            f"e.g. '{_example(value)} {unit}'"
+        )
+    if q.dimensionality != target.dimensionality:
+        raise UnitError(
+            f"{value!r} is in {q.units:~P} ({q.dimensionality}); expected a quantity of "
+            f"{_dimension_text(unit)}, e.g. '{_example(q.magnitude)} {unit}'"
+        )
+    out = float(q.m_as(unit))
+    if not np.isfinite(out):
+        raise UnitError(f"{value!r} is not finite")
+    return out
+
+
+def _example(value: Any) -> str:
+    try:
+        return f"{float(getattr(value, 'magnitude', value)):g}"
+    except (TypeError, ValueError):
+        return "1"
+
+
+def format_quantity(value: float, unit: str, display: str | None = None, digits: int = 5) -> str:
+    """Format an SI value for display, optionally converted to ``display`` units."""
+    q = ureg.Quantity(value, unit)
+    if display is not None:
+        q = q.to(display)
+    return f"{q.magnitude:.{digits}g} {q.units:~P}"
