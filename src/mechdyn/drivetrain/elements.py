@@ -345,7 +345,7 @@ class GearMesh(Element):
                     "the flexible mesh uses the base radii; --rigid-gears and the speed ratios use"
                 )
                 warnings.warn(
-                    f"mesh {name!r}: the {first_name} give ratio {first:.4g} but the base radii give "
+                    f"mesh {name!r}: ratio {first:.4g} (from the {first_name}) but the base radii give "
                     f"{other:.4g} ({100 * abs(other / first - 1):.1f} % apart); {use} {first:.4g}",
                     ModelWarning,
                     stacklevel=3,

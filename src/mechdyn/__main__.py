@@ -1,0 +1,3 @@
+from mechdyn.cli.main import main
+
+raise SystemExit(main())

@@ -1,0 +1,1 @@
+"""The ``mechdyn`` command line."""

@@ -1,0 +1,5 @@
+"""Results database (SQLite by default, PostgreSQL or any SQLAlchemy URL)."""
+
+from mechdyn.store.store import DEFAULT_DB, ENV_VAR, ResultStore, StoredRun, StoreError, resolve_url
+
+__all__ = ["DEFAULT_DB", "ENV_VAR", "ResultStore", "StoreError", "StoredRun", "resolve_url"]

@@ -1,0 +1,237 @@
+"""The results database: every analysis run with its model, parameters, scalars and arrays.
+
+SQLite by default (``mechdyn.db`` in the working directory, nothing to start); any SQLAlchemy URL
+otherwise, e.g. ``postgresql://user@host/db``. The location is, in order: the ``url`` argument (the
+CLI's ``--db``), the ``MECHDYN_DB`` environment variable, ``mechdyn.db``.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from sqlalchemy import (
+    JSON,
+    DateTime,
+    ForeignKey,
+    Integer,
+    LargeBinary,
+    String,
+    Text,
+    create_engine,
+    select,
+)
+from sqlalchemy.engine import make_url
+from sqlalchemy.exc import ArgumentError, OperationalError
+from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column, relationship
+
+from mechdyn.errors import MechdynError
+
+__all__ = ["DEFAULT_DB", "ENV_VAR", "ResultStore", "StoredRun", "resolve_url"]
+
+ENV_VAR = "MECHDYN_DB"
+DEFAULT_DB = "mechdyn.db"
+
+
+class StoreError(MechdynError):
+    """The results database cannot be opened or does not hold what was asked for."""
+
+
+class _Base(DeclarativeBase):
+    pass
+
+
+class _Run(_Base):
+    __tablename__ = "mechdyn_runs"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+    analysis: Mapped[str] = mapped_column(String(64), index=True)
+    model_name: Mapped[str] = mapped_column(String(256))
+    model_path: Mapped[str] = mapped_column(Text)
+    model_sha256: Mapped[str] = mapped_column(String(64), index=True)
+    model_text: Mapped[str] = mapped_column(Text)
+    parameters: Mapped[dict[str, Any]] = mapped_column(JSON)
+    scalars: Mapped[dict[str, Any]] = mapped_column(JSON)
+    package_version: Mapped[str] = mapped_column(String(64))
+    arrays: Mapped[list[_Array]] = relationship(back_populates="run", cascade="all, delete-orphan")
+
+
+class _Array(_Base):
+    __tablename__ = "mechdyn_arrays"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    run_id: Mapped[int] = mapped_column(ForeignKey("mechdyn_runs.id", ondelete="CASCADE"), index=True)
+    name: Mapped[str] = mapped_column(String(256))
+    unit: Mapped[str] = mapped_column(String(64))
+    data: Mapped[bytes] = mapped_column(LargeBinary)
+    run: Mapped[_Run] = relationship(back_populates="arrays")
+
+
+def resolve_url(value: str | os.PathLike[str] | None = None) -> str:
+    """The SQLAlchemy URL for a ``--db`` value, the environment, or the default file.
+
+    A value with ``://`` is a URL (``postgresql://`` is given the psycopg 3 driver); anything else
+    is the path of a SQLite file.
+    """
+    raw = os.fspath(value) if value is not None else os.environ.get(ENV_VAR) or DEFAULT_DB
+    if "://" not in raw:
+        return f"sqlite:///{Path(raw).expanduser().resolve()}"
+    try:
+        url = make_url(raw)
+    except ArgumentError as exc:
+        raise StoreError(f"database URL {raw!r} is not valid: {exc}") from None
+    if url.drivername in ("postgresql", "postgres"):
+        url = url.set(drivername="postgresql+psycopg")
+    return url.render_as_string(hide_password=False)
+
+
+def jsonable(value: Any) -> Any:
+    """Plain JSON values (NaN and infinities become None, which every backend stores)."""
+    if isinstance(value, Mapping):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, complex):
+        return {"re": value.real, "im": value.imag}
+    if value is None or isinstance(value, (str, int, bool)):
+        return value
+    return str(value)
+
+
+def _pack(a: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    np.save(buf, np.asarray(a), allow_pickle=False)
+    return buf.getvalue()
+
+
+def _unpack(b: bytes) -> np.ndarray:
+    return np.load(io.BytesIO(b), allow_pickle=False)
+
+
+@dataclass(frozen=True)
+class StoredRun:
+    """One recorded run as read back from the database."""
+
+    id: int
+    created_at: datetime
+    analysis: str
+    model_name: str
+    model_path: str
+    model_sha256: str
+    model_text: str
+    parameters: dict[str, Any]
+    scalars: dict[str, Any]
+    package_version: str
+    arrays: dict[str, tuple[np.ndarray, str]] = field(default_factory=dict)
+
+
+class ResultStore:
+    """A results database (SQLite file or server URL).
+
+    Parameters
+    ----------
+    url : str or path, optional
+        See :func:`resolve_url`.
+    """
+
+    def __init__(self, url: str | os.PathLike[str] | None = None):
+        self.url = resolve_url(url)
+        try:
+            self._engine = create_engine(self.url)
+            _Base.metadata.create_all(self._engine)
+        except (OperationalError, ArgumentError) as exc:
+            shown = make_url(self.url).render_as_string(hide_password=True)
+            raise StoreError(f"cannot open the results database {shown}: {exc.__class__.__name__}: {exc.args[0]}") from None
+        except ModuleNotFoundError as exc:
+            raise StoreError(f"the database driver for {self.url.split(':')[0]} is not installed ({exc})") from None
+
+    def close(self) -> None:
+        self._engine.dispose()
+
+    def __enter__(self) -> ResultStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def record(
+        self,
+        *,
+        analysis: str,
+        model_name: str,
+        model_path: str,
+        model_text: str,
+        model_sha256: str,
+        parameters: Mapping[str, Any],
+        scalars: Mapping[str, Any],
+        arrays: Mapping[str, tuple[np.ndarray, str]] | None = None,
+    ) -> int:
+        """Store one run in a single transaction and return its id.
+
+        ``arrays`` maps a name to ``(array, unit)``; arrays are kept bit for bit (NumPy ``.npy``).
+        """
+        from mechdyn import __version__
+
+        run = _Run(
+            created_at=datetime.now(UTC),
+            analysis=analysis,
+            model_name=model_name,
+            model_path=model_path,
+            model_sha256=model_sha256,
+            model_text=model_text,
+            parameters=jsonable(parameters),
+            scalars=jsonable(scalars),
+            package_version=__version__,
+            arrays=[_Array(name=k, unit=u, data=_pack(a)) for k, (a, u) in (arrays or {}).items()],
+        )
+        with Session(self._engine) as s, s.begin():
+            s.add(run)
+            s.flush()
+            return int(run.id)
+
+    def runs(self, *, analysis: str | None = None, limit: int | None = None) -> list[StoredRun]:
+        """Recorded runs, newest first, without their arrays."""
+        q = select(_Run).order_by(_Run.id.desc())
+        if analysis:
+            q = q.where(_Run.analysis == analysis)
+        if limit:
+            q = q.limit(limit)
+        with Session(self._engine) as s:
+            return [self._summary(r) for r in s.scalars(q)]
+
+    def get(self, run_id: int) -> StoredRun:
+        """One run with its arrays."""
+        with Session(self._engine) as s:
+            r = s.get(_Run, run_id)
+            if r is None:
+                raise StoreError(f"no run with id {run_id} in {make_url(self.url).render_as_string(hide_password=True)}; `mechdyn results list` shows the ids")
+            base = self._summary(r)
+            arrays = {a.name: (_unpack(a.data), a.unit) for a in r.arrays}
+        return StoredRun(**{**base.__dict__, "arrays": arrays})
+
+    @staticmethod
+    def _summary(r: _Run) -> StoredRun:
+        created = r.created_at if r.created_at.tzinfo else r.created_at.replace(tzinfo=UTC)
+        return StoredRun(
+            r.id, created, r.analysis, r.model_name, r.model_path, r.model_sha256, r.model_text,
+            dict(r.parameters or {}), dict(r.scalars or {}), r.package_version,
+        )
+
+
+def dumps(value: Any) -> str:
+    """JSON text of a stored value (for the CLI)."""
+    return json.dumps(jsonable(value), indent=2)
