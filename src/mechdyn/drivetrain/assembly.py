@@ -252,16 +252,16 @@ def check_matrices(
 
     lam, vec = eigh(K, M)
     big = np.abs(lam).max()
+    R = np.ones((n, 1)) if rigid_body_vectors is None else np.asarray(rigid_body_vectors).reshape(n, -1)
+    residual = np.abs(K @ R).max(axis=1) if R.size else np.zeros(n)
+    row_scale = np.abs(K).max(axis=1) * (np.abs(R).max() if R.size else 0.0)
+    unbalanced = [names[i] for i in range(n) if residual[i] > rtol * row_scale[i]]
+    hint = f"; rows of K that resist the rigid-body motion: {', '.join(unbalanced)}" if unbalanced and expected_rigid_body_modes else ""
     if lam.min() < -rtol * big:
         worst = names[int(np.argmax(np.abs(vec[:, 0])))]
-        raise ModelCheckError(f"K is not positive semi-definite (eigenvalue {lam.min():.4g}, mostly at {worst})")
+        raise ModelCheckError(f"K is not positive semi-definite (eigenvalue {lam.min():.4g}, mostly at {worst}){hint}")
     zero = int(np.sum(np.abs(lam) <= rtol * big))
     if zero != expected_rigid_body_modes:
-        R = np.ones((n, 1)) if rigid_body_vectors is None else np.asarray(rigid_body_vectors).reshape(n, -1)
-        residual = np.abs(K @ R).max(axis=1)
-        scale = np.abs(K).max(axis=1) * np.abs(R).max()
-        unbalanced = [names[i] for i in range(n) if residual[i] > rtol * scale[i]]
-        hint = f"; rows of K that resist the rigid-body motion: {', '.join(unbalanced)}" if unbalanced else ""
         raise ModelCheckError(
             f"K has {zero} zero (rigid-body) mode(s); expected {expected_rigid_body_modes}, one per "
             f"free branch{hint}"

@@ -172,9 +172,36 @@ def _need(source: ModelSource, where: str, field: str, value: float | None, tabl
     return value
 
 
+def _check_names(source: ModelSource, f: DrivetrainFile) -> None:
+    """Every name used once; every disk that an element refers to defined."""
+    seen: dict[str, str] = {}
+    for table in ("disks", "shafts", "meshes", "ground_springs", "ground_dampers"):
+        for i, row in enumerate(getattr(f, table)):
+            where = _where(table, i, row.name)
+            if row.name in seen:
+                raise ModelFileError(
+                    source.path, f"{where} → name",
+                    f"{row.name!r} is used twice (also {seen[row.name]}); give every disk and element its own name", row.name,
+                )
+            seen[row.name] = where
+    known = [d.name for d in f.disks]
+    tables = (("shafts", f.shafts, "disks"), ("meshes", f.meshes, "disks"),
+              ("ground_springs", f.ground_springs, "disk"), ("ground_dampers", f.ground_dampers, "disk"))
+    for table, rows, field in tables:
+        for i, row in enumerate(rows):
+            value = getattr(row, field)
+            for disk in (value,) if isinstance(value, str) else value:
+                if disk not in known:
+                    raise ModelFileError(
+                        source.path, f"{_where(table, i, row.name)} → {field}",
+                        f"refers to disk {disk!r}, which is not defined; defined disks: {', '.join(known)}", disk,
+                    )
+
+
 def build(source: ModelSource) -> Drivetrain:
     """Build the :class:`Drivetrain` described by a parsed model file."""
     f = validate(DrivetrainFile, source)
+    _check_names(source, f)
     mat = f.material
     disks: list[Disk] = []
     for i, d in enumerate(f.disks):

@@ -116,27 +116,29 @@ def load(path: str | Path) -> Any:
 
 
 def _describe_location(loc: tuple[Any, ...], data: Mapping[str, Any]) -> str:
+    """Render a pydantic location as the TOML reader sees it: ``[[meshes]] #2 (name = 'G1') → stiffness``."""
     parts: list[str] = []
     node: Any = data
     i = 0
     while i < len(loc):
         key = loc[i]
-        if isinstance(key, str) and i + 1 < len(loc) and isinstance(loc[i + 1], int):
-            idx = loc[i + 1]
-            item = node.get(key, [None] * (idx + 1))[idx] if isinstance(node, Mapping) else None
-            label = f"[[{key}]] #{idx + 1}"
-            if isinstance(item, Mapping) and "name" in item:
-                label += f" (name = {item['name']!r})"
-            parts.append(label)
-            node = item
-            i += 2
-            continue
         if isinstance(key, str):
-            parts.append(f"[{key}]" if not parts and isinstance(node.get(key), Mapping) else key)
-            node = node.get(key) if isinstance(node, Mapping) else None
+            child = node.get(key) if isinstance(node, Mapping) else None
+            nxt = loc[i + 1] if i + 1 < len(loc) else None
+            if isinstance(nxt, int) and isinstance(child, list) and 0 <= nxt < len(child) and isinstance(child[nxt], Mapping):
+                item = child[nxt]
+                label = f"[[{key}]] #{nxt + 1}"
+                if "name" in item:
+                    label += f" (name = {item['name']!r})"
+                parts.append(label)
+                node = item
+                i += 2
+                continue
+            parts.append(f"[{key}]" if not parts and isinstance(child, Mapping) else key)
+            node = child
         else:
-            parts.append(f"#{key + 1}")
-            node = node[key] if isinstance(node, list) and key < len(node) else None
+            parts.append(f"item {key + 1}")
+            node = node[key] if isinstance(node, list) and 0 <= key < len(node) else None
         i += 1
     return " → ".join(parts)
 
@@ -200,6 +202,8 @@ def field_context(source: ModelSource, location: str) -> Iterator[None]:
         warnings.simplefilter("always")
         try:
             yield
+        except ModelFileError:
+            raise
         except ModelError as exc:
             field = f" → {exc.field}" if exc.field else ""
             raise ModelFileError(source.path, location + field, exc.detail) from None

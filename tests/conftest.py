@@ -1,0 +1,61 @@
+"""Shared fixtures: the reference machines, and results stores on SQLite and PostgreSQL."""
+
+from __future__ import annotations
+
+import os
+import uuid
+import warnings
+from pathlib import Path
+
+import pytest
+
+import mechdyn
+from mechdyn.errors import ModelWarning
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+
+def load_quiet(path: Path):
+    """Load a model file, ignoring the ratio warnings that the published turret data raise."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        return mechdyn.load(path)
+
+
+@pytest.fixture(scope="session")
+def turret_b():
+    """Reference machine B: the indexing path, flexible meshes (published data)."""
+    return load_quiet(EXAMPLES / "turret_indexing.toml")
+
+
+@pytest.fixture(scope="session")
+def turret_c():
+    """Reference machine C: the mill driving path, flexible meshes (published data)."""
+    return load_quiet(EXAMPLES / "turret_milling.toml")
+
+
+def _postgres_url() -> str:
+    url = os.environ.get("MECHDYN_TEST_POSTGRES_URL")
+    if url:
+        return url
+    if os.environ.get("CI"):
+        pytest.fail("MECHDYN_TEST_POSTGRES_URL is not set in CI: run the tests through scripts/with-postgres")
+    pytest.skip("no PostgreSQL server: run the tests through scripts/with-postgres")
+
+
+@pytest.fixture(params=["sqlite", "postgresql"])
+def store_url(request, tmp_path):
+    """A fresh, empty results database of each backend."""
+    if request.param == "sqlite":
+        yield str(tmp_path / "results.db")
+        return
+    import psycopg
+
+    base = _postgres_url()
+    name = f"mechdyn_test_{uuid.uuid4().hex[:12]}"
+    with psycopg.connect(base, autocommit=True) as conn:
+        conn.execute(f'CREATE DATABASE "{name}"')
+    yield base.rsplit("/", 1)[0] + "/" + name
+    with psycopg.connect(base, autocommit=True) as conn:
+        conn.execute(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)')

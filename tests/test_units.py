@@ -1,0 +1,44 @@
+import pytest
+
+from mechdyn.units import UnitError, Q_, to_si
+
+
+@pytest.mark.parametrize(
+    ("text", "unit", "expected"),
+    [
+        ("0.019 m", "m", 0.019),
+        ("19 mm", "m", 0.019),
+        ("80.8 GPa", "Pa", 80.8e9),
+        ("1500 rpm", "rad/s", 1500 * 2 * 3.141592653589793 / 60),
+        ("2.6e6 psi", "Pa", 2.6e6 * 6894.757293168361),
+        ("0.95131987e6 N*m/rad", "N*m/rad", 0.95131987e6),
+        ("4.03689425e-3 kg*m^2", "kg*m^2", 4.03689425e-3),
+        ("4036.89425 kg*mm^2", "kg*m^2", 4.03689425e-3),
+        ("20 deg", "rad", 0.3490658503988659),
+        (Q_(3.0, "kN*m/rad"), "N*m/rad", 3000.0),
+    ],
+)
+def test_quantities_convert_to_si(text, unit, expected):
+    assert to_si(text, unit) == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("value", "unit", "fragment"),
+    [
+        ("3 kg", "N*m/rad", "expected a quantity of"),
+        (3.0, "m", "has no unit"),
+        ("banana m", "m", "cannot read"),
+        ("", "m", "empty"),
+        (True, "m", "boolean"),
+        ("inf m", "m", "not finite"),
+    ],
+)
+def test_bad_quantities_are_named(value, unit, fragment):
+    with pytest.raises(UnitError, match=fragment):
+        to_si(value, unit)
+
+
+def test_plain_numbers_are_si_only_when_asked():
+    assert to_si(2.5, "m", plain_is_si=True) == 2.5
+    assert to_si(4, "", plain_is_si=False) == 4.0  # dimensionless needs no unit
+    assert to_si(0.5, "rad") == 0.5  # radians are dimensionless in pint
