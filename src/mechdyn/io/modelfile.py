@@ -161,7 +161,9 @@ def _error_message(err: Mapping[str, Any], model: type[BaseModel] | None) -> str
     if kind == "missing":
         return "required field is missing"
     msg = msg.removeprefix("Value error, ")
-    return f"{value!r}: {msg}" if value is not None and not isinstance(value, dict) else msg
+    if value is None or isinstance(value, (dict, list)) or repr(value) in msg:
+        return msg
+    return f"{value!r}: {msg}"
 
 
 def _known_fields(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> list[str]:

@@ -1,0 +1,126 @@
+"""The command line, run as a user would: every example through every drivetrain analysis."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+
+import pytest
+from conftest import EXAMPLES, ROOT
+
+from mechdyn.cli.main import main
+
+DRIVETRAIN_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drivetrain"' in p.read_text())
+
+
+@pytest.fixture
+def db(tmp_path, monkeypatch):
+    path = tmp_path / "cli.db"
+    monkeypatch.setenv("MECHDYN_DB", str(path))
+    monkeypatch.chdir(tmp_path)
+    return path
+
+
+def run_json(capsys, *argv):
+    assert main([*argv, "--json"]) == 0
+    out = capsys.readouterr().out
+    return json.loads(out)
+
+
+def test_there_are_drivetrain_examples():
+    assert {p.name for p in DRIVETRAIN_EXAMPLES} >= {"turret_indexing.toml", "turret_milling.toml"}
+
+
+@pytest.mark.parametrize("example", DRIVETRAIN_EXAMPLES, ids=lambda p: p.stem)
+def test_every_example_runs_every_analysis(example, db, capsys, tmp_path):
+    plots = tmp_path / "plots"
+    doc = run_json(capsys, "modal", str(example), "--compare-rigid", "--plots", str(plots))
+    assert doc["rigid_body_modes"] == 1
+    f = doc["frequencies_hz"]
+    assert f == sorted(f) and f[0] > 0
+    assert len(doc["modes"]) == len(f) and set(doc["modes"][0]["shape"]) >= {"1", "2"}
+    assert all(c["flexible_mode"] for c in doc["comparison"])
+    camp = run_json(capsys, "campbell", str(example), "--plots", str(plots))
+    assert camp["lines"] and camp["frequencies_hz"] == pytest.approx(f)
+    resp = run_json(capsys, "frf", str(example), "--plots", str(plots), "--points", "200")
+    assert resp["peaks"]
+    for name in ("mode_shapes.png", "mode_shapes_rigid.png", "campbell.png", "frf.png"):
+        png = plots / name
+        assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
+    # all three runs are stored, with the model text and its hash
+    assert main(["results", "list", "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)
+    assert [r["analysis"] for r in runs] == ["frf", "campbell", "modal"]
+    assert main(["results", "show", str(doc["run_id"]), "--json"]) == 0
+    shown = json.loads(capsys.readouterr().out)
+    assert shown["model_text"] == example.read_text()
+    assert shown["scalars"]["frequencies_hz"] == pytest.approx(f)
+    assert shown["arrays"]["mode_shapes"]["shape"][1] == len(f)
+
+
+def test_rigid_gears_flag_merges_the_meshing_disks(db, capsys):
+    flex = run_json(capsys, "modal", str(EXAMPLES / "turret_milling.toml"))
+    rigid = run_json(capsys, "modal", str(EXAMPLES / "turret_milling.toml"), "--rigid-gears")
+    assert len(flex["frequencies_hz"]) == 6 and len(rigid["frequencies_hz"]) == 4
+    shape = rigid["modes"][0]["shape"]
+    assert shape["2"] == pytest.approx(-shape["4"]) and shape["5"] == pytest.approx(-shape["6"])
+
+
+def test_table_output_is_readable(db, capsys):
+    assert main(["modal", str(EXAMPLES / "turret_indexing.toml"), "--compare-rigid"]) == 0
+    out, err = capsys.readouterr()
+    assert "natural frequencies" in out and "mode shapes" in out and "strain energy per element" in out
+    assert "paired by shape" in out and "stored as run 1" in out
+    assert "792.34" in out  # lowest flexible mode of the indexing path, Hz
+    assert err.count("warning:") == 2  # the published ratio inconsistencies
+
+
+def test_cli_options_override_the_file(db, capsys):
+    doc = run_json(capsys, "campbell", str(EXAMPLES / "turret_milling.toml"), "--speed-range", "0 rpm", "1000 rpm")
+    assert doc["speed_range_rpm"] == pytest.approx([0, 1000])
+    doc = run_json(capsys, "frf", str(EXAMPLES / "turret_milling.toml"), "--excite", "1", "--frequency-range", "100 Hz", "1 kHz", "--points", "50", "--damping", "0.05")
+    assert doc["frequency_range_hz"] == pytest.approx([100, 1000]) and doc["points"] == 50
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["modal", "missing.toml"], "missing.toml: no such file"),
+        (["campbell", "bad.toml"], "bad.toml: [[disks]] #1 (name = 'a') → inertia: '3 kg' is in kg"),
+        (["results", "show", "42"], "no run with id 42"),
+        (["frf", "nores.toml"], "no excitation; add a [response] table, or pass --excite DISK"),
+        (["campbell", "nores.toml"], "no speed range"),
+    ],
+)
+def test_errors_exit_2_with_a_message(db, capsys, tmp_path, argv, message):
+    (tmp_path / "bad.toml").write_text('[model]\ntype = "drivetrain"\n[[disks]]\nname = "a"\ninertia = "3 kg"\n')
+    (tmp_path / "nores.toml").write_text('[model]\ntype = "drivetrain"\n[[disks]]\nname = "a"\ninertia = "3 kg*m^2"\n')
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert message in err and "Traceback" not in err and out == ""
+
+
+def test_bad_option_value_is_refused(db, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["campbell", str(EXAMPLES / "turret_milling.toml"), "--speed-range", "0 kg", "1 rpm"])
+    assert info.value.code == 2
+    assert "speed '0 kg'" in capsys.readouterr().err
+
+
+def test_readme_documents_every_json_key(db, capsys):
+    readme = (ROOT / "README.md").read_text()
+    documented = set(re.findall(r"`([a-z_]+)`", readme))
+    example = str(EXAMPLES / "turret_milling.toml")
+    for argv in (["modal", example, "--compare-rigid"], ["campbell", example], ["frf", example, "--points", "20"]):
+        keys = set(run_json(capsys, *argv))
+        assert keys <= documented, f"{argv[0]}: undocumented JSON keys {sorted(keys - documented)}"
+
+
+def test_installed_entry_point(db):
+    out = subprocess.run(
+        [sys.executable, "-m", "mechdyn", "modal", str(EXAMPLES / "turret_milling.toml"), "--json", "--db", str(db)],
+        capture_output=True, text=True, check=True,
+    )
+    assert json.loads(out.stdout)["frequencies_hz"][0] == pytest.approx(1101.275, rel=1e-5)
