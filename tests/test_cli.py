@@ -8,8 +8,8 @@ import subprocess
 import sys
 
 import pytest
-from conftest import EXAMPLES, ROOT
 
+from conftest import EXAMPLES, ROOT
 from mechdyn.cli.main import main
 
 DRIVETRAIN_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drivetrain"' in p.read_text())
@@ -78,9 +78,24 @@ def test_table_output_is_readable(db, capsys):
 
 
 def test_cli_options_override_the_file(db, capsys):
-    doc = run_json(capsys, "campbell", str(EXAMPLES / "turret_milling.toml"), "--speed-range", "0 rpm", "1000 rpm")
+    doc = run_json(
+        capsys, "campbell", str(EXAMPLES / "turret_milling.toml"), "--speed-range", "0 rpm", "1000 rpm"
+    )
     assert doc["speed_range_rpm"] == pytest.approx([0, 1000])
-    doc = run_json(capsys, "frf", str(EXAMPLES / "turret_milling.toml"), "--excite", "1", "--frequency-range", "100 Hz", "1 kHz", "--points", "50", "--damping", "0.05")
+    doc = run_json(
+        capsys,
+        "frf",
+        str(EXAMPLES / "turret_milling.toml"),
+        "--excite",
+        "1",
+        "--frequency-range",
+        "100 Hz",
+        "1 kHz",
+        "--points",
+        "50",
+        "--damping",
+        "0.05",
+    )
     assert doc["frequency_range_hz"] == pytest.approx([100, 1000]) and doc["points"] == 50
 
 
@@ -95,8 +110,12 @@ def test_cli_options_override_the_file(db, capsys):
     ],
 )
 def test_errors_exit_2_with_a_message(db, capsys, tmp_path, argv, message):
-    (tmp_path / "bad.toml").write_text('[model]\ntype = "drivetrain"\n[[disks]]\nname = "a"\ninertia = "3 kg"\n')
-    (tmp_path / "nores.toml").write_text('[model]\ntype = "drivetrain"\n[[disks]]\nname = "a"\ninertia = "3 kg*m^2"\n')
+    (tmp_path / "bad.toml").write_text(
+        '[model]\ntype = "drivetrain"\n[[disks]]\nname = "a"\ninertia = "3 kg"\n'
+    )
+    (tmp_path / "nores.toml").write_text(
+        '[model]\ntype = "drivetrain"\n[[disks]]\nname = "a"\ninertia = "3 kg*m^2"\n'
+    )
     assert main(argv) == 2
     out, err = capsys.readouterr()
     assert message in err and "Traceback" not in err and out == ""
@@ -111,16 +130,47 @@ def test_bad_option_value_is_refused(db, capsys):
 
 def test_readme_documents_every_json_key(db, capsys):
     readme = (ROOT / "README.md").read_text()
-    documented = set(re.findall(r"`([a-z_]+)`", readme))
+    documented = set(re.findall(r"`([a-z_0-9]+)`", readme))
     example = str(EXAMPLES / "turret_milling.toml")
-    for argv in (["modal", example, "--compare-rigid"], ["campbell", example], ["frf", example, "--points", "20"]):
+    for argv in (
+        ["modal", example, "--compare-rigid"],
+        ["campbell", example],
+        ["frf", example, "--points", "20"],
+    ):
         keys = set(run_json(capsys, *argv))
         assert keys <= documented, f"{argv[0]}: undocumented JSON keys {sorted(keys - documented)}"
 
 
 def test_installed_entry_point(db):
     out = subprocess.run(
-        [sys.executable, "-m", "mechdyn", "modal", str(EXAMPLES / "turret_milling.toml"), "--json", "--db", str(db)],
-        capture_output=True, text=True, check=True,
+        [
+            sys.executable,
+            "-m",
+            "mechdyn",
+            "modal",
+            str(EXAMPLES / "turret_milling.toml"),
+            "--json",
+            "--db",
+            str(db),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
     )
     assert json.loads(out.stdout)["frequencies_hz"][0] == pytest.approx(1101.275, rel=1e-5)
+
+
+def test_readme_python_example_runs(monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    monkeypatch.chdir(ROOT)
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), flags=re.S)
+    assert blocks
+    try:
+        for code in blocks:
+            exec(compile(code, "README.md", "exec"), {})
+    finally:
+        plt.close("all")

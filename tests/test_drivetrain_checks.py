@@ -27,7 +27,13 @@ def _full(turret):
 def test_assembled_turret_passes(turret_b, turret_c):
     for dt in (turret_b, turret_c):
         M, K, asm = _full(dt)
-        check_matrices(M, K, expected_rigid_body_modes=1, dof_names=dt.disk_names, rigid_body_vectors=asm.rigid_body_vectors)
+        check_matrices(
+            M,
+            K,
+            expected_rigid_body_modes=1,
+            dof_names=dt.disk_names,
+            rigid_body_vectors=asm.rigid_body_vectors,
+        )
 
 
 def test_stray_grounding_term_is_flagged(turret_b):
@@ -35,7 +41,13 @@ def test_stray_grounding_term_is_flagged(turret_b):
     M, K, asm = _full(turret_b)
     K[2, 2] += 1e5
     with pytest.raises(ModelCheckError, match=r"0 zero \(rigid-body\) mode\(s\); expected 1.*resist.*: 3$"):
-        check_matrices(M, K, expected_rigid_body_modes=1, dof_names=turret_b.disk_names, rigid_body_vectors=asm.rigid_body_vectors)
+        check_matrices(
+            M,
+            K,
+            expected_rigid_body_modes=1,
+            dof_names=turret_b.disk_names,
+            rigid_body_vectors=asm.rigid_body_vectors,
+        )
 
 
 def test_mesh_term_on_the_wrong_gear_is_flagged(turret_b):
@@ -45,8 +57,16 @@ def test_mesh_term_on_the_wrong_gear_is_flagged(turret_b):
     term = mesh2.stiffness * mesh2.base_radii[0] ** 2
     K[3, 3] -= term
     K[2, 2] += term
-    with pytest.raises(ModelCheckError, match=r"(not positive semi-definite|zero \(rigid-body\) mode)") as info:
-        check_matrices(M, K, expected_rigid_body_modes=1, dof_names=turret_b.disk_names, rigid_body_vectors=asm.rigid_body_vectors)
+    with pytest.raises(
+        ModelCheckError, match=r"(not positive semi-definite|zero \(rigid-body\) mode)"
+    ) as info:
+        check_matrices(
+            M,
+            K,
+            expected_rigid_body_modes=1,
+            dof_names=turret_b.disk_names,
+            rigid_body_vectors=asm.rigid_body_vectors,
+        )
     assert str(info.value).endswith("rows of K that resist the rigid-body motion: 3, 4")
 
 

@@ -28,7 +28,10 @@ def test_random_free_chain_against_opentorsion(seed):
     J = rng.uniform(1e-4, 1e-1, n)
     k = rng.uniform(1e3, 1e6, n - 1)
     ours = modal(
-        Drivetrain([Disk(f"{i}", J[i]) for i in range(n)], [Shaft(f"s{i}", (f"{i}", f"{i + 1}"), k[i]) for i in range(n - 1)])
+        Drivetrain(
+            [Disk(f"{i}", J[i]) for i in range(n)],
+            [Shaft(f"s{i}", (f"{i}", f"{i + 1}"), k[i]) for i in range(n - 1)],
+        )
     )
     ref = ot.Assembly(
         [ot.Shaft(i, i + 1, 0, 0, k=k[i]) for i in range(n - 1)],
@@ -91,7 +94,9 @@ def test_friswell_example_9_7_1():
     # Friswell et al. (2010) example 9.7.1: 81.21, 141.21, 378.95, 536.36 Hz
     J = [3.5e-3, 3.5e-3, 3.5e-3, 0.15, 0.05]
     k = [12e3, 12e3, 14e3, 10e3]
-    dt = Drivetrain([Disk(str(i), J[i]) for i in range(5)], [Shaft(f"k{i}", (str(i), str(i + 1)), k[i]) for i in range(4)])
+    dt = Drivetrain(
+        [Disk(str(i), J[i]) for i in range(5)], [Shaft(f"k{i}", (str(i), str(i + 1)), k[i]) for i in range(4)]
+    )
     np.testing.assert_allclose(modal(dt).frequencies_hz.round(2), [81.21, 141.21, 378.95, 536.36])
 
 
@@ -106,4 +111,6 @@ def test_turret_b_rigid_gears_against_opentorsion(turret_b):
         disk_elements=[ot.Disk(0, J[0]), ot.Disk(5, J[5])],
         gear_elements=gears,
     )
-    np.testing.assert_allclose(modal(turret_b, rigid_gears=True).frequencies_hz, _ot_frequencies(ref)[1:], rtol=1e-8)
+    np.testing.assert_allclose(
+        modal(turret_b, rigid_gears=True).frequencies_hz, _ot_frequencies(ref)[1:], rtol=1e-8
+    )

@@ -59,29 +59,101 @@ def test_the_good_file_loads(tmp_path):
 CASES = [
     # (old text, new text, location fragment, message fragment)
     ('inertia = "1e-3 kg*m^2"', 'inertia = "1e-3"', "[[disks]] #1 (name = 'motor') → inertia", "has no unit"),
-    ('inertia = "1e-3 kg*m^2"', 'inertia = "1e-3 N*m"', "inertia", "expected a quantity of [mass] * [length] ** 2"),
-    ('inertia = "1e-3 kg*m^2"', 'inertia = "-1e-3 kg*m^2"', "[[disks]] #1 (name = 'motor') → inertia", "must be positive"),
-    ('inertia = "1e-3 kg*m^2"', 'inertia = 0.001', "inertia", "has no unit"),
-    ('inertia = "1e-3 kg*m^2"', 'intertia = "1e-3 kg*m^2"', "[[disks]] #1 (name = 'motor') → intertia", "did you mean 'inertia'"),
-    ('disks = ["motor", "pinion"]', 'disks = ["motor", "pinon"]', "[[shafts]] #1 (name = 'input') → disks", "disk 'pinon', which is not defined"),
-    ('disks = ["motor", "pinion"]', 'disks = ["motor"]', "[[shafts]] #1 (name = 'input') → disks → item 2", "required field is missing"),
-    ('length = "100 mm"', 'length = "-100 mm"', "[[shafts]] #1 (name = 'input') → length", "must be positive"),
+    (
+        'inertia = "1e-3 kg*m^2"',
+        'inertia = "1e-3 N*m"',
+        "inertia",
+        "expected a quantity of [mass] * [length] ** 2",
+    ),
+    (
+        'inertia = "1e-3 kg*m^2"',
+        'inertia = "-1e-3 kg*m^2"',
+        "[[disks]] #1 (name = 'motor') → inertia",
+        "must be positive",
+    ),
+    ('inertia = "1e-3 kg*m^2"', "inertia = 0.001", "inertia", "has no unit"),
+    (
+        'inertia = "1e-3 kg*m^2"',
+        'intertia = "1e-3 kg*m^2"',
+        "[[disks]] #1 (name = 'motor') → intertia",
+        "did you mean 'inertia'",
+    ),
+    (
+        'disks = ["motor", "pinion"]',
+        'disks = ["motor", "pinon"]',
+        "[[shafts]] #1 (name = 'input') → disks",
+        "disk 'pinon', which is not defined",
+    ),
+    (
+        'disks = ["motor", "pinion"]',
+        'disks = ["motor"]',
+        "[[shafts]] #1 (name = 'input') → disks → item 2",
+        "required field is missing",
+    ),
+    (
+        'length = "100 mm"',
+        'length = "-100 mm"',
+        "[[shafts]] #1 (name = 'input') → length",
+        "must be positive",
+    ),
     ('length = "100 mm"', "", "[[shafts]] #1 (name = 'input')", "give stiffness, or length and diameter"),
-    ('stiffness = "1.5e9 N/m"', 'stiffness = "1.5e9 N*m/rad"', "[[meshes]] #1 (name = 'G1') → stiffness", "expected a quantity of [mass] / [time] ** 2"),
-    ('base_radii = ["18.8 mm", "56.4 mm"]\n', "", "[[meshes]] #1 (name = 'G1') → base_radii", "needs base_radii"),
-    ("teeth = [20, 60]", "teeth = [20, 60]\nratio = 2", "[[meshes]] #1 (name = 'G1') → ratio", "disagrees with the teeth ratio"),
-    ("teeth = [20, 60]", "teeth = [20.5, 60]", "[[meshes]] #1 (name = 'G1') → teeth → item 1", "valid integer"),
+    (
+        'stiffness = "1.5e9 N/m"',
+        'stiffness = "1.5e9 N*m/rad"',
+        "[[meshes]] #1 (name = 'G1') → stiffness",
+        "expected a quantity of [mass] / [time] ** 2",
+    ),
+    (
+        'base_radii = ["18.8 mm", "56.4 mm"]\n',
+        "",
+        "[[meshes]] #1 (name = 'G1') → base_radii",
+        "needs base_radii",
+    ),
+    (
+        "teeth = [20, 60]",
+        "teeth = [20, 60]\nratio = 2",
+        "[[meshes]] #1 (name = 'G1') → ratio",
+        "disagrees with the teeth ratio",
+    ),
+    (
+        "teeth = [20, 60]",
+        "teeth = [20.5, 60]",
+        "[[meshes]] #1 (name = 'G1') → teeth → item 1",
+        "valid integer",
+    ),
     ('name = "gear"', 'name = "motor"', "", "used twice"),
-    ('type = "drivetrain"', 'type = "gearbox"', "[model] → type", "'gearbox' is not a model type; expected one of 'drivetrain'"),
-    ('density = "7850 kg/m^3"\n', "", "[[disks]] #2 (name = 'pinion') → density", "give it here or in [material]"),
-    ('thickness = "20 mm"', 'thickness = "20 mm"\ninertia = "1 kg*m^2"', "[[disks]] #2 (name = 'pinion')", "not both"),
-    ('name = "G1"', 'name = "G1"\nkind = "bevel"', "[[meshes]] #1 (name = 'G1') → kind", "'external' or 'internal'"),
-    ('[model]', '[modle]', "[model]", "missing"),
+    (
+        'type = "drivetrain"',
+        'type = "gearbox"',
+        "[model] → type",
+        "'gearbox' is not a model type; expected one of 'drivetrain'",
+    ),
+    (
+        'density = "7850 kg/m^3"\n',
+        "",
+        "[[disks]] #2 (name = 'pinion') → density",
+        "give it here or in [material]",
+    ),
+    (
+        'thickness = "20 mm"',
+        'thickness = "20 mm"\ninertia = "1 kg*m^2"',
+        "[[disks]] #2 (name = 'pinion')",
+        "not both",
+    ),
+    (
+        'name = "G1"',
+        'name = "G1"\nkind = "bevel"',
+        "[[meshes]] #1 (name = 'G1') → kind",
+        "'external' or 'internal'",
+    ),
+    ("[model]", "[modle]", "[model]", "missing"),
     ('shear_modulus = "80 GPa"', 'shear_modulus = "80 GPa', "", "not valid TOML"),
 ]
 
 
-@pytest.mark.parametrize(("old", "new", "where", "what"), CASES, ids=[f"{i}-{c[3][:30] or c[2][:30]}" for i, c in enumerate(CASES)])
+@pytest.mark.parametrize(
+    ("old", "new", "where", "what"), CASES, ids=[f"{i}-{c[3][:30] or c[2][:30]}" for i, c in enumerate(CASES)]
+)
 def test_bad_file_gives_a_named_error(tmp_path, old, new, where, what):
     assert old in GOOD
     path = _write(tmp_path, GOOD.replace(old, new, 1))
@@ -101,7 +173,10 @@ def test_missing_file_is_named(tmp_path):
 
 def test_ratio_disagreement_warns_and_names_the_mesh(tmp_path):
     path = _write(tmp_path, GOOD.replace('"56.4 mm"', '"60 mm"'))
-    with pytest.warns(mechdyn.ModelWarning, match=r"\[\[meshes\]\] #1 \(name = 'G1'\).*ratio 3 \(from the teeth\) but the base radii give 3.191"):
+    with pytest.warns(
+        mechdyn.ModelWarning,
+        match=r"\[\[meshes\]\] #1 \(name = 'G1'\).*ratio 3 \(from the teeth\) but the base radii give 3.191",
+    ):
         mechdyn.load(path)
 
 

@@ -1,6 +1,6 @@
 import pytest
 
-from mechdyn.units import UnitError, Q_, to_si
+from mechdyn.units import Q_, UnitError, to_si
 
 
 @pytest.mark.parametrize(

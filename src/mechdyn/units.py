@@ -80,7 +80,11 @@ def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
     UnitError
         If the value is not a quantity of the dimension of ``unit``.
     """
-    if plain_is_si and isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+    if (
+        plain_is_si
+        and isinstance(value, (int, float, np.integer, np.floating))
+        and not isinstance(value, bool)
+    ):
         out = float(value)
         if not np.isfinite(out):
             raise UnitError(f"{value!r} is not finite")

@@ -24,7 +24,11 @@ __all__ = ["register"]
 
 def _need_drivetrain(model: Any, source: ModelSource) -> Drivetrain:
     if not isinstance(model, Drivetrain):
-        raise ModelFileError(source.path, "[model] → type", f"{source.model_type!r} is not a drivetrain model; this command needs type = \"drivetrain\"")
+        raise ModelFileError(
+            source.path,
+            "[model] → type",
+            f'{source.model_type!r} is not a drivetrain model; this command needs type = "drivetrain"',
+        )
     return model
 
 
@@ -54,7 +58,14 @@ def _modal_tables(r: ModalResult, title: str) -> list[Table]:
     tables = [
         Table(
             f"{title}: natural frequencies ({r.rigid_body_modes} rigid-body mode(s) set aside)",
-            ["mode", "frequency [Hz]", "most strain energy in", "share [%]", "most kinetic energy in", "share [%]"],
+            [
+                "mode",
+                "frequency [Hz]",
+                "most strain energy in",
+                "share [%]",
+                "most kinetic energy in",
+                "share [%]",
+            ],
             rows,
         )
     ]
@@ -106,13 +117,37 @@ def _modal_command(args: argparse.Namespace) -> int:
             tables.append(
                 Table(
                     "flexible meshes against rigid gears (modes paired by shape, MAC)",
-                    ["flexible mode", "flexible [Hz]", "rigid mode", "rigid [Hz]", "MAC", "change [%]", "most strain energy in"],
-                    [[c["flexible_mode"], c["flexible_hz"], c["rigid_mode"], c["rigid_hz"], c["mac"], c["change_percent"], c["dominant_element"]] for c in cmp.rows],
+                    [
+                        "flexible mode",
+                        "flexible [Hz]",
+                        "rigid mode",
+                        "rigid [Hz]",
+                        "MAC",
+                        "change [%]",
+                        "most strain energy in",
+                    ],
+                    [
+                        [
+                            c["flexible_mode"],
+                            c["flexible_hz"],
+                            c["rigid_mode"],
+                            c["rigid_hz"],
+                            c["mac"],
+                            c["change_percent"],
+                            c["dominant_element"],
+                        ]
+                        for c in cmp.rows
+                    ],
                 )
             )
             arrays["mac"] = (cmp.mac, "")
             plots["mode_shapes_rigid.png"] = lambda: cmp.rigid.plot()
-        params = {"rigid_gears": args.rigid_gears, "compare_rigid": args.compare_rigid, "modes": args.modes, "solver": args.solver}
+        params = {
+            "rigid_gears": args.rigid_gears,
+            "compare_rigid": args.compare_rigid,
+            "modes": args.modes,
+            "solver": args.solver,
+        }
         return AnalysisOutput("modal", params, summary, arrays, tables, plots)
 
     return run_analysis(args, analyse)
@@ -138,7 +173,10 @@ def _campbell_command(args: argparse.Namespace) -> int:
         camp_settings, _ = settings(source, dt)
         speed = args.speed_range or (camp_settings.speed_range if camp_settings else None)
         if speed is None:
-            raise MechdynError(f"{source.path}: no speed range; add a [campbell] table with speed_range, or pass --speed-range LOW HIGH (e.g. '0 rpm' '3000 rpm')")
+            raise MechdynError(
+                f"{source.path}: no speed range; add a [campbell] table with speed_range, "
+                "or pass --speed-range LOW HIGH (e.g. '0 rpm' '3000 rpm')"
+            )
         ref = args.reference or (camp_settings.reference_disk if camp_settings else None)
         kw = {}
         if camp_settings:
@@ -166,7 +204,11 @@ def _campbell_command(args: argparse.Namespace) -> int:
                 [[x["line"], x["mode"], x["frequency_hz"], x["speed_rpm"]] for x in crossings],
             ),
         ]
-        params = {"speed_range_rad_s": list(c.speed_range), "reference": c.reference, "rigid_gears": args.rigid_gears}
+        params = {
+            "speed_range_rad_s": list(c.speed_range),
+            "reference": c.reference,
+            "rigid_gears": args.rigid_gears,
+        }
         arrays = {"frequencies_hz": (c.modal.frequencies_hz, "Hz")}
         return AnalysisOutput("campbell", params, summary, arrays, tables, {"campbell.png": lambda: c.plot()})
 
@@ -182,7 +224,11 @@ def _frf_command(args: argparse.Namespace) -> int:
         excitation = {d: 1.0 + 0j for d in args.excite} if args.excite else resp.excitation
         lo, hi = args.frequency_range or (resp.frequency_range if resp else (1.0, 1e4))
         points = args.points or (resp.points if resp else 1000)
-        damping = ModalDamping(args.damping) if args.damping is not None else (resp.damping if resp else ModalDamping())
+        damping = (
+            ModalDamping(args.damping)
+            if args.damping is not None
+            else (resp.damping if resp else ModalDamping())
+        )
         outputs = list(resp.outputs) if resp and resp.outputs else list(dt.disk_names)
         f = np.geomspace(lo, hi, points)
         r = frf(dt, f, excitation, damping=damping)
@@ -201,9 +247,24 @@ def _frf_command(args: argparse.Namespace) -> int:
             "natural_frequencies_hz": r.natural_frequencies_hz.tolist(),
             "peaks": peaks,
         }
-        tables = [Table("largest steady-state amplitudes over the frequency range", ["output", "peak", "unit", "at [Hz]"], rows)]
-        arrays = {"frequencies_hz": (f, "Hz"), "angles": (r.angles, "rad"), "element_loads": (r.element_loads, "N*m | N")}
-        params = {"frequency_range_hz": [lo, hi], "points": points, "damping": repr(damping), "excitation": list(excitation)}
+        tables = [
+            Table(
+                "largest steady-state amplitudes over the frequency range",
+                ["output", "peak", "unit", "at [Hz]"],
+                rows,
+            )
+        ]
+        arrays = {
+            "frequencies_hz": (f, "Hz"),
+            "angles": (r.angles, "rad"),
+            "element_loads": (r.element_loads, "N*m | N"),
+        }
+        params = {
+            "frequency_range_hz": [lo, hi],
+            "points": points,
+            "damping": repr(damping),
+            "excitation": list(excitation),
+        }
         return AnalysisOutput("frf", params, summary, arrays, tables, {"frf.png": lambda: r.plot(outputs)})
 
     return run_analysis(args, analyse)
@@ -214,22 +275,36 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_common_options(p)
     g = p.add_mutually_exclusive_group()
     g.add_argument("--rigid-gears", action="store_true", help="treat every gear mesh as a rigid constraint")
-    g.add_argument("--compare-rigid", action="store_true", help="also solve with rigid gears and pair the modes by shape (MAC)")
+    g.add_argument(
+        "--compare-rigid",
+        action="store_true",
+        help="also solve with rigid gears and pair the modes by shape (MAC)",
+    )
     p.add_argument("--modes", type=int, help="number of lowest flexible modes (default: all)")
     p.add_argument("--solver", choices=SOLVERS, default="auto", help="eigen solver (default: auto)")
     p.set_defaults(func=_modal_command)
 
     p = sub.add_parser("campbell", help="Campbell (interference) diagram and its crossings")
     add_common_options(p)
-    p.add_argument("--speed-range", nargs=2, type=_speed, metavar=("LOW", "HIGH"), help="reference speed range, e.g. '0 rpm' '3000 rpm'")
+    p.add_argument(
+        "--speed-range",
+        nargs=2,
+        type=_speed,
+        metavar=("LOW", "HIGH"),
+        help="reference speed range, e.g. '0 rpm' '3000 rpm'",
+    )
     p.add_argument("--reference", metavar="DISK", help="disk whose speed is the abscissa")
     p.add_argument("--rigid-gears", action="store_true", help="natural frequencies with rigid gears")
     p.set_defaults(func=_campbell_command)
 
     p = sub.add_parser("frf", help="steady-state response to harmonic torques")
     add_common_options(p)
-    p.add_argument("--excite", nargs="+", metavar="DISK", help="unit torque (1 N·m) at these disks, replacing [response]")
-    p.add_argument("--frequency-range", nargs=2, type=_frequency, metavar=("LOW", "HIGH"), help="e.g. '10 Hz' '5 kHz'")
+    p.add_argument(
+        "--excite", nargs="+", metavar="DISK", help="unit torque (1 N·m) at these disks, replacing [response]"
+    )
+    p.add_argument(
+        "--frequency-range", nargs=2, type=_frequency, metavar=("LOW", "HIGH"), help="e.g. '10 Hz' '5 kHz'"
+    )
     p.add_argument("--points", type=int, help="number of frequencies (log-spaced)")
     p.add_argument("--damping", type=float, help="modal damping ratio for every mode, e.g. 0.02")
     p.set_defaults(func=_frf_command)

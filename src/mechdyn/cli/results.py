@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 
-
 from mechdyn.cli.common import Table, print_table
 from mechdyn.store import ResultStore
 from mechdyn.store.store import jsonable
@@ -17,10 +16,35 @@ def _list(args: argparse.Namespace) -> int:
     with ResultStore(args.db) as store:
         runs = store.runs(analysis=args.analysis, limit=args.limit)
     if args.json:
-        print(json.dumps([jsonable({k: v for k, v in r.__dict__.items() if k not in ("model_text", "arrays")}) for r in runs], indent=2, default=str))
+        print(
+            json.dumps(
+                [
+                    jsonable({k: v for k, v in r.__dict__.items() if k not in ("model_text", "arrays")})
+                    for r in runs
+                ],
+                indent=2,
+                default=str,
+            )
+        )
         return 0
-    rows = [[r.id, r.created_at.strftime("%Y-%m-%d %H:%M:%S"), r.analysis, r.model_name, r.model_path, r.model_sha256[:12]] for r in runs]
-    print_table(Table(f"runs in {store.url.split('@')[-1]}", ["id", "time (UTC)", "analysis", "model", "file", "sha256"], rows))
+    rows = [
+        [
+            r.id,
+            r.created_at.strftime("%Y-%m-%d %H:%M:%S"),
+            r.analysis,
+            r.model_name,
+            r.model_path,
+            r.model_sha256[:12],
+        ]
+        for r in runs
+    ]
+    print_table(
+        Table(
+            f"runs in {store.url.split('@')[-1]}",
+            ["id", "time (UTC)", "analysis", "model", "file", "sha256"],
+            rows,
+        )
+    )
     return 0
 
 
@@ -29,10 +53,15 @@ def _show(args: argparse.Namespace) -> int:
         r = store.get(args.id)
     if args.json:
         doc = {k: v for k, v in r.__dict__.items() if k != "arrays"}
-        doc["arrays"] = {k: {"unit": u, "shape": list(a.shape), "dtype": str(a.dtype)} for k, (a, u) in r.arrays.items()}
+        doc["arrays"] = {
+            k: {"unit": u, "shape": list(a.shape), "dtype": str(a.dtype)} for k, (a, u) in r.arrays.items()
+        }
         print(json.dumps(jsonable(doc), indent=2, default=str))
         return 0
-    print(f"run {r.id}: {r.analysis} of {r.model_name!r} ({r.model_path}), {r.created_at:%Y-%m-%d %H:%M:%S} UTC, mechdyn {r.package_version}")
+    print(
+        f"run {r.id}: {r.analysis} of {r.model_name!r} ({r.model_path}), "
+        f"{r.created_at:%Y-%m-%d %H:%M:%S} UTC, mechdyn {r.package_version}"
+    )
     print(f"model sha256 {r.model_sha256}")
     print("parameters: " + json.dumps(jsonable(r.parameters)))
     rows = []
@@ -40,7 +69,13 @@ def _show(args: argparse.Namespace) -> int:
         text = json.dumps(jsonable(v))
         rows.append([k, text if len(text) <= 100 else text[:97] + "..."])
     print_table(Table("results", ["key", "value"], rows))
-    print_table(Table("arrays", ["name", "shape", "dtype", "unit"], [[k, "×".join(map(str, a.shape)), str(a.dtype), u] for k, (a, u) in r.arrays.items()]))
+    print_table(
+        Table(
+            "arrays",
+            ["name", "shape", "dtype", "unit"],
+            [[k, "×".join(map(str, a.shape)), str(a.dtype), u] for k, (a, u) in r.arrays.items()],
+        )
+    )
     if args.model:
         print(r.model_text)
     return 0
@@ -49,7 +84,10 @@ def _show(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("results", help="list and show stored runs")
     rs = p.add_subparsers(dest="results_command", required=True, metavar="{list,show}")
-    for name, func, hlp in (("list", _list, "list stored runs, newest first"), ("show", _show, "show one stored run")):
+    for name, func, hlp in (
+        ("list", _list, "list stored runs, newest first"),
+        ("show", _show, "show one stored run"),
+    ):
         q = rs.add_parser(name, help=hlp)
         q.add_argument("--db", metavar="URL", help="results database (default: $MECHDYN_DB, else mechdyn.db)")
         q.add_argument("--json", action="store_true", help="machine-readable output")

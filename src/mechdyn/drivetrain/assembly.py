@@ -73,18 +73,13 @@ class Assembly:
 
 
 def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
-    idx = drivetrain.disk_index
-    rows, cols, vals = [], [], []
-    for _, b in drivetrain.element_blocks:
-        block = getattr(b, which)
-        if block is None:
-            continue
-        dofs = np.array([idx[d] for d in b.disks])
-        r, c = np.meshgrid(dofs, dofs, indexing="ij")
-        rows.append(r.ravel())
-        cols.append(c.ravel())
-        vals.append(np.asarray(block, dtype=float).ravel())
     n = len(drivetrain.disks)
+    rows, cols, vals = [], [], []
+    for g in drivetrain.block_groups(which):
+        k = g.dofs.shape[1]
+        rows.append(np.repeat(g.dofs, k, axis=1).ravel())
+        cols.append(np.tile(g.dofs, (1, k)).ravel())
+        vals.append(g.blocks.ravel())
     if not rows:
         return sp.csr_array((n, n))
     return sp.coo_array(
@@ -120,6 +115,11 @@ def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
     return T, tuple(drivetrain.disk_names[i] for i in first)
 
 
+def _reduce(T: sp.csr_array, A: sp.csr_array, reduced: bool) -> sp.csr_array:
+    """Tᵀ A T (A itself when no rigid mesh removed a coordinate, T being the identity)."""
+    return sp.csr_array(T.T @ A @ T) if reduced else A
+
+
 def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
     """Assemble the reduced mass, stiffness and damping matrices of a drivetrain.
 
@@ -147,6 +147,7 @@ def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
     of free branches). Together they make K symmetric semi-definite with the right null space.
     """
     T, names = _reduction(drivetrain)
+    reduced = T.shape[0] != T.shape[1]
     J = drivetrain.inertias
     mass = np.asarray(T.multiply(T).T @ J)  # T has one entry per row, so TᵀMT is diagonal
     rigid = drivetrain.free_branches()
@@ -156,8 +157,8 @@ def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
         T=T,
         coordinate_names=names,
         mass=mass,
-        K=sp.csr_array(T.T @ _scatter(drivetrain, "stiffness") @ T),
-        C=sp.csr_array(T.T @ _scatter(drivetrain, "damping") @ T),
+        K=_reduce(T, _scatter(drivetrain, "stiffness"), reduced),
+        C=_reduce(T, _scatter(drivetrain, "damping"), reduced),
         rigid_body_vectors=R,
     )
     if check:
@@ -166,39 +167,46 @@ def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
     return asm
 
 
+def _element_name(drivetrain: Drivetrain, position: int) -> str:
+    return drivetrain.element_blocks[position][0].name
+
+
 def _check_elements(drivetrain: Drivetrain) -> None:
-    for e, b in drivetrain.element_blocks:
-        for which in ("mass", "stiffness", "damping"):
-            block = getattr(b, which)
-            if block is None:
-                continue
-            scale = max(float(np.max(np.abs(block))), np.finfo(float).tiny)
-            if not np.allclose(block, block.T, rtol=0, atol=_TOL * scale):
-                raise ModelCheckError(f"its {which} block is not symmetric: {block.tolist()}", element=e.name)
-            lowest = float(np.linalg.eigvalsh(block).min())
-            if lowest < -_TOL * scale:
+    for which in ("mass", "stiffness", "damping"):
+        for g in drivetrain.block_groups(which):
+            B = g.blocks
+            scale = np.maximum(np.abs(B).max(axis=(1, 2)), np.finfo(float).tiny)
+            asym = np.abs(B - B.transpose(0, 2, 1)).max(axis=(1, 2)) > _TOL * scale
+            if asym.any():
+                i = int(np.argmax(asym))
                 raise ModelCheckError(
-                    f"its {which} block is not positive semi-definite (eigenvalue {lowest:.4g})",
-                    element=e.name,
+                    f"its {which} block is not symmetric: {B[i].tolist()}",
+                    element=_element_name(drivetrain, g.elements[i]),
+                )
+            lowest = np.linalg.eigvalsh(B).min(axis=1)
+            bad = lowest < -_TOL * scale
+            if bad.any():
+                i = int(np.argmax(bad))
+                raise ModelCheckError(
+                    f"its {which} block is not positive semi-definite (eigenvalue {lowest[i]:.4g})",
+                    element=_element_name(drivetrain, g.elements[i]),
                 )
 
 
 def _check_rigid_body(asm: Assembly) -> None:
     dt = asm.drivetrain
-    idx = dt.disk_index
     for r in asm.rigid_body_vectors.T:
-        for e, b in dt.element_blocks:
-            if b.stiffness is None:
-                continue
-            re = r[[idx[d] for d in b.disks]]
-            if not np.any(re):
-                continue
-            scale = np.abs(b.stiffness).max() * np.abs(re).max()
-            if np.abs(b.stiffness @ re).max() > 1e-9 * scale:
+        for g in dt.block_groups("stiffness"):
+            re = r[g.dofs]  # (m, k)
+            resid = np.abs(np.einsum("mij,mj->mi", g.blocks, re)).max(axis=1)
+            scale = np.abs(g.blocks).max(axis=(1, 2)) * np.abs(re).max(axis=1)
+            bad = resid > 1e-9 * scale
+            if bad.any():
+                i = int(np.argmax(bad))
                 raise ModelCheckError(
                     "its stiffness resists the rigid-body rotation of a free branch (it grounds a "
                     "free drivetrain); check its ratio or radii against the meshes of that branch",
-                    element=e.name,
+                    element=_element_name(dt, g.elements[i]),
                 )
 
 
@@ -256,10 +264,16 @@ def check_matrices(
     residual = np.abs(K @ R).max(axis=1) if R.size else np.zeros(n)
     row_scale = np.abs(K).max(axis=1) * (np.abs(R).max() if R.size else 0.0)
     unbalanced = [names[i] for i in range(n) if residual[i] > rtol * row_scale[i]]
-    hint = f"; rows of K that resist the rigid-body motion: {', '.join(unbalanced)}" if unbalanced and expected_rigid_body_modes else ""
+    hint = (
+        f"; rows of K that resist the rigid-body motion: {', '.join(unbalanced)}"
+        if unbalanced and expected_rigid_body_modes
+        else ""
+    )
     if lam.min() < -rtol * big:
         worst = names[int(np.argmax(np.abs(vec[:, 0])))]
-        raise ModelCheckError(f"K is not positive semi-definite (eigenvalue {lam.min():.4g}, mostly at {worst}){hint}")
+        raise ModelCheckError(
+            f"K is not positive semi-definite (eigenvalue {lam.min():.4g}, mostly at {worst}){hint}"
+        )
     zero = int(np.sum(np.abs(lam) <= rtol * big))
     if zero != expected_rigid_body_modes:
         raise ModelCheckError(

@@ -162,7 +162,11 @@ def campbell(
             continue
         for h in mesh_orders:
             lines.append(
-                ExcitationLine(f"{h:g}× mesh {mesh.name} ({mesh.teeth[0]}/{mesh.teeth[1]} teeth)", "mesh", h * mesh.teeth[0] * ratio)
+                ExcitationLine(
+                    f"{h:g}× mesh {mesh.name} ({mesh.teeth[0]}/{mesh.teeth[1]} teeth)",
+                    "mesh",
+                    h * mesh.teeth[0] * ratio,
+                )
             )
     result = modes if modes is not None else modal(drivetrain, rigid_gears=rigid_gears)
     return CampbellResult(result, ref, (lo, hi), tuple(lines))

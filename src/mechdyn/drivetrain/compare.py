@@ -58,7 +58,12 @@ class ModeComparison:
         for i, j in self.pairs:
             row: dict[str, Any] = {"flexible_mode": i + 1, "flexible_hz": float(f_flex[i])}
             if j is None:
-                row.update(rigid_mode=None, rigid_hz=None, mac=float(self.mac[i].max(initial=0.0)), change_percent=None)
+                row.update(
+                    rigid_mode=None,
+                    rigid_hz=None,
+                    mac=float(self.mac[i].max(initial=0.0)),
+                    change_percent=None,
+                )
             else:
                 row.update(
                     rigid_mode=j + 1,

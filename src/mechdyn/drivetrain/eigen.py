@@ -2,7 +2,7 @@
 
 With M diagonal, the problem becomes the standard one A y = λ y with A = M^-½ K M^-½. A chain of
 disks gives a tridiagonal A and a geared tree a narrow band after reverse Cuthill–McKee ordering, so
-the banded path costs O(n b²) for the reduction plus O(n²) for all vectors instead of O(n³); the
+the banded path avoids the dense O(n³) reduction (divide and conquer on the tridiagonal); the
 sparse path (shift-invert Lanczos, ARPACK) returns the lowest modes of very large models.
 """
 
@@ -55,10 +55,11 @@ def solve_eigen(
         Number of lowest eigenpairs; all when None.
     solver : {"auto", "dense", "banded", "sparse"}
         ``dense``: LAPACK ``syevr`` via :func:`scipy.linalg.eigh`. ``banded``: reverse Cuthill–McKee
-        ordering, then :func:`scipy.linalg.eigh_tridiagonal` (band 1) or
-        :func:`scipy.linalg.eig_banded`. ``sparse``: :func:`scipy.sparse.linalg.eigsh` in shift-invert
-        mode just below zero (needs ``n_modes`` < n − 1). ``auto`` picks dense for small models,
-        sparse for a few modes of a large one, banded otherwise when the band is narrow.
+        ordering, then LAPACK ``dstevd`` (band 1, all pairs), ``dstebz``/``dstein`` (band 1, lowest
+        pairs) or :func:`scipy.linalg.eig_banded`. ``sparse``: :func:`scipy.sparse.linalg.eigsh`
+        in shift-invert mode just below zero (needs ``n_modes`` < n − 1). ``auto`` picks dense for
+        small models, banded when the reordered band is narrow (chains, geared trees), sparse for a
+        few modes of a wide-band model, dense otherwise.
 
     Returns
     -------
@@ -72,20 +73,26 @@ def solve_eigen(
     n = mass.size
     k = n if n_modes is None else max(1, min(int(n_modes), n))
     A, d = _standard(sp.csr_array(K), mass)
+    perm = None
     if solver == "auto":
         if n <= _DENSE_LIMIT:
             solver = "dense"
-        elif k < n // 10 and k < 200:
-            solver = "sparse"
         else:
-            solver = "banded"
+            perm = csgraph.reverse_cuthill_mckee(A, symmetric_mode=True)
+            if _bandwidth(A[perm][:, perm]) <= _BAND_LIMIT:
+                solver = "banded"
+            elif k < n // 10 and k < 200:
+                solver = "sparse"
+            else:
+                solver = "dense"
     if solver == "sparse" and k >= n - 1:
         solver = "dense"
     if solver == "dense":
         select = None if k == n else (0, k - 1)
         lam, Y = sla.eigh(A.toarray(), subset_by_index=select, driver="evr" if select else "evd")
     elif solver == "banded":
-        perm = csgraph.reverse_cuthill_mckee(A, symmetric_mode=True)
+        if perm is None:
+            perm = csgraph.reverse_cuthill_mckee(A, symmetric_mode=True)
         Ap = A[perm][:, perm]
         b = _bandwidth(Ap)
         select = "a" if k == n else "i"
@@ -95,19 +102,21 @@ def solve_eigen(
             order = np.argsort(lam_p)[:k]
             lam, Yp = lam_p[order], np.eye(n)[:, order]
         elif b == 1:
-            diag = Ap.diagonal()
-            off = Ap.diagonal(1)
-            lam, Yp = sla.eigh_tridiagonal(diag, off, select=select, select_range=rng, lapack_driver="stemr")
+            diag, off = Ap.diagonal(), Ap.diagonal(1)
+            if k == n:  # divide and conquer (LAPACK dstevd): all pairs, far faster than MRRR here
+                lam, Yp, info = sla.lapack.dstevd(diag, off, compute_v=1)
+                if info != 0:
+                    raise np.linalg.LinAlgError(f"LAPACK dstevd failed (info = {info})")
+            else:  # bisection and inverse iteration: O(n k) for the k lowest pairs
+                lam, Yp = sla.eigh_tridiagonal(diag, off, select="i", select_range=rng, lapack_driver="stebz")
         else:
-            if b > _BAND_LIMIT and n > _DENSE_LIMIT:
-                solver = "dense"
-                return solve_eigen(K, mass, n_modes=n_modes, solver="dense")[:2] + ("dense",)
             band = np.zeros((b + 1, n))
             for i in range(b + 1):
                 band[i, : n - i] = Ap.diagonal(i)
             lam, Yp = sla.eig_banded(band, lower=True, select=select, select_range=rng)
-        Y = np.empty_like(Yp)
-        Y[perm] = Yp
+        # back to the original order and M-normalised in one pass: Q[perm] = D[perm] Yp
+        Yp *= d[perm][:, None]
+        return np.asarray(lam), Yp[np.argsort(perm)], solver
     elif solver == "sparse":
         scale = float(np.abs(A.diagonal()).max())
         sigma = -1e-9 * scale

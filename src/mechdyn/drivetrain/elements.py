@@ -307,7 +307,9 @@ class GearMesh(Element):
         if self.teeth is not None:
             teeth = tuple(self.teeth)
             if len(teeth) != 2 or any(int(z) != z or z < 1 for z in teeth):
-                raise ModelError(f"{self.teeth!r} must be two positive whole numbers", element=name, field="teeth")
+                raise ModelError(
+                    f"{self.teeth!r} must be two positive whole numbers", element=name, field="teeth"
+                )
             teeth = (int(teeth[0]), int(teeth[1]))
             object.__setattr__(self, "teeth", teeth)
             sources.append(("teeth", teeth[1] / teeth[0]))
@@ -329,7 +331,9 @@ class GearMesh(Element):
             k = _positive(name, "stiffness", _si(name, "stiffness", self.stiffness, "N/m"), "N/m")
             object.__setattr__(self, "stiffness", k)
             if self.base_radii is None:
-                raise ModelError("a flexible mesh (with stiffness) needs base_radii", element=name, field="base_radii")
+                raise ModelError(
+                    "a flexible mesh (with stiffness) needs base_radii", element=name, field="base_radii"
+                )
         c = _si(name, "damping", self.damping, "N*s/m")
         object.__setattr__(self, "damping", _positive(name, "damping", c, "N·s/m", allow_zero=True))
         first_name, first = sources[0]
@@ -341,8 +345,10 @@ class GearMesh(Element):
                         element=name,
                         field="ratio",
                     )
-                use = "the rigid mesh and the speed ratios use" if self.stiffness is None else (
-                    "the flexible mesh uses the base radii; --rigid-gears and the speed ratios use"
+                use = (
+                    "the rigid mesh and the speed ratios use"
+                    if self.stiffness is None
+                    else ("the flexible mesh uses the base radii; --rigid-gears and the speed ratios use")
                 )
                 warnings.warn(
                     f"mesh {name!r}: ratio {first:.4g} (from the {first_name}) but the base radii give "

@@ -90,15 +90,16 @@ class ModalResult:
             (n_elements, n_modes), columns sum to 1.
         """
         dt = self.drivetrain
-        idx = dt.disk_index
-        names, rows = [], []
-        for e, b in dt.element_blocks:
-            if b.stiffness is None:
-                continue
-            phi = self.shapes[[idx[d] for d in b.disks]]
-            rows.append(0.5 * np.einsum("im,ij,jm->m", phi, b.stiffness, phi))
-            names.append(e.name)
-        energy = np.array(rows).reshape(len(rows), self.shapes.shape[1])
+        positions, parts = [], []
+        for g in dt.block_groups("stiffness"):
+            phi = self.shapes[g.dofs]  # (m, k, n_modes)
+            parts.append(
+                0.5 * np.einsum("eia,eij,eja->ea", phi, g.blocks, phi)
+            )  # ½ φᵀ K_e φ per element e, mode a
+            positions.append(g.elements)
+        order = np.argsort(np.concatenate(positions)) if positions else np.zeros(0, dtype=int)
+        energy = np.concatenate(parts)[order] if parts else np.zeros((0, self.shapes.shape[1]))
+        names = [dt.element_blocks[p][0].name for p in np.concatenate(positions)[order]] if positions else []
         total = energy.sum(axis=0)
         return tuple(names), energy / np.where(total == 0, 1.0, total)
 
@@ -139,7 +140,9 @@ class ModalResult:
         """Unit-scaled mode shapes: one row per disk, one column per flexible mode (Hz in the name)."""
         import pandas as pd
 
-        cols = {f"mode {m + 1} ({f:.4g} Hz)": self.unit_shapes[:, m] for m, f in enumerate(self.frequencies_hz)}
+        cols = {
+            f"mode {m + 1} ({f:.4g} Hz)": self.unit_shapes[:, m] for m, f in enumerate(self.frequencies_hz)
+        }
         return pd.DataFrame(cols, index=pd.Index(self.disk_names, name="disk"))
 
     def energy_frame(self) -> pd.DataFrame:
@@ -199,5 +202,5 @@ def modal(
         lam, Q, used = solve_eigen(asm.K, asm.mass, n_modes=want, solver=solver)
     lam, Q = lam[n_rb:], Q[:, n_rb:]
     omega = np.sqrt(np.clip(lam, 0.0, None))
-    shapes = np.asarray(asm.T @ Q)
+    shapes = np.asarray(asm.T @ Q) if asm.T.shape[0] != asm.T.shape[1] else Q  # T = I without rigid meshes
     return ModalResult(asm, omega, shapes, _unit_shapes(asm.rigid_body_vectors), used, Q)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property
@@ -11,7 +12,26 @@ import numpy as np
 from mechdyn.drivetrain.elements import Disk, Element, ElementBlocks, GearMesh, Shaft
 from mechdyn.errors import ModelError
 
-__all__ = ["Drivetrain"]
+__all__ = ["BlockGroup", "Drivetrain"]
+
+
+@dataclass(frozen=True)
+class BlockGroup:
+    """Blocks of equal size from several elements, stacked for vectorised work.
+
+    Attributes
+    ----------
+    elements : ndarray
+        (m,) positions in :attr:`Drivetrain.element_blocks`.
+    dofs : ndarray
+        (m, k) disk indices of each block.
+    blocks : ndarray
+        (m, k, k) the blocks.
+    """
+
+    elements: np.ndarray
+    dofs: np.ndarray
+    blocks: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -45,7 +65,11 @@ class Drivetrain:
         seen: set[str] = set()
         for item in (*self.disks, *self.elements):
             if item.name in seen:
-                raise ModelError("the name is used twice; give every disk and element its own name", element=item.name, field="name")
+                raise ModelError(
+                    "the name is used twice; give every disk and element its own name",
+                    element=item.name,
+                    field="name",
+                )
             seen.add(item.name)
         for d in self.disks:
             if not isinstance(d, Disk):
@@ -54,10 +78,12 @@ class Drivetrain:
         for e in self.elements:
             if isinstance(e, Disk):
                 raise ModelError("a disk belongs in `disks`, not `elements`", element=e.name)
-            for d in e.blocks().disks:
+        for e, b in self.element_blocks:
+            for d in b.disks:
                 if d not in known:
                     raise ModelError(
-                        f"refers to disk {d!r}, which is not defined; defined disks: {', '.join(self.disk_names)}",
+                        f"refers to disk {d!r}, which is not defined; "
+                        f"defined disks: {', '.join(self.disk_names)}",
                         element=e.name,
                         field="disks",
                     )
@@ -91,6 +117,30 @@ class Drivetrain:
     def element_blocks(self) -> tuple[tuple[Element | Disk, ElementBlocks], ...]:
         """Every disk and element with its blocks, computed once."""
         return tuple((e, e.blocks()) for e in (*self.disks, *self.elements))
+
+    def block_groups(self, which: str) -> tuple[BlockGroup, ...]:
+        """The elements' ``which`` blocks ("mass", "stiffness", "damping"), stacked by block size."""
+        return self._block_groups[which]
+
+    @cached_property
+    def _block_groups(self) -> dict[str, tuple[BlockGroup, ...]]:
+        idx = self.disk_index
+        out: dict[str, tuple[BlockGroup, ...]] = {}
+        for which in ("mass", "stiffness", "damping"):
+            by_size: dict[int, tuple[list[int], list[list[int]], list[np.ndarray]]] = {}
+            for i, (_, b) in enumerate(self.element_blocks):
+                block = getattr(b, which)
+                if block is None:
+                    continue
+                e_list, d_list, b_list = by_size.setdefault(len(b.disks), ([], [], []))
+                e_list.append(i)
+                d_list.append([idx[d] for d in b.disks])
+                b_list.append(block)
+            out[which] = tuple(
+                BlockGroup(np.array(e), np.array(d, dtype=np.intp), np.array(bl, dtype=float))
+                for e, d, bl in by_size.values()
+            )
+        return out
 
     # -- variants -----------------------------------------------------------------------------
     def with_rigid_gears(self) -> Drivetrain:
@@ -144,7 +194,7 @@ class Drivetrain:
                         group[j] = g
                         amp[j] = amp[i] * t
                         stack.append(j)
-                    elif locked[g] is None and not np.isclose(amp[j], amp[i] * t, rtol=1e-9, atol=0):
+                    elif locked[g] is None and not math.isclose(amp[j], amp[i] * t, rel_tol=1e-9):
                         locked[g] = e
         return group, amp, locked
 
@@ -192,8 +242,12 @@ class Drivetrain:
         Disks not connected to ``reference`` get NaN.
         """
         if reference not in self.disk_index:
-            raise ModelError(f"reference disk {reference!r} is not defined; defined disks: {', '.join(self.disk_names)}")
-        links = [(a, b, -1.0 / e.speed_ratio if isinstance(e, GearMesh) else t, e) for a, b, t, e in self._links()]
+            raise ModelError(
+                f"reference disk {reference!r} is not defined; defined disks: {', '.join(self.disk_names)}"
+            )
+        links = [
+            (a, b, -1.0 / e.speed_ratio if isinstance(e, GearMesh) else t, e) for a, b, t, e in self._links()
+        ]
         group, amp, _ = self._propagate(links)
         r = self.disk_index[reference]
         out = np.abs(amp / amp[r])

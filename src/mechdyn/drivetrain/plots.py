@@ -25,7 +25,12 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
     for m in modes:
         f = result.frequencies_hz[m - 1]
         el, share = result.dominant_element(m - 1)
-        ax.plot(x, result.unit_shapes[:, m - 1], marker="o", label=f"mode {m}: {f:.4g} Hz ({el} {100 * share:.0f} %)")
+        ax.plot(
+            x,
+            result.unit_shapes[:, m - 1],
+            marker="o",
+            label=f"mode {m}: {f:.4g} Hz ({el} {100 * share:.0f} %)",
+        )
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.set_xticks(x, result.disk_names)
     ax.set_xlabel("disk")
@@ -68,7 +73,9 @@ def plot_frf(result: FRFResult, outputs: Sequence[str] | None = None, ax: Any = 
     ax = new_axes(ax)
     names = list(outputs) if outputs else list(result.disk_names)
     for n in names:
-        ax.loglog(result.frequencies_hz, np.abs(result.angles[:, result.disk_names.index(n)]), label=f"disk {n}")
+        ax.loglog(
+            result.frequencies_hz, np.abs(result.angles[:, result.disk_names.index(n)]), label=f"disk {n}"
+        )
     for f in result.natural_frequencies_hz:
         if result.frequencies_hz[0] <= f <= result.frequencies_hz[-1]:
             ax.axvline(f, color="0.7", lw=0.8, ls=":")

@@ -145,7 +145,9 @@ def frf(
     force = np.zeros(len(drivetrain.disks), dtype=complex)
     for disk, amp in excitation.items():
         if disk not in idx:
-            raise ModelError(f"excitation at disk {disk!r}, which is not defined; defined disks: {', '.join(idx)}")
+            raise ModelError(
+                f"excitation at disk {disk!r}, which is not defined; defined disks: {', '.join(idx)}"
+            )
         force[idx[disk]] += amp if isinstance(amp, complex) else to_si(amp, "N*m", plain_is_si=True)
     M = np.diag(asm.mass)
     K = asm.K.toarray()

@@ -65,7 +65,9 @@ class DiskTable(FileModel):
         if self.inertia is not None and geometry:
             raise ValueError("give either inertia or geometry (thickness, outer_diameter), not both")
         if self.inertia is None and (self.thickness is None or self.outer_diameter is None):
-            raise ValueError("give inertia, or thickness and outer_diameter (with density here or in [material])")
+            raise ValueError(
+                "give inertia, or thickness and outer_diameter (with density here or in [material])"
+            )
         return self
 
 
@@ -85,7 +87,9 @@ class ShaftTable(FileModel):
         if self.stiffness is not None and geometry:
             raise ValueError("give either stiffness or geometry (length, diameter), not both")
         if self.stiffness is None and (self.length is None or self.diameter is None):
-            raise ValueError("give stiffness, or length and diameter (with shear_modulus here or in [material])")
+            raise ValueError(
+                "give stiffness, or length and diameter (with shear_modulus here or in [material])"
+            )
         return self
 
 
@@ -180,21 +184,30 @@ def _check_names(source: ModelSource, f: DrivetrainFile) -> None:
             where = _where(table, i, row.name)
             if row.name in seen:
                 raise ModelFileError(
-                    source.path, f"{where} → name",
-                    f"{row.name!r} is used twice (also {seen[row.name]}); give every disk and element its own name", row.name,
+                    source.path,
+                    f"{where} → name",
+                    f"{row.name!r} is used twice (also {seen[row.name]}); "
+                    "give every disk and element its own name",
+                    row.name,
                 )
             seen[row.name] = where
     known = [d.name for d in f.disks]
-    tables = (("shafts", f.shafts, "disks"), ("meshes", f.meshes, "disks"),
-              ("ground_springs", f.ground_springs, "disk"), ("ground_dampers", f.ground_dampers, "disk"))
+    tables = (
+        ("shafts", f.shafts, "disks"),
+        ("meshes", f.meshes, "disks"),
+        ("ground_springs", f.ground_springs, "disk"),
+        ("ground_dampers", f.ground_dampers, "disk"),
+    )
     for table, rows, field in tables:
         for i, row in enumerate(rows):
             value = getattr(row, field)
             for disk in (value,) if isinstance(value, str) else value:
                 if disk not in known:
                     raise ModelFileError(
-                        source.path, f"{_where(table, i, row.name)} → {field}",
-                        f"refers to disk {disk!r}, which is not defined; defined disks: {', '.join(known)}", disk,
+                        source.path,
+                        f"{_where(table, i, row.name)} → {field}",
+                        f"refers to disk {disk!r}, which is not defined; defined disks: {', '.join(known)}",
+                        disk,
                     )
 
 
@@ -210,11 +223,16 @@ def build(source: ModelSource) -> Drivetrain:
             if d.inertia is not None:
                 disks.append(Disk(d.name, d.inertia))
             else:
-                rho = _need(source, where, "density", d.density if d.density is not None else mat.density, "material")
+                rho = _need(
+                    source, where, "density", d.density if d.density is not None else mat.density, "material"
+                )
                 disks.append(
                     Disk.from_geometry(
-                        d.name, thickness=d.thickness, outer_diameter=d.outer_diameter,
-                        inner_diameter=d.inner_diameter, density=rho,
+                        d.name,
+                        thickness=d.thickness,
+                        outer_diameter=d.outer_diameter,
+                        inner_diameter=d.inner_diameter,
+                        density=rho,
                     )
                 )
     elements = []
@@ -228,15 +246,28 @@ def build(source: ModelSource) -> Drivetrain:
                 g = _need(source, where, "shear_modulus", g, "material")
                 elements.append(
                     Shaft.from_geometry(
-                        s.name, s.disks, length=s.length, diameter=s.diameter,
-                        inner_diameter=s.inner_diameter, shear_modulus=g, damping=s.damping,
+                        s.name,
+                        s.disks,
+                        length=s.length,
+                        diameter=s.diameter,
+                        inner_diameter=s.inner_diameter,
+                        shear_modulus=g,
+                        damping=s.damping,
                     )
                 )
     for i, m in enumerate(f.meshes):
         with field_context(source, _where("meshes", i, m.name)):
             elements.append(
-                GearMesh(m.name, m.disks, kind=m.kind, teeth=m.teeth, ratio=m.ratio,
-                         base_radii=m.base_radii, stiffness=m.stiffness, damping=m.damping)
+                GearMesh(
+                    m.name,
+                    m.disks,
+                    kind=m.kind,
+                    teeth=m.teeth,
+                    ratio=m.ratio,
+                    base_radii=m.base_radii,
+                    stiffness=m.stiffness,
+                    damping=m.damping,
+                )
             )
     for i, g in enumerate(f.ground_springs):
         with field_context(source, _where("ground_springs", i, g.name)):
@@ -269,7 +300,9 @@ class ResponseSettings:
     damping: ModalDamping | RayleighDamping
 
 
-def settings(source: ModelSource, drivetrain: Drivetrain) -> tuple[CampbellSettings | None, ResponseSettings | None]:
+def settings(
+    source: ModelSource, drivetrain: Drivetrain
+) -> tuple[CampbellSettings | None, ResponseSettings | None]:
     """Read the optional analysis tables of a drivetrain file, checking disk names."""
     import cmath
 
@@ -278,13 +311,17 @@ def settings(source: ModelSource, drivetrain: Drivetrain) -> tuple[CampbellSetti
 
     def check(where: str, disk: str | None) -> None:
         if disk is not None and disk not in known:
-            raise ModelFileError(source.path, where, f"{disk!r} is not a disk; defined disks: {', '.join(known)}", disk)
+            raise ModelFileError(
+                source.path, where, f"{disk!r} is not a disk; defined disks: {', '.join(known)}", disk
+            )
 
     camp = None
     if f.campbell is not None:
         c = f.campbell
         check("[campbell] → reference_disk", c.reference_disk)
-        camp = CampbellSettings(tuple(c.speed_range), c.reference_disk, tuple(c.shaft_orders), tuple(c.mesh_orders))
+        camp = CampbellSettings(
+            tuple(c.speed_range), c.reference_disk, tuple(c.shaft_orders), tuple(c.mesh_orders)
+        )
     resp = None
     if f.response is not None:
         r = f.response

@@ -75,7 +75,7 @@ def read(path: str | Path) -> ModelSource:
     model = data.get("model")
     if not isinstance(model, dict):
         raise ModelFileError(
-            str(p), "[model]", "missing; start the file with [model] and type = \"drivetrain\""
+            str(p), "[model]", 'missing; start the file with [model] and type = "drivetrain"'
         )
     kind = model.get("type")
     if kind not in _BUILDERS:
@@ -125,7 +125,12 @@ def _describe_location(loc: tuple[Any, ...], data: Mapping[str, Any]) -> str:
         if isinstance(key, str):
             child = node.get(key) if isinstance(node, Mapping) else None
             nxt = loc[i + 1] if i + 1 < len(loc) else None
-            if isinstance(nxt, int) and isinstance(child, list) and 0 <= nxt < len(child) and isinstance(child[nxt], Mapping):
+            if (
+                isinstance(nxt, int)
+                and isinstance(child, list)
+                and 0 <= nxt < len(child)
+                and isinstance(child[nxt], Mapping)
+            ):
                 item = child[nxt]
                 label = f"[[{key}]] #{nxt + 1}"
                 if "name" in item:

@@ -155,9 +155,13 @@ class ResultStore:
             _Base.metadata.create_all(self._engine)
         except (OperationalError, ArgumentError) as exc:
             shown = make_url(self.url).render_as_string(hide_password=True)
-            raise StoreError(f"cannot open the results database {shown}: {exc.__class__.__name__}: {exc.args[0]}") from None
+            raise StoreError(
+                f"cannot open the results database {shown}: {exc.__class__.__name__}: {exc.args[0]}"
+            ) from None
         except ModuleNotFoundError as exc:
-            raise StoreError(f"the database driver for {self.url.split(':')[0]} is not installed ({exc})") from None
+            raise StoreError(
+                f"the database driver for {self.url.split(':')[0]} is not installed ({exc})"
+            ) from None
 
     def close(self) -> None:
         self._engine.dispose()
@@ -218,7 +222,10 @@ class ResultStore:
         with Session(self._engine) as s:
             r = s.get(_Run, run_id)
             if r is None:
-                raise StoreError(f"no run with id {run_id} in {make_url(self.url).render_as_string(hide_password=True)}; `mechdyn results list` shows the ids")
+                raise StoreError(
+                    f"no run with id {run_id} in {make_url(self.url).render_as_string(hide_password=True)}; "
+                    "`mechdyn results list` shows the ids"
+                )
             base = self._summary(r)
             arrays = {a.name: (_unpack(a.data), a.unit) for a in r.arrays}
         return StoredRun(**{**base.__dict__, "arrays": arrays})
@@ -227,8 +234,16 @@ class ResultStore:
     def _summary(r: _Run) -> StoredRun:
         created = r.created_at if r.created_at.tzinfo else r.created_at.replace(tzinfo=UTC)
         return StoredRun(
-            r.id, created, r.analysis, r.model_name, r.model_path, r.model_sha256, r.model_text,
-            dict(r.parameters or {}), dict(r.scalars or {}), r.package_version,
+            r.id,
+            created,
+            r.analysis,
+            r.model_name,
+            r.model_path,
+            r.model_sha256,
+            r.model_text,
+            dict(r.parameters or {}),
+            dict(r.scalars or {}),
+            r.package_version,
         )
 
 
