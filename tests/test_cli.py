@@ -74,6 +74,7 @@ def test_table_output_is_readable(db, capsys):
     assert "natural frequencies" in out and "mode shapes" in out and "strain energy per element" in out
     assert "paired by shape" in out and "stored as run 1" in out
     assert "792.34" in out  # lowest flexible mode of the indexing path, Hz
+    assert "frequency [Hz]" in out and "[%]" in out  # units in brackets survive the table renderer
     assert err.count("warning:") == 2  # the published ratio inconsistencies
 
 

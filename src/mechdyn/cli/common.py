@@ -93,15 +93,16 @@ def print_table(t: Table, file: Any = None) -> None:
     """Render a table with rich: its title on a line of its own, then the columns."""
     from rich import box
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table as RichTable
 
     console = Console(file=file or sys.stdout, width=max(100, Console().width), highlight=False)
     rt = RichTable(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
     for i, c in enumerate(t.columns):
-        rt.add_column(c, justify="left" if i == 0 else "right")
+        rt.add_column(escape(c), justify="left" if i == 0 else "right", no_wrap=True)
     for r in t.rows:
-        rt.add_row(*(_fmt(v) for v in r))
-    console.print(f"\n[bold]{t.title}[/bold]")
+        rt.add_row(*(escape(_fmt(v)) for v in r))
+    console.print(f"\n[bold]{escape(t.title)}[/bold]")
     console.print(rt)
 
 

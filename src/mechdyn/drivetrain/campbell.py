@@ -26,7 +26,8 @@ class ExcitationLine:
     Attributes
     ----------
     label : str
-        E.g. ``"1× shaft line 3–4"`` or ``"1× mesh G1 (96 teeth)"``.
+        E.g. ``"1× shaft line 3–4"``, ``"1× mesh G1 (24/96 teeth)"``, or for coinciding lines
+        ``"1× shaft lines 1–2, 3–5"``.
     kind : {"shaft", "mesh"}
     per_rev : float
         Excitation cycles per revolution of the reference disk.
@@ -169,4 +170,23 @@ def campbell(
                 )
             )
     result = modes if modes is not None else modal(drivetrain, rigid_gears=rigid_gears)
-    return CampbellResult(result, ref, (lo, hi), tuple(lines))
+    return CampbellResult(result, ref, (lo, hi), _merge(lines))
+
+
+def _merge(lines: list[ExcitationLine]) -> tuple[ExcitationLine, ...]:
+    """One line per (kind, cycles per revolution): shaft lines turning at one speed share a line."""
+    groups: dict[tuple[str, float], list[ExcitationLine]] = {}
+    for line in lines:
+        key = (line.kind, round(line.per_rev, 9))
+        groups.setdefault(key, []).append(line)
+    merged = []
+    for (kind, _), same in groups.items():
+        if len(same) == 1:
+            merged.append(same[0])
+            continue
+        order, _, first = same[0].label.partition(" ")
+        noun = "shaft lines" if kind == "shaft" else "meshes"
+        rest = [ln.label.partition(" ")[2].removeprefix("shaft line ").removeprefix("mesh ") for ln in same]
+        rest[0] = first.removeprefix("shaft line ").removeprefix("mesh ")
+        merged.append(ExcitationLine(f"{order} {noun} {', '.join(rest)}", kind, same[0].per_rev))
+    return tuple(merged)

@@ -53,6 +53,8 @@ class ElementBlocks:
         A row ``c`` with ``c @ θ[disks] = 0`` (rigid gear mesh).
     load_row : ndarray or None
         The element's internal load as ``load_row @ θ[disks]`` (shaft torque in N·m, mesh force in N).
+    load_rate_row : ndarray or None
+        Its damping part, ``load_rate_row @ θ̇[disks]``, in the same unit.
     load_unit : str
         Unit of that load.
     grounds : bool
@@ -65,6 +67,7 @@ class ElementBlocks:
     damping: np.ndarray | None = None
     constraint: np.ndarray | None = None
     load_row: np.ndarray | None = None
+    load_rate_row: np.ndarray | None = None
     load_unit: str = ""
     grounds: bool = False
 
@@ -247,6 +250,7 @@ class Shaft(Element):
             stiffness=self.stiffness * unit,
             damping=self.damping * unit if self.damping else None,
             load_row=self.stiffness * np.array([-1.0, 1.0]),
+            load_rate_row=self.damping * np.array([-1.0, 1.0]) if self.damping else None,
             load_unit="N*m",
         )
 
@@ -390,6 +394,7 @@ class GearMesh(Element):
             stiffness=self.stiffness * outer,
             damping=self.damping * outer if self.damping else None,
             load_row=self.stiffness * v,
+            load_rate_row=self.damping * v if self.damping else None,
             load_unit="N",
         )
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property
 
@@ -147,10 +147,6 @@ class Drivetrain:
         """The same drivetrain with every gear mesh a rigid kinematic constraint."""
         elements = tuple(e.as_rigid() if isinstance(e, GearMesh) else e for e in self.elements)
         return replace(self, elements=elements, name=self.name)
-
-    def with_elements(self, elements: Iterable[Element]) -> Drivetrain:
-        """A copy with ``elements`` added (disks must already exist)."""
-        return replace(self, elements=(*self.elements, *elements))
 
     # -- topology -----------------------------------------------------------------------------
     def _links(self, only: type | None = None) -> list[tuple[int, int, float, Element]]:

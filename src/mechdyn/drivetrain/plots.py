@@ -17,6 +17,10 @@ if TYPE_CHECKING:
 __all__ = ["plot_campbell", "plot_frf", "plot_mode_shapes"]
 
 
+def _hz(f: float) -> str:
+    return f"{f:.0f} Hz" if f >= 100 else f"{f:.4g} Hz"
+
+
 def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax: Any = None) -> Any:
     """Unit-scaled flexible mode shapes (disk angle against disk); ``modes`` are 1-based."""
     ax = new_axes(ax)
@@ -42,20 +46,21 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
 
 def plot_campbell(result: CampbellResult, ax: Any = None, max_frequency_hz: float | None = None) -> Any:
     """Excitation lines against reference speed (rpm), natural frequencies as horizontal lines."""
-    ax = new_axes(ax)
+    ax = new_axes(ax, figsize=(9.5, 4.8))
     lo, hi = result.speed_range
     rpm = np.linspace(lo, hi, 2) * 60 / (2 * np.pi)
     omega = np.linspace(lo, hi, 2)
     freqs = result.modal.frequencies_hz
-    top = max_frequency_hz or max([line.frequency_hz(hi) for line in result.lines] + [0.0]) * 1.1
-    if not np.isfinite(top) or top <= 0:
-        top = float(freqs.max()) * 1.1 if freqs.size else 1.0
+    # up to the highest excitation, and at least past the lowest natural frequency
+    top = max_frequency_hz or 1.1 * max(
+        [float(line.frequency_hz(hi)) for line in result.lines] + [float(freqs[0]) if freqs.size else 1.0]
+    )
     for line in result.lines:
         ax.plot(rpm, line.frequency_hz(omega), ls="-" if line.kind == "shaft" else "--", label=line.label)
     for m, f in enumerate(freqs):
         if f <= top:
             ax.axhline(f, color="0.4", lw=0.8, ls=":")
-            ax.annotate(f"mode {m + 1}: {f:.4g} Hz", (rpm[0], f), fontsize="x-small", va="bottom")
+            ax.annotate(f"mode {m + 1}: {_hz(f)}", (rpm[-1], f), fontsize="x-small", va="bottom", ha="right")
     for c in result.crossings:
         if c["frequency_hz"] <= top:
             ax.plot(c["speed_rpm"], c["frequency_hz"], "ko", ms=5, mfc="none")
@@ -64,7 +69,7 @@ def plot_campbell(result: CampbellResult, ax: Any = None, max_frequency_hz: floa
     ax.set_xlabel(f"speed of disk {result.reference} (rpm)")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(f"{result.modal.drivetrain.name}: Campbell diagram")
-    ax.legend(fontsize="x-small", loc="upper left")
+    ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
@@ -81,6 +86,6 @@ def plot_frf(result: FRFResult, outputs: Sequence[str] | None = None, ax: Any = 
             ax.axvline(f, color="0.7", lw=0.8, ls=":")
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("angle amplitude (rad)")
-    ax.set_title("steady-state response to the harmonic torques")
+    ax.set_title(f"{result.model_name}: steady-state response to the harmonic torques")
     ax.legend(fontsize="small")
     return ax

@@ -68,6 +68,7 @@ class FRFResult:
     element_units : tuple of str
     natural_frequencies_hz : ndarray
         Undamped natural frequencies of the model, for reference.
+    model_name : str
     """
 
     frequencies_hz: np.ndarray
@@ -77,6 +78,7 @@ class FRFResult:
     element_loads: np.ndarray
     element_units: tuple[str, ...]
     natural_frequencies_hz: np.ndarray
+    model_name: str = ""
 
     def peak(self, name: str) -> tuple[float, float]:
         """Largest magnitude of a disk angle or element load, and its frequency (Hz)."""
@@ -177,9 +179,8 @@ def frf(
             continue
         th = theta[:, [idx[d] for d in b.disks]]
         load = th @ b.load_row
-        if b.damping is not None and b.stiffness is not None:
-            ratio = np.max(np.abs(b.damping)) / np.max(np.abs(b.stiffness))
-            load = load * (1 + 1j * w * ratio)
+        if b.load_rate_row is not None:
+            load = load + 1j * w * (th @ b.load_rate_row)
         names.append(e.name)
         units.append(b.load_unit)
         loads.append(load)
@@ -191,4 +192,5 @@ def frf(
         np.column_stack(loads) if loads else np.zeros((f.size, 0), dtype=complex),
         tuple(units),
         modes.frequencies_hz,
+        drivetrain.name,
     )

@@ -8,7 +8,6 @@ CLI's ``--db``), the ``MECHDYN_DB`` environment variable, ``mechdyn.db``.
 from __future__ import annotations
 
 import io
-import json
 import math
 import os
 from collections.abc import Mapping
@@ -245,8 +244,3 @@ class ResultStore:
             dict(r.scalars or {}),
             r.package_version,
         )
-
-
-def dumps(value: Any) -> str:
-    """JSON text of a stored value (for the CLI)."""
-    return json.dumps(jsonable(value), indent=2)

@@ -1,0 +1,39 @@
+"""The benchmarks run and their baselines agree with mechdyn (no timing is asserted)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "benchmarks"))
+import modal_chain
+
+
+def test_modal_chain_small_case_agrees_with_its_baselines():
+    case = modal_chain.run_case(60, None)
+    assert case["max_rel_diff_vs_dense"] < 1e-10
+    assert case["max_rel_diff_vs_opentorsion"] < 1e-10
+    case = modal_chain.run_case(3000, 5)
+    assert case["solver"] == "banded" and case["max_rel_diff_vs_sparse"] < 1e-8
+
+
+@pytest.mark.slow
+def test_modal_chain_quick_run():
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "modal_chain.py"), "--quick", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=600,
+    )
+    doc = json.loads(out.stdout)
+    assert [c["n"] for c in doc["cases"]] == [10, 100, 1000, 100_000]
+    for c in doc["cases"]:
+        for key, value in c.items():
+            if key.startswith("max_rel_diff"):
+                assert value < 1e-6, (c["n"], key, value)
