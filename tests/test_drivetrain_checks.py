@@ -24,16 +24,20 @@ def _full(turret):
     return np.diag(turret.inertias), asm.K_full.toarray(), asm
 
 
+def _check(turret, M, K, asm):
+    check_matrices(
+        M,
+        K,
+        expected_rigid_body_modes=1,
+        dof_names=turret.disk_names,
+        rigid_body_vectors=asm.rigid_body_vectors,
+    )
+
+
 def test_assembled_turret_passes(turret_b, turret_c):
     for dt in (turret_b, turret_c):
         M, K, asm = _full(dt)
-        check_matrices(
-            M,
-            K,
-            expected_rigid_body_modes=1,
-            dof_names=dt.disk_names,
-            rigid_body_vectors=asm.rigid_body_vectors,
-        )
+        _check(dt, M, K, asm)
 
 
 def test_stray_grounding_term_is_flagged(turret_b):
@@ -41,13 +45,7 @@ def test_stray_grounding_term_is_flagged(turret_b):
     M, K, asm = _full(turret_b)
     K[2, 2] += 1e5
     with pytest.raises(ModelCheckError, match=r"0 zero \(rigid-body\) mode\(s\); expected 1.*resist.*: 3$"):
-        check_matrices(
-            M,
-            K,
-            expected_rigid_body_modes=1,
-            dof_names=turret_b.disk_names,
-            rigid_body_vectors=asm.rigid_body_vectors,
-        )
+        _check(turret_b, M, K, asm)
 
 
 def test_mesh_term_on_the_wrong_gear_is_flagged(turret_b):
@@ -60,13 +58,7 @@ def test_mesh_term_on_the_wrong_gear_is_flagged(turret_b):
     with pytest.raises(
         ModelCheckError, match=r"(not positive semi-definite|zero \(rigid-body\) mode)"
     ) as info:
-        check_matrices(
-            M,
-            K,
-            expected_rigid_body_modes=1,
-            dof_names=turret_b.disk_names,
-            rigid_body_vectors=asm.rigid_body_vectors,
-        )
+        _check(turret_b, M, K, asm)
     assert str(info.value).endswith("rows of K that resist the rigid-body motion: 3, 4")
 
 

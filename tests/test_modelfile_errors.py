@@ -41,6 +41,24 @@ disks = ["pinion", "gear"]
 teeth = [20, 60]
 base_radii = ["18.8 mm", "56.4 mm"]
 stiffness = "1.5e9 N/m"
+
+[[ground_springs]]
+name = "motor stiffness"
+disk = "motor"
+stiffness = "2 kN*m/rad"
+
+[[ground_dampers]]
+name = "bearing drag"
+disk = "gear"
+damping = "0.01 N*m*s/rad"
+
+[response]
+excitation = [{ disk = "motor", amplitude = "1 N*m" }]
+frequency_range = ["10 Hz", "2 kHz"]
+
+[response.rayleigh]
+alpha = "2 1/s"
+beta = "1e-6 s"
 """
 
 
@@ -51,9 +69,21 @@ def _write(tmp_path, text):
 
 
 def test_the_good_file_loads(tmp_path):
-    dt = mechdyn.load(_write(tmp_path, GOOD))
+    from mechdyn.drivetrain.response import RayleighDamping
+    from mechdyn.drivetrain.schema import settings
+    from mechdyn.io import read
+
+    path = _write(tmp_path, GOOD)
+    dt = mechdyn.load(path)
     assert dt.disk_names == ("motor", "pinion", "gear")
     assert dt.element("pinion").inertia == pytest.approx(7850 * 0.02 * 3.141592653589793 * 0.04**4 / 32)
+    assert dt.element("input").stiffness == pytest.approx(80e9 * 3.141592653589793 * 0.02**4 / (32 * 0.1))
+    assert dt.element("motor stiffness").stiffness == 2000.0
+    assert dt.element("bearing drag").damping == 0.01
+    campbell_settings, response = settings(read(path), dt)
+    assert campbell_settings is None
+    assert response.damping == RayleighDamping(2.0, 1e-6)
+    assert response.frequency_range == (10.0, 2000.0)
 
 
 CASES = [
@@ -188,3 +218,23 @@ def test_published_turret_ratios_warn(tmp_path):
     messages = [str(w.message) for w in record]
     assert any("ratio 4 " in m and "4.317" in m for m in messages)
     assert any("ratio 6 " in m and "6.588" in m for m in messages)
+
+
+def test_response_settings_are_checked_against_the_disks(tmp_path):
+    from mechdyn.drivetrain.schema import settings
+    from mechdyn.io import read
+
+    path = _write(tmp_path, GOOD.replace('excitation = [{ disk = "motor"', 'excitation = [{ disk = "motr"'))
+    with pytest.raises(ModelFileError, match=r"\[response\] → excitation #1 → disk: 'motr' is not a disk"):
+        settings(read(path), mechdyn.load(path))
+    path = _write(tmp_path, GOOD.replace("[response.rayleigh]", "modal_damping = 0.02\n[response.rayleigh]"))
+    with pytest.raises(ModelFileError, match="give modal_damping or"):
+        mechdyn.load(path)
+
+
+@pytest.mark.parametrize("teeth", [("20", "60"), (20.5, 60), (0, 60), (20,)])
+def test_bad_teeth_in_python_are_named(teeth):
+    from mechdyn.drivetrain import GearMesh
+
+    with pytest.raises(mechdyn.ModelError, match="element 'G', field 'teeth'"):
+        GearMesh("G", ("a", "b"), teeth=teeth)

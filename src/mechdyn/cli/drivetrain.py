@@ -167,6 +167,16 @@ def _frequency(text: str) -> float:
         raise argparse.ArgumentTypeError(f"frequency {text!r}: {exc}") from None
 
 
+def _points(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 2:
+        raise argparse.ArgumentTypeError(f"points {text!r}: give a whole number of at least 2")
+    return n
+
+
 def _campbell_command(args: argparse.Namespace) -> int:
     def analyse(model: Any, source: ModelSource) -> AnalysisOutput:
         dt = _need_drivetrain(model, source)
@@ -305,6 +315,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--frequency-range", nargs=2, type=_frequency, metavar=("LOW", "HIGH"), help="e.g. '10 Hz' '5 kHz'"
     )
-    p.add_argument("--points", type=int, help="number of frequencies (log-spaced)")
+    p.add_argument("--points", type=_points, help="number of frequencies (log-spaced), at least 2")
     p.add_argument("--damping", type=float, help="modal damping ratio for every mode, e.g. 0.02")
     p.set_defaults(func=_frf_command)

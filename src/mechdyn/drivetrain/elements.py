@@ -87,6 +87,19 @@ def _positive(owner: str, field_name: str, value: float, unit: str, *, allow_zer
     return value
 
 
+def _polar_moment(owner: str, outer_field: str, outer: Any, inner: Any) -> float:
+    """Polar second moment of area of an annulus, π (D⁴ − d⁴) / 32, m⁴, with its inputs checked."""
+    do = _positive(owner, outer_field, _si(owner, outer_field, outer, "m"), "m")
+    di = _positive(owner, "inner_diameter", _si(owner, "inner_diameter", inner, "m"), "m", allow_zero=True)
+    if di >= do:
+        raise ModelError(
+            f"inner diameter {di:g} m must be smaller than the {outer_field.replace('_', ' ')} {do:g} m",
+            element=owner,
+            field="inner_diameter",
+        )
+    return math.pi * (do**4 - di**4) / 32.0
+
+
 def _name(name: Any) -> str:
     if not isinstance(name, str) or not name.strip():
         raise ModelError(f"name {name!r} must be a non-empty text")
@@ -151,17 +164,9 @@ class Disk(Element):
         Meriam & Kraige, *Engineering Mechanics: Dynamics*, Appendix B).
         """
         h = _positive(name, "thickness", _si(name, "thickness", thickness, "m"), "m")
-        do = _positive(name, "outer_diameter", _si(name, "outer_diameter", outer_diameter, "m"), "m")
-        di = _si(name, "inner_diameter", inner_diameter, "m")
-        _positive(name, "inner_diameter", di, "m", allow_zero=True)
-        if di >= do:
-            raise ModelError(
-                f"inner diameter {di:g} m must be smaller than the outer diameter {do:g} m",
-                element=name,
-                field="inner_diameter",
-            )
+        polar = _polar_moment(name, "outer_diameter", outer_diameter, inner_diameter)
         rho = _positive(name, "density", _si(name, "density", density, "kg/m^3"), "kg/m³")
-        return cls(name, rho * h * math.pi * (do**4 - di**4) / 32.0)
+        return cls(name, rho * h * polar)
 
     def blocks(self) -> ElementBlocks:
         return ElementBlocks((self.name,), mass=np.array([[self.inertia]]))
@@ -231,17 +236,9 @@ class Shaft(Element):
         *Theory of Elasticity*, §101).
         """
         length_m = _positive(name, "length", _si(name, "length", length, "m"), "m")
-        d = _positive(name, "diameter", _si(name, "diameter", diameter, "m"), "m")
-        di = _si(name, "inner_diameter", inner_diameter, "m")
-        _positive(name, "inner_diameter", di, "m", allow_zero=True)
-        if di >= d:
-            raise ModelError(
-                f"inner diameter {di:g} m must be smaller than the diameter {d:g} m",
-                element=name,
-                field="inner_diameter",
-            )
+        polar = _polar_moment(name, "diameter", diameter, inner_diameter)
         g = _positive(name, "shear_modulus", _si(name, "shear_modulus", shear_modulus, "Pa"), "Pa")
-        return cls(name, disks, g * math.pi * (d**4 - di**4) / (32.0 * length_m), damping)
+        return cls(name, disks, g * polar / length_m, damping)
 
     def blocks(self) -> ElementBlocks:
         unit = np.array([[1.0, -1.0], [-1.0, 1.0]])
@@ -309,8 +306,11 @@ class GearMesh(Element):
             raise ModelError(f"{self.kind!r} must be 'external' or 'internal'", element=name, field="kind")
         sources: list[tuple[str, float]] = []
         if self.teeth is not None:
-            teeth = tuple(self.teeth)
-            if len(teeth) != 2 or any(int(z) != z or z < 1 for z in teeth):
+            teeth = tuple(self.teeth) if not isinstance(self.teeth, str) else ()
+            whole = all(
+                isinstance(z, (int, np.integer)) or (isinstance(z, float) and z.is_integer()) for z in teeth
+            )
+            if len(teeth) != 2 or not whole or any(z < 1 for z in teeth):
                 raise ModelError(
                     f"{self.teeth!r} must be two positive whole numbers", element=name, field="teeth"
                 )
