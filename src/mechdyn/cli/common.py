@@ -96,12 +96,16 @@ def print_table(t: Table, file: Any = None) -> None:
     from rich.markup import escape
     from rich.table import Table as RichTable
 
-    console = Console(file=file or sys.stdout, width=max(100, Console().width), highlight=False)
+    cells = [[_fmt(v) for v in r] for r in t.rows]
+    widths = [max([len(c), *(len(r[i]) for r in cells)]) for i, c in enumerate(t.columns)]
+    # as wide as the table needs: a results table is never squeezed into dropping columns
+    console = Console(file=file or sys.stdout, width=max(80, sum(widths) + 3 * len(widths)), highlight=False)
     rt = RichTable(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
     for i, c in enumerate(t.columns):
-        rt.add_column(escape(c), justify="left" if i == 0 else "right", no_wrap=True)
-    for r in t.rows:
-        rt.add_row(*(escape(_fmt(v)) for v in r))
+        numeric = all(isinstance(r[i], (int, float, np.number)) or r[i] is None for r in t.rows)
+        rt.add_column(escape(c), justify="right" if numeric and i else "left", no_wrap=True)
+    for r in cells:
+        rt.add_row(*(escape(v) for v in r))
     console.print(f"\n[bold]{escape(t.title)}[/bold]")
     console.print(rt)
 
