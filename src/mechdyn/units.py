@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pint
 
-__all__ = ["Q_", "UnitError", "format_quantity", "to_si", "ureg"]
+__all__ = ["Q_", "UnitError", "to_si", "ureg"]
 
 ureg = pint.UnitRegistry()
 """The package-wide :class:`pint.UnitRegistry`; quantities from other registries are rejected."""
@@ -112,11 +112,3 @@ def _example(value: Any) -> str:
         return f"{float(getattr(value, 'magnitude', value)):g}"
     except (TypeError, ValueError):
         return "1"
-
-
-def format_quantity(value: float, unit: str, display: str | None = None, digits: int = 5) -> str:
-    """Format an SI value for display, optionally converted to ``display`` units."""
-    q = ureg.Quantity(value, unit)
-    if display is not None:
-        q = q.to(display)
-    return f"{q.magnitude:.{digits}g} {q.units:~P}"

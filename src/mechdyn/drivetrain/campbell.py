@@ -140,7 +140,8 @@ def campbell(
     Each shaft line (disks joined by shafts) turns at its mean speed ratio to the reference, from
     the mesh ratios (teeth first). The gear-mesh frequency is N_a ω_a/2π = N_b ω_b/2π. Natural
     frequencies of a torsional model without gyroscopic terms do not depend on speed, so the
-    crossings are where order × speed equals a natural frequency (e.g. Rao, *Rotor Dynamics*, ch. 8).
+    crossings are where order × speed equals a natural frequency (the interference diagram of
+    torsional analysis, e.g. Friswell et al., *Dynamics of Rotating Machines*, 2010, ch. 9).
     """
     ref = reference or drivetrain.disk_names[0]
     lo, hi = (to_si(s, "rad/s", plain_is_si=True) for s in speed_range)

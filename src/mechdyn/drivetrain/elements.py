@@ -233,7 +233,7 @@ class Shaft(Element):
         Notes
         -----
         Saint-Venant torsion of a circular section, J_p = π (d⁴ − d_i⁴)/32 (e.g. Timoshenko & Goodier,
-        *Theory of Elasticity*, §101).
+        *Theory of Elasticity*, torsion of circular shafts).
         """
         length_m = _positive(name, "length", _si(name, "length", length, "m"), "m")
         polar = _polar_moment(name, "diameter", diameter, inner_diameter)
@@ -281,11 +281,12 @@ class GearMesh(Element):
     -----
     A rigid mesh is the constraint θ_a = ∓n θ_b, reduced out by a transformation (the driven side
     then contributes n² J). A flexible mesh is the spring k_c on δ = r_a θ_a ± r_b θ_b, giving the block
-    k_c [[r_a², ±r_a r_b], [±r_a r_b, r_b²]] (+ external, − internal), e.g. Friswell et al.,
-    *Dynamics of Rotating Machines* (2010) §3.6, and SPEC §3. The rigid ratio comes from the teeth,
-    else ``ratio``, else the base radii; when teeth or ratio and base radii disagree by more than
-    0.5 % a :class:`~mechdyn.errors.ModelWarning` says so (the published turret data do), since the
-    flexible mesh's no-load motion then follows the base radii, not the teeth.
+    k_c [[r_a², ±r_a r_b], [±r_a r_b, r_b²]] (+ external, − internal); see Friswell, Penny, Garvey
+    & Lees, *Dynamics of Rotating Machines* (2010), ch. 9 (torsional vibration of geared systems).
+    The rigid ratio comes from the teeth, else ``ratio``, else the base radii; when teeth or ratio
+    and base radii disagree by more than 0.5 % a :class:`~mechdyn.errors.ModelWarning` says so (the
+    published turret data do), since the flexible mesh's no-load motion then follows the base radii,
+    not the teeth.
     """
 
     name: str

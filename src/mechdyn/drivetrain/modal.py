@@ -186,7 +186,7 @@ def modal(
     Notes
     -----
     Solves K q = ω² M q on the coordinates left after the rigid-mesh reduction θ = T q (e.g.
-    Friswell et al., *Dynamics of Rotating Machines*, 2010, §3.6). The rigid-body modes are the exact
+    Friswell et al., *Dynamics of Rotating Machines*, 2010, ch. 9). The rigid-body modes are the exact
     rigid motions of the free branches; their number is checked against K during assembly, so the
     lowest that many eigenpairs are the zero modes and are set aside.
     """

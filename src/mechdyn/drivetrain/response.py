@@ -34,7 +34,8 @@ class ModalDamping:
 
 @dataclass(frozen=True)
 class RayleighDamping:
-    """C = α M + β K, with α in 1/s and β in s (Rayleigh, *Theory of Sound*, §97)."""
+    """C = α M + β K, with α in 1/s and β in s (Rayleigh proportional damping; Lord Rayleigh,
+    *The Theory of Sound*, vol. 1, 1877)."""
 
     alpha: float = 0.0
     beta: float = 0.0
@@ -136,7 +137,7 @@ def frf(
     -----
     Solves (K + iω C − ω² M) Q = Tᵀ F on the reduced coordinates for each ω and recovers every disk
     as Θ = T Q. Modal damping adds C_m = M Φ diag(2 ζ_r ω_r) Φᵀ M over the M-normalised flexible
-    modes Φ (Craig & Kurdila, *Fundamentals of Structural Dynamics*, 2006, §10.3).
+    modes Φ (e.g. Craig & Kurdila, *Fundamentals of Structural Dynamics*, 2nd ed., 2006).
     """
     damping = ModalDamping() if damping is None else damping
     asm = assemble(drivetrain)

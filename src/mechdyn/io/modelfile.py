@@ -20,7 +20,7 @@ from typing import Any, TypeVar
 
 from pydantic import BaseModel, ValidationError
 
-from mechdyn.errors import ModelError, ModelFileError, ModelWarning
+from mechdyn.errors import ModelError, ModelFileError
 
 __all__ = [
     "ModelSource",
@@ -217,5 +217,4 @@ def field_context(source: ModelSource, location: str) -> Iterator[None]:
         except ValueError as exc:
             raise ModelFileError(source.path, location, str(exc)) from None
     for w in caught:
-        category = w.category if issubclass(w.category, Warning) else ModelWarning
-        warnings.warn(f"{source.path}: {location}: {w.message}", category, stacklevel=3)
+        warnings.warn(f"{source.path}: {location}: {w.message}", w.category, stacklevel=3)
