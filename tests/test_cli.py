@@ -175,3 +175,13 @@ def test_readme_python_example_runs(monkeypatch):
             exec(compile(code, "README.md", "exec"), {})
     finally:
         plt.close("all")
+
+
+def test_a_model_without_flexible_modes(db, capsys, tmp_path):
+    path = tmp_path / "one.toml"
+    path.write_text('[model]\ntype = "drivetrain"\n[[disks]]\nname = "a"\ninertia = "1 kg*m^2"\n')
+    doc = run_json(capsys, "modal", str(path), "--plots", str(tmp_path / "p"))
+    assert doc["frequencies_hz"] == [] and doc["rigid_body_modes"] == 1
+    assert main(["modal", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "rigid-body modes (0 Hz)" in out and "mode shapes" not in out

@@ -70,20 +70,21 @@ def _modal_tables(r: ModalResult, title: str) -> list[Table]:
         )
     ]
     modes = range(len(r.omega))
-    tables.append(
-        Table(
-            f"{title}: mode shapes (largest disk angle = 1)",
-            ["disk", *[f"mode {m + 1}" for m in modes]],
-            [[d, *r.unit_shapes[i].tolist()] for i, d in enumerate(r.disk_names)],
+    if modes:  # a model that only turns as a rigid body has no shapes or strain energy to show
+        tables.append(
+            Table(
+                f"{title}: mode shapes (largest disk angle = 1)",
+                ["disk", *[f"mode {m + 1}" for m in modes]],
+                [[d, *r.unit_shapes[i].tolist()] for i, d in enumerate(r.disk_names)],
+            )
         )
-    )
-    tables.append(
-        Table(
-            f"{title}: strain energy per element [%]",
-            ["element", *[f"mode {m + 1}" for m in modes]],
-            [[n, *(100 * share[i]).tolist()] for i, n in enumerate(names)],
+        tables.append(
+            Table(
+                f"{title}: strain energy per element [%]",
+                ["element", *[f"mode {m + 1}" for m in modes]],
+                [[n, *(100 * share[i]).tolist()] for i, n in enumerate(names)],
+            )
         )
-    )
     if r.rigid_body_modes:
         tables.append(
             Table(

@@ -40,7 +40,8 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
     ax.set_xlabel("disk")
     ax.set_ylabel("angle (largest = 1)")
     ax.set_title(f"{result.drivetrain.name}: mode shapes")
-    ax.legend(fontsize="small")
+    if modes:
+        ax.legend(fontsize="small")
     return ax
 
 
