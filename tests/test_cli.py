@@ -13,6 +13,15 @@ from conftest import EXAMPLES, ROOT
 from mechdyn.cli.main import main
 
 DRIVETRAIN_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drivetrain"' in p.read_text())
+GEAR_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if p not in DRIVETRAIN_EXAMPLES)
+
+
+def test_every_example_is_run_by_one_of_the_tests():
+    kinds = {p: p.read_text() for p in EXAMPLES.glob("*.toml")}
+    assert all(
+        'type = "drivetrain"' in t or 'type = "gear_pair"' in t or 'type = "tooth_pair"' in t
+        for t in kinds.values()
+    )
 
 
 @pytest.fixture
@@ -58,6 +67,30 @@ def test_every_example_runs_every_analysis(example, db, capsys, tmp_path):
     assert shown["model_text"] == example.read_text()
     assert shown["scalars"]["frequencies_hz"] == pytest.approx(f)
     assert shown["arrays"]["mode_shapes"]["shape"][1] == len(f)
+
+
+@pytest.mark.parametrize("example", GEAR_EXAMPLES, ids=lambda p: p.stem)
+def test_every_gear_example_runs(example, db, capsys, tmp_path):
+    doc = run_json(capsys, "gear", str(example), "--plots", str(tmp_path / "plots"))
+    assert {"mesh_stiffness_mean_N_per_m", "iso_c_prime_N_per_mm_um", "iso_c_gamma_N_per_mm_um"} <= set(doc)
+    if 'type = "gear_pair"' in example.read_text():
+        assert 12 <= doc["iso_c_prime_N_per_mm_um"] <= 14
+        assert (
+            doc["mesh_stiffness_min_N_per_m"]
+            < doc["mesh_stiffness_mean_N_per_m"]
+            < doc["mesh_stiffness_max_N_per_m"]
+        )
+        assert (tmp_path / "plots" / "mesh_stiffness.png").stat().st_size > 10_000
+    else:
+        assert doc["pair_stiffness_hertz_twice_N_per_m"] < doc["pair_stiffness_N_per_m"]
+        assert doc["mesh_stiffness_mean_N_per_m"] is None  # no gear geometry, so no mesh cycle
+    assert main(["gear", str(example)]) == 0
+    assert "stiffness along the line of action" in capsys.readouterr().out
+
+
+def test_gear_command_refuses_a_drivetrain(db, capsys):
+    assert main(["gear", str(EXAMPLES / "turret_milling.toml")]) == 2
+    assert "is not a gear model" in capsys.readouterr().err
 
 
 def test_rigid_gears_flag_merges_the_meshing_disks(db, capsys):
@@ -131,12 +164,15 @@ def test_bad_option_value_is_refused(db, capsys):
 
 def test_readme_documents_every_json_key(db, capsys):
     readme = (ROOT / "README.md").read_text()
-    documented = set(re.findall(r"`([a-z_0-9]+)`", readme))
+    documented = set(re.findall(r"`([A-Za-z_0-9]+)`", readme))
     example = str(EXAMPLES / "turret_milling.toml")
+    gear, tooth = str(EXAMPLES / "spur_pair.toml"), str(EXAMPLES / "tooth_pair1_published.toml")
     for argv in (
         ["modal", example, "--compare-rigid"],
         ["campbell", example],
         ["frf", example, "--points", "20"],
+        ["gear", gear],
+        ["gear", tooth],
     ):
         keys = set(run_json(capsys, *argv))
         assert keys <= documented, f"{argv[0]}: undocumented JSON keys {sorted(keys - documented)}"

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 import mechdyn
@@ -238,3 +240,92 @@ def test_bad_teeth_in_python_are_named(teeth):
 
     with pytest.raises(mechdyn.ModelError, match="element 'G', field 'teeth'"):
         GearMesh("G", ("a", "b"), teeth=teeth)
+
+
+GEARED = GOOD.replace(
+    """[[meshes]]
+name = "G1"
+disks = ["pinion", "gear"]
+teeth = [20, 60]
+base_radii = ["18.8 mm", "56.4 mm"]
+stiffness = "1.5e9 N/m"
+""",
+    """[[gear_pairs]]
+name = "P1"
+pinion = { teeth = 20, module = "2 mm", face_width = "20 mm" }
+gear = { teeth = 60, module = "2 mm", face_width = "20 mm" }
+
+[[meshes]]
+name = "G1"
+disks = ["pinion", "gear"]
+gear_pair = "P1"
+""",
+)
+
+
+def test_mesh_from_a_gear_pair_table(tmp_path):
+    dt = mechdyn.load(_write(tmp_path, GEARED))
+    mesh = dt.element("G1")
+    assert mesh.teeth == (20, 60) and mesh.stiffness > 1e8
+    assert mesh.base_radii[0] == pytest.approx(0.02 * math.cos(math.radians(20)))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where", "what"),
+    [
+        (
+            'gear_pair = "P1"',
+            'gear_pair = "P2"',
+            "[[meshes]] #1 (name = 'G1') → gear_pair",
+            "'P2' is not a [[gear_pairs]] name",
+        ),
+        (
+            'gear_pair = "P1"',
+            'gear_pair = "P1"\nstiffness = "1e9 N/m"',
+            "[[meshes]] #1 (name = 'G1')",
+            "remove stiffness",
+        ),
+        (
+            'gear = { teeth = 60, module = "2 mm"',
+            'gear = { teeth = 60, module = "3 mm"',
+            "[[gear_pairs]] #1 (name = 'P1')",
+            "share module",
+        ),
+        (
+            "pinion = { teeth = 20,",
+            "pinion = { teeth = 20, profile_shift = 3,",
+            "[[gear_pairs]] #1 (name = 'P1') → pinion",
+            "pointed",
+        ),
+    ],
+)
+def test_bad_gear_pair_tables_are_named(tmp_path, old, new, where, what):
+    path = _write(tmp_path, GEARED.replace(old, new, 1))
+    with pytest.raises(ModelFileError) as info:
+        mechdyn.load(path)
+    assert where in info.value.location and what in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where", "what"),
+    [
+        (
+            'root_thickness = "3.073 mm"',
+            'root_thickness = "2.5 mm"',
+            "[pinion] → tip_thickness",
+            "must be smaller than the root thickness",
+        ),
+        ('load_height = "2.275 mm"', 'load_height = "5 mm"', "[pinion] → load_height", "outside the tooth"),
+        ('face_width = "50 mm"', 'face_width = "-50 mm"', "[pinion] → face_width", "must be positive"),
+        ("poisson_ratio = 0.3", "poisson_ratio = 0.5", "[material] → poisson_ratio", "less than 0.5"),
+    ],
+)
+def test_bad_tooth_pair_files_are_named(tmp_path, old, new, where, what):
+    from conftest import EXAMPLES
+
+    text = (EXAMPLES / "tooth_pair1_published.toml").read_text()
+    assert old in text
+    path = _write(tmp_path, text.replace(old, new, 1))
+    with pytest.raises(ModelFileError) as info:
+        mechdyn.load(path)
+    assert where in info.value.location and what in str(info.value)

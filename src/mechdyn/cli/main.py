@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from mechdyn.cli import drivetrain, results
+from mechdyn.cli import drivetrain, gear, results
 from mechdyn.errors import MechdynError
 
 __all__ = ["build_parser", "main"]
@@ -23,6 +23,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"mechdyn {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     drivetrain.register(sub)
+    gear.register(sub)
     results.register(sub)
     return p
 

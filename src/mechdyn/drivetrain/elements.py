@@ -363,6 +363,33 @@ class GearMesh(Element):
                 )
         object.__setattr__(self, "_rigid_ratio", first)
 
+    @classmethod
+    def from_gear_pair(
+        cls,
+        name: str,
+        disks: tuple[str, str],
+        pair: Any,
+        *,
+        damping: Any = 0.0,
+        points: int = 400,
+    ) -> GearMesh:
+        """A flexible external mesh whose data come from a :class:`mechdyn.gears.GearPair`.
+
+        Teeth (ratio and mesh orders) and base radii from the gears; stiffness k_c = the mean mesh
+        stiffness over one mesh cycle (:meth:`mechdyn.gears.GearPair.mesh_cycle`), N/m. Disk a is
+        the pinion.
+        """
+        k = pair.mesh_cycle(points).mean
+        return cls(
+            name,
+            disks,
+            kind="external",
+            teeth=(pair.pinion.teeth, pair.gear.teeth),
+            base_radii=(pair.pinion.base_radius, pair.gear.base_radius),
+            stiffness=k,
+            damping=damping,
+        )
+
     @property
     def rigid(self) -> bool:
         """True when the mesh is a kinematic constraint (no stiffness given)."""

@@ -17,6 +17,8 @@ from mechdyn.drivetrain.elements import Disk, GearMesh, GroundDamper, GroundSpri
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
 from mechdyn.errors import ModelFileError
+from mechdyn.gears.schema import GearTable, pair_from_tables
+from mechdyn.gears.schema import MaterialTable as GearMaterialTable
 from mechdyn.io.fields import FileModel, quantity
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 
@@ -102,6 +104,28 @@ class MeshTable(FileModel):
     base_radii: tuple[Length, Length] | None = None
     stiffness: LinearStiffness | None = None
     damping: LinearDamping = 0.0
+    gear_pair: str | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self) -> MeshTable:
+        given = [k for k in ("teeth", "ratio", "base_radii", "stiffness") if getattr(self, k) is not None]
+        if self.gear_pair is not None and self.kind == "internal":
+            raise ValueError("a gear_pair is an external spur pair; remove kind = 'internal'")
+        if self.gear_pair is not None and given:
+            raise ValueError(
+                f"gear_pair {self.gear_pair!r} sets teeth, base radii and stiffness; "
+                f"remove {', '.join(given)}"
+            )
+        return self
+
+
+class GearPairTable(FileModel):
+    """A spur pair whose mean mesh stiffness, teeth and base radii a mesh takes (``gear_pair = name``)."""
+
+    name: str
+    pinion: GearTable
+    gear: GearTable
+    center_distance: Length | None = None
 
 
 class GroundSpringTable(FileModel):
@@ -160,6 +184,8 @@ class DrivetrainFile(FileModel):
     disks: list[DiskTable] = Field(min_length=1)
     shafts: list[ShaftTable] = Field(default_factory=list)
     meshes: list[MeshTable] = Field(default_factory=list)
+    gear_pairs: list[GearPairTable] = Field(default_factory=list)
+    gear_material: GearMaterialTable = GearMaterialTable()
     ground_springs: list[GroundSpringTable] = Field(default_factory=list)
     ground_dampers: list[GroundDamperTable] = Field(default_factory=list)
     campbell: CampbellTable | None = None
@@ -179,7 +205,7 @@ def _need(source: ModelSource, where: str, field: str, value: float | None, tabl
 def _check_names(source: ModelSource, f: DrivetrainFile) -> None:
     """Every name used once; every disk that an element refers to defined."""
     seen: dict[str, str] = {}
-    for table in ("disks", "shafts", "meshes", "ground_springs", "ground_dampers"):
+    for table in ("disks", "shafts", "meshes", "ground_springs", "ground_dampers", "gear_pairs"):
         for i, row in enumerate(getattr(f, table)):
             where = _where(table, i, row.name)
             if row.name in seen:
@@ -255,8 +281,27 @@ def build(source: ModelSource) -> Drivetrain:
                         damping=s.damping,
                     )
                 )
+    pairs = {}
+    for i, gp in enumerate(f.gear_pairs):
+        pairs[gp.name] = pair_from_tables(
+            source, _where("gear_pairs", i, gp.name), gp.pinion, gp.gear, f.gear_material, gp.center_distance
+        )
     for i, m in enumerate(f.meshes):
-        with field_context(source, _where("meshes", i, m.name)):
+        where = _where("meshes", i, m.name)
+        if m.gear_pair is not None and m.gear_pair not in pairs:
+            known = ", ".join(pairs) or "none"
+            raise ModelFileError(
+                source.path,
+                f"{where} → gear_pair",
+                f"{m.gear_pair!r} is not a [[gear_pairs]] name; defined: {known}",
+                m.gear_pair,
+            )
+        with field_context(source, where):
+            if m.gear_pair is not None:
+                elements.append(
+                    GearMesh.from_gear_pair(m.name, m.disks, pairs[m.gear_pair], damping=m.damping)
+                )
+                continue
             elements.append(
                 GearMesh(
                     m.name,

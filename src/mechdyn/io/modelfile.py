@@ -36,6 +36,8 @@ M = TypeVar("M", bound=BaseModel)
 
 _BUILDERS: dict[str, str] = {
     "drivetrain": "mechdyn.drivetrain.schema:build",
+    "gear_pair": "mechdyn.gears.schema:build_gear_pair",
+    "tooth_pair": "mechdyn.gears.schema:build_tooth_pair",
 }
 
 
@@ -75,7 +77,7 @@ def read(path: str | Path) -> ModelSource:
     model = data.get("model")
     if not isinstance(model, dict):
         raise ModelFileError(
-            str(p), "[model]", 'missing; start the file with [model] and type = "drivetrain"'
+            str(p), "[model]", 'missing; start the file with [model] and its type, e.g. type = "drivetrain"'
         )
     kind = model.get("type")
     if kind not in _BUILDERS:

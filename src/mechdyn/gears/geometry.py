@@ -1,0 +1,197 @@
+"""Involute spur gears from ordinary gear data, and their truncated-triangle teeth.
+
+Standard involute geometry (e.g. ISO 21771:2007; Niemann & Winter, *Maschinenelemente* II):
+pitch radius r = m z/2, base radius r_b = r cos α, tip radius r_a = r + m (h_a* + x), root radius
+r_f = r − m (h_f* − x), tooth thickness on the pitch circle s = m (π/2 + 2 x tan α), and at any radius
+r_y ≥ r_b the arc thickness s_y = 2 r_y (s/(2 r) + inv α − inv α_y), inv α = tan α − α,
+cos α_y = r_b / r_y.
+
+The truncated triangle of a gear tooth (heights from the root circle): the root section at the
+start of the involute, max(r_b, r_f), the tip at r_a, with the chordal thicknesses there. Below the
+root section lies the fillet, which the foundation term of Sainsot et al. (2004) represents. The load
+angle at a contact radius r_c is α_c − γ_c (pressure angle there minus the half tooth angle
+γ_c = s_c / (2 r_c)), the angle between the line of action and the perpendicular to the tooth's
+centre line (ISO 6336-3 uses the same construction for α_Fen).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from mechdyn.errors import ModelError
+from mechdyn.gears.tooth import TruncatedTooth
+from mechdyn.units import UnitError, to_si
+
+__all__ = ["SpurGear", "inverse_involute", "involute"]
+
+
+def involute(alpha: float) -> float:
+    """inv α = tan α − α."""
+    return math.tan(alpha) - alpha
+
+
+def inverse_involute(value: float) -> float:
+    """α with inv α = value (Newton's method; value ≥ 0)."""
+    alpha = (3.0 * value) ** (1.0 / 3.0) if value > 0 else 0.0  # inv α ≈ α³/3 for small α
+    for _ in range(50):
+        f = involute(alpha) - value
+        step = f / math.tan(alpha) ** 2 if alpha > 0 else 0.0
+        alpha -= step
+        if abs(step) < 1e-15:
+            break
+    return alpha
+
+
+def _q(owner: str, name: str, value: Any, unit: str) -> float:
+    try:
+        return to_si(value, unit, plain_is_si=True)
+    except UnitError as exc:
+        raise ModelError(str(exc), element=owner, field=name) from None
+
+
+@dataclass(frozen=True)
+class SpurGear:
+    """An external involute spur gear.
+
+    Parameters
+    ----------
+    teeth : int
+        z.
+    module : float or quantity
+        m, m (e.g. ``"2 mm"``).
+    face_width : float or quantity
+        b, m.
+    pressure_angle : float or quantity
+        α of the basic rack, rad (e.g. ``"20 deg"``).
+    profile_shift : float
+        x (addendum modification coefficient).
+    addendum, dedendum : float
+        h_a* and h_f* of the basic rack, in modules (1 and 1.25 by default).
+    youngs_modulus : float or quantity
+        E, Pa (steel 206 GPa by default, the ISO 6336 reference).
+    poisson_ratio : float
+    bore_diameter : float or quantity, optional
+        Diameter of the bore, m; with it the tooth foundation is elastic (Sainsot et al. 2004),
+        without it rigid.
+    name : str
+    """
+
+    teeth: int
+    module: float
+    face_width: float
+    pressure_angle: float = math.radians(20.0)
+    profile_shift: float = 0.0
+    addendum: float = 1.0
+    dedendum: float = 1.25
+    youngs_modulus: float = 206e9
+    poisson_ratio: float = 0.3
+    bore_diameter: float | None = None
+    name: str = "gear"
+
+    def __post_init__(self) -> None:
+        n = self.name
+        if isinstance(self.teeth, bool) or not isinstance(self.teeth, int) or self.teeth < 5:
+            raise ModelError(f"{self.teeth!r} must be a whole number of at least 5", element=n, field="teeth")
+        for f, unit in (
+            ("module", "m"),
+            ("face_width", "m"),
+            ("pressure_angle", "rad"),
+            ("youngs_modulus", "Pa"),
+        ):
+            v = _q(n, f, getattr(self, f), unit)
+            if v <= 0:
+                raise ModelError(f"{v:g} must be positive", element=n, field=f)
+            object.__setattr__(self, f, v)
+        for f in ("profile_shift", "addendum", "dedendum", "poisson_ratio"):
+            object.__setattr__(self, f, _q(n, f, getattr(self, f), ""))
+        if not math.radians(10) <= self.pressure_angle <= math.radians(35):
+            raise ModelError(
+                f"{math.degrees(self.pressure_angle):g}° must lie between 10° and 35°",
+                element=n,
+                field="pressure_angle",
+            )
+        if self.bore_diameter is not None:
+            object.__setattr__(self, "bore_diameter", _q(n, "bore_diameter", self.bore_diameter, "m"))
+            if not 0 < self.bore_diameter < 2 * self.root_radius:
+                raise ModelError(
+                    f"bore diameter {self.bore_diameter:g} m must be positive and below the root diameter "
+                    f"{2 * self.root_radius:g} m",
+                    element=n,
+                    field="bore_diameter",
+                )
+        if self.thickness(self.tip_radius) <= 0:
+            raise ModelError(
+                "the teeth are pointed (no thickness at the tip circle); "
+                "reduce the profile shift or addendum",
+                element=n,
+                field="profile_shift",
+            )
+
+    # -- radii, m --------------------------------------------------------------------------------
+    @property
+    def pitch_radius(self) -> float:
+        return self.module * self.teeth / 2.0
+
+    @property
+    def base_radius(self) -> float:
+        return self.pitch_radius * math.cos(self.pressure_angle)
+
+    @property
+    def tip_radius(self) -> float:
+        return self.pitch_radius + self.module * (self.addendum + self.profile_shift)
+
+    @property
+    def root_radius(self) -> float:
+        return self.pitch_radius - self.module * (self.dedendum - self.profile_shift)
+
+    @property
+    def base_pitch(self) -> float:
+        """p_b = π m cos α, m."""
+        return math.pi * self.module * math.cos(self.pressure_angle)
+
+    @property
+    def form_radius(self) -> float:
+        """Where the truncated-triangle root section sits: the start of the involute, max(r_b, r_f)."""
+        return max(self.base_radius, self.root_radius)
+
+    # -- thickness ---------------------------------------------------------------------------------
+    def thickness(self, radius: float) -> float:
+        """Arc tooth thickness at a radius on the involute (r ≥ r_b), m."""
+        if radius < self.base_radius * (1 - 1e-12):
+            raise ModelError(
+                f"radius {radius:g} m is inside the base circle {self.base_radius:g} m", element=self.name
+            )
+        s = self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
+        alpha_y = math.acos(min(1.0, self.base_radius / radius))
+        return (
+            2.0 * radius * (s / (2.0 * self.pitch_radius) + involute(self.pressure_angle) - involute(alpha_y))
+        )
+
+    def chordal_thickness(self, radius: float) -> float:
+        """Chord across the tooth at a radius, m."""
+        return 2.0 * radius * math.sin(self.thickness(radius) / (2.0 * radius))
+
+    def load_angle(self, radius: float) -> float:
+        """Angle between the line of action and the perpendicular to the tooth centre line, rad."""
+        alpha_c = math.acos(min(1.0, self.base_radius / radius))
+        return alpha_c - self.thickness(radius) / (2.0 * radius)
+
+    def tooth(self) -> TruncatedTooth:
+        """The truncated-triangle tooth of this gear, heights from the root circle."""
+        r0 = self.form_radius
+        foundation = {}
+        if self.bore_diameter is not None:
+            foundation = {"root_radius": r0, "bore_radius": self.bore_diameter / 2.0}
+        return TruncatedTooth(
+            tip_height=self.tip_radius - self.root_radius,
+            root_height=r0 - self.root_radius,
+            tip_thickness=self.chordal_thickness(self.tip_radius),
+            root_thickness=self.chordal_thickness(r0),
+            face_width=self.face_width,
+            youngs_modulus=self.youngs_modulus,
+            poisson_ratio=self.poisson_ratio,
+            name=f"{self.name} tooth",
+            **foundation,
+        )

@@ -1,0 +1,131 @@
+"""ISO 6336-1 Method B: single stiffness c′ and mesh stiffness c_γα of a spur gear pair.
+
+All from ISO 6336-1:2006, clause 9 "Tooth stiffness parameters c′ and c_γ", Method B (the same
+formulas stand in ISO 6336-1:2019). Stiffnesses per unit face width, N/(mm·µm), as the standard
+gives them; 1 N/(mm·µm) = 10⁹ N/m per metre of face width.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from mechdyn.errors import ModelError
+from mechdyn.gears.mesh import GearPair
+
+__all__ = ["IsoStiffness", "iso_stiffness"]
+
+# ISO 6336-1, clause 9 (Method B), the coefficients of q′ (its table of C1 … C9)
+_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
+E_STEEL = 206e9  # Pa, the reference modulus of the standard
+
+
+@dataclass(frozen=True)
+class IsoStiffness:
+    """ISO 6336-1 Method B stiffness of a spur pair (per unit face width, N/(mm·µm)).
+
+    Attributes
+    ----------
+    q_prime : float
+        Minimum flexibility of a tooth pair q′, mm·µm/N.
+    c_th : float
+        Theoretical single stiffness c′_th = 1/q′.
+    C_M, C_R, C_B : float
+        Theoretical correction factor, gear blank factor, basic rack factor.
+    load_factor : float
+        (F_t K_A / b / 100)^0.25 below 100 N/mm, else 1.
+    material_factor : float
+        E / E_st for materials other than steel.
+    c_prime : float
+        Single stiffness c′.
+    c_gamma_alpha : float
+        Mesh stiffness c_γα = c′ (0.75 ε_α + 0.25), × 0.9 when ε_α < 1.2.
+    """
+
+    q_prime: float
+    c_th: float
+    C_M: float
+    C_R: float
+    C_B: float
+    load_factor: float
+    material_factor: float
+    c_prime: float
+    c_gamma_alpha: float
+
+    def mesh_stiffness(self, face_width: float) -> float:
+        """c_γα b in N/m for a face width in m."""
+        return self.c_gamma_alpha * 1e9 * face_width
+
+
+def iso_stiffness(
+    pair: GearPair,
+    *,
+    specific_load: float = 100.0,
+    rim_thickness_ratio: float | None = None,
+    web_width_ratio: float = 1.0,
+) -> IsoStiffness:
+    """Single and mesh stiffness of a spur pair by ISO 6336-1 Method B.
+
+    Parameters
+    ----------
+    pair : GearPair
+    specific_load : float
+        F_t K_A / b, N/mm; below 100 N/mm the stiffness falls as (load/100)^0.25.
+    rim_thickness_ratio : float, optional
+        s_R / m_n of a rim-and-web gear; None for solid gears (C_R = 1).
+    web_width_ratio : float
+        b_s / b of a webbed gear (0.2 … 1.2).
+
+    Returns
+    -------
+    IsoStiffness
+
+    Notes
+    -----
+    ISO 6336-1:2006, clause 9, Method B:
+
+    - q′ = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2 + C8 x1² + C9 x2²
+      (minimum flexibility of a tooth pair, mm·µm/N, the regression valid for x1 ≥ x2 and
+      −0.5 ≤ x1 + x2 ≤ 2); c′_th = 1/q′;
+    - C_M = 0.8, theoretical correction factor (solid disc gears);
+    - C_R = 1 + ln(b_s/b) / (5 e^(s_R/(5 m_n))), gear blank factor (1 for solid gears);
+    - C_B = [1 + 0.5 (1.2 − h_fP/m_n)] [1 − 0.02 (20° − α_n)], basic rack factor (mean of the two
+      gears);
+    - c′ = c′_th C_M C_R C_B cos β (× (F_t K_A/b / 100)^0.25 below 100 N/mm, × E/E_st for other
+      materials, E = 2 E1 E2/(E1 + E2), E_st = 206 GPa);
+    - c_γα = c′ (0.75 ε_α + 0.25), multiplied by 0.9 for ε_α < 1.2 (mesh stiffness).
+
+    Spur gears only here (β = 0, z_n = z).
+    """
+    p, g = pair.pinion, pair.gear
+    x1, x2, z1, z2 = p.profile_shift, g.profile_shift, p.teeth, g.teeth
+    if not -0.5 <= x1 + x2 <= 2.0:
+        raise ModelError(
+            f"x1 + x2 = {x1 + x2:g} is outside the range −0.5 … 2 of the ISO 6336-1 regression",
+            element=g.name,
+            field="profile_shift",
+        )
+    C1, C2, C3, C4, C5, C6, C7, C8, C9 = _C
+    q = C1 + C2 / z1 + C3 / z2 + C4 * x1 + C5 * x1 / z1 + C6 * x2 + C7 * x2 / z2 + C8 * x1**2 + C9 * x2**2
+    c_th = 1.0 / q
+    C_M = 0.8
+    if rim_thickness_ratio is None:
+        C_R = 1.0
+    else:
+        bs = min(max(web_width_ratio, 0.2), 1.2)
+        sr = max(rim_thickness_ratio, 1.0)
+        C_R = 1.0 + math.log(bs) / (5.0 * math.exp(sr / 5.0))
+
+    def rack(gear):
+        return (1.0 + 0.5 * (1.2 - gear.dedendum)) * (1.0 - 0.02 * (20.0 - math.degrees(gear.pressure_angle)))
+
+    C_B = 0.5 * (rack(p) + rack(g))
+    load = (specific_load / 100.0) ** 0.25 if specific_load < 100.0 else 1.0
+    if specific_load <= 0:
+        raise ModelError(f"specific load {specific_load:g} N/mm must be positive")
+    e = 2 * p.youngs_modulus * g.youngs_modulus / (p.youngs_modulus + g.youngs_modulus)
+    mat = e / E_STEEL
+    c_prime = c_th * C_M * C_R * C_B * load * mat
+    eps = pair.contact_ratio
+    c_gamma = c_prime * (0.75 * eps + 0.25) * (0.9 if eps < 1.2 else 1.0)
+    return IsoStiffness(q, c_th, C_M, C_R, C_B, load, mat, c_prime, c_gamma)

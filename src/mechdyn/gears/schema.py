@@ -1,0 +1,209 @@
+"""Gear model files: ``type = "gear_pair"`` (ordinary gear data) and ``type = "tooth_pair"``
+(raw truncated-triangle tooth data, as published), and the gear tables a drivetrain file reuses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+from pydantic import Field
+
+from mechdyn.gears.geometry import SpurGear
+from mechdyn.gears.mesh import GearPair
+from mechdyn.gears.tooth import TruncatedTooth
+from mechdyn.io.fields import FileModel, quantity
+from mechdyn.io.modelfile import ModelSource, field_context, validate
+
+__all__ = [
+    "GearPairModel",
+    "GearTable",
+    "MaterialTable",
+    "ToothPairModel",
+    "build_gear_pair",
+    "build_tooth_pair",
+]
+
+Length = quantity("m")
+Angle = quantity("rad")
+Pressure = quantity("Pa")
+Stiffness = quantity("N/m")
+LineLoad = quantity("N/mm")
+
+
+class MaterialTable(FileModel):
+    youngs_modulus: Pressure = 206e9
+    poisson_ratio: float = Field(default=0.3, gt=-1.0, lt=0.5)
+
+
+class GearTable(FileModel):
+    """One spur gear from ordinary gear data."""
+
+    teeth: int = Field(ge=5)
+    module: Length
+    face_width: Length
+    pressure_angle: Angle = math.radians(20.0)
+    profile_shift: float = 0.0
+    addendum: float = 1.0
+    dedendum: float = 1.25
+    bore_diameter: Length | None = None
+    youngs_modulus: Pressure | None = None
+    poisson_ratio: float | None = Field(default=None, gt=-1.0, lt=0.5)
+
+    def build(self, name: str, material: MaterialTable) -> SpurGear:
+        return SpurGear(
+            teeth=self.teeth,
+            module=self.module,
+            face_width=self.face_width,
+            pressure_angle=self.pressure_angle,
+            profile_shift=self.profile_shift,
+            addendum=self.addendum,
+            dedendum=self.dedendum,
+            youngs_modulus=self.youngs_modulus
+            if self.youngs_modulus is not None
+            else material.youngs_modulus,
+            poisson_ratio=self.poisson_ratio if self.poisson_ratio is not None else material.poisson_ratio,
+            bore_diameter=self.bore_diameter,
+            name=name,
+        )
+
+
+class MeshSettings(FileModel):
+    center_distance: Length | None = None
+    points: int = Field(default=400, ge=4, le=100_000)
+    specific_load: LineLoad = 100.0  # N/mm, for the ISO load correction
+
+
+class PairModelTable(FileModel):
+    type: Literal["gear_pair"]
+    name: str = "gear pair"
+    description: str = ""
+    source: str = ""
+
+
+class GearPairModel(FileModel):
+    """Schema of a ``gear_pair`` file."""
+
+    model: PairModelTable
+    material: MaterialTable = MaterialTable()
+    pinion: GearTable
+    gear: GearTable
+    mesh: MeshSettings = MeshSettings()
+
+
+@dataclass(frozen=True)
+class GearPairSpec:
+    """A gear pair as read from a file, with the mesh settings and its title."""
+
+    name: str
+    pair: GearPair
+    points: int
+    specific_load: float
+
+
+def pair_from_tables(
+    source: ModelSource,
+    where: str,
+    pinion: GearTable,
+    gear: GearTable,
+    material: MaterialTable,
+    center_distance: float | None,
+) -> GearPair:
+    """Build a :class:`GearPair` from gear tables, errors located at ``where``."""
+    with field_context(source, f"{where} → pinion"):
+        p = pinion.build("pinion", material)
+    with field_context(source, f"{where} → gear"):
+        g = gear.build("gear", material)
+    with field_context(source, where):
+        return GearPair(p, g, center_distance)
+
+
+def build_gear_pair(source: ModelSource) -> GearPairSpec:
+    """Builder for ``[model] type = "gear_pair"``."""
+    f = validate(GearPairModel, source)
+    pair = pair_from_tables(source, "[mesh]", f.pinion, f.gear, f.material, f.mesh.center_distance)
+    return GearPairSpec(f.model.name, pair, f.mesh.points, f.mesh.specific_load)
+
+
+# -- raw tooth data ------------------------------------------------------------------------------
+
+
+class ToothTable(FileModel):
+    tip_height: Length
+    root_height: Length
+    load_height: Length
+    tip_thickness: Length
+    root_thickness: Length
+    root_radius: Length | None = None
+    bore_radius: Length | None = None
+
+
+class LoadTable(FileModel):
+    load_angle: Angle
+    face_width: Length
+
+
+class PublishedTable(FileModel):
+    mesh_stiffness: Stiffness | None = None
+    note: str = ""
+
+
+class ToothModelTable(FileModel):
+    type: Literal["tooth_pair"]
+    name: str = "tooth pair"
+    description: str = ""
+    source: str = ""
+
+
+class ToothPairModel(FileModel):
+    """Schema of a ``tooth_pair`` file: two truncated-triangle teeth loaded at one point."""
+
+    model: ToothModelTable
+    material: MaterialTable = MaterialTable()
+    load: LoadTable
+    pinion: ToothTable
+    gear: ToothTable
+    published: PublishedTable = PublishedTable()
+
+
+@dataclass(frozen=True)
+class ToothPairSpec:
+    """Two teeth with their load points, and the published stiffness to compare with."""
+
+    name: str
+    teeth: tuple[TruncatedTooth, TruncatedTooth]
+    load_heights: tuple[float, float]
+    load_angle: float
+    published_stiffness: float | None
+    published_note: str
+
+
+def build_tooth_pair(source: ModelSource) -> ToothPairSpec:
+    """Builder for ``[model] type = "tooth_pair"``."""
+    f = validate(ToothPairModel, source)
+    teeth = []
+    for label, t in (("pinion", f.pinion), ("gear", f.gear)):
+        with field_context(source, f"[{label}]"):
+            tooth = TruncatedTooth(
+                tip_height=t.tip_height,
+                root_height=t.root_height,
+                tip_thickness=t.tip_thickness,
+                root_thickness=t.root_thickness,
+                face_width=f.load.face_width,
+                youngs_modulus=f.material.youngs_modulus,
+                poisson_ratio=f.material.poisson_ratio,
+                root_radius=t.root_radius,
+                bore_radius=t.bore_radius,
+                name=label,
+            )
+            tooth.compliances(t.load_height, f.load.load_angle)  # checks the load point now
+        teeth.append(tooth)
+    return ToothPairSpec(
+        f.model.name,
+        (teeth[0], teeth[1]),
+        (f.pinion.load_height, f.gear.load_height),
+        f.load.load_angle,
+        f.published.mesh_stiffness,
+        f.published.note,
+    )

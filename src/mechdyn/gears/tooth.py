@@ -1,0 +1,338 @@
+"""The truncated-triangle tooth: compliance terms along the line of action, and a pair of teeth.
+
+The tooth is a cantilever whose thickness falls linearly from t_b at the root section (height h_b)
+to t_a at the tip (height h_a); extended, its flanks meet at the apex height
+w = (h_a t_b − h_b t_a)/(t_b − t_a) (SPEC §4). A normal force F at height h_c acts along the line of
+action at the load angle φ to the perpendicular of the tooth's centre line; its components are
+F cos φ across the tooth and F sin φ along it (compressive), the latter applied at the flank, half a
+thickness e = t(h_c)/2 off the centre line.
+
+Each compliance term is the deflection per unit force along the line of action, from Castigliano's
+theorem on the strain energy of a Timoshenko beam of rectangular section f × t(y) (the potential
+energy method of Yang & Lin, ASME J. Mech. Trans. Autom. Des. 109 (1987) 189–196, here with the
+linear taper integrated in closed form):
+
+- bending by the transverse component: ∫ cos²φ (h_c − y)² / (E I) dy;
+- what the radial component adds to bending: ∫ [sin²φ e² − 2 sinφ cosφ e (h_c − y)] / (E I) dy
+  (its own moment, and the coupling with the transverse moment, which relieves the root);
+- axial compression: ∫ sin²φ / (E A) dy;
+- shear: ∫ κ cos²φ / (G A) dy with κ = 1.2 for a rectangle;
+- foundation (fillet and gear body): Sainsot, Velex & Duverger, ASME J. Mech. Des. 126 (2004)
+  748–752, when the root and bore radii are known; a rigid foundation otherwise;
+
+with I = f t³/12, A = f t and the integrals from the root section h_b to the load height h_c. The
+published model lists bending (twice), shear, foundation and Hertz; the compression term is kept
+separate here so that it can be seen (it is small). Plane stress (E, not E/(1 − ν²)) as in the
+published model.
+
+Hertzian contact is a property of the *pair*: δ_h = 4 F (1 − ν²)/(π E f) for two teeth of one
+material (Yang & Lin 1987), in general 2 F/(π f E*) with 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂. It is
+counted once per pair; counting it per tooth (as the published formulas seem to) counts it twice.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+from mechdyn.errors import ModelError, ModelWarning
+from mechdyn.units import UnitError, to_si
+
+__all__ = ["SHEAR_COEFFICIENT", "TruncatedTooth", "hertz_compliance", "pair_compliance"]
+
+SHEAR_COEFFICIENT = 1.2
+"""Timoshenko shear coefficient of a rectangular section (energy form)."""
+
+# Sainsot, Velex & Duverger (2004), table 1: X* = A/θ_f² + B h_f² + C h_f/θ_f + D/θ_f + E h_f + F
+_SAINSOT = {
+    "L": (-5.574e-5, -1.9986e-3, -2.3015e-4, 4.7702e-3, 0.0271, 6.8045),
+    "M": (60.111e-5, 28.100e-3, -83.431e-4, -9.9256e-3, 0.1624, 0.9086),
+    "P": (-50.952e-5, 185.50e-3, 0.0538e-4, 53.300e-3, 0.2895, 0.9236),
+    "Q": (-6.2042e-5, 9.0889e-3, -4.0964e-4, 7.8297e-3, -0.1472, 0.6904),
+}
+#: Range of the Sainsot fit: h_f = r_f/r_int and θ_f (rad).
+SAINSOT_RANGE = {"h_f": (1.4, 7.0), "theta_f": (0.01, 0.12)}
+
+
+def _q(owner: str, name: str, value: Any, unit: str) -> float:
+    try:
+        return to_si(value, unit, plain_is_si=True)
+    except UnitError as exc:
+        raise ModelError(str(exc), element=owner, field=name) from None
+
+
+@dataclass(frozen=True)
+class TruncatedTooth:
+    """One tooth as a truncated triangle.
+
+    Parameters
+    ----------
+    tip_height, root_height : float or quantity
+        h_a and h_b, m, measured from one datum (e.g. the root circle); h_b < h_a.
+    tip_thickness, root_thickness : float or quantity
+        t_a and t_b, m; the tooth must taper toward the tip (t_a < t_b).
+    face_width : float or quantity
+        f, m.
+    youngs_modulus : float or quantity
+        E, Pa.
+    poisson_ratio : float
+        ν, in (−1, 0.5).
+    root_radius, bore_radius : float or quantity, optional
+        Radius of the root section and of the gear bore, m. With both, the foundation term of
+        Sainsot et al. (2004) is included; without, the foundation is rigid.
+    name : str
+        For messages.
+    """
+
+    tip_height: float
+    root_height: float
+    tip_thickness: float
+    root_thickness: float
+    face_width: float
+    youngs_modulus: float
+    poisson_ratio: float = 0.3
+    root_radius: float | None = None
+    bore_radius: float | None = None
+    name: str = "tooth"
+
+    def __post_init__(self) -> None:
+        n = self.name
+        for f, unit in (
+            ("tip_height", "m"),
+            ("root_height", "m"),
+            ("tip_thickness", "m"),
+            ("root_thickness", "m"),
+            ("face_width", "m"),
+            ("youngs_modulus", "Pa"),
+            ("poisson_ratio", ""),
+        ):
+            object.__setattr__(self, f, _q(n, f, getattr(self, f), unit))
+        for f in ("root_radius", "bore_radius"):
+            if getattr(self, f) is not None:
+                object.__setattr__(self, f, _q(n, f, getattr(self, f), "m"))
+        for f in ("tip_thickness", "root_thickness", "face_width", "youngs_modulus"):
+            if getattr(self, f) <= 0:
+                raise ModelError(f"{getattr(self, f):g} must be positive", element=n, field=f)
+        if self.root_height < 0:
+            raise ModelError(f"{self.root_height:g} m must not be negative", element=n, field="root_height")
+        if self.tip_height <= self.root_height:
+            raise ModelError(
+                f"tip height {self.tip_height:g} m must be above the root height {self.root_height:g} m",
+                element=n,
+                field="tip_height",
+            )
+        if self.tip_thickness >= self.root_thickness:
+            raise ModelError(
+                f"tip thickness t_a = {self.tip_thickness:g} m must be smaller than the root thickness "
+                f"t_b = {self.root_thickness:g} m (a truncated triangle tapers toward the tip)",
+                element=n,
+                field="tip_thickness",
+            )
+        if not -1.0 < self.poisson_ratio < 0.5:
+            raise ModelError(
+                f"{self.poisson_ratio:g} must lie in (−1, 0.5)", element=n, field="poisson_ratio"
+            )
+        if (self.root_radius is None) != (self.bore_radius is None):
+            raise ModelError(
+                "give both root_radius and bore_radius (foundation), or neither",
+                element=n,
+                field="bore_radius",
+            )
+        if self.root_radius is not None:
+            if not 0 < self.bore_radius < self.root_radius:  # type: ignore[operator]
+                raise ModelError(
+                    f"bore radius {self.bore_radius:g} m must be positive and below the root radius "
+                    f"{self.root_radius:g} m",
+                    element=n,
+                    field="bore_radius",
+                )
+            h_f, theta_f = self._foundation_parameters
+            (lo_h, hi_h), (lo_t, hi_t) = SAINSOT_RANGE["h_f"], SAINSOT_RANGE["theta_f"]
+            if not (lo_h <= h_f <= hi_h and lo_t <= theta_f <= hi_t):
+                warnings.warn(
+                    f"{n}: foundation parameters h_f = {h_f:.3g}, θ_f = {theta_f:.3g} rad lie outside the "
+                    f"range of the Sainsot fit (h_f {lo_h}–{hi_h}, θ_f {lo_t}–{hi_t} rad); the foundation "
+                    "term is extrapolated",
+                    ModelWarning,
+                    stacklevel=3,
+                )
+
+    @property
+    def _foundation_parameters(self) -> tuple[float, float]:
+        """h_f = r_root / r_bore and θ_f = t_b / (2 r_root) of the Sainsot fit."""
+        return self.root_radius / self.bore_radius, self.root_thickness / (2.0 * self.root_radius)  # type: ignore[operator]
+
+    # -- geometry ----------------------------------------------------------------------------
+    @property
+    def apex_height(self) -> float:
+        """w = (h_a t_b − h_b t_a)/(t_b − t_a), m: where the extended flanks meet."""
+        return (self.tip_height * self.root_thickness - self.root_height * self.tip_thickness) / (
+            self.root_thickness - self.tip_thickness
+        )
+
+    @property
+    def taper(self) -> float:
+        """Thickness lost per unit height, (t_b − t_a)/(h_a − h_b)."""
+        return (self.root_thickness - self.tip_thickness) / (self.tip_height - self.root_height)
+
+    def thickness(self, height: float) -> float:
+        """t(y) = t_b (w − y)/(w − h_b), m."""
+        return self.taper * (self.apex_height - height)
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + ν)), Pa."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+    def _load(self, load_height: Any, load_angle: Any) -> tuple[float, float]:
+        hc = _q(self.name, "load_height", load_height, "m")
+        phi = _q(self.name, "load_angle", load_angle, "rad")
+        if not self.root_height < hc <= self.tip_height * (1 + 1e-12):
+            raise ModelError(
+                f"load height {hc:g} m lies outside the tooth (root {self.root_height:g} m, tip "
+                f"{self.tip_height:g} m); the load point must be on the flank, above the root section",
+                element=self.name,
+                field="load_height",
+            )
+        if not abs(phi) < math.pi / 2:  # negative near the base circle: the radial part pulls
+            raise ModelError(
+                f"load angle {math.degrees(phi):g}° must lie in (−90°, 90°)",
+                element=self.name,
+                field="load_angle",
+            )
+        return hc, phi
+
+    # -- compliance terms --------------------------------------------------------------------
+    def compliances(self, load_height: Any, load_angle: Any) -> dict[str, float]:
+        """Deflection along the line of action per unit normal force, m/N, term by term.
+
+        Parameters
+        ----------
+        load_height : float or quantity
+            h_c, m, on the same datum as h_a and h_b.
+        load_angle : float or quantity
+            φ, rad, between the line of action and the perpendicular to the tooth centre line;
+            negative when the radial component pulls (contact near the base circle).
+
+        Returns
+        -------
+        dict
+            ``bending_transverse``, ``bending_radial``, ``compression``, ``shear``, ``foundation``
+            (0 for a rigid foundation). The Hertz term is not a tooth property: see
+            :func:`hertz_compliance`.
+        """
+        hc, phi = self._load(load_height, load_angle)
+        E, f, tb = self.youngs_modulus, self.face_width, self.root_thickness
+        ub = self.apex_height - self.root_height  # distance of the root section from the apex
+        x = (hc - self.root_height) / ub  # share of that distance up to the load point, in (0, 1)
+        # ∫ (h_c − y)^k / t³ dy (k = 2, 1, 0) and ∫ dy / t over [h_b, h_c] with t = t_b (1 − (y − h_b)/u_b),
+        # written in x so that they stay exact as the taper vanishes (u_b → ∞, x → 0)
+        i2 = ub**3 / tb**3 * _log_tail(x)
+        i1 = ub**2 / tb**3 * x**2 / (2.0 * (1.0 - x))
+        i0 = ub / tb**3 * x * (2.0 - x) / (2.0 * (1.0 - x) ** 2)
+        j0 = ub / tb * -math.log1p(-x)
+        e = 0.5 * tb * (1.0 - x)  # half the thickness at the load point
+        cos, sin = math.cos(phi), math.sin(phi)
+        return {
+            "bending_transverse": 12.0 * cos**2 * i2 / (E * f),
+            "bending_radial": 12.0 * (sin**2 * e**2 * i0 - 2.0 * sin * cos * e * i1) / (E * f),
+            "compression": sin**2 * j0 / (E * f),
+            "shear": SHEAR_COEFFICIENT * cos**2 * j0 / (self.shear_modulus * f),
+            "foundation": self._foundation(hc, phi),
+        }
+
+    def _foundation(self, hc: float, phi: float) -> float:
+        """Sainsot et al. (2004): (cos²φ/(E f)) [L*(u_f/S_f)² + M*(u_f/S_f) + P*(1 + Q* tan²φ)]."""
+        if self.root_radius is None:
+            return 0.0
+        h_f, theta_f = self._foundation_parameters
+        x = {
+            k: a / theta_f**2 + b * h_f**2 + cc * h_f / theta_f + d / theta_f + ee * h_f + ff
+            for k, (a, b, cc, d, ee, ff) in _SAINSOT.items()
+        }
+        u = (hc - self.root_height) / self.root_thickness
+        cos2 = math.cos(phi) ** 2
+        return (
+            cos2
+            / (self.youngs_modulus * self.face_width)
+            * (x["L"] * u**2 + x["M"] * u + x["P"] * (1.0 + x["Q"] * math.tan(phi) ** 2))
+        )
+
+    def compliance(self, load_height: Any, load_angle: Any) -> float:
+        """Total tooth compliance (all terms but Hertz), m/N."""
+        return sum(self.compliances(load_height, load_angle).values())
+
+    def stiffness(self, load_height: Any, load_angle: Any) -> float:
+        """Tooth stiffness F/δ without the contact term, N/m."""
+        return 1.0 / self.compliance(load_height, load_angle)
+
+
+def _log_tail(x: float) -> float:
+    """−ln(1 − x) − x − x²/2 = Σ_{k≥3} x^k / k, without cancellation for small x."""
+    if x > 0.5:
+        return -math.log1p(-x) - x - 0.5 * x * x
+    total, term, k = 0.0, x**3, 3
+    while term > 1e-17 * max(total, 1e-300) and k < 200:
+        total += term / k
+        term *= x
+        k += 1
+    return total
+
+
+def hertz_compliance(
+    face_width: float, e1: float, nu1: float, e2: float | None = None, nu2: float | None = None
+) -> float:
+    """Hertzian contact compliance of a pair of teeth, m/N.
+
+    δ_h / F = 2 / (π f E*), 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂; for one material this is
+    4 (1 − ν²)/(π E f), the term of SPEC §4 (Yang & Lin 1987). Independent of the load: the
+    linearised line-contact stiffness of the potential-energy method.
+
+    Parameters
+    ----------
+    face_width : float
+        Contact length f, m.
+    e1, nu1, e2, nu2 : float
+        Young's moduli (Pa) and Poisson ratios of the two teeth (the second defaults to the first).
+    """
+    e2 = e1 if e2 is None else e2
+    nu2 = nu1 if nu2 is None else nu2
+    inv_estar = (1.0 - nu1**2) / e1 + (1.0 - nu2**2) / e2
+    return 2.0 * inv_estar / (math.pi * face_width)
+
+
+def pair_compliance(
+    tooth1: TruncatedTooth,
+    load1: tuple[Any, Any],
+    tooth2: TruncatedTooth,
+    load2: tuple[Any, Any],
+    *,
+    hertz_per_tooth: bool = False,
+) -> dict[str, float]:
+    """Compliance of a pair of teeth in contact: both teeth in series, Hertz once.
+
+    Parameters
+    ----------
+    tooth1, tooth2 : TruncatedTooth
+    load1, load2 : (load height, load angle)
+        Where each tooth is loaded.
+    hertz_per_tooth : bool
+        Count the Hertz term once per tooth (twice per pair) to reproduce a model that puts it in
+        each tooth's compliance; wrong, but useful to compare with such published numbers.
+
+    Returns
+    -------
+    dict
+        ``tooth1``, ``tooth2``, ``hertz`` and ``total``, m/N.
+    """
+    c1 = tooth1.compliance(*load1)
+    c2 = tooth2.compliance(*load2)
+    f = min(tooth1.face_width, tooth2.face_width)
+    h = hertz_compliance(
+        f, tooth1.youngs_modulus, tooth1.poisson_ratio, tooth2.youngs_modulus, tooth2.poisson_ratio
+    )
+    if hertz_per_tooth:
+        h = 2.0 * h
+    return {"tooth1": c1, "tooth2": c2, "hertz": h, "total": c1 + c2 + h}

@@ -1,0 +1,290 @@
+"""Gear tooth and mesh stiffness: every term, the geometry, ISO 6336-1, the published data, limits."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from mechdyn.errors import ModelError, ModelWarning
+from mechdyn.gears import GearPair, SpurGear, TruncatedTooth, hertz_compliance, iso_stiffness, pair_compliance
+
+E, NU = 206e9, 0.3
+PUBLISHED = {  # SPEC §4, m: h_a, h_b, h_c, t_a, t_b, printed k_c (N/m)
+    1: (0.004025, 0.000525, 0.002275, 0.002749, 0.003073, 2.7082e9),
+    2: (0.0046, 0.0006, 0.0026, 0.003146, 0.006144, 3.8805e9),
+}
+
+
+def _tooth(n=2, f=0.05, **kw):
+    ha, hb, _, ta, tb, _ = PUBLISHED[n]
+    return TruncatedTooth(ha, hb, ta, tb, f, E, NU, **kw)
+
+
+@pytest.mark.parametrize("n", [1, 2])
+@pytest.mark.parametrize("phi_deg", [-8.0, 0.0, 14.0, 20.0, 30.0])
+@pytest.mark.parametrize("hc_frac", [0.2, 0.5, 1.0])
+def test_every_term_equals_the_castigliano_integral(n, phi_deg, hc_frac):
+    # the closed forms against numerical quadrature of the strain-energy integrals
+    t = _tooth(n)
+    hc = t.root_height + hc_frac * (t.tip_height - t.root_height)
+    phi = math.radians(phi_deg)
+    c = t.compliances(hc, phi)
+    f, G = t.face_width, t.shear_modulus
+    inertia = lambda y: f * t.thickness(y) ** 3 / 12  # noqa: E731
+    area = lambda y: f * t.thickness(y)  # noqa: E731
+    e = t.thickness(hc) / 2
+    cos, sin = math.cos(phi), math.sin(phi)
+
+    def integral(fn):
+        return quad(fn, t.root_height, hc, epsabs=0, epsrel=1e-12, limit=200)[0]
+
+    assert c["bending_transverse"] == pytest.approx(
+        integral(lambda y: cos**2 * (hc - y) ** 2 / (E * inertia(y))), rel=1e-10
+    )
+    bending = integral(lambda y: (cos * (hc - y) - sin * e) ** 2 / (E * inertia(y)))
+    assert c["bending_transverse"] + c["bending_radial"] == pytest.approx(bending, rel=1e-10)
+    assert c["compression"] == pytest.approx(integral(lambda y: sin**2 / (E * area(y))), rel=1e-10, abs=1e-30)
+    assert c["shear"] == pytest.approx(integral(lambda y: 1.2 * cos**2 / (G * area(y))), rel=1e-10)
+    assert c["foundation"] == 0.0  # rigid foundation without root and bore radii
+
+
+@pytest.mark.parametrize("taper", [1e-3, 1e-7, 1e-12])
+def test_uniform_cantilever_limit(taper):
+    # t_a → t_b: a rectangular cantilever, δ = 4 F L³/(E f t³) + 1.2 F L/(G f t) for φ = 0; the
+    # closed forms must not cancel as the taper vanishes
+    t_b, L, f = 0.005, 0.004, 0.02
+    t = TruncatedTooth(L, 0.0, t_b * (1 - taper), t_b, f, E, NU)
+    c = t.compliances(L, 0.0)
+    tol = 2 * taper + 1e-12
+    assert c["bending_transverse"] == pytest.approx(4 * L**3 / (E * f * t_b**3), rel=tol)
+    assert c["shear"] == pytest.approx(1.2 * L / (E / (2 * (1 + NU)) * f * t_b), rel=tol)
+    assert c["bending_radial"] == 0.0 and c["compression"] == 0.0
+
+
+def test_apex_height():
+    ha, hb, _, ta, tb, _ = PUBLISHED[2]
+    t = _tooth(2)
+    assert t.apex_height == pytest.approx((ha * tb - hb * ta) / (tb - ta))
+    assert t.thickness(t.apex_height) == pytest.approx(0.0, abs=1e-15)
+    assert t.thickness(ha) == pytest.approx(ta) and t.thickness(hb) == pytest.approx(tb)
+
+
+def test_hertz_term():
+    f = 0.02
+    assert hertz_compliance(f, E, NU) == pytest.approx(4 * (1 - NU**2) / (math.pi * E * f))
+    # two materials: symmetric, and between the two single-material values
+    mixed = hertz_compliance(f, E, NU, 110e9, 0.34)
+    assert mixed == pytest.approx(hertz_compliance(f, 110e9, 0.34, E, NU))
+    assert hertz_compliance(f, E, NU) < mixed < hertz_compliance(f, 110e9, 0.34)
+
+
+def test_pair_counts_hertz_once():
+    t = _tooth(2)
+    load = (PUBLISHED[2][2], math.radians(20))
+    once = pair_compliance(t, load, t, load)
+    twice = pair_compliance(t, load, t, load, hertz_per_tooth=True)
+    assert once["total"] == pytest.approx(2 * t.compliance(*load) + hertz_compliance(0.05, E, NU))
+    assert twice["total"] - once["total"] == pytest.approx(once["hertz"])
+
+
+def test_foundation_term_sainsot():
+    # Sainsot, Velex & Duverger (2004): evaluated here by hand at one point
+    t = _tooth(2, root_radius=0.03, bore_radius=0.008)
+    hc, phi = 0.0026, math.radians(20)
+    h_f, theta_f = 0.03 / 0.008, 0.006144 / (2 * 0.03)
+
+    def x(a, b, c, d, e, f):
+        return a / theta_f**2 + b * h_f**2 + c * h_f / theta_f + d / theta_f + e * h_f + f
+
+    L = x(-5.574e-5, -1.9986e-3, -2.3015e-4, 4.7702e-3, 0.0271, 6.8045)
+    M = x(60.111e-5, 28.100e-3, -83.431e-4, -9.9256e-3, 0.1624, 0.9086)
+    P = x(-50.952e-5, 185.50e-3, 0.0538e-4, 53.300e-3, 0.2895, 0.9236)
+    Q = x(-6.2042e-5, 9.0889e-3, -4.0964e-4, 7.8297e-3, -0.1472, 0.6904)
+    u = (hc - 0.0006) / 0.006144
+    expected = math.cos(phi) ** 2 / (E * 0.05) * (L * u**2 + M * u + P * (1 + Q * math.tan(phi) ** 2))
+    assert t.compliances(hc, phi)["foundation"] == pytest.approx(expected, rel=1e-12)
+    with pytest.warns(ModelWarning, match="outside the range of the Sainsot fit"):
+        _tooth(2, root_radius=0.02, bore_radius=0.019)
+
+
+def test_rigid_foundation_and_wide_face_limits():
+    flexible = _tooth(2, root_radius=0.03, bore_radius=0.008)
+    rigid = _tooth(2)
+    load = (0.0026, math.radians(20))
+    assert rigid.stiffness(*load) > flexible.stiffness(*load)
+    # plane model: every term, Hertz included, scales as 1/f, so stiffness per unit width is constant
+    narrow, wide = _tooth(2, f=0.01), _tooth(2, f=1.0)
+    assert wide.stiffness(*load) / 1.0 == pytest.approx(narrow.stiffness(*load) / 0.01, rel=1e-12)
+    k = [1 / pair_compliance(t, load, t, load)["total"] / t.face_width for t in (narrow, wide)]
+    assert k[0] == pytest.approx(k[1], rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field", "message"),
+    [
+        ({"tip_thickness": 0.007}, "tip_thickness", "must be smaller than the root thickness"),
+        ({"tip_thickness": 0.006144}, "tip_thickness", "must be smaller than the root thickness"),
+        ({"root_thickness": -0.006}, "root_thickness", "must be positive"),
+        ({"tip_height": 0.0005}, "tip_height", "must be above the root height"),
+        ({"poisson_ratio": 0.5}, "poisson_ratio", r"must lie in \(−1, 0.5\)"),
+        ({"root_radius": 0.02}, "bore_radius", "give both"),
+        ({"root_radius": 0.02, "bore_radius": 0.03}, "bore_radius", "below the root radius"),
+    ],
+)
+def test_bad_tooth_data_are_named(kwargs, field, message):
+    data = dict(
+        tip_height=0.0046,
+        root_height=0.0006,
+        tip_thickness=0.003146,
+        root_thickness=0.006144,
+        face_width=0.05,
+        youngs_modulus=E,
+    )
+    data.update(kwargs)
+    with pytest.raises(ModelError, match=f"element 'tooth', field '{field}': .*{message}"):
+        TruncatedTooth(**data)
+
+
+@pytest.mark.parametrize(("hc", "message"), [(0.005, "outside the tooth"), (0.0004, "outside the tooth")])
+def test_load_point_must_be_on_the_flank(hc, message):
+    with pytest.raises(ModelError, match=f"field 'load_height': load height {hc:g} m lies {message}"):
+        _tooth(2).compliances(hc, math.radians(20))
+
+
+# -- geometry and the mesh cycle -------------------------------------------------------------------
+
+
+def _standard(b=0.02, bores=(0.02, 0.04)):
+    return GearPair(
+        SpurGear(20, 0.002, b, bore_diameter=bores[0], name="pinion"),
+        SpurGear(40, 0.002, b, bore_diameter=bores[1], name="gear"),
+    )
+
+
+def test_involute_geometry():
+    g = SpurGear(20, "2 mm", "20 mm", pressure_angle="20 deg")
+    assert g.base_radius == pytest.approx(0.02 * math.cos(math.radians(20)))
+    assert (g.tip_radius, g.root_radius) == pytest.approx((0.022, 0.0175))
+    assert g.thickness(g.pitch_radius) == pytest.approx(math.pi * 0.002 / 2)
+    shifted = SpurGear(20, 0.002, 0.02, profile_shift=0.3)
+    assert shifted.thickness(shifted.pitch_radius) == pytest.approx(
+        0.002 * (math.pi / 2 + 0.6 * math.tan(math.radians(20)))
+    )
+
+
+def test_contact_ratio_against_the_angle_formula():
+    # ε_α = [z1 (tan α_a1 − tan α_w) + z2 (tan α_a2 − tan α_w)] / 2π, a second textbook form
+    pair = _standard()
+    p, g = pair.pinion, pair.gear
+    tan_a = [math.tan(math.acos(x.base_radius / x.tip_radius)) for x in (p, g)]
+    tw = math.tan(pair.working_pressure_angle)
+    eps = (20 * (tan_a[0] - tw) + 40 * (tan_a[1] - tw)) / (2 * math.pi)
+    assert pair.contact_ratio == pytest.approx(eps, rel=1e-12)
+    cycle = pair.mesh_cycle(2000)
+    assert cycle.double_contact_share == pytest.approx(eps - 1, abs=1e-3)
+    assert set(np.unique(cycle.pairs_in_contact)) == {1, 2}
+
+
+def test_mesh_cycle_is_the_sum_of_pair_stiffnesses():
+    pair = _standard()
+    cycle = pair.mesh_cycle(50)
+    s0 = pair.path_start + cycle.position[0]
+    assert cycle.stiffness[0] == pytest.approx(
+        pair.pair_stiffness(s0) + pair.pair_stiffness(s0 + pair.pinion.base_pitch)
+    )
+    single = cycle.stiffness[cycle.pairs_in_contact == 1]
+    double = cycle.stiffness[cycle.pairs_in_contact == 2]
+    assert single.max() < double.min()
+    assert single.min() < cycle.mean < double.max()
+
+
+def test_standard_steel_pair_lands_near_iso():
+    # SPEC §4: ISO 6336-1 c′ of a standard steel spur pair is about 12–14 N/(mm·µm) and a pair of
+    # teeth in series with one Hertz term should land near it. ISO Method B is a regression; we
+    # accept 25 % either way, and record the figures (14.4 against 12.7, 20.6 against 18.7).
+    pair = _standard()
+    iso = iso_stiffness(pair)
+    assert 12 <= iso.c_prime <= 14
+    per_width = pair.pair_stiffness(pair.pitch_point) / 0.02 * 1e-9
+    mean = pair.mesh_cycle(400).mean / 0.02 * 1e-9
+    assert per_width == pytest.approx(14.42, abs=0.01)
+    assert mean == pytest.approx(20.57, abs=0.02)
+    assert 0.75 < per_width / iso.c_prime < 1.25 and 0.75 < mean / iso.c_gamma_alpha < 1.25
+
+
+def test_iso_method_b_by_hand():
+    pair = _standard()
+    iso = iso_stiffness(pair)
+    q = 0.04723 + 0.15551 / 20 + 0.25791 / 40
+    assert iso.q_prime == pytest.approx(q)
+    assert iso.C_B == pytest.approx((1 + 0.5 * (1.2 - 1.25)) * 1.0)
+    assert iso.c_prime == pytest.approx(0.8 * 0.975 / q)
+    assert iso.c_gamma_alpha == pytest.approx(iso.c_prime * (0.75 * pair.contact_ratio + 0.25))
+    light = iso_stiffness(pair, specific_load=50.0)
+    assert light.c_prime == pytest.approx(iso.c_prime * 0.5**0.25)
+    cast = GearPair(SpurGear(20, 0.002, 0.02, youngs_modulus=110e9), SpurGear(40, 0.002, 0.02))
+    e = 2 * 110e9 * 206e9 / (316e9)
+    assert iso_stiffness(cast).material_factor == pytest.approx(e / 206e9)
+    webbed = iso_stiffness(pair, rim_thickness_ratio=3.0, web_width_ratio=0.5)
+    assert webbed.C_R == pytest.approx(1 + math.log(0.5) / (5 * math.exp(3.0 / 5)))
+
+
+def test_published_tooth_data_and_the_printed_stiffness():
+    # SPEC §4: the printed k_c cannot all be reproduced from the tooth table. With steel, 20° and a
+    # 50 mm face, both printed values are 1.28–1.32 × the pair stiffness with Hertz counted once,
+    # and 1.62–1.71 × with Hertz counted per tooth. Pair 2 at 50 mm (3.04e9 once, 2.26e9 twice)
+    # brackets the value printed for pair 1 (2.71e9), as the SPEC notes.
+    result = {}
+    for n, (_, _, hc, _, _, printed) in PUBLISHED.items():
+        t = _tooth(n)
+        load = (hc, math.radians(20))
+        once = 1 / pair_compliance(t, load, t, load)["total"]
+        twice = 1 / pair_compliance(t, load, t, load, hertz_per_tooth=True)["total"]
+        result[n] = (once, twice, printed / once, printed / twice)
+    assert result[1][2] == pytest.approx(1.3189, abs=1e-3) and result[2][2] == pytest.approx(1.2784, abs=1e-3)
+    assert result[1][3] == pytest.approx(1.6235, abs=1e-3) and result[2][3] == pytest.approx(1.7149, abs=1e-3)
+    assert result[2][1] < PUBLISHED[1][5] < result[2][0]
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda: SpurGear(20, 0.002, 0.02, profile_shift=2.0), "pointed"),
+        (lambda: GearPair(SpurGear(20, 0.002, 0.02), SpurGear(40, 0.0025, 0.02)), "share module"),
+        (
+            lambda: GearPair(SpurGear(8, 0.002, 0.02, name="pinion"), SpurGear(60, 0.002, 0.02)),
+            "interference",
+        ),
+        (
+            lambda: GearPair(SpurGear(20, 0.002, 0.02), SpurGear(40, 0.002, 0.02), center_distance=0.07),
+            "does not let the gears mesh",
+        ),
+        (lambda: SpurGear(20, 0.002, 0.02, bore_diameter=0.05), "bore diameter"),
+        (lambda: SpurGear(20, 0.002, 0.02, pressure_angle="50 deg"), "between 10° and 35°"),
+    ],
+)
+def test_bad_gear_data_are_named(make, message):
+    with pytest.raises(ModelError, match=message):
+        make()
+
+
+# -- into the drivetrain ---------------------------------------------------------------------------
+
+
+def test_mesh_from_a_gear_pair():
+    from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, modal
+
+    pair = _standard()
+    mesh = GearMesh.from_gear_pair("m", ("p", "g"), pair)
+    assert mesh.teeth == (20, 40) and mesh.speed_ratio == 2.0
+    assert mesh.base_radii == pytest.approx((pair.pinion.base_radius, pair.gear.base_radius))
+    assert mesh.stiffness == pytest.approx(pair.mesh_cycle(400).mean)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # teeth and base radii agree: no ratio warning
+        dt = Drivetrain([Disk("p", 1e-4), Disk("g", 1e-3)], [mesh])
+    ra, rb = mesh.base_radii
+    assert modal(dt).omega[0] == pytest.approx(math.sqrt(mesh.stiffness * (ra**2 / 1e-4 + rb**2 / 1e-3)))
