@@ -288,3 +288,41 @@ def test_mesh_from_a_gear_pair():
         dt = Drivetrain([Disk("p", 1e-4), Disk("g", 1e-3)], [mesh])
     ra, rb = mesh.base_radii
     assert modal(dt).omega[0] == pytest.approx(math.sqrt(mesh.stiffness * (ra**2 / 1e-4 + rb**2 / 1e-3)))
+
+
+# -- the potential-energy alternative over the involute ------------------------------------------
+
+
+@pytest.mark.parametrize("n", [1, 2])
+def test_profile_tooth_with_a_straight_taper_equals_the_closed_forms(n):
+    from mechdyn.gears.profile import ProfileTooth
+
+    t = _tooth(n, root_radius=0.03, bore_radius=0.008)
+    p = ProfileTooth(
+        lambda y: t.taper * (t.apex_height - np.asarray(y)),
+        t.root_height,
+        t.tip_height,
+        t.face_width,
+        E,
+        NU,
+        0.03,
+        0.008,
+    )
+    for hc in (t.root_height + 1e-4, PUBLISHED[n][2], t.tip_height):
+        a, b = t.compliances(hc, math.radians(17)), p.compliances(hc, math.radians(17))
+        for k in a:
+            assert b[k] == pytest.approx(a[k], rel=1e-9, abs=1e-22), k
+
+
+def test_involute_profile_matches_the_scalar_geometry_and_stays_near_the_triangle():
+    import dataclasses
+
+    g = SpurGear(20, 0.002, 0.02)
+    r = np.linspace(g.form_radius, g.tip_radius, 7)
+    np.testing.assert_allclose(g.chordal_thickness_array(r), [g.chordal_thickness(x) for x in r], rtol=1e-13)
+    pair = _standard()
+    involute = dataclasses.replace(pair, tooth_model="involute")
+    ratio = involute.mesh_cycle(200).mean / pair.mesh_cycle(200).mean
+    assert 1.0 < ratio < 1.1  # the involute is fuller than the straight taper: a little stiffer
+    with pytest.raises(ModelError, match="tooth model 'fem'"):
+        dataclasses.replace(pair, tooth_model="fem")

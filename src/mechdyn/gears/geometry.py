@@ -20,7 +20,10 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from mechdyn.errors import ModelError
+from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.tooth import TruncatedTooth
 from mechdyn.units import UnitError, to_si
 
@@ -177,6 +180,38 @@ class SpurGear:
         """Angle between the line of action and the perpendicular to the tooth centre line, rad."""
         alpha_c = math.acos(min(1.0, self.base_radius / radius))
         return alpha_c - self.thickness(radius) / (2.0 * radius)
+
+    def chordal_thickness_array(self, radius: np.ndarray) -> np.ndarray:
+        """Chordal thickness at radii on the involute (vectorised :meth:`chordal_thickness`), m."""
+        r = np.asarray(radius, dtype=float)
+        s = self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
+        alpha_y = np.arccos(np.minimum(1.0, self.base_radius / r))
+        arc = (
+            2.0
+            * r
+            * (s / (2.0 * self.pitch_radius) + involute(self.pressure_angle) - (np.tan(alpha_y) - alpha_y))
+        )
+        return 2.0 * r * np.sin(arc / (2.0 * r))
+
+    def profile_tooth(self) -> ProfileTooth:
+        """The tooth with its true involute thickness, for the potential-energy alternative.
+
+        Same root section, heights and foundation as :meth:`tooth`; only the thickness profile
+        differs (involute instead of a straight taper).
+        """
+        t = self.tooth()
+        r_f = self.root_radius
+        return ProfileTooth(
+            thickness=lambda y: self.chordal_thickness_array(r_f + np.asarray(y)),
+            root_height=t.root_height,
+            tip_height=t.tip_height,
+            face_width=t.face_width,
+            youngs_modulus=t.youngs_modulus,
+            poisson_ratio=t.poisson_ratio,
+            root_radius=t.root_radius,
+            bore_radius=t.bore_radius,
+            name=f"{self.name} involute tooth",
+        )
 
     def tooth(self) -> TruncatedTooth:
         """The truncated-triangle tooth of this gear, heights from the root circle."""

@@ -14,12 +14,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from mechdyn.errors import ModelError
 from mechdyn.gears.geometry import SpurGear, inverse_involute, involute
+from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.tooth import TruncatedTooth, hertz_compliance
 
 if TYPE_CHECKING:
@@ -38,14 +39,23 @@ class GearPair:
         Equal module and pressure angle.
     center_distance : float or quantity, optional
         a, m; by default the zero-backlash distance for the profile shifts.
+    tooth_model : {"truncated", "involute"}
+        ``truncated``: the published truncated-triangle tooth (closed forms). ``involute``: the
+        same potential-energy terms over the true involute thickness
+        (:class:`~mechdyn.gears.profile.ProfileTooth`).
     """
 
     pinion: SpurGear
     gear: SpurGear
     center_distance: float | None = None
+    tooth_model: Literal["truncated", "involute"] = "truncated"
 
     def __post_init__(self) -> None:
         p, g = self.pinion, self.gear
+        if self.tooth_model not in ("truncated", "involute"):
+            raise ModelError(
+                f"tooth model {self.tooth_model!r} must be 'truncated' or 'involute'", element=g.name
+            )
         if not math.isclose(p.module, g.module, rel_tol=1e-9) or not math.isclose(
             p.pressure_angle, g.pressure_angle, rel_tol=1e-9
         ):
@@ -119,7 +129,10 @@ class GearPair:
         return self.gear.teeth / self.pinion.teeth
 
     @cached_property
-    def teeth(self) -> tuple[TruncatedTooth, TruncatedTooth]:
+    def teeth(self) -> tuple[TruncatedTooth | ProfileTooth, TruncatedTooth | ProfileTooth]:
+        """The two teeth of the chosen tooth model."""
+        if self.tooth_model == "involute":
+            return self.pinion.profile_tooth(), self.gear.profile_tooth()
         return self.pinion.tooth(), self.gear.tooth()
 
     # -- stiffness ---------------------------------------------------------------------------

@@ -71,6 +71,7 @@ class GearTable(FileModel):
 
 class MeshSettings(FileModel):
     center_distance: Length | None = None
+    tooth_model: Literal["truncated", "involute"] = "truncated"
     points: int = Field(default=400, ge=4, le=100_000)
     specific_load: LineLoad = 100.0  # N/mm, for the ISO load correction
 
@@ -109,6 +110,7 @@ def pair_from_tables(
     gear: GearTable,
     material: MaterialTable,
     center_distance: float | None,
+    tooth_model: str = "truncated",
 ) -> GearPair:
     """Build a :class:`GearPair` from gear tables, errors located at ``where``."""
     with field_context(source, f"{where} → pinion"):
@@ -116,13 +118,15 @@ def pair_from_tables(
     with field_context(source, f"{where} → gear"):
         g = gear.build("gear", material)
     with field_context(source, where):
-        return GearPair(p, g, center_distance)
+        return GearPair(p, g, center_distance, tooth_model)  # type: ignore[arg-type]
 
 
 def build_gear_pair(source: ModelSource) -> GearPairSpec:
     """Builder for ``[model] type = "gear_pair"``."""
     f = validate(GearPairModel, source)
-    pair = pair_from_tables(source, "[mesh]", f.pinion, f.gear, f.material, f.mesh.center_distance)
+    pair = pair_from_tables(
+        source, "[mesh]", f.pinion, f.gear, f.material, f.mesh.center_distance, f.mesh.tooth_model
+    )
     return GearPairSpec(f.model.name, pair, f.mesh.points, f.mesh.specific_load)
 
 

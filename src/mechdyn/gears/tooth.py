@@ -244,20 +244,17 @@ class TruncatedTooth:
         }
 
     def _foundation(self, hc: float, phi: float) -> float:
-        """Sainsot et al. (2004): (cos²φ/(E f)) [L*(u_f/S_f)² + M*(u_f/S_f) + P*(1 + Q* tan²φ)]."""
         if self.root_radius is None:
             return 0.0
         h_f, theta_f = self._foundation_parameters
-        x = {
-            k: a / theta_f**2 + b * h_f**2 + cc * h_f / theta_f + d / theta_f + ee * h_f + ff
-            for k, (a, b, cc, d, ee, ff) in _SAINSOT.items()
-        }
-        u = (hc - self.root_height) / self.root_thickness
-        cos2 = math.cos(phi) ** 2
-        return (
-            cos2
-            / (self.youngs_modulus * self.face_width)
-            * (x["L"] * u**2 + x["M"] * u + x["P"] * (1.0 + x["Q"] * math.tan(phi) ** 2))
+        return foundation_compliance(
+            hc - self.root_height,
+            self.root_thickness,
+            h_f,
+            theta_f,
+            phi,
+            self.youngs_modulus,
+            self.face_width,
         )
 
     def compliance(self, load_height: Any, load_angle: Any) -> float:
@@ -267,6 +264,33 @@ class TruncatedTooth:
     def stiffness(self, load_height: Any, load_angle: Any) -> float:
         """Tooth stiffness F/δ without the contact term, N/m."""
         return 1.0 / self.compliance(load_height, load_angle)
+
+
+def foundation_compliance(
+    height: float,
+    root_thickness: float,
+    h_f: float,
+    theta_f: float,
+    phi: float,
+    youngs_modulus: float,
+    face_width: float,
+) -> float:
+    """Fillet-foundation compliance of Sainsot, Velex & Duverger (2004), m/N.
+
+    (cos²φ / (E f)) [L* (u_f/S_f)² + M* (u_f/S_f) + P* (1 + Q* tan²φ)], with u_f the height of the
+    load point above the root section, S_f the root thickness, and L*, M*, P*, Q* polynomials in
+    h_f = r_root/r_bore and θ_f = S_f/(2 r_root) (their table 1).
+    """
+    x = {
+        k: a / theta_f**2 + b * h_f**2 + c * h_f / theta_f + d / theta_f + e * h_f + f
+        for k, (a, b, c, d, e, f) in _SAINSOT.items()
+    }
+    u = height / root_thickness
+    return (
+        math.cos(phi) ** 2
+        / (youngs_modulus * face_width)
+        * (x["L"] * u**2 + x["M"] * u + x["P"] * (1.0 + x["Q"] * math.tan(phi) ** 2))
+    )
 
 
 def _log_tail(x: float) -> float:
