@@ -326,3 +326,16 @@ def test_involute_profile_matches_the_scalar_geometry_and_stays_near_the_triangl
     assert 1.0 < ratio < 1.1  # the involute is fuller than the straight taper: a little stiffer
     with pytest.raises(ModelError, match="tooth model 'fem'"):
         dataclasses.replace(pair, tooth_model="fem")
+
+
+def test_single_tooth_loaded_at_a_radius():
+    g = SpurGear(20, 0.002, 0.02)
+    r = g.pitch_radius
+    direct = g.tooth().compliances(r - g.root_radius, g.load_angle(r))
+    assert g.tooth_compliances("20 mm") == direct
+    # the load angle at the pitch point is α − γ_p, with γ_p = (π/2)/z for a standard tooth
+    assert g.load_angle(r) == pytest.approx(math.radians(20) - math.pi / 2 / 20)
+    # higher on the flank, the tooth is softer
+    assert sum(g.tooth_compliances(0.0215).values()) > sum(direct.values())
+    with pytest.raises(ModelError, match="field 'load_radius': load radius 23 mm is off the flank"):
+        g.tooth_compliances("23 mm")

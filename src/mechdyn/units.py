@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pint
 
-__all__ = ["Q_", "UnitError", "to_si", "ureg"]
+__all__ = ["Q_", "UnitError", "si_field", "to_si", "ureg"]
 
 ureg = pint.UnitRegistry()
 """The package-wide :class:`pint.UnitRegistry`; quantities from other registries are rejected."""
@@ -112,3 +112,19 @@ def _example(value: Any) -> str:
         return f"{float(getattr(value, 'magnitude', value)):g}"
     except (TypeError, ValueError):
         return "1"
+
+
+def si_field(element: str, field: str, value: Any, unit: str) -> float:
+    """:func:`to_si` for a field of a model element (plain numbers are SI), errors naming both.
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        With the element and field, the value and the expected unit.
+    """
+    from mechdyn.errors import ModelError
+
+    try:
+        return to_si(value, unit, plain_is_si=True)
+    except UnitError as exc:
+        raise ModelError(str(exc), element=element, field=field) from None

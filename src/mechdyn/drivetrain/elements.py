@@ -23,7 +23,7 @@ from typing import Any, Literal
 import numpy as np
 
 from mechdyn.errors import ModelError, ModelWarning
-from mechdyn.units import UnitError, to_si
+from mechdyn.units import si_field as _si
 
 __all__ = [
     "Disk",
@@ -70,13 +70,6 @@ class ElementBlocks:
     load_rate_row: np.ndarray | None = None
     load_unit: str = ""
     grounds: bool = False
-
-
-def _si(owner: str, field_name: str, value: Any, unit: str) -> float:
-    try:
-        return to_si(value, unit, plain_is_si=True)
-    except UnitError as exc:
-        raise ModelError(str(exc), element=owner, field=field_name) from None
 
 
 def _positive(owner: str, field_name: str, value: float, unit: str, *, allow_zero=False) -> float:

@@ -19,24 +19,27 @@ from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
 from mechdyn.errors import ModelFileError
 from mechdyn.gears.schema import GearTable, pair_from_tables
 from mechdyn.gears.schema import MaterialTable as GearMaterialTable
-from mechdyn.io.fields import FileModel, quantity
+from mechdyn.io.fields import (
+    Angle,
+    Density,
+    Dimensionless,
+    FileModel,
+    Frequency,
+    Length,
+    LinearStiffness,
+    Pressure,
+    quantity,
+)
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 
 __all__ = ["CampbellSettings", "DrivetrainFile", "ResponseSettings", "build", "settings"]
 
 Inertia = quantity("kg*m^2")
-Length = quantity("m")
-Pressure = quantity("Pa")
-Density = quantity("kg/m^3")
 TorsionalStiffness = quantity("N*m/rad")
 TorsionalDamping = quantity("N*m*s/rad")
-LinearStiffness = quantity("N/m")
 LinearDamping = quantity("N*s/m")
 Speed = quantity("rad/s")
-Frequency = quantity("Hz")
 Torque = quantity("N*m")
-Angle = quantity("rad")
-Dimensionless = quantity("")
 PerSecond = quantity("1/s")
 Seconds = quantity("s")
 

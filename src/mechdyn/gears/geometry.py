@@ -25,7 +25,7 @@ import numpy as np
 from mechdyn.errors import ModelError
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.tooth import TruncatedTooth
-from mechdyn.units import UnitError, to_si
+from mechdyn.units import si_field as _q
 
 __all__ = ["SpurGear", "inverse_involute", "involute"]
 
@@ -45,13 +45,6 @@ def inverse_involute(value: float) -> float:
         if abs(step) < 1e-15:
             break
     return alpha
-
-
-def _q(owner: str, name: str, value: Any, unit: str) -> float:
-    try:
-        return to_si(value, unit, plain_is_si=True)
-    except UnitError as exc:
-        raise ModelError(str(exc), element=owner, field=name) from None
 
 
 @dataclass(frozen=True)
@@ -180,6 +173,24 @@ class SpurGear:
         """Angle between the line of action and the perpendicular to the tooth centre line, rad."""
         alpha_c = math.acos(min(1.0, self.base_radius / radius))
         return alpha_c - self.thickness(radius) / (2.0 * radius)
+
+    def tooth_compliances(self, load_radius: Any) -> dict[str, float]:
+        """Compliance terms of one truncated-triangle tooth loaded at a radius on its flank, m/N.
+
+        Parameters
+        ----------
+        load_radius : float or quantity
+            Radius of the load point, m, between the start of the involute and the tip circle.
+        """
+        r = _q(self.name, "load_radius", load_radius, "m")
+        if not self.form_radius < r <= self.tip_radius * (1 + 1e-12):
+            raise ModelError(
+                f"load radius {r * 1e3:g} mm is off the flank ({self.form_radius * 1e3:g} to "
+                f"{self.tip_radius * 1e3:g} mm)",
+                element=self.name,
+                field="load_radius",
+            )
+        return self.tooth().compliances(r - self.root_radius, self.load_angle(r))
 
     def chordal_thickness_array(self, radius: np.ndarray) -> np.ndarray:
         """Chordal thickness at radii on the involute (vectorised :meth:`chordal_thickness`), m."""

@@ -13,7 +13,8 @@ from pydantic import Field
 from mechdyn.gears.geometry import SpurGear
 from mechdyn.gears.mesh import GearPair
 from mechdyn.gears.tooth import TruncatedTooth
-from mechdyn.io.fields import FileModel, quantity
+from mechdyn.io.fields import Angle, FileModel, Length, Pressure, quantity
+from mechdyn.io.fields import LinearStiffness as Stiffness
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 
 __all__ = [
@@ -25,10 +26,6 @@ __all__ = [
     "build_tooth_pair",
 ]
 
-Length = quantity("m")
-Angle = quantity("rad")
-Pressure = quantity("Pa")
-Stiffness = quantity("N/m")
 LineLoad = quantity("N/mm")
 
 

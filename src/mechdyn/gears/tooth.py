@@ -38,7 +38,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from mechdyn.errors import ModelError, ModelWarning
-from mechdyn.units import UnitError, to_si
+from mechdyn.units import si_field as _q
 
 __all__ = ["SHEAR_COEFFICIENT", "TruncatedTooth", "hertz_compliance", "pair_compliance"]
 
@@ -54,13 +54,6 @@ _SAINSOT = {
 }
 #: Range of the Sainsot fit: h_f = r_f/r_int and θ_f (rad).
 SAINSOT_RANGE = {"h_f": (1.4, 7.0), "theta_f": (0.01, 0.12)}
-
-
-def _q(owner: str, name: str, value: Any, unit: str) -> float:
-    try:
-        return to_si(value, unit, plain_is_si=True)
-    except UnitError as exc:
-        raise ModelError(str(exc), element=owner, field=name) from None
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,17 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from mechdyn.units import to_si
 
-__all__ = ["FileModel", "quantity"]
+__all__ = [
+    "Angle",
+    "Density",
+    "Dimensionless",
+    "FileModel",
+    "Frequency",
+    "Length",
+    "LinearStiffness",
+    "Pressure",
+    "quantity",
+]
 
 
 def quantity(unit: str) -> Any:
@@ -28,3 +38,13 @@ class FileModel(BaseModel):
     """Base of every table in a model file: unknown fields are errors, values are frozen."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, str_strip_whitespace=True)
+
+
+# The field types every model file uses; a capability declares its own beside them.
+Length = quantity("m")
+Angle = quantity("rad")
+Pressure = quantity("Pa")
+Density = quantity("kg/m^3")
+Frequency = quantity("Hz")
+LinearStiffness = quantity("N/m")
+Dimensionless = quantity("")
