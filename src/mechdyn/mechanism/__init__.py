@@ -1,0 +1,1 @@
+"""Planar mechanisms: kinematics, inverse dynamics, shaking force and moment (SPEC §1)."""

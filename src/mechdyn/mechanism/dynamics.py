@@ -1,0 +1,238 @@
+"""Inverse dynamics: joint reactions, driving torque, inertia forces, shaking force and moment.
+
+Newton–Euler equations of every body in body coordinates, M q̈ + Φ_qᵀ λ = Q (Nikravesh 1988,
+ch. 6), solved for the Lagrange multipliers λ at every crank angle; the mechanism is kinematically
+determined, so Φ_qᵀ is square. The load that joint k puts on one of its bodies b is −J_bᵀ λ_k
+(force and moment about b's centre of mass); the frame's share, −J_frameᵀ λ, is the shaking force and
+moment (the motor's reaction −T included). With no external load the shaking force is −Σ mᵢ a_Gᵢ.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
+from mechdyn.mechanism.model import GROUND, Mechanism
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["DynamicsResult", "inverse_dynamics"]
+
+
+@dataclass(frozen=True)
+class DynamicsResult:
+    """Inverse dynamics over one crank revolution (all arrays over the N crank angles).
+
+    Attributes
+    ----------
+    kinematics : KinematicsResult
+    multipliers : ndarray
+        (N, m) λ, one per constraint equation.
+    applied : ndarray
+        (N, n) generalised applied forces Q (gravity and process forces).
+    """
+
+    kinematics: KinematicsResult
+    multipliers: np.ndarray
+    applied: np.ndarray
+
+    @property
+    def mechanism(self) -> Mechanism:
+        return self.kinematics.mechanism
+
+    @property
+    def angle(self) -> np.ndarray:
+        """Crank angle from the datum, rad."""
+        return self.kinematics.angle
+
+    # -- loads -----------------------------------------------------------------------------------
+    @cached_property
+    def _constraint_loads(self) -> tuple[np.ndarray, np.ndarray]:
+        k = self.kinematics
+        ev = k.constraints.evaluate(k.q, k.crank_angle)
+        lam = self.multipliers
+        # per row r: generalised load on the moving bodies −J[r]ᵀ λ_r and on the frame −Jg[r]ᵀ λ_r
+        on_bodies = -ev.jacobian * lam[..., None]  # (N, m, n)
+        on_frame = -ev.ground_jacobian * lam[..., None]  # (N, m, 3)
+        return on_bodies, on_frame
+
+    @property
+    def driving_torque(self) -> np.ndarray:
+        """Torque the motor applies to the crank, N·m."""
+        return -self.multipliers[:, -1]
+
+    def joint_load(self, joint: str, body: str) -> np.ndarray:
+        """(N, 3) force (x, y, N) and moment (N·m, about the body's centre of mass, or the origin
+        for the frame) that ``joint`` puts on ``body``."""
+        m = self.mechanism
+        names = [j.name for j in m.joints]
+        if joint not in names:
+            raise KeyError(joint)
+        k = names.index(joint)
+        on_bodies, on_frame = self._constraint_loads
+        rows = slice(2 * k, 2 * k + 2)
+        if body == GROUND:
+            return on_frame[:, rows, :].sum(axis=1)
+        i = m.body_index[body]
+        return on_bodies[:, rows, 3 * i : 3 * i + 3].sum(axis=1)
+
+    @property
+    def frame_load(self) -> np.ndarray:
+        """(N, 3) total load on the frame: force (x, y) and moment about the origin (motor reaction included)."""
+        return self._constraint_loads[1].sum(axis=1)
+
+    @property
+    def shaking_force(self) -> np.ndarray:
+        """(N, 2) force the mechanism exerts on the frame, N."""
+        return self.frame_load[:, :2]
+
+    def shaking_moment(self, about: Any = (0.0, 0.0)) -> np.ndarray:
+        """(N,) moment the mechanism exerts on the frame about a point, N·m (motor reaction included)."""
+        px, py = (float(v) for v in about)
+        F = self.frame_load
+        return F[:, 2] - (px * F[:, 1] - py * F[:, 0])
+
+    @property
+    def inertia_forces(self) -> np.ndarray:
+        """(N, n_bodies, 2) d'Alembert force −m a_G of every body, N."""
+        k = self.kinematics
+        nb = len(self.mechanism.bodies)
+        a = k.qdd.reshape(-1, nb, 3)[:, :, :2]
+        return -self.mechanism.masses[None, :, None] * a
+
+    @property
+    def inertia_force(self) -> np.ndarray:
+        """(N, 2) total inertia force −Σ m a_G, N."""
+        return self.inertia_forces.sum(axis=1)
+
+    # -- checks and derived quantities ------------------------------------------------------
+    @property
+    def power_balance_residual(self) -> np.ndarray:
+        """T θ̇ + P_applied − dE_kin/dt, W; zero to round-off for a consistent solution."""
+        k, m = self.kinematics, self.mechanism
+        nb = len(m.bodies)
+        mass = np.repeat(m.masses, 3).reshape(nb, 3)
+        mass[:, 2] = m.inertias
+        dE = np.sum(mass.ravel() * k.qd * k.qdd, axis=1)
+        return self.driving_torque * m.driver.speed + np.sum(self.applied * k.qd, axis=1) - dE
+
+    @property
+    def output_position(self) -> np.ndarray | None:
+        """Output point along its prismatic axis, m (toward bottom dead centre positive)."""
+        k = self.kinematics
+        return output_position(self.mechanism, k.constraints, k.q)
+
+    def summary(self) -> dict[str, Any]:
+        """Stroke, dead centres, inertia-force extremes, torque, power balance (SI, angles in degrees)."""
+        deg = np.degrees(self.angle)
+        T = self.driving_torque
+        power = np.abs(T * self.mechanism.driver.speed).max()
+        out: dict[str, Any] = {
+            "driving_torque_max_Nm": float(T.max()),
+            "driving_torque_min_Nm": float(T.min()),
+            "driving_torque_peak_Nm": float(np.abs(T).max()),
+            "driving_torque_rms_Nm": float(np.sqrt(np.mean(T**2))),
+            "shaking_force_max_N": float(np.linalg.norm(self.shaking_force, axis=1).max()),
+            "power_balance_residual_relative": float(
+                np.abs(self.power_balance_residual).max() / max(power, 1e-300)
+            ),
+        }
+        s = self.output_position
+        j = self.mechanism.output_joint()
+        if s is not None and j is not None:
+            u = np.array([math.cos(j.axis), math.sin(j.axis)])
+            f = self.inertia_force @ u
+            ib, it = int(np.argmax(s)), int(np.argmin(s))
+            ret = (deg[it] - deg[ib]) % 360.0
+            out.update(
+                stroke_m=float(s.max() - s.min()),
+                bdc_deg=float(deg[ib]),
+                tdc_deg=float(deg[it]),
+                return_stroke_deg=float(ret),
+                working_stroke_deg=float(360.0 - ret),
+                inertia_force_max_N=float(f.max()),
+                inertia_force_max_deg=float(deg[int(np.argmax(f))]),
+                inertia_force_min_N=float(f.min()),
+                inertia_force_min_deg=float(deg[int(np.argmin(f))]),
+                inertia_force_fluctuation_N=float(f.max() - f.min()),
+            )
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """Per-angle table; every column names its unit."""
+        import pandas as pd
+
+        cols: dict[str, Any] = {"angle_deg": np.degrees(self.angle), "time_s": self.kinematics.time}
+        s = self.output_position
+        if s is not None:
+            k = self.kinematics
+            j = self.mechanism.output_joint()
+            _, v, a = k.point(j.bodies[0], j.point)  # type: ignore[union-attr]
+            u = np.array([math.cos(j.axis), math.sin(j.axis)])  # type: ignore[union-attr]
+            cols.update(
+                output_position_m=s, output_velocity_m_per_s=v @ u, output_acceleration_m_per_s2=a @ u
+            )
+        cols["driving_torque_Nm"] = self.driving_torque
+        cols["shaking_force_x_N"] = self.shaking_force[:, 0]
+        cols["shaking_force_y_N"] = self.shaking_force[:, 1]
+        cols["shaking_moment_Nm"] = self.shaking_moment()
+        cols["inertia_force_x_N"] = self.inertia_force[:, 0]
+        cols["inertia_force_y_N"] = self.inertia_force[:, 1]
+        for i, b in enumerate(self.mechanism.bodies):
+            cols[f"inertia_force_{b.name}_x_N"] = self.inertia_forces[:, i, 0]
+            cols[f"inertia_force_{b.name}_y_N"] = self.inertia_forces[:, i, 1]
+        for j in self.mechanism.joints:
+            load = self.joint_load(j.name, j.bodies[1])
+            cols[f"joint_{j.name}_force_x_N"] = load[:, 0]
+            cols[f"joint_{j.name}_force_y_N"] = load[:, 1]
+        cols["power_balance_residual_W"] = self.power_balance_residual
+        return pd.DataFrame(cols)
+
+
+def _applied(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:
+    N, n = k.q.shape
+    Q = np.zeros((N, n))
+    g = np.asarray(mechanism.gravity)
+    for i, b in enumerate(mechanism.bodies):
+        Q[:, 3 * i : 3 * i + 2] += b.mass * g
+    s_out = output_position(mechanism, k.constraints, k.q)
+    for pf in mechanism.process_forces:
+        i = mechanism.body_index[pf.body]
+        pos, _, _ = k.point(pf.body, pf.point)
+        fx, fy = pf.force(k.angle, s_out if s_out is not None else np.zeros(N))
+        F = np.stack(np.broadcast_arrays(np.asarray(fx, float), np.asarray(fy, float)), axis=-1)
+        arm = pos - k.q[:, 3 * i : 3 * i + 2]
+        Q[:, 3 * i : 3 * i + 2] += F
+        Q[:, 3 * i + 2] += arm[:, 0] * F[:, 1] - arm[:, 1] * F[:, 0]
+    return Q
+
+
+def inverse_dynamics(mechanism: Mechanism | KinematicsResult, n_angles: int = 360) -> DynamicsResult:
+    """Joint reactions, driving torque and frame loads over one crank revolution.
+
+    Parameters
+    ----------
+    mechanism : Mechanism or KinematicsResult
+        A kinematics result is reused as it is.
+    n_angles : int
+        Crank angles per revolution (when a Mechanism is given).
+
+    Returns
+    -------
+    DynamicsResult
+    """
+    k = mechanism if isinstance(mechanism, KinematicsResult) else kinematics(mechanism, n_angles)
+    mech = k.mechanism
+    nb = len(mech.bodies)
+    mass = np.repeat(mech.masses, 3).reshape(nb, 3)
+    mass[:, 2] = mech.inertias
+    Q = _applied(mech, k)
+    ev = k.constraints.evaluate(k.q, k.crank_angle)
+    lam = np.linalg.solve(np.swapaxes(ev.jacobian, -1, -2), (Q - mass.ravel() * k.qdd)[..., None])[..., 0]
+    return DynamicsResult(k, lam, Q)

@@ -1,0 +1,215 @@
+"""Position, velocity and acceleration analysis over the crank cycle.
+
+Position: Newton–Raphson on Φ(q, θ) = 0 at every crank angle, started from the drawing (which fixes
+the assembly branch) and continued angle by angle with a second-order predictor
+q(θ + Δθ) ≈ q + q′Δθ + ½ q″Δθ², so the branch is tracked through the whole turn. Velocity and
+acceleration come from the linear systems Φ_q q̇ = −Φ_t and Φ_q q̈ = γ (Nikravesh 1988, ch. 4) —
+never from differences of positions. Every step is vectorised over design variants (leading axes).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechdyn.errors import ModelError
+from mechdyn.mechanism.constraints import ConstraintSet
+from mechdyn.mechanism.model import Mechanism
+
+__all__ = ["AssemblyError", "KinematicsResult", "SingularPositionError", "kinematics"]
+
+TOL = 1e-11  # residual tolerance relative to the mechanism's size
+MAX_ITER = 30
+COND_LIMIT = 1e10
+
+
+class AssemblyError(ModelError):
+    """The mechanism cannot be assembled at some crank angle."""
+
+
+class SingularPositionError(ModelError):
+    """The constraint Jacobian is singular (a toggle or dead-centre position)."""
+
+
+@dataclass(frozen=True)
+class KinematicsResult:
+    """Body coordinates and their derivatives over the cycle.
+
+    Attributes
+    ----------
+    mechanism : Mechanism
+    crank_angle : ndarray
+        (N,) θ, rad (absolute, from +x).
+    angle : ndarray
+        (N,) crank angle from the datum, rad (what tables and plots show).
+    time : ndarray
+        (N,) s, for constant speed θ = θ₀ + ω t.
+    q, qd, qdd : ndarray
+        (N, n) body coordinates (x_G, y_G, φ per body), velocities and accelerations.
+    constraints : ConstraintSet
+    """
+
+    mechanism: Mechanism
+    crank_angle: np.ndarray
+    angle: np.ndarray
+    time: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    constraints: ConstraintSet
+
+    def point(self, body: str, point: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Position, velocity and acceleration of a drawing point on a body, each (N, 2)."""
+        m = self.mechanism
+        i = m.body_index[body]
+        s = m.local(body, point)
+        phi, w, a = self.q[:, 3 * i + 2], self.qd[:, 3 * i + 2], self.qdd[:, 3 * i + 2]
+        c, sn = np.cos(phi), np.sin(phi)
+        As = np.stack([c * s[0] - sn * s[1], sn * s[0] + c * s[1]], axis=-1)
+        Bs = np.stack([-As[:, 1], As[:, 0]], axis=-1)
+        pos = self.q[:, 3 * i : 3 * i + 2] + As
+        vel = self.qd[:, 3 * i : 3 * i + 2] + Bs * w[:, None]
+        acc = self.qdd[:, 3 * i : 3 * i + 2] + Bs * a[:, None] - As * (w**2)[:, None]
+        return pos, vel, acc
+
+
+def _solve(J: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.linalg.solve(J, b[..., None])[..., 0]
+
+
+def _scale(mechanism: Mechanism) -> float:
+    pts = np.array(list(mechanism.points.values()))
+    return float(max(np.ptp(pts, axis=0).max(), 1e-3))
+
+
+def _newton(cs: ConstraintSet, q0: np.ndarray, theta: float, scale: float) -> tuple[np.ndarray, int]:
+    q = q0.copy()
+    for it in range(MAX_ITER):
+        ev = cs.evaluate(q, np.asarray(theta))
+        err = np.abs(ev.residual).max()
+        if err < TOL * scale:
+            return q, it
+        try:
+            dq = _solve(ev.jacobian, ev.residual)
+        except np.linalg.LinAlgError:
+            raise SingularPositionError(
+                f"the constraint Jacobian is singular at θ = {math.degrees(theta):.6g}°"
+            ) from None
+        q = q - dq
+    return q, -1
+
+
+def _check_conditioning(cs: ConstraintSet, J: np.ndarray, theta: np.ndarray, angle: np.ndarray) -> None:
+    cond = np.linalg.cond(J)
+    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise SingularPositionError(
+            f"singular (toggle or dead-centre) position at crank angle {math.degrees(angle[k]):.6g}° "
+            f"(condition number of the constraint Jacobian {cond[k]:.3g}); the mechanism locks or "
+            "bifurcates there, so velocities and forces are unbounded; change the link lengths"
+        )
+
+
+def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
+    """Positions, velocities and accelerations over one crank revolution.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    n_angles : int
+        Crank angles per revolution, equally spaced from the datum.
+
+    Returns
+    -------
+    KinematicsResult
+
+    Raises
+    ------
+    AssemblyError
+        Naming the crank angle and the joint whose loop does not close.
+    SingularPositionError
+        Naming the crank angle of a toggle position.
+    """
+    if n_angles < 4:
+        raise ModelError(f"{n_angles} crank angles are too few; give at least 4")
+    cs = ConstraintSet(mechanism)
+    scale = _scale(mechanism)
+    omega = mechanism.driver.speed
+    theta_draw = mechanism.drawing_crank_angle
+    step = 2.0 * math.pi / n_angles * math.copysign(1.0, omega)
+    # assemble the drawing (it may be slightly off) and go round once from there
+    q, it = _newton(cs, mechanism.drawing_coordinates, theta_draw, scale)
+    if it < 0:
+        raise AssemblyError(
+            f"the drawing does not assemble at θ = {math.degrees(theta_draw):.6g}°; check its point coordinates"
+        )
+    n = cs.n
+    thetas = theta_draw + step * np.arange(n_angles)
+    Q = np.empty((n_angles, n))
+    V = np.empty((n_angles, n))
+    A = np.empty((n_angles, n))
+    rhs_v = np.zeros(cs.m)
+    rhs_v[-1] = omega
+    for k, th in enumerate(thetas):
+        if k:
+            # second-order predictor in the crank angle: q′ = q̇/ω, q″ = q̈/ω²
+            dq, ddq = V[k - 1] / omega, A[k - 1] / omega**2
+            q, it = _newton(cs, Q[k - 1] + dq * step + 0.5 * ddq * step**2, th, scale)
+            if it < 0:
+                ev = cs.evaluate(q, np.asarray(th))
+                row = int(np.argmax(np.abs(ev.residual)))
+                joint, eq = cs.rows[row]
+                raise AssemblyError(
+                    f"cannot assemble at crank angle {math.degrees(th - theta_draw):.6g}° from the drawing "
+                    f"(θ = {math.degrees(th):.6g}°): the loop through joint {joint!r} does not close "
+                    f"({eq} residual {ev.residual[row]:.3g}); a link is too short to reach"
+                )
+        ev = cs.evaluate(q, np.asarray(th))
+        Q[k] = q
+        V[k] = _solve(ev.jacobian, rhs_v)
+        ev = cs.evaluate(q, np.asarray(th), V[k])
+        A[k] = _solve(ev.jacobian, ev.gamma)
+    datum = _datum(mechanism, cs, Q, thetas)
+    angle = np.mod(thetas - datum + 1e-12, 2 * math.pi) - 1e-12
+    order = np.argsort(angle)
+    ev = cs.evaluate(Q[order], thetas[order])
+    _check_conditioning(cs, ev.jacobian, thetas[order], angle[order])
+    return KinematicsResult(
+        mechanism,
+        thetas[order],
+        angle[order],
+        (thetas[order] - theta_draw) / omega,
+        Q[order],
+        V[order],
+        A[order],
+        cs,
+    )
+
+
+def output_position(mechanism: Mechanism, cs: ConstraintSet, q: np.ndarray) -> np.ndarray | None:
+    """Position of the output point along its prismatic axis, m (None without a prismatic output)."""
+    j = mechanism.output_joint()
+    if j is None:
+        return None
+    body = j.bodies[0]
+    i = mechanism.body_index[body]
+    s = mechanism.local(body, j.point)
+    phi = q[..., 3 * i + 2]
+    p = q[..., 3 * i : 3 * i + 2] + np.stack(
+        [np.cos(phi) * s[0] - np.sin(phi) * s[1], np.sin(phi) * s[0] + np.cos(phi) * s[1]], axis=-1
+    )
+    u = np.array([math.cos(j.axis), math.sin(j.axis)])
+    return (p - np.asarray(mechanism.points[j.point])) @ u
+
+
+def _datum(mechanism: Mechanism, cs: ConstraintSet, Q: np.ndarray, thetas: np.ndarray) -> float:
+    d = mechanism.angle_datum
+    if d != "bdc":
+        return float(d)
+    s = output_position(mechanism, cs, Q)
+    if s is None:
+        raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
+    return float(thetas[int(np.argmax(s))])

@@ -1,0 +1,320 @@
+"""Planar mechanism model: points of an assembly drawing, bodies, joints, a driver and loads.
+
+A mechanism is described by one assembled pose (the *drawing*): every named point has global
+coordinates there, every body lists the points it carries, its mass, its centre of mass and its
+moment of inertia about the centre of mass. Joints name the point where they act. The drawing fixes
+the link dimensions and chooses the assembly branch, which the solver then tracks over the cycle.
+
+Body coordinates are (x_G, y_G, φ): the centre of mass and the rotation from the drawing pose, so
+every body's local frame is parallel to the global one in the drawing and the mass matrix is diagonal.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from mechdyn.errors import ModelError
+from mechdyn.units import si_field
+
+__all__ = ["GROUND", "Body", "Driver", "Mechanism", "Prismatic", "ProcessForce", "Revolute"]
+
+GROUND = "ground"
+"""Name of the frame in joint definitions."""
+
+
+def _point(owner: str, field_name: str, value: Any) -> tuple[float, float]:
+    if isinstance(value, str) or len(value) != 2:
+        raise ModelError(f"{value!r} must be two coordinates (x, y)", element=owner, field=field_name)
+    return (si_field(owner, field_name, value[0], "m"), si_field(owner, field_name, value[1], "m"))
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid link.
+
+    Parameters
+    ----------
+    name : str
+    points : sequence of str
+        Names of the drawing points it carries (at least one).
+    mass : float or quantity
+        kg (zero for a link whose inertia is neglected).
+    inertia : float or quantity
+        Moment of inertia about the centre of mass, kg·m².
+    center_of_mass : (x, y) or str
+        Global coordinates in the drawing, m, or the name of a point; by default the mean of its
+        points.
+    """
+
+    name: str
+    points: tuple[str, ...]
+    mass: float = 0.0
+    inertia: float = 0.0
+    center_of_mass: Any = None
+
+    def __post_init__(self) -> None:
+        if self.name == GROUND:
+            raise ModelError(
+                f"{GROUND!r} is the frame; give the body another name", element=self.name, field="name"
+            )
+        object.__setattr__(self, "points", tuple(self.points))
+        if not self.points:
+            raise ModelError("a body needs at least one point", element=self.name, field="points")
+        for f, unit in (("mass", "kg"), ("inertia", "kg*m^2")):
+            v = si_field(self.name, f, getattr(self, f), unit)
+            if v < 0:
+                raise ModelError(f"{v:g} must not be negative", element=self.name, field=f)
+            object.__setattr__(self, f, v)
+        if self.center_of_mass is not None and not isinstance(self.center_of_mass, str):
+            object.__setattr__(
+                self, "center_of_mass", _point(self.name, "center_of_mass", self.center_of_mass)
+            )
+
+
+@dataclass(frozen=True)
+class Revolute:
+    """A pin joint at a drawing point between two bodies (or a body and ``"ground"``)."""
+
+    name: str
+    bodies: tuple[str, str]
+    point: str
+
+
+@dataclass(frozen=True)
+class Prismatic:
+    """A slider: a point of body ``bodies[0]`` moves along a line fixed in ``bodies[1]``.
+
+    The line passes through the point's drawing position with direction ``axis`` (angle from +x in
+    the drawing, rad or quantity); the two bodies keep their relative rotation.
+    """
+
+    name: str
+    bodies: tuple[str, str]
+    point: str
+    axis: Any = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
+
+
+@dataclass(frozen=True)
+class Driver:
+    """The crank: a body turned about a pivot at constant speed.
+
+    Parameters
+    ----------
+    body : str
+    pivot, tip : str
+        Drawing points; the crank angle θ is the direction from pivot to tip.
+    speed : float or quantity
+        θ̇, rad/s (e.g. ``"15 rpm"``); positive counter-clockwise.
+    """
+
+    body: str
+    pivot: str
+    tip: str
+    speed: Any
+
+    def __post_init__(self) -> None:
+        v = si_field("driver", "speed", self.speed, "rad/s")
+        if v == 0:
+            raise ModelError("the crank speed must not be zero", element="driver", field="speed")
+        object.__setattr__(self, "speed", v)
+
+
+@dataclass(frozen=True)
+class ProcessForce:
+    """An external force on a body at a drawing point, as a function of the crank angle.
+
+    Parameters
+    ----------
+    body, point : str
+    force : callable
+        ``force(theta, position) -> (Fx, Fy)`` in N for arrays of crank angle (rad, from the
+        datum) and of the point's position along the output axis (m); e.g. a forming force over part
+        of the stroke.
+    """
+
+    body: str
+    point: str
+    force: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A planar mechanism in one assembled pose.
+
+    Parameters
+    ----------
+    points : mapping of name → (x, y)
+        The drawing, global coordinates in m.
+    bodies : sequence of Body
+    joints : sequence of Revolute or Prismatic
+    driver : Driver
+    gravity : (gx, gy), optional
+        m/s² (e.g. ``(0, -9.81)``); none by default.
+    process_forces : sequence of ProcessForce
+    output : (body, point), optional
+        Whose motion along its prismatic axis is the stroke; by default the first prismatic joint.
+    angle_datum : float or "bdc"
+        Crank angle reported as 0 (rad, from +x); ``"bdc"`` puts 0 at bottom dead centre.
+    name : str
+    """
+
+    points: Mapping[str, tuple[float, float]]
+    bodies: tuple[Body, ...]
+    joints: tuple[Revolute | Prismatic, ...]
+    driver: Driver
+    gravity: tuple[float, float] = (0.0, 0.0)
+    process_forces: tuple[ProcessForce, ...] = ()
+    output: tuple[str, str] | None = None
+    angle_datum: Any = 0.0
+    name: str = "mechanism"
+    _index: dict[str, int] = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        pts = {str(k): _point(str(k), "position", v) for k, v in dict(self.points).items()}
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "bodies", tuple(self.bodies))
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "process_forces", tuple(self.process_forces))
+        g = tuple(si_field("gravity", "gravity", v, "m/s^2") for v in self.gravity)
+        object.__setattr__(self, "gravity", g)
+        if self.angle_datum != "bdc":
+            object.__setattr__(
+                self, "angle_datum", si_field("mechanism", "angle_datum", self.angle_datum, "rad")
+            )
+        names: dict[str, int] = {}
+        for i, b in enumerate(self.bodies):
+            if b.name in names:
+                raise ModelError("the body name is used twice", element=b.name, field="name")
+            names[b.name] = i
+            for p in b.points:
+                if p not in pts:
+                    raise ModelError(
+                        f"point {p!r} is not in the drawing; points: {', '.join(pts)}",
+                        element=b.name,
+                        field="points",
+                    )
+            if isinstance(b.center_of_mass, str) and b.center_of_mass not in pts:
+                raise ModelError(
+                    f"point {b.center_of_mass!r} is not in the drawing",
+                    element=b.name,
+                    field="center_of_mass",
+                )
+        object.__setattr__(self, "_index", names)
+        seen = set()
+        for j in self.joints:
+            if j.name in seen:
+                raise ModelError("the joint name is used twice", element=j.name, field="name")
+            seen.add(j.name)
+            if len(j.bodies) != 2 or j.bodies[0] == j.bodies[1]:
+                raise ModelError(
+                    f"{j.bodies!r} must name two different bodies", element=j.name, field="bodies"
+                )
+            for b in j.bodies:
+                if b != GROUND and b not in names:
+                    raise ModelError(
+                        f"body {b!r} is not defined; bodies: {', '.join(names)}",
+                        element=j.name,
+                        field="bodies",
+                    )
+                if b != GROUND and j.point not in self.bodies[names[b]].points:
+                    raise ModelError(f"point {j.point!r} is not on body {b!r}", element=j.name, field="point")
+            if j.point not in pts:
+                raise ModelError(f"point {j.point!r} is not in the drawing", element=j.name, field="point")
+        d = self.driver
+        if d.body not in names:
+            raise ModelError(f"body {d.body!r} is not defined", element="driver", field="body")
+        for p in (d.pivot, d.tip):
+            if p not in self.bodies[names[d.body]].points:
+                raise ModelError(
+                    f"point {p!r} is not on the crank {d.body!r}", element="driver", field="pivot"
+                )
+        if self.output is not None:
+            b, p = self.output
+            if b not in names or p not in self.bodies[names[b]].points:
+                raise ModelError(
+                    f"output {self.output!r} must be a body and one of its points", element="output"
+                )
+        self._check_count()
+
+    # -- structure ---------------------------------------------------------------------------
+    @property
+    def body_index(self) -> dict[str, int]:
+        return self._index
+
+    @property
+    def n_coordinates(self) -> int:
+        return 3 * len(self.bodies)
+
+    @property
+    def n_constraints(self) -> int:
+        return 2 * len(self.joints) + 1
+
+    def _check_count(self) -> None:
+        n, m = self.n_coordinates, self.n_constraints
+        if n == m:
+            return
+        bodies = ", ".join(b.name for b in self.bodies)
+        if m > n:
+            raise ModelError(
+                f"over-constrained: {m} constraint equations (2 per joint, 1 driver) for {n} coordinates "
+                f"(3 per body: {bodies}); remove {m - n} equation(s) or add bodies"
+            )
+        raise ModelError(
+            f"under-constrained: {m} constraint equations for {n} coordinates (3 per body: {bodies}); "
+            f"{n - m} degree(s) of freedom are not driven; add joints"
+        )
+
+    def com(self, body: Body) -> np.ndarray:
+        """Drawing position of a body's centre of mass, m."""
+        c = body.center_of_mass
+        if c is None:
+            return np.mean([self.points[p] for p in body.points], axis=0)
+        return np.asarray(self.points[c] if isinstance(c, str) else c, dtype=float)
+
+    def local(self, body: str, point: str) -> np.ndarray:
+        """A point in a body's frame (from its centre of mass, drawing axes), m; on ground, global."""
+        p = np.asarray(self.points[point], dtype=float)
+        if body == GROUND:
+            return p
+        return p - self.com(self.bodies[self._index[body]])
+
+    @cached_property
+    def drawing_coordinates(self) -> np.ndarray:
+        """q in the drawing pose: every body at its centre of mass, φ = 0."""
+        q = np.zeros(self.n_coordinates)
+        for i, b in enumerate(self.bodies):
+            q[3 * i : 3 * i + 2] = self.com(b)
+        return q
+
+    @property
+    def drawing_crank_angle(self) -> float:
+        """Crank angle θ of the drawing, rad."""
+        a, b = (np.asarray(self.points[p]) for p in (self.driver.pivot, self.driver.tip))
+        return math.atan2(b[1] - a[1], b[0] - a[0])
+
+    @property
+    def masses(self) -> np.ndarray:
+        return np.array([b.mass for b in self.bodies])
+
+    @property
+    def inertias(self) -> np.ndarray:
+        return np.array([b.inertia for b in self.bodies])
+
+    def output_joint(self) -> Prismatic | None:
+        """The prismatic joint whose motion is the stroke."""
+        prismatic = [j for j in self.joints if isinstance(j, Prismatic)]
+        if self.output is None:
+            return prismatic[0] if prismatic else None
+        for j in prismatic:
+            if j.bodies[0] == self.output[0]:
+                return j
+        return None

@@ -1,0 +1,129 @@
+"""The mechanism engine against closed forms: the slider-crank of examples/slider_crank.toml."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from mechdyn.mechanism.dynamics import inverse_dynamics
+from mechdyn.mechanism.model import Body, Driver, Mechanism, Prismatic, Revolute
+
+R, L, W = 0.1, 0.4, 100.0  # crank, rod (m), crank speed (rad/s)
+M_CRANK, I_CRANK, M_ROD, I_ROD, M_SLIDER = 2.0, 0.002, 3.0, 0.04, 5.0
+
+
+def slider_crank(gravity=(0.0, 0.0)) -> Mechanism:
+    return Mechanism(
+        points={"O": (0.0, 0.0), "A": (R, 0.0), "B": (R + L, 0.0)},
+        bodies=(
+            Body("crank", ("O", "A"), M_CRANK, I_CRANK),
+            Body("rod", ("A", "B"), M_ROD, I_ROD),
+            Body("slider", ("B",), M_SLIDER, 0.0),
+        ),
+        joints=(
+            Revolute("O", ("ground", "crank"), "O"),
+            Revolute("A", ("crank", "rod"), "A"),
+            Revolute("B", ("rod", "slider"), "B"),
+            Prismatic("guide", ("slider", "ground"), "B", 0.0),
+        ),
+        driver=Driver("crank", "O", "A", W),
+        gravity=gravity,
+    )
+
+
+def closed_form(theta):
+    """Exact slider-crank kinematics (e.g. Norton, Design of Machinery, ch. 4 and 7)."""
+    s, c = np.sin(theta), np.cos(theta)
+    root = np.sqrt(L**2 - (R * s) ** 2)
+    x = R * c + root
+    beta = np.arcsin(R * s / L)  # rod angle below the axis
+    dbeta = W * R * c / (L * np.cos(beta))
+    ddbeta = (-(W**2) * R * s + L * np.sin(beta) * dbeta**2) / (L * np.cos(beta))
+    v = -R * W * s - L * np.sin(beta) * dbeta
+    a = -R * W**2 * c - L * (np.cos(beta) * dbeta**2 + np.sin(beta) * ddbeta)
+    return x, v, a, -beta, -dbeta, -ddbeta
+
+
+@pytest.fixture(scope="module")
+def result():
+    return inverse_dynamics(slider_crank(), 360)
+
+
+def test_positions_velocities_accelerations(result):
+    k = result.kinematics
+    x, v, a, phi, dphi, ddphi = closed_form(k.crank_angle)
+    pos, vel, acc = k.point("slider", "B")
+    np.testing.assert_allclose(pos[:, 0], x, atol=1e-13)
+    np.testing.assert_allclose(vel[:, 0], v, atol=1e-10)
+    np.testing.assert_allclose(acc[:, 0], a, atol=1e-8 * np.abs(a).max())
+    rod = 3 * 1 + 2
+    np.testing.assert_allclose(k.q[:, rod], phi, atol=1e-13)
+    np.testing.assert_allclose(k.qd[:, rod], dphi, atol=1e-10)
+    np.testing.assert_allclose(k.qdd[:, rod], ddphi, atol=1e-8 * np.abs(ddphi).max())
+
+
+def test_driving_torque_from_virtual_work(result):
+    # T ω = d/dt (Σ ½ m v² + ½ I φ̇²): the torque from the energy rate of the exact motion
+    k = result.kinematics
+    x, v, a, phi, dphi, ddphi = closed_form(k.crank_angle)
+    th = k.crank_angle
+    # centres of mass: crank at R/2, rod at the middle of A and B
+    ax_c, ay_c = -R / 2 * W**2 * np.cos(th), -R / 2 * W**2 * np.sin(th)
+    vx_c, vy_c = -R / 2 * W * np.sin(th), R / 2 * W * np.cos(th)
+    va = np.stack([-R * W * np.sin(th), R * W * np.cos(th)], -1)
+    aa = np.stack([-R * W**2 * np.cos(th), -R * W**2 * np.sin(th)], -1)
+    vg = (va + np.stack([v, np.zeros_like(v)], -1)) / 2
+    ag = (aa + np.stack([a, np.zeros_like(a)], -1)) / 2
+    dE = (
+        M_CRANK * (vx_c * ax_c + vy_c * ay_c)
+        + M_ROD * np.sum(vg * ag, -1)
+        + I_ROD * dphi * ddphi
+        + M_SLIDER * v * a
+    )
+    np.testing.assert_allclose(result.driving_torque, dE / W, atol=1e-9 * np.abs(dE / W).max())
+    # and the shaking force is −Σ m a_G
+    shake = -(
+        M_CRANK * np.stack([ax_c, ay_c], -1) + M_ROD * ag + M_SLIDER * np.stack([a, np.zeros_like(a)], -1)
+    )
+    np.testing.assert_allclose(result.shaking_force, shake, atol=1e-9 * np.abs(shake).max())
+
+
+def test_summary_of_the_slider_crank(result):
+    s = result.summary()
+    assert s["stroke_m"] == pytest.approx(2 * R, abs=1e-12)
+    assert (s["bdc_deg"], s["tdc_deg"]) == (0.0, 180.0)
+    # inertia force at the dead centres, closed form: slider a = −Rω²(1 ± R/L)
+    f0 = (
+        M_SLIDER * R * W**2 * (1 + R / L)
+        + M_CRANK * R / 2 * W**2
+        + M_ROD * (R * W**2 + R * W**2 * (1 + R / L)) / 2
+    )
+    assert s["inertia_force_max_N"] == pytest.approx(f0, rel=1e-9)
+    assert s["power_balance_residual_relative"] < 1e-12
+
+
+def test_gravity_enters_the_frame_load():
+    g = (0.0, -9.81)
+    d = inverse_dynamics(slider_crank(g), 90)
+    weight = -9.81 * (M_CRANK + M_ROD + M_SLIDER)
+    # frame load = Σ m g − Σ m a_G
+    np.testing.assert_allclose(d.shaking_force[:, 1], weight + d.inertia_force[:, 1], atol=1e-9)
+    assert np.abs(d.power_balance_residual).max() < 1e-9 * np.abs(d.driving_torque * W).max()
+
+
+def test_joint_loads_obey_newtons_third_law(result):
+    for j in result.mechanism.joints:
+        a, b = j.bodies
+        fa, fb = result.joint_load(j.name, a), result.joint_load(j.name, b)
+        np.testing.assert_allclose(fa[:, :2], -fb[:, :2], atol=1e-9 * np.abs(fa).max())
+
+
+def test_speed_sign_and_angles():
+    m = slider_crank()
+    from dataclasses import replace
+
+    rev = inverse_dynamics(replace(m, driver=Driver("crank", "O", "A", -W)), 36)
+    assert rev.summary()["stroke_m"] == pytest.approx(2 * R)
+    assert math.isclose(float(rev.angle[0]), 0.0, abs_tol=1e-12)
