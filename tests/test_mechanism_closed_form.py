@@ -67,7 +67,7 @@ def test_positions_velocities_accelerations(result):
 def test_driving_torque_from_virtual_work(result):
     # T ω = d/dt (Σ ½ m v² + ½ I φ̇²): the torque from the energy rate of the exact motion
     k = result.kinematics
-    x, v, a, phi, dphi, ddphi = closed_form(k.crank_angle)
+    _, v, a, _, dphi, ddphi = closed_form(k.crank_angle)
     th = k.crank_angle
     # centres of mass: crank at R/2, rod at the middle of A and B
     ax_c, ay_c = -R / 2 * W**2 * np.cos(th), -R / 2 * W**2 * np.sin(th)

@@ -84,7 +84,9 @@ class DynamicsResult:
 
     @property
     def frame_load(self) -> np.ndarray:
-        """(N, 3) total load on the frame: force (x, y) and moment about the origin (motor reaction included)."""
+        """(N, 3) total load on the frame: force (x, y) and moment about the origin, N and N·m.
+
+        The motor's reaction torque is included in the moment."""
         return self._constraint_loads[1].sum(axis=1)
 
     @property

@@ -144,7 +144,8 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
     q, it = _newton(cs, mechanism.drawing_coordinates, theta_draw, scale)
     if it < 0:
         raise AssemblyError(
-            f"the drawing does not assemble at θ = {math.degrees(theta_draw):.6g}°; check its point coordinates"
+            f"the drawing does not assemble at θ = {math.degrees(theta_draw):.6g}°; "
+            "check its point coordinates"
         )
     n = cs.n
     thetas = theta_draw + step * np.arange(n_angles)
