@@ -102,14 +102,23 @@ def _newton(cs: ConstraintSet, q0: np.ndarray, theta: float, scale: float) -> tu
 
 
 def _check_conditioning(cs: ConstraintSet, J: np.ndarray, theta: np.ndarray, angle: np.ndarray) -> None:
+    """Refuse a cycle that passes a singular position.
+
+    Following a branch through a toggle or change point, det Φ_q changes sign between neighbouring
+    angles (it passes through zero there); landing on one makes Φ_q ill-conditioned.
+    """
+    det = np.linalg.det(J)
     cond = np.linalg.cond(J)
-    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
+    crossing = np.sign(det) != np.sign(np.roll(det, -1))
+    bad = ~np.isfinite(cond) | (cond > COND_LIMIT) | crossing
     if bad.any():
         k = int(np.argmax(bad))
+        if crossing[k] and abs(det[(k + 1) % det.size]) < abs(det[k]):
+            k = (k + 1) % det.size
         raise SingularPositionError(
             f"singular (toggle or dead-centre) position at crank angle {math.degrees(angle[k]):.6g}° "
-            f"(condition number of the constraint Jacobian {cond[k]:.3g}); the mechanism locks or "
-            "bifurcates there, so velocities and forces are unbounded; change the link lengths"
+            "(the constraint Jacobian becomes singular there); the mechanism locks or bifurcates, so "
+            "velocities and forces are unbounded; change the link lengths"
         )
 
 

@@ -218,6 +218,8 @@ class Mechanism:
                 raise ModelError(
                     f"{j.bodies!r} must name two different bodies", element=j.name, field="bodies"
                 )
+            if j.point not in pts:
+                raise ModelError(f"point {j.point!r} is not in the drawing", element=j.name, field="point")
             for b in j.bodies:
                 if b != GROUND and b not in names:
                     raise ModelError(
@@ -227,8 +229,6 @@ class Mechanism:
                     )
                 if b != GROUND and j.point not in self.bodies[names[b]].points:
                     raise ModelError(f"point {j.point!r} is not on body {b!r}", element=j.name, field="point")
-            if j.point not in pts:
-                raise ModelError(f"point {j.point!r} is not in the drawing", element=j.name, field="point")
         d = self.driver
         if d.body not in names:
             raise ModelError(f"body {d.body!r} is not defined", element="driver", field="body")
