@@ -15,7 +15,10 @@ from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, k
 from mechdyn.mechanism.model import Body, Driver, Mechanism, Revolute
 
 
-def fourbar(a, b, c, d, w=10.0, masses=(1.0, 2.0, 1.5), gravity=(0.0, 0.0), theta0=math.radians(60)):
+THETA0 = math.radians(60)
+
+
+def fourbar(a, b, c, d, w=10.0, masses=(1.0, 2.0, 1.5), gravity=(0.0, 0.0), theta0=THETA0):
     """Crank a about O2 = (0, 0), coupler b, rocker c about O4 = (d, 0), open branch in the drawing."""
     B = (a * math.cos(theta0), a * math.sin(theta0))
     C = _circle_cross(np.array(B), b, np.array([d, 0.0]), c, upper=True)
@@ -62,12 +65,13 @@ def test_fourbar_against_closed_forms():
     m = fourbar(a, b, c, d, w)
     k = kinematics(m, 360)
     th = k.crank_angle
-    B, C, t3, t4 = exact(a, b, c, d, th)
-    pos, vel, _ = k.point("coupler", "C")
+    _, C, t3, t4 = exact(a, b, c, d, th)
+    pos, _, _ = k.point("coupler", "C")
     np.testing.assert_allclose(pos, C, atol=1e-13)
     phi3 = k.q[:, 5] + t3[0] - k.q[0, 5]  # body rotation = link angle − its drawing angle
     np.testing.assert_allclose(np.unwrap(phi3), np.unwrap(t3), atol=1e-12)
-    # velocity loop closure: ω3 = a ω2 sin(θ4 − θ2) / (b sin(θ3 − θ4)), ω4 = a ω2 sin(θ2 − θ3)/(c sin(θ4 − θ3))
+    # velocity loop closure: ω3 = a ω2 sin(θ4 − θ2) / (b sin(θ3 − θ4)),
+    # ω4 = a ω2 sin(θ2 − θ3) / (c sin(θ4 − θ3))
     w3 = a * w * np.sin(t4 - th) / (b * np.sin(t3 - t4))
     w4 = a * w * np.sin(th - t3) / (c * np.sin(t4 - t3))
     np.testing.assert_allclose(k.qd[:, 5], w3, atol=1e-11 * np.abs(w3).max())
@@ -154,7 +158,8 @@ def test_over_and_under_constrained_models_are_counted():
 
     with pytest.raises(
         ModelError,
-        match=r"over-constrained: 11 constraint equations .* for 9 coordinates \(3 per body: crank, coupler, rocker\)",
+        match=r"over-constrained: 11 constraint equations .* for 9 coordinates "
+        r"\(3 per body: crank, coupler, rocker\)",
     ):
         replace(m, joints=(*m.joints, Revolute("extra", ("coupler", "ground"), "C")))
     with pytest.raises(

@@ -101,20 +101,19 @@ def _newton(cs: ConstraintSet, q0: np.ndarray, theta: float, scale: float) -> tu
     return q, -1
 
 
-def _check_conditioning(cs: ConstraintSet, J: np.ndarray, theta: np.ndarray, angle: np.ndarray) -> None:
+def _check_conditioning(J: np.ndarray, angle: np.ndarray, closes: bool) -> None:
     """Refuse a cycle that passes a singular position.
 
     Following a branch through a toggle or change point, det Φ_q changes sign between neighbouring
-    angles (it passes through zero there); landing on one makes Φ_q ill-conditioned.
+    angles, or the branch is lost and the cycle does not close on itself; landing on one makes Φ_q
+    ill-conditioned. The angle reported is where |det Φ_q| is smallest: where the branch was lost.
     """
     det = np.linalg.det(J)
     cond = np.linalg.cond(J)
     crossing = np.sign(det) != np.sign(np.roll(det, -1))
     bad = ~np.isfinite(cond) | (cond > COND_LIMIT) | crossing
-    if bad.any():
-        k = int(np.argmax(bad))
-        if crossing[k] and abs(det[(k + 1) % det.size]) < abs(det[k]):
-            k = (k + 1) % det.size
+    if bad.any() or not closes:
+        k = int(np.argmin(np.abs(det)))
         raise SingularPositionError(
             f"singular (toggle or dead-centre) position at crank angle {math.degrees(angle[k]):.6g}° "
             "(the constraint Jacobian becomes singular there); the mechanism locks or bifurcates, so "
@@ -182,11 +181,16 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
         V[k] = _solve(ev.jacobian, rhs_v)
         ev = cs.evaluate(q, np.asarray(th), V[k])
         A[k] = _solve(ev.jacobian, ev.gamma)
+    # one more step must bring the mechanism back to where it started: the branch was kept
+    q_end, it = _newton(
+        cs, Q[-1] + V[-1] / omega * step + 0.5 * A[-1] / omega**2 * step**2, thetas[-1] + step, scale
+    )
+    closes = it >= 0 and _same_pose(q_end, Q[0], scale)
     datum = _datum(mechanism, cs, Q, thetas)
     angle = np.mod(thetas - datum + 1e-12, 2 * math.pi) - 1e-12
     order = np.argsort(angle)
     ev = cs.evaluate(Q[order], thetas[order])
-    _check_conditioning(cs, ev.jacobian, thetas[order], angle[order])
+    _check_conditioning(ev.jacobian, angle[order], closes)
     return KinematicsResult(
         mechanism,
         thetas[order],
@@ -196,6 +200,15 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
         V[order],
         A[order],
         cs,
+    )
+
+
+def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
+    """Equal positions and equal rotations up to whole turns."""
+    pa, pb = a.reshape(-1, 3), b.reshape(-1, 3)
+    return bool(
+        np.abs(pa[:, :2] - pb[:, :2]).max() < 1e-6 * scale
+        and np.abs(np.angle(np.exp(1j * (pa[:, 2] - pb[:, 2])))).max() < 1e-6
     )
 
 
