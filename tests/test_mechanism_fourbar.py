@@ -14,7 +14,6 @@ from mechdyn.mechanism.dynamics import inverse_dynamics
 from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, kinematics
 from mechdyn.mechanism.model import Body, Driver, Mechanism, Revolute
 
-
 THETA0 = math.radians(60)
 
 
