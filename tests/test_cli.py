@@ -13,15 +13,16 @@ from conftest import EXAMPLES, ROOT
 from mechdyn.cli.main import main
 
 DRIVETRAIN_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drivetrain"' in p.read_text())
-GEAR_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if p not in DRIVETRAIN_EXAMPLES)
+MECHANISM_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mechanism"' in p.read_text())
+GEAR_EXAMPLES = sorted(
+    p for p in EXAMPLES.glob("*.toml") if p not in DRIVETRAIN_EXAMPLES + MECHANISM_EXAMPLES
+)
 
 
 def test_every_example_is_run_by_one_of_the_tests():
     kinds = {p: p.read_text() for p in EXAMPLES.glob("*.toml")}
-    assert all(
-        'type = "drivetrain"' in t or 'type = "gear_pair"' in t or 'type = "tooth_pair"' in t
-        for t in kinds.values()
-    )
+    known = ('type = "drivetrain"', 'type = "gear_pair"', 'type = "tooth_pair"', 'type = "mechanism"')
+    assert all(any(k in t for k in known) for t in kinds.values())
 
 
 @pytest.fixture
@@ -86,6 +87,46 @@ def test_every_gear_example_runs(example, db, capsys, tmp_path):
         assert doc["mesh_stiffness_mean_N_per_m"] is None  # no gear geometry, so no mesh cycle
     assert main(["gear", str(example)]) == 0
     assert "stiffness along the line of action" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("example", MECHANISM_EXAMPLES, ids=lambda p: p.stem)
+def test_every_mechanism_example_runs(example, db, capsys, tmp_path):
+    csv = tmp_path / "table.csv"
+    doc = run_json(
+        capsys,
+        "mechanism",
+        str(example),
+        "--plots",
+        str(tmp_path / "plots"),
+        "--csv",
+        str(csv),
+        "--angles",
+        "120",
+    )
+    assert doc["power_balance_residual_relative"] < 1e-10
+    header = csv.read_text().splitlines()[0].split(",")
+    assert {"angle_deg", "driving_torque_Nm", "shaking_force_x_N", "shaking_force_y_N"} <= set(header)
+    assert all(
+        h.rsplit("_", 1)[-1] in {"deg", "s", "m", "N", "Nm", "s2", "W"} or h.endswith("_m_per_s")
+        for h in header
+    )
+    for name in ("inertia_forces.png", "driving_torque.png", "frames.png"):
+        assert (tmp_path / "plots" / name).stat().st_size > 10_000
+    if "stroke_m" in doc:
+        assert {
+            "bdc_deg",
+            "tdc_deg",
+            "inertia_force_max_N",
+            "inertia_force_max_deg",
+            "inertia_force_min_N",
+            "inertia_force_min_deg",
+        } <= set(doc)
+
+
+def test_slider_crank_cli_figures(db, capsys):
+    doc = run_json(capsys, "mechanism", str(EXAMPLES / "slider_crank.toml"))
+    assert doc["stroke_m"] == pytest.approx(0.2) and (doc["bdc_deg"], doc["tdc_deg"]) == (0.0, 180.0)
+    assert doc["inertia_force_max_N"] == pytest.approx(10625.0)
 
 
 def test_gear_command_refuses_a_drivetrain(db, capsys):
@@ -173,6 +214,7 @@ def test_readme_documents_every_json_key(db, capsys):
         ["frf", example, "--points", "20"],
         ["gear", gear],
         ["gear", tooth],
+        ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "36"],
     ):
         keys = set(run_json(capsys, *argv))
         assert keys <= documented, f"{argv[0]}: undocumented JSON keys {sorted(keys - documented)}"

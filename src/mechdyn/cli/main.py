@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from mechdyn.cli import drivetrain, gear, results
+from mechdyn.cli import drivetrain, gear, mechanism, results
 from mechdyn.errors import MechdynError
 
 __all__ = ["build_parser", "main"]
@@ -24,6 +24,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     drivetrain.register(sub)
     gear.register(sub)
+    mechanism.register(sub)
     results.register(sub)
     return p
 

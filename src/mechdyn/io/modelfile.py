@@ -38,6 +38,7 @@ _BUILDERS: dict[str, str] = {
     "drivetrain": "mechdyn.drivetrain.schema:build",
     "gear_pair": "mechdyn.gears.schema:build_gear_pair",
     "tooth_pair": "mechdyn.gears.schema:build_tooth_pair",
+    "mechanism": "mechdyn.mechanism.schema:build",
 }
 
 

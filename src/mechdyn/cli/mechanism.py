@@ -1,0 +1,113 @@
+"""``mechdyn mechanism``: kinematics and inverse dynamics of a planar mechanism over one revolution."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from mechdyn.cli.common import AnalysisOutput, Table, add_common_options, run_analysis
+from mechdyn.errors import ModelFileError
+from mechdyn.io.modelfile import ModelSource
+from mechdyn.mechanism.dynamics import inverse_dynamics
+from mechdyn.mechanism.plots import plot_frames, plot_inertia_forces, plot_output_motion, plot_torque
+from mechdyn.mechanism.schema import MechanismSpec
+
+__all__ = ["register"]
+
+UNITS = {
+    "stroke_m": "m",
+    "bdc_deg": "deg",
+    "tdc_deg": "deg",
+    "return_stroke_deg": "deg",
+    "working_stroke_deg": "deg",
+    "inertia_force_max_N": "N",
+    "inertia_force_max_deg": "deg",
+    "inertia_force_min_N": "N",
+    "inertia_force_min_deg": "deg",
+    "inertia_force_fluctuation_N": "N",
+    "driving_torque_max_Nm": "N·m",
+    "driving_torque_min_Nm": "N·m",
+    "driving_torque_peak_Nm": "N·m",
+    "driving_torque_rms_Nm": "N·m",
+    "shaking_force_max_N": "N",
+    "shaking_moment_range_Nm": "N·m",
+    "power_balance_residual_relative": "",
+}
+
+
+_SUFFIX_UNITS = (
+    ("_m_per_s2", "m/s^2"),
+    ("_m_per_s", "m/s"),
+    ("_Nm", "N*m"),
+    ("_N", "N"),
+    ("_deg", "deg"),
+    ("_m", "m"),
+    ("_s", "s"),
+    ("_W", "W"),
+)
+
+
+def _unit(column: str) -> str:
+    """The unit a per-angle column's name ends with."""
+    return next((u for suffix, u in _SUFFIX_UNITS if column.endswith(suffix)), "")
+
+
+def _mechanism_command(args: argparse.Namespace) -> int:
+    def analyse(model: Any, source: ModelSource) -> AnalysisOutput:
+        if not isinstance(model, MechanismSpec):
+            raise ModelFileError(
+                source.path,
+                "[model] → type",
+                f'{source.model_type!r} is not a mechanism model; this command needs type = "mechanism"',
+            )
+        n = args.angles or model.n_angles
+        d = inverse_dynamics(model.mechanism, n)
+        summary = d.summary()
+        moment = d.shaking_moment()
+        summary["shaking_moment_range_Nm"] = float(moment.max() - moment.min())
+        peaks = {
+            j.name: float(np.linalg.norm(d.joint_load(j.name, j.bodies[1])[:, :2], axis=1).max())
+            for j in model.mechanism.joints
+        }
+        summary["joint_force_peak_N"] = peaks
+        summary["n_angles"] = n
+        frame = d.to_frame()
+        if args.csv:
+            path = Path(args.csv)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            frame.to_csv(path, index=False, float_format="%.10g")
+        tables = [
+            Table(
+                "summary",
+                ["quantity", "value", "unit"],
+                [[k, v, UNITS.get(k, "")] for k, v in summary.items() if k in UNITS],
+            ),
+            Table(
+                "joint forces (largest over the cycle)",
+                ["joint", "force [N]"],
+                [[k, v] for k, v in peaks.items()],
+            ),
+        ]
+        arrays = {name: (frame[name].to_numpy(), _unit(name)) for name in frame.columns}
+        plots = {
+            "output_motion.png": lambda: plot_output_motion(d),
+            "inertia_forces.png": lambda: plot_inertia_forces(d),
+            "driving_torque.png": lambda: plot_torque(d),
+            "frames.png": lambda: plot_frames(d),
+        }
+        if d.output_position is None:
+            plots.pop("output_motion.png")
+        return AnalysisOutput("mechanism", {"n_angles": n, "csv": args.csv}, summary, arrays, tables, plots)
+
+    return run_analysis(args, analyse)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("mechanism", help="kinematics and inverse dynamics of a planar mechanism")
+    add_common_options(p)
+    p.add_argument("--csv", metavar="FILE", help="write the per-angle table (columns named with their units)")
+    p.add_argument("--angles", type=int, help="crank angles per revolution (default: the file's, else 360)")
+    p.set_defaults(func=_mechanism_command)
