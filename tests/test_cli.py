@@ -125,7 +125,7 @@ def test_every_mechanism_example_runs(example, db, capsys, tmp_path):
 
 def test_slider_crank_cli_figures(db, capsys):
     doc = run_json(capsys, "mechanism", str(EXAMPLES / "slider_crank.toml"))
-    assert doc["stroke_m"] == pytest.approx(0.2) and (doc["bdc_deg"], doc["tdc_deg"]) == (0.0, 180.0)
+    assert doc["stroke_m"] == pytest.approx(0.2) and (doc["bdc_deg"], doc["tdc_deg"]) == (180.0, 0.0)
     assert doc["inertia_force_max_N"] == pytest.approx(10625.0)
 
 

@@ -93,7 +93,7 @@ def test_driving_torque_from_virtual_work(result):
 def test_summary_of_the_slider_crank(result):
     s = result.summary()
     assert s["stroke_m"] == pytest.approx(2 * R, abs=1e-12)
-    assert (s["bdc_deg"], s["tdc_deg"]) == (0.0, 180.0)
+    assert (s["bdc_deg"], s["tdc_deg"]) == (180.0, 0.0)  # the axis points away from the crank: "up"
     # inertia force at the dead centres, closed form: slider a = −Rω²(1 ± R/L)
     f0 = (
         M_SLIDER * R * W**2 * (1 + R / L)

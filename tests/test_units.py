@@ -16,6 +16,8 @@ from mechdyn.units import Q_, UnitError, to_si
         ("4036.89425 kg*mm^2", "kg*m^2", 4.03689425e-3),
         ("20 deg", "rad", 0.3490658503988659),
         (Q_(3.0, "kN*m/rad"), "N*m/rad", 3000.0),
+        ("54 tonf", "N", 54 * 9806.65),
+        ("29 tf", "N", 29 * 9806.65),
     ],
 )
 def test_quantities_convert_to_si(text, unit, expected):

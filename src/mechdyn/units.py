@@ -17,6 +17,9 @@ __all__ = ["Q_", "UnitError", "si_field", "to_si", "ureg"]
 ureg = pint.UnitRegistry()
 """The package-wide :class:`pint.UnitRegistry`; quantities from other registries are rejected."""
 ureg.formatter.default_format = "~P"
+# The press literature quotes forces in metric tonnes-force (1000 kgf), written "tf" or "tonf";
+# pint knows only the short and long ton-force, so the metric one is defined here.
+ureg.define("tonne_force = 1000 * kilogram_force = tf = tonf")
 Q_ = ureg.Quantity
 
 

@@ -126,7 +126,7 @@ class DynamicsResult:
 
     @property
     def output_position(self) -> np.ndarray | None:
-        """Output point along its prismatic axis, m (toward bottom dead centre positive)."""
+        """Output point along its prismatic axis, m (the axis points up: BDC is the minimum)."""
         k = self.kinematics
         return output_position(self.mechanism, k.constraints, k.q)
 
@@ -150,7 +150,7 @@ class DynamicsResult:
         if s is not None and j is not None:
             u = np.array([math.cos(j.axis), math.sin(j.axis)])
             f = self.inertia_force @ u
-            ib, it = int(np.argmax(s)), int(np.argmin(s))
+            ib, it = int(np.argmin(s)), int(np.argmax(s))  # the axis points up, from BDC toward TDC
             ret = (deg[it] - deg[ib]) % 360.0
             out.update(
                 stroke_m=float(s.max() - s.min()),

@@ -235,4 +235,4 @@ def _datum(mechanism: Mechanism, cs: ConstraintSet, Q: np.ndarray, thetas: np.nd
     s = output_position(mechanism, cs, Q)
     if s is None:
         raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
-    return float(thetas[int(np.argmax(s))])
+    return float(thetas[int(np.argmin(s))])  # BDC: lowest along the upward output axis

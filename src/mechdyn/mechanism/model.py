@@ -162,6 +162,8 @@ class Mechanism:
     process_forces : sequence of ProcessForce
     output : (body, point), optional
         Whose motion along its prismatic axis is the stroke; by default the first prismatic joint.
+        The axis points *up*: bottom dead centre is the lowest position along it, and inertia
+        forces along it are positive upward (the press convention).
     angle_datum : float or "bdc"
         Crank angle reported as 0 (rad, from +x); ``"bdc"`` puts 0 at bottom dead centre.
     name : str
