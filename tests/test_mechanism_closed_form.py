@@ -127,3 +127,23 @@ def test_speed_sign_and_angles():
     rev = inverse_dynamics(replace(m, driver=Driver("crank", "O", "A", -W)), 36)
     assert rev.summary()["stroke_m"] == pytest.approx(2 * R)
     assert math.isclose(float(rev.angle[0]), 0.0, abs_tol=1e-12)
+
+
+def test_process_force_enters_torque_and_power():
+    # a constant force P opposing the slider over the whole cycle adds P v / ω to the torque
+    from dataclasses import replace
+
+    from mechdyn.mechanism.model import ProcessForce
+
+    P = 500.0
+    base = slider_crank()
+    pushed = replace(
+        base, process_forces=(ProcessForce("slider", "B", lambda th, s: (np.full_like(th, -P), 0.0 * th)),)
+    )
+    d0, d1 = inverse_dynamics(base, 120), inverse_dynamics(pushed, 120)
+    _, v, _, _, _, _ = closed_form(d1.kinematics.crank_angle)
+    # T ω + F·v = dE/dt with F·v = −P v: the motor supplies P v / ω more
+    np.testing.assert_allclose(d1.driving_torque - d0.driving_torque, P * v / W, atol=1e-9 * P * R)
+    assert np.abs(d1.power_balance_residual).max() < 1e-9 * np.abs(d1.driving_torque * W).max()
+    # frame load = Σ external forces − Σ m a_G: the process force appears in it one to one
+    np.testing.assert_allclose(d1.shaking_force[:, 0] - d0.shaking_force[:, 0], -P, atol=1e-9 * P)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import mechdyn
@@ -329,3 +330,59 @@ def test_bad_tooth_pair_files_are_named(tmp_path, old, new, where, what):
     with pytest.raises(ModelFileError) as info:
         mechdyn.load(path)
     assert where in info.value.location and what in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where", "what"),
+    [
+        ('speed = "100 rad/s"', 'speed = "100 m/s"', "[driver] → speed", "expected a quantity of 1 / [time]"),
+        ('axis = "0 deg"\n', "", "[[joints]] #4 (name = 'guide')", "needs its sliding axis"),
+        (
+            'point = "A"\n\n[[joints]]\nname = "B"',
+            'point = "Z"\n\n[[joints]]\nname = "B"',
+            "[[joints]] #2 (name = 'A')",
+            "'Z' is not in the drawing",
+        ),
+        (
+            'type = "prismatic"',
+            'type = "spherical"',
+            "[[joints]] #4 (name = 'guide') → type",
+            "'revolute' or 'prismatic'",
+        ),
+        ('mass = "5 kg"', 'mass = "-5 kg"', "[[bodies]] #3 (name = 'slider') → mass", "must not be negative"),
+        ('B = ["0.5 m", "0 m"]', 'B = ["0.5 m"]', "[points] → B → item 2", "required field is missing"),
+    ],
+)
+def test_bad_mechanism_files_are_named(tmp_path, old, new, where, what):
+    from conftest import EXAMPLES
+
+    text = (EXAMPLES / "slider_crank.toml").read_text()
+    assert old in text
+    path = _write(tmp_path, text.replace(old, new, 1))
+    with pytest.raises(ModelFileError) as info:
+        mechdyn.load(path)
+    assert where in info.value.location and what in str(info.value)
+
+
+def test_process_force_tables(tmp_path):
+    from conftest import EXAMPLES
+    from mechdyn.mechanism.dynamics import inverse_dynamics
+
+    text = (
+        (EXAMPLES / "slider_crank.toml").read_text()
+        + """
+[[process_forces]]
+body = "slider"
+point = "B"
+direction = "180 deg"
+versus = "angle"
+table = [["0 deg", "0 kN"], ["90 deg", "2 kN"], ["180 deg", "0 kN"]]
+"""
+    )
+    spec = mechdyn.load(_write(tmp_path, text))
+    d = inverse_dynamics(spec.mechanism, 8)
+    assert d.applied[2, 6] == pytest.approx(-2000.0)  # at 90°, 2 kN along −x on the slider
+    assert np.abs(d.power_balance_residual).max() < 1e-9 * np.abs(d.driving_torque).max() * 100
+    bad = text.replace('["90 deg", "2 kN"], ["180 deg"', '["190 deg", "2 kN"], ["180 deg"')
+    with pytest.raises(ModelFileError, match=r"\[\[process_forces\]\] #1: table angle values must increase"):
+        mechdyn.load(_write(tmp_path, bad))

@@ -323,7 +323,12 @@ def build(source: ModelSource) -> Drivetrain:
     for i, g in enumerate(f.ground_dampers):
         with field_context(source, _where("ground_dampers", i, g.name)):
             elements.append(GroundDamper(g.name, g.disk, g.damping))
-    with field_context(source, "[model]"):
+    tables = {
+        row.name: _where(table, i, row.name)
+        for table in ("disks", "shafts", "meshes", "ground_springs", "ground_dampers")
+        for i, row in enumerate(getattr(f, table))
+    }
+    with field_context(source, "[model]", tables):
         return Drivetrain(tuple(disks), tuple(elements), name=f.model.name)
 
 

@@ -206,8 +206,14 @@ def validate(schema: type[M], source: ModelSource) -> M:
 
 
 @contextmanager
-def field_context(source: ModelSource, location: str) -> Iterator[None]:
-    """Attach a file location to model errors and warnings raised while building one table."""
+def field_context(
+    source: ModelSource, location: str, elements: Mapping[str, str] | None = None
+) -> Iterator[None]:
+    """Attach a file location to model errors and warnings raised while building one table.
+
+    ``elements`` maps element names to their own tables, for errors raised while assembling a
+    whole model: an error naming element ``"G1"`` is then placed at ``[[meshes]] #2 (name = 'G1')``.
+    """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -216,7 +222,8 @@ def field_context(source: ModelSource, location: str) -> Iterator[None]:
             raise
         except ModelError as exc:
             field = f" → {exc.field}" if exc.field else ""
-            raise ModelFileError(source.path, location + field, exc.detail) from None
+            where = (elements or {}).get(getattr(exc, "element", None) or "", location)
+            raise ModelFileError(source.path, where + field, exc.detail) from None
         except ValueError as exc:
             raise ModelFileError(source.path, location, str(exc)) from None
     for w in caught:

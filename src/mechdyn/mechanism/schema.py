@@ -152,7 +152,10 @@ def build(source: ModelSource) -> MechanismSpec:
             forces.append(_tabulated(pf, where))
     with field_context(source, "[driver]"):
         driver = Driver(f.driver.body, f.driver.pivot, f.driver.tip, f.driver.speed)
-    with field_context(source, "[model]"):
+    tables = {b.name: f"[[bodies]] #{i + 1} (name = {b.name!r})" for i, b in enumerate(f.bodies)}
+    tables |= {j.name: f"[[joints]] #{i + 1} (name = {j.name!r})" for i, j in enumerate(f.joints)}
+    tables["driver"] = "[driver]"
+    with field_context(source, "[model]", tables):
         mech = Mechanism(
             points=dict(f.points),
             bodies=tuple(bodies),
