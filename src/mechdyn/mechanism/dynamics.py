@@ -175,7 +175,8 @@ class DynamicsResult:
         if s is not None:
             k = self.kinematics
             j = self.mechanism.output_joint()
-            _, v, a = k.point(j.bodies[0], j.point)  # type: ignore[union-attr]
+            moving = j.bodies[1] if j.bodies[0] == GROUND else j.bodies[0]  # type: ignore[union-attr]
+            _, v, a = k.point(moving, j.point)  # type: ignore[union-attr]
             u = np.array([math.cos(j.axis), math.sin(j.axis)])  # type: ignore[union-attr]
             cols.update(
                 output_position_m=s, output_velocity_m_per_s=v @ u, output_acceleration_m_per_s2=a @ u
@@ -215,7 +216,9 @@ def _applied(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:
     return Q
 
 
-def inverse_dynamics(mechanism: Mechanism | KinematicsResult, n_angles: int = 360) -> DynamicsResult:
+def inverse_dynamics(
+    mechanism: Mechanism | KinematicsResult, n_angles: int = 360, method: str = "auto"
+) -> DynamicsResult:
     """Joint reactions, driving torque and frame loads over one crank revolution.
 
     Parameters
@@ -224,12 +227,14 @@ def inverse_dynamics(mechanism: Mechanism | KinematicsResult, n_angles: int = 36
         A kinematics result is reused as it is.
     n_angles : int
         Crank angles per revolution (when a Mechanism is given).
+    method : {"auto", "dyads", "newton"}
+        How positions are found, see :func:`~mechdyn.mechanism.kinematics.kinematics`.
 
     Returns
     -------
     DynamicsResult
     """
-    k = mechanism if isinstance(mechanism, KinematicsResult) else kinematics(mechanism, n_angles)
+    k = mechanism if isinstance(mechanism, KinematicsResult) else kinematics(mechanism, n_angles, method)
     mech = k.mechanism
     nb = len(mech.bodies)
     mass = np.repeat(mech.masses, 3).reshape(nb, 3)

@@ -16,7 +16,7 @@ import numpy as np
 
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.constraints import ConstraintSet
-from mechdyn.mechanism.model import Mechanism
+from mechdyn.mechanism.model import GROUND, Mechanism
 
 __all__ = ["AssemblyError", "KinematicsResult", "SingularPositionError", "kinematics"]
 
@@ -121,7 +121,7 @@ def _check_conditioning(J: np.ndarray, angle: np.ndarray, closes: bool) -> None:
         )
 
 
-def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
+def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") -> KinematicsResult:
     """Positions, velocities and accelerations over one crank revolution.
 
     Parameters
@@ -129,6 +129,11 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
     mechanism : Mechanism
     n_angles : int
         Crank angles per revolution, equally spaced from the datum.
+    method : {"auto", "dyads", "newton"}
+        ``newton``: Newton–Raphson continuation on the assembled constraints (any mechanism).
+        ``dyads``: closed-form dyads (:mod:`mechdyn.mechanism.dyads`) for a crank with RRR/RRP
+        dyads. ``auto``: dyads where the mechanism decomposes, else Newton. Both take velocities
+        and accelerations from the differentiated constraints and agree to round-off.
 
     Returns
     -------
@@ -143,6 +148,18 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
     """
     if n_angles < 4:
         raise ModelError(f"{n_angles} crank angles are too few; give at least 4")
+    if method not in ("auto", "dyads", "newton"):
+        raise ModelError(f"method {method!r} must be 'auto', 'dyads' or 'newton'")
+    if method != "newton":
+        from mechdyn.mechanism.dyads import NotDecomposable, cycle
+
+        try:
+            c = cycle(mechanism, n_angles)
+        except NotDecomposable:
+            if method == "dyads":
+                raise
+        else:
+            return _from_cycle(mechanism, c)
     cs = ConstraintSet(mechanism)
     scale = _scale(mechanism)
     omega = mechanism.driver.speed
@@ -203,6 +220,21 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360) -> KinematicsResult:
     )
 
 
+def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
+    """A KinematicsResult from the dyad path (one variant), ordered by angle and checked."""
+    cs = ConstraintSet(mechanism)
+    order = np.argsort(c.angle[0])
+    n = c.angle.shape[1]
+    step = 2.0 * math.pi / n * math.copysign(1.0, mechanism.driver.speed)
+    theta = (mechanism.drawing_crank_angle + step * np.arange(n))[order]
+    q, qd, qdd = c.q[0][order], c.qd[0][order], c.qdd[0][order]
+    angle = c.angle[0][order]
+    ev = cs.evaluate(q, theta)
+    _check_conditioning(ev.jacobian, angle, True)
+    time = (theta - mechanism.drawing_crank_angle) / mechanism.driver.speed
+    return KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, cs)
+
+
 def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
     """Equal positions and equal rotations up to whole turns."""
     pa, pb = a.reshape(-1, 3), b.reshape(-1, 3)
@@ -217,7 +249,7 @@ def output_position(mechanism: Mechanism, cs: ConstraintSet, q: np.ndarray) -> n
     j = mechanism.output_joint()
     if j is None:
         return None
-    body = j.bodies[0]
+    body = j.bodies[1] if j.bodies[0] == GROUND else j.bodies[0]  # the side that moves
     i = mechanism.body_index[body]
     s = mechanism.local(body, j.point)
     phi = q[..., 3 * i + 2]

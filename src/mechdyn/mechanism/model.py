@@ -317,6 +317,6 @@ class Mechanism:
         if self.output is None:
             return prismatic[0] if prismatic else None
         for j in prismatic:
-            if j.bodies[0] == self.output[0]:
+            if self.output[0] in j.bodies:
                 return j
         return None

@@ -1,0 +1,690 @@
+"""The fast path: closed-form dyads, vectorised over crank angles *and* design variants.
+
+Most linkages decompose into a crank and Assur groups of class II — RRR dyads (a joint between two
+links whose other ends are known) and RRP dyads (a link end sliding on a frame guide) — plus rigid
+bodies whose points follow from two known ones. For those, positions have closed forms (circle and
+circle-line intersections, the branch taken from each variant's drawing), and velocities and
+accelerations come from the differentiated constraints of each dyad, 2×2 and 1×1 linear systems
+solved in closed form: the constraint Jacobian is block-triangular in this order. (E.g. Norton,
+*Design of Machinery*, ch. 4–7; Hansen's Assur-group method.) No Newton iterations, no loops over
+angles or variants: the whole study is a few array expressions.
+
+The driving torque follows from the power balance and the frame loads (shaking force and moment,
+the motor's reaction included) from the momentum balances of the whole mechanism, so they too are
+elementwise; joint reactions need the general solver (:func:`mechdyn.mechanism.inverse_dynamics`).
+Mechanisms that do not decompose (closed loops of higher class, sliders on moving guides) are
+refused here and run on the general engine.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mechdyn.errors import ModelError
+from mechdyn.mechanism.kinematics import AssemblyError
+from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic, Revolute
+
+__all__ = ["CycleBatch", "NotDecomposable", "cycle", "plan"]
+
+
+class NotDecomposable(ModelError):
+    """The mechanism is not a crank with RRR/RRP dyads; use the general engine."""
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of the solution order: which point(s) it finds and from what."""
+
+    kind: str  # "crank", "rigid", "rrr", "rrp"
+    target: str | tuple[str, ...]
+    known: tuple[str, ...]
+    body: str | None = None
+    guide: Prismatic | None = None
+
+
+def plan(mechanism: Mechanism) -> list[Step]:
+    """The order in which the points become known; :class:`NotDecomposable` if there is none."""
+    m = mechanism
+    pts_of = {b.name: set(b.points) for b in m.bodies}
+    grounded = {j.point for j in m.joints if isinstance(j, Revolute) and GROUND in j.bodies}
+    for j in m.joints:
+        if isinstance(j, Prismatic) and j.bodies[0] == GROUND:
+            raise NotDecomposable(
+                "the frame cannot slide on a body here; swap the joint's bodies", element=j.name
+            )
+        if isinstance(j, Prismatic) and j.bodies[1] != GROUND:
+            raise NotDecomposable(
+                f"slider {j.name!r} runs on a moving guide; use the general engine", element=j.name
+            )
+    d = m.driver
+    if d.pivot not in grounded:
+        raise NotDecomposable(f"the crank's pivot {d.pivot!r} is not a frame pivot", element="driver")
+    known = set(grounded)
+    steps = [Step("crank", tuple(sorted(pts_of[d.body] - {d.pivot})), (d.pivot,), d.body)]
+    known |= pts_of[d.body]
+    done_bodies = {d.body}
+    sliders = {j.bodies[0]: j for j in m.joints if isinstance(j, Prismatic)}
+    revolutes = [j for j in m.joints if isinstance(j, Revolute)]
+    while len(done_bodies) < len(m.bodies):
+        progress = False
+        for b in m.bodies:  # rigid: two known points fix the rest
+            if b.name in done_bodies:
+                continue
+            k = sorted(pts_of[b.name] & known)
+            if len(k) >= 2:
+                rest = tuple(sorted(pts_of[b.name] - known))
+                steps.append(Step("rigid", rest, (k[0], k[1]), b.name))
+                known |= pts_of[b.name]
+                done_bodies.add(b.name)
+                progress = True
+        for j in revolutes:  # RRR: an unknown pin between two links each with a known point
+            p = j.point
+            if p in known or GROUND in j.bodies:
+                continue
+            b1, b2 = j.bodies
+            k1 = sorted((pts_of[b1] & known) - {p})
+            k2 = sorted((pts_of[b2] & known) - {p})
+            if k1 and k2 and b1 not in sliders and b2 not in sliders:
+                steps.append(Step("rrr", p, (k1[0], k2[0])))
+                known.add(p)
+                progress = True
+        for s, g in sliders.items():  # RRP: a link end on a frame guide
+            p = g.point
+            if p in known:
+                continue
+            links = [
+                j.bodies[0] if j.bodies[1] == s else j.bodies[1]
+                for j in revolutes
+                if j.point == p and s in j.bodies
+            ]
+            for b1 in links:
+                k1 = sorted((pts_of[b1] & known) - {p})
+                if k1:
+                    steps.append(Step("rrp", p, (k1[0],), s, g))
+                    known.add(p)
+                    progress = True
+                    break
+        for s, g in sliders.items():  # a slider body translates with its guide point
+            if s not in done_bodies and g.point in known:
+                rest = tuple(sorted(pts_of[s] - known))
+                steps.append(Step("rigid", rest, (g.point,), s, g))
+                known |= pts_of[s]
+                done_bodies.add(s)
+                progress = True
+        if not progress:
+            missing = ", ".join(b.name for b in m.bodies if b.name not in done_bodies)
+            raise NotDecomposable(
+                f"no RRR or RRP dyad closes the remaining bodies ({missing}); use the general engine"
+            )
+    return steps
+
+
+@dataclass(frozen=True)
+class CycleBatch:
+    """Kinematics and frame loads of many design variants over one revolution.
+
+    Arrays have shape (V, N, ...) for V variants (1 when none were given) and N crank angles.
+
+    Attributes
+    ----------
+    angle : ndarray
+        (V, N) crank angle from each variant's datum, rad (every variant starts its cycle at its
+        own datum; with ``angle_datum = "bdc"`` at its own bottom dead centre).
+    driving_torque : ndarray
+        (V, N) N·m.
+    frame_moment : ndarray
+        (V, N) moment on the frame about the origin, N·m (motor reaction included).
+    output_position : ndarray or None
+        (V, N) along the upward output axis, m.
+    """
+
+    mechanism: Mechanism
+    angle: np.ndarray
+    driving_torque: np.ndarray
+    frame_moment: np.ndarray
+    output_position: np.ndarray | None
+    _force: np.ndarray  # complex (V, N): the load on the frame
+    _inertia: np.ndarray  # complex (V, N): −Σ m a_G
+    _z: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
+    _rates: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+    @property
+    def shaking_force(self) -> np.ndarray:
+        """(V, N, 2) force on the frame, N."""
+        return np.stack([self._force.real, self._force.imag], axis=-1)
+
+    @property
+    def inertia_force(self) -> np.ndarray:
+        """(V, N, 2) −Σ m a_G, N."""
+        return np.stack([self._inertia.real, self._inertia.imag], axis=-1)
+
+    def point(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Position, velocity and acceleration of a drawing point, each (V, N, 2)."""
+        return tuple(np.stack([z.real, z.imag], axis=-1) for z in self._z[name])  # type: ignore[return-value]
+
+    def _coordinates(self, which: int) -> np.ndarray:
+        m = self.mechanism
+        out = np.empty((*self.angle.shape, 3 * len(m.bodies)))
+        for i, b in enumerate(m.bodies):
+            z = self._z[f"__com__{b.name}"][which]
+            out[..., 3 * i], out[..., 3 * i + 1], out[..., 3 * i + 2] = (
+                z.real,
+                z.imag,
+                self._rates[b.name][which],
+            )
+        return out
+
+    @property
+    def q(self) -> np.ndarray:
+        """(V, N, n) body coordinates as in :class:`~mechdyn.mechanism.kinematics.KinematicsResult`."""
+        return self._coordinates(0)
+
+    @property
+    def qd(self) -> np.ndarray:
+        return self._coordinates(1)
+
+    @property
+    def qdd(self) -> np.ndarray:
+        return self._coordinates(2)
+
+    @property
+    def assembled(self) -> np.ndarray:
+        """(V,) True for the variants that assemble over the whole cycle."""
+        return np.isfinite(self.driving_torque).all(axis=1)
+
+    def shaking_moment(self, about: Any = (0.0, 0.0)) -> np.ndarray:
+        """(V, N) moment on the frame about a point, N·m."""
+        px, py = (float(v) for v in about)
+        F = self._force
+        return self.frame_moment - (px * F.imag - py * F.real)
+
+    def summary(self) -> dict[str, np.ndarray]:
+        """Per-variant stroke, dead centres, inertia-force extremes and torque (arrays over V)."""
+        deg = np.degrees(self.angle)
+        T = self.driving_torque
+        out: dict[str, np.ndarray] = {
+            "driving_torque_peak_Nm": np.abs(T).max(axis=1),
+            "driving_torque_rms_Nm": np.sqrt(np.mean(T**2, axis=1)),
+            "shaking_force_max_N": np.abs(self._force).max(axis=1),
+        }
+        s = self.output_position
+        j = self.mechanism.output_joint()
+        if s is not None and j is not None:
+            f = _dot(self._inertia, complex(math.cos(j.axis), math.sin(j.axis)))
+            rows = np.arange(s.shape[0])
+            out.update(
+                stroke_m=np.ptp(s, axis=1),
+                bdc_deg=deg[rows, np.argmin(s, axis=1)],
+                tdc_deg=deg[rows, np.argmax(s, axis=1)],
+                inertia_force_max_N=f.max(axis=1),
+                inertia_force_max_deg=deg[rows, np.argmax(f, axis=1)],
+                inertia_force_min_N=f.min(axis=1),
+                inertia_force_min_deg=deg[rows, np.argmin(f, axis=1)],
+            )
+        return out
+
+
+def _z(xy: Any) -> np.ndarray:
+    a = np.asarray(xy, dtype=float)
+    return a[..., 0] + 1j * a[..., 1]
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b for plane vectors written as complex numbers: Im(conj(a) b)."""
+    return a.real * b.imag - a.imag * b.real
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a.real * b.real + a.imag * b.imag
+
+
+# operation codes of the compiled kernel
+_CRANK, _RIGID, _GUIDE, _PLACE, _RRR, _RRP = range(6)
+
+
+def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
+    """The plan as integer operations and per-variant data for the kernel.
+
+    Slots 0..P−1 hold the drawing points, P..P+nb−1 the bodies' centres of mass.
+    """
+    names = list(m.points)
+    slot = {n: i for i, n in enumerate(names)}
+    nb = len(m.bodies)
+    P = len(names)
+    for i, b in enumerate(m.bodies):
+        slot[f"__com__{b.name}"] = P + i
+    V = next(iter(draw.values())).shape[0]
+    dz = np.empty((V, P + nb), dtype=complex)
+    for n, i in slot.items():
+        dz[:, i] = (
+            _com(next(b for b in m.bodies if b.name == n[7:]), draw) if n.startswith("__com__") else draw[n]
+        )
+    ops: list[list[int]] = []  # kind, target, k1, k2, body, extra
+    fdata: list[np.ndarray] = []  # per-operation per-variant float data: (V, 3)
+    zeros = np.zeros((V, 4))
+    grounded = sorted({slot[j.point] for j in m.joints if isinstance(j, Revolute) and GROUND in j.bodies})
+    for st in steps:
+        bi = m.body_index[st.body] if st.body is not None else -1
+        if st.kind == "crank":
+            k1 = slot[m.driver.pivot]
+            ops.append([_CRANK, -1, k1, -1, bi, 0])
+            fdata.append(zeros)
+        elif st.kind == "rigid" and st.guide is not None:
+            k1 = slot[st.known[0]]
+            ops.append([_GUIDE, -1, k1, -1, bi, 0])
+            fdata.append(zeros)
+        elif st.kind == "rigid":
+            k1, k2 = slot[st.known[0]], slot[st.known[1]]
+            ops.append([_RIGID, -1, k1, k2, bi, 0])
+            d2 = np.abs(dz[:, k2] - dz[:, k1]) ** 2
+            fdata.append(np.stack([1.0 / d2, np.zeros(V), np.zeros(V), np.zeros(V)], axis=1))
+        elif st.kind == "rrr":
+            t, k1, k2 = slot[st.target], slot[st.known[0]], slot[st.known[1]]  # type: ignore[index]
+            f = np.stack(
+                [
+                    np.abs(dz[:, t] - dz[:, k1]),
+                    np.abs(dz[:, t] - dz[:, k2]),
+                    np.sign(_cross(dz[:, k2] - dz[:, k1], dz[:, t] - dz[:, k1])),
+                    np.zeros(V),
+                ],
+                axis=1,
+            )
+            ops.append([_RRR, t, k1, k2, -1, 0])
+            fdata.append(f)
+            continue
+        else:  # rrp
+            t, k1 = slot[st.target], slot[st.known[0]]  # type: ignore[index]
+            u = complex(math.cos(st.guide.axis), math.sin(st.guide.axis))  # type: ignore[union-attr]
+            f = np.stack(
+                [
+                    np.abs(dz[:, t] - dz[:, k1]),
+                    np.where(_dot(dz[:, t] - dz[:, k1], u) >= 0, 1.0, -1.0),
+                    np.full(V, u.real),
+                    np.full(V, u.imag),
+                ],
+                axis=1,
+            )
+            ops.append([_RRP, t, k1, -1, -1, 0])
+            fdata.append(f)
+            continue
+        # place every remaining point of the body and its centre of mass from k1
+        body = m.bodies[bi]
+        for tname in (*st.target, f"__com__{body.name}"):
+            ops.append([_PLACE, slot[tname], ops[-1][2], -1, bi, 0])
+            fdata.append(zeros)
+    return (
+        slot,
+        dz,
+        np.array(ops, dtype=np.int64),
+        np.stack(fdata, axis=1),
+        np.array(grounded, dtype=np.int64),
+    )
+
+
+_KERNEL = None
+
+
+def _kernel():
+    """Compile the kernel on first use (numba; cached on disk)."""
+    global _KERNEL
+    if _KERNEL is not None:
+        return _KERNEL
+    import numba
+
+    @numba.njit(parallel=True, cache=True, fastmath=False)
+    def run(
+        dz,
+        ops,
+        fdata,
+        grounded,
+        turn,
+        omega,
+        mass,
+        inertia,
+        grav,
+        keep,
+        out_slot,
+        u_out,
+        pos_out,
+        vel_out,
+        acc_out,
+        rate_out,
+        force,
+        inertia_force,
+        moment,
+        torque,
+        s_out,
+    ):
+        V, N = force.shape
+        S = dz.shape[1]
+        nb = mass.shape[1]
+        P = S - nb
+        rates = rate_out.shape[0] > 0
+        msum = np.zeros(V)
+        for v in range(V):
+            for i in range(nb):
+                msum[v] += mass[v, i]
+        for v in numba.prange(V):
+            pos = np.zeros(S, dtype=np.complex128)
+            vel = np.zeros(S, dtype=np.complex128)
+            acc = np.zeros(S, dtype=np.complex128)
+            rot = np.ones(nb, dtype=np.complex128)
+            w = np.zeros(nb)
+            al = np.zeros(nb)
+            ph = np.zeros(nb)
+            for k in range(N):
+                for g in grounded:
+                    pos[g] = dz[v, g]
+                for o in range(ops.shape[0]):
+                    kind, t, k1, k2, b = ops[o, 0], ops[o, 1], ops[o, 2], ops[o, 3], ops[o, 4]
+                    if kind == 0:  # crank: turned by step × k from the drawing
+                        rot[b] = turn[k]
+                        ph[b] = np.angle(turn[k]) if rates else 0.0
+                        w[b] = omega
+                        al[b] = 0.0
+                    elif kind == 1:  # rigid body from two known points
+                        dn = pos[k2] - pos[k1]
+                        dd = dz[v, k2] - dz[v, k1]
+                        inv = fdata[v, o, 0]  # 1/|dd|² = 1/|dn|²: a rigid body keeps its lengths
+                        rot[b] = dn * np.conj(dd) * inv
+                        ph[b] = np.angle(rot[b]) if rates else 0.0
+                        n2 = 1.0 / inv
+                        dv = vel[k2] - vel[k1]
+                        da = acc[k2] - acc[k1]
+                        w[b] = (dn.real * dv.imag - dn.imag * dv.real) / n2
+                        al[b] = (dn.real * da.imag - dn.imag * da.real) / n2
+                    elif kind == 2:  # a slider translating on a frame guide
+                        rot[b] = 1.0 + 0.0j
+                        ph[b] = 0.0
+                        w[b] = 0.0
+                        al[b] = 0.0
+                    elif kind == 3:  # a point of body b, from its point k1
+                        r = rot[b] * (dz[v, t] - dz[v, k1])
+                        pos[t] = pos[k1] + r
+                        vel[t] = vel[k1] + 1j * r * w[b]
+                        acc[t] = acc[k1] + r * (1j * al[b] - w[b] * w[b])
+                    elif kind == 4:  # RRR dyad
+                        r1, r2, sg = fdata[v, o, 0], fdata[v, o, 1], fdata[v, o, 2]
+                        d = pos[k2] - pos[k1]
+                        dist = abs(d)
+                        x = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist)
+                        h2 = r1 * r1 - x * x
+                        if h2 < 0.0:
+                            h2 = np.nan
+                        pp = pos[k1] + d / dist * (x + 1j * sg * np.sqrt(h2))
+                        a1 = pp - pos[k1]
+                        a2 = pp - pos[k2]
+                        det = a1.real * a2.imag - a1.imag * a2.real
+                        b1 = a1.real * vel[k1].real + a1.imag * vel[k1].imag
+                        b2 = a2.real * vel[k2].real + a2.imag * vel[k2].imag
+                        vv = ((b1 * a2.imag - b2 * a1.imag) + 1j * (a1.real * b2 - a2.real * b1)) / det
+                        e1 = vv - vel[k1]
+                        e2 = vv - vel[k2]
+                        c1 = (
+                            a1.real * acc[k1].real
+                            + a1.imag * acc[k1].imag
+                            - (e1.real * e1.real + e1.imag * e1.imag)
+                        )
+                        c2 = (
+                            a2.real * acc[k2].real
+                            + a2.imag * acc[k2].imag
+                            - (e2.real * e2.real + e2.imag * e2.imag)
+                        )
+                        pos[t] = pp
+                        vel[t] = vv
+                        acc[t] = ((c1 * a2.imag - c2 * a1.imag) + 1j * (a1.real * c2 - a2.real * c1)) / det
+                    else:  # RRP dyad: a link end on a frame guide through the point's drawing position
+                        L, sg = fdata[v, o, 0], fdata[v, o, 1]
+                        u = fdata[v, o, 2] + 1j * fdata[v, o, 3]
+                        q0 = dz[v, t]
+                        wq = q0 - pos[k1]
+                        bq = wq.real * u.real + wq.imag * u.imag
+                        disc = bq * bq - (wq.real * wq.real + wq.imag * wq.imag - L * L)
+                        if disc < 0.0:
+                            disc = np.nan
+                        sp = -bq + sg * np.sqrt(disc)
+                        pp = q0 + sp * u
+                        rel = pp - pos[k1]
+                        den = rel.real * u.real + rel.imag * u.imag
+                        sd = (rel.real * vel[k1].real + rel.imag * vel[k1].imag) / den
+                        vv = sd * u
+                        e = vv - vel[k1]
+                        sdd = (
+                            rel.real * acc[k1].real
+                            + rel.imag * acc[k1].imag
+                            - (e.real * e.real + e.imag * e.imag)
+                        ) / den
+                        pos[t] = pp
+                        vel[t] = vv
+                        acc[t] = sdd * u
+                # loads from the power and momentum balances of the whole mechanism
+                f = 0.0 + 0.0j
+                mo = 0.0
+                pw = 0.0
+                for i in range(nb):
+                    c = P + i
+                    net = mass[v, i] * (grav - acc[c])
+                    f += net
+                    mo += pos[c].real * net.imag - pos[c].imag * net.real - inertia[v, i] * al[i]
+                    pw += (
+                        mass[v, i]
+                        * (
+                            vel[c].real * acc[c].real
+                            + vel[c].imag * acc[c].imag
+                            - grav.real * vel[c].real
+                            - grav.imag * vel[c].imag
+                        )
+                        + inertia[v, i] * w[i] * al[i]
+                    )
+                force[v, k] = f
+                inertia_force[v, k] = f - grav * msum[v]
+                moment[v, k] = mo
+                torque[v, k] = pw / omega
+                if out_slot >= 0:
+                    d = pos[out_slot] - dz[v, out_slot]
+                    s_out[v, k] = d.real * u_out.real + d.imag * u_out.imag
+                for j in range(keep.shape[0]):
+                    pos_out[v, k, j] = pos[keep[j]]
+                    vel_out[v, k, j] = vel[keep[j]]
+                    acc_out[v, k, j] = acc[keep[j]]
+                if rates:
+                    for i in range(nb):
+                        rate_out[v, k, i, 0] = ph[i]
+                        rate_out[v, k, i, 1] = w[i]
+                        rate_out[v, k, i, 2] = al[i]
+
+    _KERNEL = run
+    return run
+
+
+def cycle(
+    mechanism: Mechanism,
+    n_angles: int = 360,
+    points: Mapping[str, Any] | None = None,
+    masses: Mapping[str, Any] | None = None,
+    *,
+    store_points: bool = True,
+    errors: str = "raise",
+    _explain: bool = True,
+) -> CycleBatch:
+    """Kinematics, driving torque and frame loads of a mechanism and its variants, in one call.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The nominal design (topology, masses, inertias, driver, loads).
+    n_angles : int
+        Crank angles per revolution.
+    points : mapping of point name → array (V, 2), optional
+        Drawing coordinates (m) that differ between variants; the others keep their nominal
+        values. Each variant's drawing fixes its own link lengths and assembly branch.
+    masses : mapping of body name → array (V,), optional
+        Body masses (kg) that differ between variants (inertias scale with them).
+    store_points : bool
+        Keep every point's and body's motion (for :meth:`CycleBatch.point` and ``q``); off, only
+        the loads, the output and the points that carry process forces are kept, which a large
+        study needs (memory grows as V × N × points).
+    errors : {"raise", "nan"}
+        What a variant that cannot be assembled does: raise (naming it, the angle and the joint),
+        or leave NaN in its rows (see :attr:`CycleBatch.assembled`) so that a study keeps the rest.
+
+    Returns
+    -------
+    CycleBatch
+
+    Raises
+    ------
+    NotDecomposable
+        When the mechanism is not a crank with RRR/RRP dyads (use :func:`inverse_dynamics`).
+    AssemblyError
+        Naming the variant that cannot be assembled.
+    """
+    m = mechanism
+    steps = plan(m)
+    V = 1
+    draw: dict[str, np.ndarray] = {k: np.atleast_1d(_z(v)) for k, v in m.points.items()}
+    for name, arr in (points or {}).items():
+        if name not in draw:
+            raise ModelError(f"point {name!r} is not in the drawing", element="points")
+        draw[name] = _z(np.asarray(arr, dtype=float).reshape(-1, 2))
+        V = max(V, draw[name].size)
+    for arr in (masses or {}).values():
+        V = max(V, np.asarray(arr).size)
+    draw = {k: np.broadcast_to(v, (V,)).copy() for k, v in draw.items()}
+    nb = len(m.bodies)
+    mass = np.tile(m.masses, (V, 1))
+    inertia = np.tile(m.inertias, (V, 1))
+    for name, arr in (masses or {}).items():
+        i = m.body_index[name]
+        new = np.broadcast_to(np.asarray(arr, dtype=float).reshape(-1), (V,))
+        ratio = np.divide(new, mass[:, i], out=np.zeros(V), where=mass[:, i] > 0)
+        inertia[:, i] *= ratio
+        mass[:, i] = new
+    slot, dz, ops, fdata, grounded = _encode(m, steps, draw)
+    j = m.output_joint()
+    wanted = (
+        list(m.points) + [f"__com__{b.name}" for b in m.bodies]
+        if store_points
+        else sorted({pf.point for pf in m.process_forces})
+    )
+    keep = np.array([slot[n] for n in wanted], dtype=np.int64)
+    N = n_angles
+    omega = m.driver.speed
+    theta_draw = np.angle(draw[m.driver.tip] - draw[m.driver.pivot])
+    step = 2 * math.pi / N * math.copysign(1.0, omega)
+    pos = np.empty((V, N, keep.size), dtype=complex)
+    vel = np.empty_like(pos)
+    acc = np.empty_like(pos)
+    rates = np.empty((V, N, nb, 3) if store_points else (0, 0, 0, 0))
+    force = np.empty((V, N), dtype=complex)
+    inertia_force = np.empty((V, N), dtype=complex)
+    moment = np.empty((V, N))
+    torque = np.empty((V, N))
+    out_slot = slot[j.point] if j is not None else -1
+    u_out = complex(math.cos(j.axis), math.sin(j.axis)) if j is not None else 0j
+    s_out = np.empty((V, N)) if j is not None else np.empty((0, 0))
+    turn = np.exp(1j * step * np.arange(N))  # the crank's rotation from the drawing, the same for all
+    _kernel()(
+        dz,
+        ops,
+        fdata,
+        grounded,
+        turn,
+        omega,
+        mass,
+        inertia,
+        complex(*m.gravity),
+        keep,
+        out_slot,
+        u_out,
+        pos,
+        vel,
+        acc,
+        rates,
+        force,
+        inertia_force,
+        moment,
+        torque,
+        s_out,
+    )
+    if errors not in ("raise", "nan"):
+        raise ModelError(f"errors={errors!r} must be 'raise' or 'nan'")
+    if errors == "raise" and not np.isfinite(torque).all():
+        v = int(np.argwhere(~np.isfinite(torque).all(axis=1))[0, 0])
+        k = int(np.argwhere(~np.isfinite(torque[v]))[0, 0])
+        if _explain:
+            _explain_failure(m, steps, {n: a[v : v + 1] for n, a in draw.items()}, v, k, n_angles, V > 1)
+    z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(wanted)}
+    if j is None:
+        s_out = None
+    angle = _angles(m, theta_draw, step, s_out)
+    for pf in m.process_forces:
+        fx, fy = pf.force(angle, s_out if s_out is not None else np.zeros((V, N)))
+        F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
+        p, pv, _ = z[pf.point]
+        force = force + F
+        moment = moment + _cross(p, F)
+        torque = torque - _dot(F, pv) / omega
+    body_rates = (
+        {b.name: (rates[..., i, 0], rates[..., i, 1], rates[..., i, 2]) for i, b in enumerate(m.bodies)}
+        if store_points
+        else {}
+    )
+    return CycleBatch(m, angle, torque, moment, s_out, force, inertia_force, z, body_rates)
+
+
+def _explain_failure(
+    m: Mechanism, steps: list[Step], draw, v: int, k: int, n_angles: int, batch: bool
+) -> None:
+    """Name the crank angle and the dyad whose loop does not close, for one variant."""
+    points = {n: np.stack([a.real, a.imag], axis=-1) for n, a in draw.items()}
+    one = cycle(m, n_angles, points, store_points=True, _explain=False)
+    step = 360.0 / n_angles * math.copysign(1.0, m.driver.speed)
+    for st in steps:
+        if st.kind in ("rrr", "rrp") and not np.isfinite(one._z[st.target][0][0, k]):  # type: ignore[index]
+            joint = next(
+                (j.name for j in m.joints if j.point == st.target and isinstance(j, Revolute)), st.target
+            )
+            which = f"variant {v} " if batch else ""
+            raise AssemblyError(
+                f"cannot assemble {which}at crank angle {step * k:.6g}° from the drawing: the loop through "
+                f"joint {joint!r} does not close ({st.kind.upper()} dyad at point {st.target!r}); a link is "
+                "too short to reach"
+            )
+    raise AssemblyError(f"cannot assemble variant {v} at crank angle {step * k:.6g}° from the drawing")
+
+
+def _com(body, draw: Mapping[str, np.ndarray]) -> np.ndarray:
+    c = body.center_of_mass
+    if c is None:
+        return np.mean([draw[p] for p in body.points], axis=0)
+    if isinstance(c, str):
+        return draw[c]
+    return np.broadcast_to(_z(c), draw[body.points[0]].shape)
+
+
+def _output(m: Mechanism, draw, pos) -> np.ndarray | None:
+    j = m.output_joint()
+    if j is None:
+        return None
+    u = complex(math.cos(j.axis), math.sin(j.axis))
+    return _dot(pos[j.point] - draw[j.point][:, None], u)
+
+
+def _angles(m: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | None) -> np.ndarray:
+    """Crank angle from each variant's datum over the cycle, rad, in [0, 2π)."""
+    V, N = theta_draw.shape[0], int(round(2 * math.pi / abs(step)))
+    k = np.arange(N)[None, :]
+    if m.angle_datum == "bdc":
+        if s is None:
+            raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
+        filled = np.where(np.isfinite(s), s, np.inf)
+        offset = -step * np.argmin(filled, axis=1)[:, None]
+    else:
+        offset = (theta_draw - float(m.angle_datum))[:, None]
+    return np.mod(step * k + offset + 1e-12, 2 * math.pi) - 1e-12

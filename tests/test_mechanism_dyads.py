@@ -1,0 +1,108 @@
+"""The closed-form dyad path against the Newton engine, and design variants in one call."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+
+import mechdyn
+from conftest import EXAMPLES
+from mechdyn.mechanism.dyads import NotDecomposable, cycle, plan
+from mechdyn.mechanism.dynamics import inverse_dynamics
+from mechdyn.mechanism.kinematics import AssemblyError
+from mechdyn.mechanism.model import Prismatic
+from test_mechanism_closed_form import slider_crank
+from test_mechanism_fourbar import crank_rockers, fourbar
+
+
+@pytest.fixture(scope="module")
+def press():
+    return mechdyn.load(EXAMPLES / "press_link_drive.toml").mechanism
+
+
+def test_plans(press):
+    assert [s.kind for s in plan(slider_crank())] == ["crank", "rrp", "rigid", "rigid"]
+    assert [s.kind for s in plan(fourbar(0.05, 0.2, 0.15, 0.18))] == ["crank", "rrr", "rigid", "rigid"]
+    assert [(s.kind, s.target) for s in plan(press) if s.kind in ("rrr", "rrp")] == [
+        ("rrr", "C"),
+        ("rrp", "F"),
+    ]
+
+
+def _agree(m, n=180):
+    a = inverse_dynamics(m, n, method="dyads")
+    b = inverse_dynamics(m, n, method="newton")
+    ka, kb = a.kinematics, b.kinematics
+    np.testing.assert_array_equal(ka.angle, kb.angle)
+    dq = ka.q - kb.q
+    dq[:, 2::3] = np.angle(np.exp(1j * dq[:, 2::3]))  # rotations agree up to whole turns
+    scale = np.abs(kb.q[:, 0::3]).max() + np.abs(kb.q[:, 1::3]).max()
+    assert np.abs(dq).max() < 1e-10 * max(scale, 1.0)
+    for x, y in (
+        (ka.qd, kb.qd),
+        (ka.qdd, kb.qdd),
+        (a.driving_torque, b.driving_torque),
+        (a.shaking_force, b.shaking_force),
+        (a.multipliers, b.multipliers),
+    ):
+        np.testing.assert_allclose(x, y, atol=1e-9 * np.abs(y).max())
+
+
+def test_dyads_agree_with_newton_on_the_examples(press):
+    _agree(slider_crank((0.0, -9.81)))
+    _agree(press, 360)
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(crank_rockers())
+def test_dyads_agree_with_newton_on_random_fourbars(m):
+    _agree(m, 72)
+
+
+def test_variants_in_one_call_equal_single_runs(press):
+    rng = np.random.default_rng(7)
+    D = np.asarray(press.points["D"]) + rng.normal(scale=0.02, size=(5, 2))
+    C = np.asarray(press.points["C"]) + rng.normal(scale=0.02, size=(5, 2))
+    batch = cycle(press, 120, points={"D": D, "C": C})
+    for v in range(5):
+        pts = dict(press.points) | {"D": tuple(D[v]), "C": tuple(C[v])}
+        single = cycle(replace(press, points=pts), 120)
+        np.testing.assert_allclose(batch.driving_torque[v], single.driving_torque[0], rtol=1e-12, atol=1e-6)
+        np.testing.assert_allclose(batch.output_position[v], single.output_position[0], atol=1e-12)
+        np.testing.assert_allclose(batch.angle[v], single.angle[0], atol=1e-12)
+    s = batch.summary()
+    assert s["stroke_m"].shape == (5,) and np.all(np.abs(s["stroke_m"] - 1.495) < 0.1)
+
+
+def test_mass_variants_scale_the_loads(press):
+    slide = np.array([50e3, 100e3, 150e3])
+    b = cycle(press, 90, masses={"slide": slide}, store_points=False)
+    # everything but the slide is the same, so the torque is affine in the slide mass
+    d1, d2 = b.driving_torque[1] - b.driving_torque[0], b.driving_torque[2] - b.driving_torque[1]
+    np.testing.assert_allclose(d1, d2, rtol=1e-9, atol=1e-6)
+
+
+def test_topologies_that_do_not_decompose_fall_back_to_newton():
+    m = slider_crank()
+    inverted = replace(m, joints=(*m.joints[:3], Prismatic("guide", ("ground", "slider"), "B", 0.0)))
+    with pytest.raises(NotDecomposable, match="the frame cannot slide"):
+        plan(inverted)
+    a = inverse_dynamics(inverted, 90)  # auto: Newton
+    b = inverse_dynamics(m, 90)
+    np.testing.assert_allclose(a.driving_torque, b.driving_torque, atol=1e-9 * np.abs(b.driving_torque).max())
+
+
+def test_a_failing_variant(press):
+    # a 50 mm rocker cannot follow the 630 mm crank: the second variant fails part of the way round
+    C = press.points["C"]
+    D = np.array([press.points["D"], (C[0] + 0.05, C[1])])
+    with pytest.raises(
+        AssemblyError, match=r"cannot assemble variant 1 at crank angle .*joint 'C' does not close"
+    ):
+        cycle(press, 60, points={"D": D})
+    kept = cycle(press, 60, points={"D": D}, errors="nan")
+    assert kept.assembled.tolist() == [True, False]
+    assert np.isfinite(kept.summary()["stroke_m"][0])
