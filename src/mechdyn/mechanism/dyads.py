@@ -622,7 +622,7 @@ def cycle(
     z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(wanted)}
     if j is None:
         s_out = None
-    angle = _angles(m, theta_draw, step, s_out)
+    angle = _angles(m, theta_draw, step, s_out, N)
     for pf in m.process_forces:
         fx, fy = pf.force(angle, s_out if s_out is not None else np.zeros((V, N)))
         F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
@@ -676,10 +676,9 @@ def _output(m: Mechanism, draw, pos) -> np.ndarray | None:
     return _dot(pos[j.point] - draw[j.point][:, None], u)
 
 
-def _angles(m: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | None) -> np.ndarray:
+def _angles(m: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | None, n: int) -> np.ndarray:
     """Crank angle from each variant's datum over the cycle, rad, in [0, 2π)."""
-    V, N = theta_draw.shape[0], int(round(2 * math.pi / abs(step)))
-    k = np.arange(N)[None, :]
+    k = np.arange(n)[None, :]
     if m.angle_datum == "bdc":
         if s is None:
             raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
