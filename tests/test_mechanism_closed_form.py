@@ -147,3 +147,60 @@ def test_process_force_enters_torque_and_power():
     assert np.abs(d1.power_balance_residual).max() < 1e-9 * np.abs(d1.driving_torque * W).max()
     # frame load = Σ external forces − Σ m a_G: the process force appears in it one to one
     np.testing.assert_allclose(d1.shaking_force[:, 0] - d0.shaking_force[:, 0], -P, atol=1e-9 * P)
+
+
+@pytest.mark.parametrize("method", ["dyads", "newton"])
+def test_speed_profile_on_a_lone_crank(method):
+    # a rotor on its pivot: T = I_O θ̈ with I_O = I_G + m d², θ̇ = ω₀ (1 + ε sin ψ), θ̈ = θ̇ dθ̇/dψ
+    from mechdyn.mechanism.model import Body, Driver, Mechanism, Revolute
+
+    w0, eps, m, d, ig = 10.0, 0.2, 3.0, 0.05, 0.01
+
+    def profile(psi):
+        w = w0 * (1 + eps * np.sin(psi))
+        return w, w * w0 * eps * np.cos(psi)
+
+    rotor = Mechanism(
+        points={"O": (0.0, 0.0), "T": (0.1, 0.0)},
+        bodies=(Body("rotor", ("O", "T"), m, ig, (d, 0.0)),),
+        joints=(Revolute("O", ("ground", "rotor"), "O"),),
+        driver=Driver("rotor", "O", "T", w0, profile),
+    )
+    r = inverse_dynamics(rotor, 72, method=method)
+    psi = r.kinematics.crank_angle
+    w, a = profile(psi)
+    np.testing.assert_allclose(r.crank_speed, w, rtol=1e-12)
+    np.testing.assert_allclose(r.driving_torque, (ig + m * d**2) * a, atol=1e-12 * np.abs(a).max())
+    # the frame takes −m a_G: centripetal and tangential parts
+    aG = d * np.stack([-(w**2) * np.cos(psi) - a * np.sin(psi), -(w**2) * np.sin(psi) + a * np.cos(psi)], -1)
+    np.testing.assert_allclose(r.shaking_force, -m * aG, atol=1e-12 * m * d * w0**2)
+    # time is ∫ dψ / θ̇
+    assert r.kinematics.time[1] == pytest.approx(
+        float(np.trapezoid(1 / profile(np.linspace(0, psi[1], 2001))[0], np.linspace(0, psi[1], 2001))),
+        rel=1e-6,
+    )
+
+
+def test_speed_profile_keeps_power_balance_and_paths_agree():
+    from mechdyn.mechanism.model import Driver
+
+    m = slider_crank()
+    prof = replace_driver(
+        m,
+        lambda psi: (
+            W * (1 + 0.3 * np.cos(2 * psi)),
+            W * (1 + 0.3 * np.cos(2 * psi)) * W * -0.6 * np.sin(2 * psi),
+        ),
+    )
+    a = inverse_dynamics(prof, 120, method="dyads")
+    b = inverse_dynamics(prof, 120, method="newton")
+    assert np.abs(a.power_balance_residual).max() < 1e-9 * np.abs(a.driving_torque * a.crank_speed).max()
+    np.testing.assert_allclose(a.driving_torque, b.driving_torque, atol=1e-9 * np.abs(b.driving_torque).max())
+    assert isinstance(prof.driver, Driver)
+
+
+def replace_driver(m, profile):
+    from dataclasses import replace
+
+    d = m.driver
+    return replace(m, driver=replace(d, profile=profile))

@@ -386,3 +386,25 @@ table = [["0 deg", "0 kN"], ["90 deg", "2 kN"], ["180 deg", "0 kN"]]
     bad = text.replace('["90 deg", "2 kN"], ["180 deg"', '["190 deg", "2 kN"], ["180 deg"')
     with pytest.raises(ModelFileError, match=r"\[\[process_forces\]\] #1: table angle values must increase"):
         mechdyn.load(_write(tmp_path, bad))
+
+
+def test_speed_profile_table(tmp_path):
+    from conftest import EXAMPLES
+    from mechdyn.mechanism.dynamics import inverse_dynamics
+
+    text = (
+        (EXAMPLES / "slider_crank.toml")
+        .read_text()
+        .replace(
+            'speed = "100 rad/s"',
+            'speed = "100 rad/s"\nspeed_profile = [["0 deg", "100 rad/s"], ["90 deg", "120 rad/s"], '
+            '["180 deg", "100 rad/s"], ["270 deg", "80 rad/s"]]',
+        )
+    )
+    spec = mechdyn.load(_write(tmp_path, text))
+    d = inverse_dynamics(spec.mechanism, 72)
+    assert d.crank_speed.min() < 95 and d.crank_speed.max() > 105
+    assert np.abs(d.power_balance_residual).max() < 1e-9 * np.abs(d.driving_torque * d.crank_speed).max()
+    bad = text.replace('["0 deg", "100 rad/s"], ', "")
+    with pytest.raises(ModelFileError, match=r"\[driver\]: speed_profile angles must start at 0 deg"):
+        mechdyn.load(_write(tmp_path, bad))

@@ -54,39 +54,54 @@ class Evaluation:
 
 
 class ConstraintSet:
-    """The assembled constraints of a mechanism (joints in order, two rows each; the driver last)."""
+    """The assembled constraints of a mechanism (joints in order, two rows each; the driver last).
+
+    The entries of Φ_q that do not depend on the configuration (the ±1 of positions and
+    rotations) form a template built once; per call only the rotation-dependent columns and γ are
+    filled, for all revolute joints at once. The frame is an extra body with zero coordinates, so
+    its Jacobian comes out of the same arrays.
+    """
 
     def __init__(self, mechanism: Mechanism):
         self.mechanism = mechanism
         idx = mechanism.body_index
+        nb = len(mechanism.bodies)
+        self.nb = nb
         self.rows: list[tuple[str, str]] = []  # (element name, equation) per row, for messages
-        self._joints = []
-        for j in mechanism.joints:
+        self.n = mechanism.n_coordinates
+        self.m = mechanism.n_constraints
+        frame = nb  # the frame's slot in the augmented coordinates
+        rev, pri = [], []
+        template = np.zeros((self.m, 3 * (nb + 1)))
+        for k, j in enumerate(mechanism.joints):
             a, b = j.bodies
-            ia = -1 if a == GROUND else idx[a]
-            ib = -1 if b == GROUND else idx[b]
+            ia = frame if a == GROUND else idx[a]
+            ib = frame if b == GROUND else idx[b]
             sa, sb = mechanism.local(a, j.point), mechanism.local(b, j.point)
             if isinstance(j, Revolute):
-                self._joints.append(("revolute", ia, ib, sa, sb, None))
+                rev.append((2 * k, ia, ib, sa, sb))
+                template[2 * k, 3 * ia], template[2 * k + 1, 3 * ia + 1] = 1.0, 1.0
+                template[2 * k, 3 * ib], template[2 * k + 1, 3 * ib + 1] = -1.0, -1.0
                 self.rows += [(j.name, "x"), (j.name, "y")]
             elif isinstance(j, Prismatic):
                 u = np.array([np.cos(j.axis), np.sin(j.axis)])
-                self._joints.append(("prismatic", ia, ib, sa, sb, _perp(u)))
+                pri.append((2 * k, ia, ib, sa, sb, _perp(u)))
+                template[2 * k, 3 * ia + 2], template[2 * k, 3 * ib + 2] = 1.0, -1.0
                 self.rows += [(j.name, "rotation"), (j.name, "distance to the axis")]
             else:  # pragma: no cover
                 raise TypeError(type(j))
-        d = mechanism.driver
-        self.crank = idx[d.body]
+        self.crank = idx[mechanism.driver.body]
+        template[-1, 3 * self.crank + 2], template[-1, 3 * frame + 2] = 1.0, -1.0
         self.rows.append(("driver", "crank angle"))
-        self.n = mechanism.n_coordinates
-        self.m = mechanism.n_constraints
-
-    @staticmethod
-    def _pose(q: np.ndarray, i: int) -> tuple[np.ndarray, np.ndarray]:
-        if i < 0:
-            shape = q.shape[:-1]
-            return np.zeros((*shape, 2)), np.zeros(shape)
-        return q[..., 3 * i : 3 * i + 2], q[..., 3 * i + 2]
+        self._template = template
+        self._rev = (
+            np.array([r[0] for r in rev], dtype=int),
+            np.array([r[1] for r in rev], dtype=int),
+            np.array([r[2] for r in rev], dtype=int),
+            np.array([r[3] for r in rev]).reshape(-1, 2),
+            np.array([r[4] for r in rev]).reshape(-1, 2),
+        )
+        self._pri = pri
 
     def evaluate(self, q: np.ndarray, crank_angle: np.ndarray, qd: np.ndarray | None = None) -> Evaluation:
         """Φ, Φ_q, the frame's Jacobian and (with velocities ``qd``) γ.
@@ -101,60 +116,51 @@ class ConstraintSet:
             (..., n) velocities, for γ.
         """
         lead = q.shape[:-1]
-        m, n = self.m, self.n
+        m, n, nb = self.m, self.n, self.nb
+        zeros3 = np.zeros((*lead, 3))
+        body = np.concatenate([q, zeros3], axis=-1).reshape(*lead, nb + 1, 3)
         res = np.zeros((*lead, m))
-        jac = np.zeros((*lead, m, n))
-        jg = np.zeros((*lead, m, 3))
+        jac = np.array(np.broadcast_to(self._template, (*lead, m, 3 * (nb + 1))))
         gam = np.zeros((*lead, m)) if qd is not None else None
-
-        def put(row: int, body: int, block: np.ndarray) -> None:
-            """Add a (..., r, 3) block for ``body`` at rows row..row+r."""
-            r = block.shape[-2]
-            if body < 0:
-                jg[..., row : row + r, :] += block
-            else:
-                jac[..., row : row + r, 3 * body : 3 * body + 3] += block
-
-        for k, (kind, ia, ib, sa, sb, normal) in enumerate(self._joints):
-            row = 2 * k
-            ra, pa = self._pose(q, ia)
-            rb, pb = self._pose(q, ib)
+        if qd is not None:
+            rate = np.concatenate([qd, zeros3], axis=-1).reshape(*lead, nb + 1, 3)
+        row, ia, ib, sa, sb = self._rev
+        if row.size:
+            pa, pb = body[..., ia, 2], body[..., ib, 2]
             Asa, Asb = _rotate(pa, sa), _rotate(pb, sb)
+            d = body[..., ia, :2] + Asa - body[..., ib, :2] - Asb  # (..., R, 2)
+            res[..., row], res[..., row + 1] = d[..., 0], d[..., 1]
             Bsa, Bsb = _perp(Asa), _perp(Asb)
-            if qd is not None:
-                va, wa = self._pose(qd, ia)
-                vb, wb = self._pose(qd, ib)
-            if kind == "revolute":
-                res[..., row : row + 2] = ra + Asa - rb - Asb
-                eye = np.broadcast_to(np.eye(2), (*lead, 2, 2))
-                put(row, ia, np.concatenate([eye, Bsa[..., :, None]], axis=-1))
-                put(row, ib, np.concatenate([-eye, -Bsb[..., :, None]], axis=-1))
-                if gam is not None:
-                    gam[..., row : row + 2] = Asa * (wa**2)[..., None] - Asb * (wb**2)[..., None]
-            else:  # prismatic: body a's point on a line fixed in body b
-                d = ra + Asa - rb - Asb
-                nb = _rotate(pb, normal)
-                Bnb = _perp(nb)
-                res[..., row] = pa - pb
-                res[..., row + 1] = np.sum(nb * d, axis=-1)
-                one = np.ones((*lead, 1, 1))
-                zero2 = np.zeros((*lead, 1, 2))
-                put(row, ia, np.concatenate([zero2, one], axis=-1))
-                put(row, ib, np.concatenate([zero2, -one], axis=-1))
-                dphi_a = np.sum(nb * Bsa, axis=-1)
-                dphi_b = np.sum(Bnb * d, axis=-1) - np.sum(nb * Bsb, axis=-1)
-                put(row + 1, ia, np.concatenate([nb, dphi_a[..., None]], axis=-1)[..., None, :])
-                put(row + 1, ib, np.concatenate([-nb, dphi_b[..., None]], axis=-1)[..., None, :])
-                if gam is not None:
-                    dd = va + Bsa * wa[..., None] - vb - Bsb * wb[..., None]
-                    gam[..., row + 1] = (
-                        wb**2 * np.sum(nb * d, axis=-1)
-                        - 2.0 * wb * np.sum(Bnb * dd, axis=-1)
-                        + np.sum(nb * (Asa * (wa**2)[..., None] - Asb * (wb**2)[..., None]), axis=-1)
-                    )
+            jac[..., row, 3 * ia + 2], jac[..., row + 1, 3 * ia + 2] = Bsa[..., 0], Bsa[..., 1]
+            jac[..., row, 3 * ib + 2], jac[..., row + 1, 3 * ib + 2] = -Bsb[..., 0], -Bsb[..., 1]
+            if gam is not None:
+                wa, wb = rate[..., ia, 2], rate[..., ib, 2]
+                g = Asa * (wa**2)[..., None] - Asb * (wb**2)[..., None]
+                gam[..., row], gam[..., row + 1] = g[..., 0], g[..., 1]
+        for r0, ja, jb, psa, psb, normal in self._pri:  # a point of body a on a line fixed in body b
+            ra, pa = body[..., ja, :2], body[..., ja, 2]
+            rb, pb = body[..., jb, :2], body[..., jb, 2]
+            Asa, Asb = _rotate(pa, psa), _rotate(pb, psb)
+            Bsa, Bsb = _perp(Asa), _perp(Asb)
+            d = ra + Asa - rb - Asb
+            nrm = _rotate(pb, normal)
+            Bn = _perp(nrm)
+            res[..., r0] = pa - pb
+            res[..., r0 + 1] = np.sum(nrm * d, axis=-1)
+            r1 = r0 + 1
+            jac[..., r1, 3 * ja], jac[..., r1, 3 * ja + 1] = nrm[..., 0], nrm[..., 1]
+            jac[..., r1, 3 * jb], jac[..., r1, 3 * jb + 1] = -nrm[..., 0], -nrm[..., 1]
+            jac[..., r1, 3 * ja + 2] = np.sum(nrm * Bsa, axis=-1)
+            jac[..., r1, 3 * jb + 2] = np.sum(Bn * d, axis=-1) - np.sum(nrm * Bsb, axis=-1)
+            if gam is not None:
+                va, wa = rate[..., ja, :2], rate[..., ja, 2]
+                vb, wb = rate[..., jb, :2], rate[..., jb, 2]
+                dd = va + Bsa * wa[..., None] - vb - Bsb * wb[..., None]
+                gam[..., r1] = (
+                    wb**2 * np.sum(nrm * d, axis=-1)
+                    - 2.0 * wb * np.sum(Bn * dd, axis=-1)
+                    + np.sum(nrm * (Asa * (wa**2)[..., None] - Asb * (wb**2)[..., None]), axis=-1)
+                )
         # driver: φ_crank − φ_frame − (θ − θ_drawing) = 0
-        row = m - 1
-        res[..., row] = q[..., 3 * self.crank + 2] - (crank_angle - self.mechanism.drawing_crank_angle)
-        jac[..., row, 3 * self.crank + 2] = 1.0
-        jg[..., row, 2] = -1.0
-        return Evaluation(res, jac, jg, gam)
+        res[..., -1] = q[..., 3 * self.crank + 2] - (crank_angle - self.mechanism.drawing_crank_angle)
+        return Evaluation(res, jac[..., :n], jac[..., n:], gam)

@@ -344,6 +344,7 @@ def _kernel():
         grounded,
         turn,
         omega,
+        alpha,
         mass,
         inertia,
         grav,
@@ -385,8 +386,8 @@ def _kernel():
                     if kind == 0:  # crank: turned by step × k from the drawing
                         rot[b] = turn[k]
                         ph[b] = np.angle(turn[k]) if rates else 0.0
-                        w[b] = omega
-                        al[b] = 0.0
+                        w[b] = omega[k]
+                        al[b] = alpha[k]
                     elif kind == 1:  # rigid body from two known points
                         dn = pos[k2] - pos[k1]
                         dd = dz[v, k2] - dz[v, k1]
@@ -484,7 +485,7 @@ def _kernel():
                 force[v, k] = f
                 inertia_force[v, k] = f - grav * msum[v]
                 moment[v, k] = mo
-                torque[v, k] = pw / omega
+                torque[v, k] = pw / omega[k]
                 if out_slot >= 0:
                     d = pos[out_slot] - dz[v, out_slot]
                     s_out[v, k] = d.real * u_out.real + d.imag * u_out.imag
@@ -589,13 +590,15 @@ def cycle(
     u_out = complex(math.cos(j.axis), math.sin(j.axis)) if j is not None else 0j
     s_out = np.empty((V, N)) if j is not None else np.empty((0, 0))
     turn = np.exp(1j * step * np.arange(N))  # the crank's rotation from the drawing, the same for all
+    omega_k, alpha_k = m.driver.rates(abs(step) * np.arange(N))
     _kernel()(
         dz,
         ops,
         fdata,
         grounded,
         turn,
-        omega,
+        omega_k,
+        alpha_k,
         mass,
         inertia,
         complex(*m.gravity),
@@ -629,7 +632,7 @@ def cycle(
         p, pv, _ = z[pf.point]
         force = force + F
         moment = moment + _cross(p, F)
-        torque = torque - _dot(F, pv) / omega
+        torque = torque - _dot(F, pv) / omega_k
     body_rates = (
         {b.name: (rates[..., i, 0], rates[..., i, 1], rates[..., i, 2]) for i, b in enumerate(m.bodies)}
         if store_points

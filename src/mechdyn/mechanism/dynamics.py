@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
+from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, Mechanism
 
 if TYPE_CHECKING:
@@ -54,8 +55,7 @@ class DynamicsResult:
     # -- loads -----------------------------------------------------------------------------------
     @cached_property
     def _constraint_loads(self) -> tuple[np.ndarray, np.ndarray]:
-        k = self.kinematics
-        ev = k.constraints.evaluate(k.q, k.crank_angle)
+        ev = self.kinematics.evaluation
         lam = self.multipliers
         # per row r: generalised load on the moving bodies −J[r]ᵀ λ_r and on the frame −Jg[r]ᵀ λ_r
         on_bodies = -ev.jacobian * lam[..., None]  # (N, m, n)
@@ -122,7 +122,12 @@ class DynamicsResult:
         mass = np.repeat(m.masses, 3).reshape(nb, 3)
         mass[:, 2] = m.inertias
         dE = np.sum(mass.ravel() * k.qd * k.qdd, axis=1)
-        return self.driving_torque * m.driver.speed + np.sum(self.applied * k.qd, axis=1) - dE
+        return self.driving_torque * self.crank_speed + np.sum(self.applied * k.qd, axis=1) - dE
+
+    @property
+    def crank_speed(self) -> np.ndarray:
+        """θ̇ at every angle, rad/s."""
+        return self.kinematics.qd[:, 3 * self.kinematics.constraints.crank + 2]
 
     @property
     def output_position(self) -> np.ndarray | None:
@@ -134,7 +139,7 @@ class DynamicsResult:
         """Stroke, dead centres, inertia-force extremes, torque, power balance (SI, angles in degrees)."""
         deg = np.degrees(self.angle)
         T = self.driving_torque
-        power = np.abs(T * self.mechanism.driver.speed).max()
+        power = np.abs(T * self.crank_speed).max()
         out: dict[str, Any] = {
             "driving_torque_max_Nm": float(T.max()),
             "driving_torque_min_Nm": float(T.min()),
@@ -240,6 +245,6 @@ def inverse_dynamics(
     mass = np.repeat(mech.masses, 3).reshape(nb, 3)
     mass[:, 2] = mech.inertias
     Q = _applied(mech, k)
-    ev = k.constraints.evaluate(k.q, k.crank_angle)
-    lam = np.linalg.solve(np.swapaxes(ev.jacobian, -1, -2), (Q - mass.ravel() * k.qdd)[..., None])[..., 0]
+    ev = k.evaluation
+    lam, _ = solve_with_det(np.swapaxes(ev.jacobian, -1, -2), Q - mass.ravel() * k.qdd)
     return DynamicsResult(k, lam, Q)

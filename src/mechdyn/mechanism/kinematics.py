@@ -11,18 +11,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.constraints import ConstraintSet
+from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, Mechanism
 
 __all__ = ["AssemblyError", "KinematicsResult", "SingularPositionError", "kinematics"]
 
 TOL = 1e-11  # residual tolerance relative to the mechanism's size
 MAX_ITER = 30
-COND_LIMIT = 1e10
+SINGULAR_RATIO = 1e-12  # |det Φ_q| / Π ‖rows‖ below this counts as singular
 
 
 class AssemblyError(ModelError):
@@ -50,6 +52,11 @@ class KinematicsResult:
         (N, n) body coordinates (x_G, y_G, φ per body), velocities and accelerations.
     constraints : ConstraintSet
     """
+
+    @cached_property
+    def evaluation(self):
+        """The constraints at every angle (Φ, Φ_q, the frame's Jacobian), computed once."""
+        return self.constraints.evaluate(self.q, self.crank_angle)
 
     mechanism: Mechanism
     crank_angle: np.ndarray
@@ -108,10 +115,11 @@ def _check_conditioning(J: np.ndarray, angle: np.ndarray, closes: bool) -> None:
     angles, or the branch is lost and the cycle does not close on itself; landing on one makes Φ_q
     ill-conditioned. The angle reported is where |det Φ_q| is smallest: where the branch was lost.
     """
-    det = np.linalg.det(J)
-    cond = np.linalg.cond(J)
+    det = solve_with_det(J, np.zeros(J.shape[:-1]))[1]
+    # Hadamard's inequality |det J| ≤ Π ‖row‖: the ratio is a scale-free measure of singularity
+    ratio = np.abs(det) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
     crossing = np.sign(det) != np.sign(np.roll(det, -1))
-    bad = ~np.isfinite(cond) | (cond > COND_LIMIT) | crossing
+    bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO) | crossing
     if bad.any() or not closes:
         k = int(np.argmin(np.abs(det)))
         raise SingularPositionError(
@@ -177,12 +185,13 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
     Q = np.empty((n_angles, n))
     V = np.empty((n_angles, n))
     A = np.empty((n_angles, n))
-    rhs_v = np.zeros(cs.m)
-    rhs_v[-1] = omega
+    turned = np.abs(step) * np.arange(n_angles)
+    wk, ak = mechanism.driver.rates(turned)
     for k, th in enumerate(thetas):
         if k:
-            # second-order predictor in the crank angle: q′ = q̇/ω, q″ = q̈/ω²
-            dq, ddq = V[k - 1] / omega, A[k - 1] / omega**2
+            # second-order predictor in the crank angle: q′ = q̇/θ̇, q″ = (q̈ − q′ θ̈)/θ̇²
+            dq = V[k - 1] / wk[k - 1]
+            ddq = (A[k - 1] - dq * ak[k - 1]) / wk[k - 1] ** 2
             q, it = _newton(cs, Q[k - 1] + dq * step + 0.5 * ddq * step**2, th, scale)
             if it < 0:
                 ev = cs.evaluate(q, np.asarray(th))
@@ -195,29 +204,33 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
                 )
         ev = cs.evaluate(q, np.asarray(th))
         Q[k] = q
+        rhs_v = np.zeros(cs.m)
+        rhs_v[-1] = wk[k]
         V[k] = _solve(ev.jacobian, rhs_v)
         ev = cs.evaluate(q, np.asarray(th), V[k])
+        ev.gamma[-1] = ak[k]  # the driver: φ̈_crank = θ̈
         A[k] = _solve(ev.jacobian, ev.gamma)
     # one more step must bring the mechanism back to where it started: the branch was kept
+    dq = V[-1] / wk[-1]
     q_end, it = _newton(
-        cs, Q[-1] + V[-1] / omega * step + 0.5 * A[-1] / omega**2 * step**2, thetas[-1] + step, scale
+        cs, Q[-1] + dq * step + 0.5 * (A[-1] - dq * ak[-1]) / wk[-1] ** 2 * step**2, thetas[-1] + step, scale
     )
     closes = it >= 0 and _same_pose(q_end, Q[0], scale)
     datum = _datum(mechanism, cs, Q, thetas)
     angle = np.mod(thetas - datum + 1e-12, 2 * math.pi) - 1e-12
     order = np.argsort(angle)
-    ev = cs.evaluate(Q[order], thetas[order])
-    _check_conditioning(ev.jacobian, angle[order], closes)
-    return KinematicsResult(
+    result = KinematicsResult(
         mechanism,
         thetas[order],
         angle[order],
-        (thetas[order] - theta_draw) / omega,
+        mechanism.driver.time(turned)[order],
         Q[order],
         V[order],
         A[order],
         cs,
     )
+    _check_conditioning(result.evaluation.jacobian, angle[order], closes)
+    return result
 
 
 def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
@@ -229,10 +242,10 @@ def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
     theta = (mechanism.drawing_crank_angle + step * np.arange(n))[order]
     q, qd, qdd = c.q[0][order], c.qd[0][order], c.qdd[0][order]
     angle = c.angle[0][order]
-    ev = cs.evaluate(q, theta)
-    _check_conditioning(ev.jacobian, angle, True)
-    time = (theta - mechanism.drawing_crank_angle) / mechanism.driver.speed
-    return KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, cs)
+    time = mechanism.driver.time(np.abs(step) * np.arange(n))[order]
+    result = KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, cs)
+    _check_conditioning(result.evaluation.jacobian, angle, True)
+    return result
 
 
 def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:

@@ -105,7 +105,7 @@ class Prismatic:
 
 @dataclass(frozen=True)
 class Driver:
-    """The crank: a body turned about a pivot at constant speed.
+    """The crank: a body turned about a pivot at constant speed, or following a speed profile.
 
     Parameters
     ----------
@@ -113,19 +113,51 @@ class Driver:
     pivot, tip : str
         Drawing points; the crank angle θ is the direction from pivot to tip.
     speed : float or quantity
-        θ̇, rad/s (e.g. ``"15 rpm"``); positive counter-clockwise.
+        θ̇, rad/s (e.g. ``"15 rpm"``); positive counter-clockwise. With a profile, its sign gives
+        the direction of rotation.
+    profile : callable, optional
+        ``profile(angle) -> (speed, acceleration)`` for arrays of crank angle turned from the
+        drawing (rad, in the direction of rotation): θ̇ (rad/s, same sign as ``speed``, never zero)
+        and θ̈ (rad/s²). None means constant speed.
     """
 
     body: str
     pivot: str
     tip: str
     speed: Any
+    profile: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None = None
 
     def __post_init__(self) -> None:
         v = si_field("driver", "speed", self.speed, "rad/s")
         if v == 0:
             raise ModelError("the crank speed must not be zero", element="driver", field="speed")
         object.__setattr__(self, "speed", v)
+
+    def rates(self, turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """θ̇ (rad/s) and θ̈ (rad/s²) at crank angles turned from the drawing (rad)."""
+        turned = np.asarray(turned, dtype=float)
+        if self.profile is None:
+            return np.full(turned.shape, self.speed), np.zeros(turned.shape)
+        w, a = (np.broadcast_to(np.asarray(x, dtype=float), turned.shape) for x in self.profile(turned))
+        if np.any(w == 0) or np.any(np.sign(w) != np.sign(self.speed)):
+            raise ModelError(
+                "the speed profile must keep the sign of the speed and never stop the crank",
+                element="driver",
+                field="profile",
+            )
+        return w, a
+
+    def time(self, turned: np.ndarray) -> np.ndarray:
+        """Time to turn the crank by each angle from the drawing, s (∫ dθ/θ̇, trapezoidal)."""
+        turned = np.asarray(turned, dtype=float)
+        if self.profile is None:
+            return turned / self.speed
+        fine = np.linspace(0.0, float(np.max(np.abs(turned))) if turned.size else 0.0, 4097) * np.sign(
+            self.speed
+        )
+        w, _ = self.rates(np.abs(fine))
+        t = np.concatenate([[0.0], np.cumsum(0.5 * (1 / w[1:] + 1 / w[:-1]) * np.diff(fine))])
+        return np.interp(np.abs(turned), np.abs(fine), t)
 
 
 @dataclass(frozen=True)

@@ -57,6 +57,7 @@ class DriverTable(FileModel):
     pivot: str
     tip: str
     speed: Speed
+    speed_profile: list[tuple[str, str]] | None = None
 
 
 class SettingsTable(FileModel):
@@ -127,6 +128,32 @@ def _tabulated(pf: ProcessForceTable, where: str) -> ProcessForce:
     return ProcessForce(pf.body, pf.point, force)
 
 
+def _profile(table: list[tuple[str, str]], speed: float):
+    """A periodic cubic spline of crank speed against angle turned from the drawing."""
+    from scipy.interpolate import CubicSpline
+
+    from mechdyn.units import to_si
+
+    try:
+        x = np.array([to_si(a, "rad") for a, _ in table])
+        w = np.array([abs(to_si(v, "rad/s")) for _, v in table]) * math.copysign(1.0, speed)
+    except ValueError as exc:
+        raise ValueError(f"speed_profile: {exc}") from None
+    if x[0] != 0 or np.any(np.diff(x) <= 0) or x[-1] >= 2 * math.pi:
+        raise ValueError("speed_profile angles must start at 0 deg and increase below 360 deg")
+    if np.any(w == 0):
+        raise ValueError("speed_profile speeds must not be zero")
+    spline = CubicSpline(np.append(x, 2 * math.pi), np.append(w, w[0]), bc_type="periodic")
+    slope = spline.derivative()
+
+    def rates(turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        t = np.mod(turned, 2 * math.pi)
+        omega = spline(t)
+        return omega, omega * slope(t) * math.copysign(1.0, speed)  # θ̈ = θ̇ dθ̇/dθ
+
+    return rates
+
+
 def build(source: ModelSource) -> MechanismSpec:
     """Builder for ``[model] type = "mechanism"``."""
     f = validate(MechanismFile, source)
@@ -151,7 +178,8 @@ def build(source: ModelSource) -> MechanismSpec:
         with field_context(source, where):
             forces.append(_tabulated(pf, where))
     with field_context(source, "[driver]"):
-        driver = Driver(f.driver.body, f.driver.pivot, f.driver.tip, f.driver.speed)
+        profile = _profile(f.driver.speed_profile, f.driver.speed) if f.driver.speed_profile else None
+        driver = Driver(f.driver.body, f.driver.pivot, f.driver.tip, f.driver.speed, profile)
     tables = {b.name: f"[[bodies]] #{i + 1} (name = {b.name!r})" for i, b in enumerate(f.bodies)}
     tables |= {j.name: f"[[joints]] #{i + 1} (name = {j.name!r})" for i, j in enumerate(f.joints)}
     tables["driver"] = "[driver]"
