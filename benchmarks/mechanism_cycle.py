@@ -22,10 +22,10 @@ import argparse
 import json
 import math
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
+from _timing import best_time
 from scipy.optimize import fsolve
 
 import mechdyn
@@ -34,15 +34,6 @@ from mechdyn.mechanism.dyads import cycle
 from mechdyn.mechanism.dynamics import inverse_dynamics
 
 PRESS = Path(__file__).resolve().parents[1] / "examples" / "press_link_drive.toml"
-
-
-def timed(fn, repeats: int = 3):
-    best, out = math.inf, None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def per_angle_loop(mech, n: int) -> np.ndarray:
@@ -124,12 +115,14 @@ def main(argv: list[str] | None = None) -> int:
     n = 360
     variants = 1000 if args.quick else 10_000
     cycle(mech, 8)  # compile the kernel (cached on disk) before timing
-    t_loop, torque_loop = timed(lambda: per_angle_loop(mech, n), repeats=1)
-    t_dyads, d = timed(lambda: inverse_dynamics(mech, n, method="dyads"))
-    t_newton, dn = timed(lambda: inverse_dynamics(mech, n, method="newton"), repeats=1)
+    t_loop, torque_loop = best_time(lambda: per_angle_loop(mech, n), max_repeats=1)
+    t_dyads, d = best_time(lambda: inverse_dynamics(mech, n, method="dyads"), max_repeats=3)
+    t_newton, dn = best_time(lambda: inverse_dynamics(mech, n, method="newton"), max_repeats=1)
     rng = np.random.default_rng(0)
     pts = {k: np.asarray(mech.points[k]) + rng.normal(scale=0.03, size=(variants, 2)) for k in ("C", "D")}
-    t_batch, batch = timed(lambda: cycle(mech, n, points=pts, store_points=False), repeats=2)
+    t_batch, batch = best_time(
+        lambda: cycle(mech, n, points=pts, store_points=False), max_repeats=2, budget=10.0
+    )
     # agreement: the loop differences positions, so it agrees to its truncation error only
     order = np.argsort(d.kinematics.crank_angle % (2 * math.pi))
     thetas = (mech.drawing_crank_angle + 2 * math.pi / n * np.arange(n)) % (2 * math.pi)

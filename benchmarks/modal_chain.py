@@ -17,28 +17,15 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
-from collections.abc import Callable
 
 import numpy as np
 import scipy.linalg as sla
+from _timing import best_time
 
 from mechdyn.drivetrain import Disk, Drivetrain, Shaft, assemble, modal
 
 OPENTORSION_MAX_N = 2000
 DENSE_MAX_N = 10_000
-
-
-def best_time(fn: Callable[[], object], budget: float = 0.5, max_repeats: int = 5) -> tuple[float, object]:
-    """Smallest wall time of a few runs (stops once ``budget`` seconds are spent)."""
-    times, out, spent = [], None, 0.0
-    while len(times) < max_repeats and (not times or spent < budget):
-        t0 = time.perf_counter()
-        out = fn()
-        dt = time.perf_counter() - t0
-        times.append(dt)
-        spent += dt
-    return min(times), out
 
 
 def chain_data(n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:

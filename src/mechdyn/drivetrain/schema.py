@@ -27,6 +27,7 @@ from mechdyn.io.fields import (
     Frequency,
     Length,
     LinearStiffness,
+    ModelTableBase,
     Pressure,
     quantity,
 )
@@ -44,11 +45,9 @@ PerSecond = quantity("1/s")
 Seconds = quantity("s")
 
 
-class ModelTable(FileModel):
+class ModelTable(ModelTableBase):
     type: Literal["drivetrain"]
     name: str = "drivetrain"
-    description: str = ""
-    source: str = ""
 
 
 class MaterialTable(FileModel):

@@ -13,7 +13,7 @@ from pydantic import Field
 from mechdyn.gears.geometry import SpurGear
 from mechdyn.gears.mesh import GearPair
 from mechdyn.gears.tooth import TruncatedTooth
-from mechdyn.io.fields import Angle, FileModel, Length, Pressure, quantity
+from mechdyn.io.fields import Angle, FileModel, Length, ModelTableBase, Pressure, quantity
 from mechdyn.io.fields import LinearStiffness as Stiffness
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 
@@ -73,11 +73,9 @@ class MeshSettings(FileModel):
     specific_load: LineLoad = 100.0  # N/mm, for the ISO load correction
 
 
-class PairModelTable(FileModel):
+class PairModelTable(ModelTableBase):
     type: Literal["gear_pair"]
     name: str = "gear pair"
-    description: str = ""
-    source: str = ""
 
 
 class GearPairModel(FileModel):
@@ -150,11 +148,9 @@ class PublishedTable(FileModel):
     note: str = ""
 
 
-class ToothModelTable(FileModel):
+class ToothModelTable(ModelTableBase):
     type: Literal["tooth_pair"]
     name: str = "tooth pair"
-    description: str = ""
-    source: str = ""
 
 
 class ToothPairModel(FileModel):

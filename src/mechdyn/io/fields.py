@@ -16,6 +16,7 @@ __all__ = [
     "Frequency",
     "Length",
     "LinearStiffness",
+    "ModelTableBase",
     "Pressure",
     "quantity",
 ]
@@ -48,3 +49,11 @@ Density = quantity("kg/m^3")
 Frequency = quantity("Hz")
 LinearStiffness = quantity("N/m")
 Dimensionless = quantity("")
+
+
+class ModelTableBase(FileModel):
+    """The ``[model]`` table every model file starts with; each type adds ``type: Literal[...]``."""
+
+    name: str = "model"
+    description: str = ""
+    source: str = ""

@@ -16,7 +16,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
-from mechdyn.io.fields import Angle, FileModel, Length, quantity
+from mechdyn.io.fields import Angle, FileModel, Length, ModelTableBase, quantity
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 from mechdyn.mechanism.model import Body, Driver, Mechanism, Prismatic, ProcessForce, Revolute
 
@@ -29,11 +29,9 @@ Acceleration = quantity("m/s^2")
 Force = quantity("N")
 
 
-class ModelTable(FileModel):
+class ModelTable(ModelTableBase):
     type: Literal["mechanism"]
     name: str = "mechanism"
-    description: str = ""
-    source: str = ""
 
 
 class BodyTable(FileModel):
