@@ -106,3 +106,14 @@ def test_a_failing_variant(press):
     kept = cycle(press, 60, points={"D": D}, errors="nan")
     assert kept.assembled.tolist() == [True, False]
     assert np.isfinite(kept.summary()["stroke_m"][0])
+
+
+def test_a_lean_batch_says_what_it_did_not_keep(press):
+    from mechdyn.errors import ModelError
+
+    lean = cycle(press, 30, store_points=False)
+    assert lean.summary()["stroke_m"].shape == (1,)
+    with pytest.raises(ModelError, match=r"motion of 'F' was not kept; run cycle\(..., store_points=True\)"):
+        lean.point("F")
+    with pytest.raises(ModelError, match="was not kept"):
+        lean.q

@@ -163,12 +163,22 @@ class CycleBatch:
         """(V, N, 2) −Σ m a_G, N."""
         return np.stack([self._inertia.real, self._inertia.imag], axis=-1)
 
+    def _stored(self, key: str) -> None:
+        if key not in self._z:
+            raise ModelError(
+                f"the motion of {key.removeprefix('__com__')!r} was not kept; "
+                "run cycle(..., store_points=True)",
+                element="cycle",
+            )
+
     def point(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Position, velocity and acceleration of a drawing point, each (V, N, 2)."""
+        self._stored(name)
         return tuple(np.stack([z.real, z.imag], axis=-1) for z in self._z[name])  # type: ignore[return-value]
 
     def _coordinates(self, which: int) -> np.ndarray:
         m = self.mechanism
+        self._stored(f"__com__{m.bodies[0].name}")
         out = np.empty((*self.angle.shape, 3 * len(m.bodies)))
         for i, b in enumerate(m.bodies):
             z = self._z[f"__com__{b.name}"][which]
