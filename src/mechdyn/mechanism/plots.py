@@ -53,14 +53,15 @@ def plot_inertia_forces(result: DynamicsResult, ax: Any = None) -> Any:
     j = result.mechanism.output_joint()
     u = np.array([np.cos(j.axis), np.sin(j.axis)]) if j is not None else None
     label = "along the output axis" if u is not None else "magnitude"
+    total = result.inertia_force @ u if u is not None else np.linalg.norm(result.inertia_force, axis=1)
+    scale, unit = (1e3, "kN") if np.abs(result.inertia_forces).max() >= 1e3 else (1.0, "N")
     for i, b in enumerate(result.mechanism.bodies):
         f = result.inertia_forces[:, i, :]
-        ax.plot(deg, (f @ u if u is not None else np.linalg.norm(f, axis=1)) / 1e3, lw=1, label=b.name)
-    total = result.inertia_force @ u if u is not None else np.linalg.norm(result.inertia_force, axis=1)
-    ax.plot(deg, total / 1e3, color="k", lw=2, label="total")
+        ax.plot(deg, (f @ u if u is not None else np.linalg.norm(f, axis=1)) / scale, lw=1, label=b.name)
+    ax.plot(deg, total / scale, color="k", lw=2, label="total")
     _dead_centres(ax, result)
     ax.set_xlabel("crank angle (deg)")
-    ax.set_ylabel(f"inertia force {label} (kN)")
+    ax.set_ylabel(f"inertia force {label} ({unit})")
     ax.set_title(f"{result.mechanism.name}: inertia forces")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
