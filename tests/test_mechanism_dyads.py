@@ -117,3 +117,19 @@ def test_a_lean_batch_says_what_it_did_not_keep(press):
         lean.point("F")
     with pytest.raises(ModelError, match="was not kept"):
         lean.q
+
+
+def test_kinetostatics_with_process_forces_equal_the_jacobian_solve(press):
+    # a forming force over part of the stroke, and gravity: the dyad-by-dyad joint forces must equal
+    # the multipliers of the full Jacobian solve
+    from mechdyn.mechanism.model import ProcessForce
+
+    forming = ProcessForce("slide", "F", lambda th, s: (np.where(s < 0.2, 2e5, 0.0), 0.0 * th))
+    m = replace(press, process_forces=(forming,), gravity=(-9.81, 0.0))
+    a = inverse_dynamics(m, 180, method="dyads")
+    b = inverse_dynamics(m, 180, method="newton")
+    np.testing.assert_allclose(a.multipliers, b.multipliers, atol=1e-9 * np.abs(b.multipliers).max())
+    assert np.abs(a.power_balance_residual).max() < 1e-9 * np.abs(a.driving_torque * a.crank_speed).max()
+    for j in m.joints:  # Newton's third law from the kinetostatic forces
+        fa, fb = a.joint_load(j.name, j.bodies[0]), a.joint_load(j.name, j.bodies[1])
+        np.testing.assert_allclose(fa[:, :2], -fb[:, :2], atol=1e-9 * np.abs(fa).max())

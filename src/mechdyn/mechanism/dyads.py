@@ -152,6 +152,8 @@ class CycleBatch:
     _inertia: np.ndarray  # complex (V, N): −Σ m a_G
     _z: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
     _rates: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
+    _dyad_measure: np.ndarray  # (V, N, dyads) sine of each dyad's transmission angle (kept motions only)
+    _steps: list[Step]
 
     @property
     def shaking_force(self) -> np.ndarray:
@@ -304,7 +306,7 @@ def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
                 ],
                 axis=1,
             )
-            ops.append([_RRR, t, k1, k2, -1, 0])
+            ops.append([_RRR, t, k1, k2, -1, sum(o[0] in (_RRR, _RRP) for o in ops)])
             fdata.append(f)
             continue
         else:  # rrp
@@ -319,7 +321,7 @@ def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
                 ],
                 axis=1,
             )
-            ops.append([_RRP, t, k1, -1, -1, 0])
+            ops.append([_RRP, t, k1, -1, -1, sum(o[0] in (_RRR, _RRP) for o in ops)])
             fdata.append(f)
             continue
         # place every remaining point of the body and its centre of mass from k1
@@ -370,6 +372,7 @@ def _kernel():
         moment,
         torque,
         s_out,
+        dyad_meas,
     ):
         V, N = force.shape
         S = dz.shape[1]
@@ -431,6 +434,8 @@ def _kernel():
                         a1 = pp - pos[k1]
                         a2 = pp - pos[k2]
                         det = a1.real * a2.imag - a1.imag * a2.real
+                        if dyad_meas.shape[0] > 0:  # sine of the transmission angle, signed
+                            dyad_meas[v, k, ops[o, 5]] = det / (abs(a1) * abs(a2))
                         b1 = a1.real * vel[k1].real + a1.imag * vel[k1].imag
                         b2 = a2.real * vel[k2].real + a2.imag * vel[k2].imag
                         vv = ((b1 * a2.imag - b2 * a1.imag) + 1j * (a1.real * b2 - a2.real * b1)) / det
@@ -462,6 +467,8 @@ def _kernel():
                         pp = q0 + sp * u
                         rel = pp - pos[k1]
                         den = rel.real * u.real + rel.imag * u.imag
+                        if dyad_meas.shape[0] > 0:
+                            dyad_meas[v, k, ops[o, 5]] = den / abs(rel)
                         sd = (rel.real * vel[k1].real + rel.imag * vel[k1].imag) / den
                         vv = sd * u
                         e = vv - vel[k1]
@@ -601,6 +608,8 @@ def cycle(
     s_out = np.empty((V, N)) if j is not None else np.empty((0, 0))
     turn = np.exp(1j * step * np.arange(N))  # the crank's rotation from the drawing, the same for all
     omega_k, alpha_k = m.driver.rates(abs(step) * np.arange(N))
+    n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
+    dyad_meas = np.empty((V, N, n_dyads) if store_points else (0, 0, 0))
     _kernel()(
         dz,
         ops,
@@ -624,6 +633,7 @@ def cycle(
         moment,
         torque,
         s_out,
+        dyad_meas,
     )
     if errors not in ("raise", "nan"):
         raise ModelError(f"errors={errors!r} must be 'raise' or 'nan'")
@@ -648,7 +658,7 @@ def cycle(
         if store_points
         else {}
     )
-    return CycleBatch(m, angle, torque, moment, s_out, force, inertia_force, z, body_rates)
+    return CycleBatch(m, angle, torque, moment, s_out, force, inertia_force, z, body_rates, dyad_meas, steps)
 
 
 def _explain_failure(

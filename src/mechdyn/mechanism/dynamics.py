@@ -245,6 +245,14 @@ def inverse_dynamics(
     mass = np.repeat(mech.masses, 3).reshape(nb, 3)
     mass[:, 2] = mech.inertias
     Q = _applied(mech, k)
+    if k.dyads is not None:  # joint forces group by group, without the full Jacobian
+        from mechdyn.mechanism.kinetostatics import multipliers
+
+        order = np.argsort(k.dyads.angle[0])
+        inverse = np.empty_like(order)
+        inverse[order] = np.arange(order.size)
+        lam = multipliers(k.dyads, Q[inverse])[order]
+        return DynamicsResult(k, lam, Q)
     ev = k.evaluation
     lam, _ = solve_with_det(np.swapaxes(ev.jacobian, -1, -2), Q - mass.ravel() * k.qdd)
     return DynamicsResult(k, lam, Q)

@@ -51,6 +51,9 @@ class KinematicsResult:
     q, qd, qdd : ndarray
         (N, n) body coordinates (x_G, y_G, φ per body), velocities and accelerations.
     constraints : ConstraintSet
+    dyads : CycleBatch or None
+        The closed-form dyad solution it came from, if any (its joint forces follow by dyad
+        kinetostatics, without the full Jacobian).
     """
 
     @cached_property
@@ -66,6 +69,7 @@ class KinematicsResult:
     qd: np.ndarray
     qdd: np.ndarray
     constraints: ConstraintSet
+    dyads: object = None
 
     def point(self, body: str, point: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Position, velocity and acceleration of a drawing point on a body, each (N, 2)."""
@@ -243,8 +247,17 @@ def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
     q, qd, qdd = c.q[0][order], c.qd[0][order], c.qdd[0][order]
     angle = c.angle[0][order]
     time = mechanism.driver.time(np.abs(step) * np.arange(n))[order]
-    result = KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, cs)
-    _check_conditioning(result.evaluation.jacobian, angle, True)
+    result = KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, cs, c)
+    meas = c._dyad_measure[0][order]  # (N, dyads): Φ_q is singular exactly where one of these is 0
+    crossing = (np.sign(meas) != np.sign(np.roll(meas, -1, axis=0))).any(axis=1)
+    bad = ~np.isfinite(meas).all(axis=1) | (np.abs(meas).min(axis=1, initial=1.0) < 1e-9) | crossing
+    if bad.any():
+        k = int(np.argmin(np.abs(meas).min(axis=1, initial=1.0)))
+        raise SingularPositionError(
+            f"singular (toggle or dead-centre) position at crank angle {math.degrees(angle[k]):.6g}° "
+            "(a dyad's links fall in line there); the mechanism locks or bifurcates, so velocities and "
+            "forces are unbounded; change the link lengths"
+        )
     return result
 
 
