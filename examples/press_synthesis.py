@@ -120,6 +120,13 @@ def cost(p: np.ndarray) -> float:
 
 def fit(quick: bool = False, seed: int = 1) -> np.ndarray:
     """Differential evolution over the nine dimensions (a short run with ``quick``)."""
+    generation = [0]
+
+    def progress(intermediate_result) -> None:
+        generation[0] += 1
+        if not quick and generation[0] % 25 == 0:
+            print(f"  generation {generation[0]}: cost {intermediate_result.fun:.4g}", flush=True)
+
     res = differential_evolution(
         cost,
         BOUNDS,
@@ -128,6 +135,7 @@ def fit(quick: bool = False, seed: int = 1) -> np.ndarray:
         popsize=8 if quick else 20,
         tol=1e-10,
         polish=not quick,
+        callback=progress,
     )
     return np.asarray(res.x)
 
