@@ -154,6 +154,7 @@ class CycleBatch:
     _rates: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
     _dyad_measure: np.ndarray  # (V, N, dyads) sine of each dyad's transmission angle (kept motions only)
     _steps: list[Step]
+    _raw: tuple[np.ndarray, ...]  # (pos, vel, acc, rates) as the kernel wrote them
 
     @property
     def shaking_force(self) -> np.ndarray:
@@ -178,31 +179,23 @@ class CycleBatch:
         self._stored(name)
         return tuple(np.stack([z.real, z.imag], axis=-1) for z in self._z[name])  # type: ignore[return-value]
 
-    def _coordinates(self, which: int) -> np.ndarray:
+    def coordinates(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Body coordinates q, q̇, q̈, each (V, N, n), as in
+        :class:`~mechdyn.mechanism.kinematics.KinematicsResult` (x_G, y_G, φ per body)."""
         m = self.mechanism
         self._stored(f"__com__{m.bodies[0].name}")
-        out = np.empty((*self.angle.shape, 3 * len(m.bodies)))
-        for i, b in enumerate(m.bodies):
-            z = self._z[f"__com__{b.name}"][which]
-            out[..., 3 * i], out[..., 3 * i + 1], out[..., 3 * i + 2] = (
-                z.real,
-                z.imag,
-                self._rates[b.name][which],
-            )
-        return out
+        pos, vel, acc, rates = self._raw
+        nb = len(m.bodies)
+        z = np.stack([pos[..., -nb:], vel[..., -nb:], acc[..., -nb:]])  # the centres of mass come last
+        out = np.empty((*z.shape, 3))
+        out[..., 0], out[..., 1], out[..., 2] = z.real, z.imag, np.moveaxis(rates, -1, 0)
+        q, qd, qdd = out.reshape(3, *self.angle.shape, 3 * nb)
+        return q, qd, qdd
 
     @property
     def q(self) -> np.ndarray:
-        """(V, N, n) body coordinates as in :class:`~mechdyn.mechanism.kinematics.KinematicsResult`."""
-        return self._coordinates(0)
-
-    @property
-    def qd(self) -> np.ndarray:
-        return self._coordinates(1)
-
-    @property
-    def qdd(self) -> np.ndarray:
-        return self._coordinates(2)
+        """(V, N, n) body coordinates (see :meth:`coordinates`)."""
+        return self.coordinates()[0]
 
     @property
     def assembled(self) -> np.ndarray:
@@ -273,83 +266,62 @@ def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
     V = next(iter(draw.values())).shape[0]
     dz = np.empty((V, P + nb), dtype=complex)
     for n, i in slot.items():
-        dz[:, i] = (
-            _com(next(b for b in m.bodies if b.name == n[7:]), draw) if n.startswith("__com__") else draw[n]
-        )
-    ops: list[list[int]] = []  # kind, target, k1, k2, body, extra
-    fdata: list[np.ndarray] = []  # per-operation per-variant float data: (V, 3)
-    zeros = np.zeros((V, 4))
+        dz[:, i] = draw[n] if i < P else _com(m.bodies[i - P], draw)
+    n_ops = sum(1 if st.kind in ("rrr", "rrp") else 1 + len(st.target) + 1 for st in steps)
+    ops = np.full((n_ops, 6), -1, dtype=np.int64)  # kind, target, k1, k2, body, dyad number
+    fdata = np.zeros((V, n_ops, 4))  # per-operation per-variant float data
     grounded = sorted({slot[j.point] for j in m.joints if isinstance(j, Revolute) and GROUND in j.bodies})
+    o = 0
+    dyad = 0
     for st in steps:
         bi = m.body_index[st.body] if st.body is not None else -1
-        if st.kind == "crank":
-            k1 = slot[m.driver.pivot]
-            ops.append([_CRANK, -1, k1, -1, bi, 0])
-            fdata.append(zeros)
-        elif st.kind == "rigid" and st.guide is not None:
-            k1 = slot[st.known[0]]
-            ops.append([_GUIDE, -1, k1, -1, bi, 0])
-            fdata.append(zeros)
-        elif st.kind == "rigid":
-            k1, k2 = slot[st.known[0]], slot[st.known[1]]
-            ops.append([_RIGID, -1, k1, k2, bi, 0])
-            d2 = np.abs(dz[:, k2] - dz[:, k1]) ** 2
-            fdata.append(np.stack([1.0 / d2, np.zeros(V), np.zeros(V), np.zeros(V)], axis=1))
-        elif st.kind == "rrr":
-            t, k1, k2 = slot[st.target], slot[st.known[0]], slot[st.known[1]]  # type: ignore[index]
-            f = np.stack(
-                [
-                    np.abs(dz[:, t] - dz[:, k1]),
-                    np.abs(dz[:, t] - dz[:, k2]),
-                    np.sign(_cross(dz[:, k2] - dz[:, k1], dz[:, t] - dz[:, k1])),
-                    np.zeros(V),
-                ],
-                axis=1,
-            )
-            ops.append([_RRR, t, k1, k2, -1, sum(o[0] in (_RRR, _RRP) for o in ops)])
-            fdata.append(f)
-            continue
-        else:  # rrp
+        if st.kind in ("rrr", "rrp"):
             t, k1 = slot[st.target], slot[st.known[0]]  # type: ignore[index]
-            u = complex(math.cos(st.guide.axis), math.sin(st.guide.axis))  # type: ignore[union-attr]
-            f = np.stack(
-                [
-                    np.abs(dz[:, t] - dz[:, k1]),
-                    np.where(_dot(dz[:, t] - dz[:, k1], u) >= 0, 1.0, -1.0),
-                    np.full(V, u.real),
-                    np.full(V, u.imag),
-                ],
-                axis=1,
-            )
-            ops.append([_RRP, t, k1, -1, -1, sum(o[0] in (_RRR, _RRP) for o in ops)])
-            fdata.append(f)
+            d1 = dz[:, t] - dz[:, k1]
+            fdata[:, o, 0] = np.abs(d1)
+            if st.kind == "rrr":
+                k2 = slot[st.known[1]]
+                ops[o] = (_RRR, t, k1, k2, -1, dyad)
+                fdata[:, o, 1] = np.abs(dz[:, t] - dz[:, k2])
+                fdata[:, o, 2] = np.sign(_cross(dz[:, k2] - dz[:, k1], d1))
+            else:
+                u = complex(math.cos(st.guide.axis), math.sin(st.guide.axis))  # type: ignore[union-attr]
+                ops[o] = (_RRP, t, k1, -1, -1, dyad)
+                fdata[:, o, 1] = np.where(_dot(d1, u) >= 0, 1.0, -1.0)
+                fdata[:, o, 2:] = u.real, u.imag
+            o += 1
+            dyad += 1
             continue
+        k1 = slot[st.known[0]]
+        if st.kind == "crank":
+            ops[o, [0, 2, 4]] = _CRANK, k1, bi
+        elif st.guide is not None:
+            ops[o, [0, 2, 4]] = _GUIDE, k1, bi
+        else:
+            k2 = slot[st.known[1]]
+            ops[o, [0, 2, 3, 4]] = _RIGID, k1, k2, bi
+            fdata[:, o, 0] = 1.0 / np.abs(dz[:, k2] - dz[:, k1]) ** 2
         # place every remaining point of the body and its centre of mass from k1
-        body = m.bodies[bi]
-        for tname in (*st.target, f"__com__{body.name}"):
-            ops.append([_PLACE, slot[tname], ops[-1][2], -1, bi, 0])
-            fdata.append(zeros)
-    return (
-        slot,
-        dz,
-        np.array(ops, dtype=np.int64),
-        np.stack(fdata, axis=1),
-        np.array(grounded, dtype=np.int64),
-    )
+        for tname in (*st.target, f"__com__{m.bodies[bi].name}"):
+            o += 1
+            ops[o, :5] = _PLACE, slot[tname], k1, -1, bi
+        o += 1
+    return slot, dz, ops, fdata, np.array(grounded, dtype=np.int64)
 
 
-_KERNEL = None
+_KERNELS: dict[bool, Any] = {}
 
 
-def _kernel():
-    """Compile the kernel on first use (numba; cached on disk)."""
-    global _KERNEL
-    if _KERNEL is not None:
-        return _KERNEL
+def _kernel(parallel: bool = True):
+    """Compile the kernel on first use (numba; cached on disk): over the variants in parallel
+    threads, or serially (one design: no threads to start)."""
+    if parallel in _KERNELS:
+        return _KERNELS[parallel]
     import numba
 
-    @numba.njit(parallel=True, cache=True, fastmath=False)
-    def run(
+    @numba.njit(cache=True, error_model="numpy", inline="always")
+    def variant(
+        v,
         dz,
         ops,
         fdata,
@@ -374,150 +346,256 @@ def _kernel():
         s_out,
         dyad_meas,
     ):
-        V, N = force.shape
+        N = force.shape[1]
         S = dz.shape[1]
         nb = mass.shape[1]
         P = S - nb
         rates = rate_out.shape[0] > 0
-        msum = np.zeros(V)
-        for v in range(V):
-            for i in range(nb):
-                msum[v] += mass[v, i]
-        for v in numba.prange(V):
-            pos = np.zeros(S, dtype=np.complex128)
-            vel = np.zeros(S, dtype=np.complex128)
-            acc = np.zeros(S, dtype=np.complex128)
-            rot = np.ones(nb, dtype=np.complex128)
-            w = np.zeros(nb)
-            al = np.zeros(nb)
-            ph = np.zeros(nb)
-            for k in range(N):
-                for g in grounded:
-                    pos[g] = dz[v, g]
-                for o in range(ops.shape[0]):
-                    kind, t, k1, k2, b = ops[o, 0], ops[o, 1], ops[o, 2], ops[o, 3], ops[o, 4]
-                    if kind == 0:  # crank: turned by step × k from the drawing
-                        rot[b] = turn[k]
-                        ph[b] = np.angle(turn[k]) if rates else 0.0
-                        w[b] = omega[k]
-                        al[b] = alpha[k]
-                    elif kind == 1:  # rigid body from two known points
-                        dn = pos[k2] - pos[k1]
-                        dd = dz[v, k2] - dz[v, k1]
-                        inv = fdata[v, o, 0]  # 1/|dd|² = 1/|dn|²: a rigid body keeps its lengths
-                        rot[b] = dn * np.conj(dd) * inv
-                        ph[b] = np.angle(rot[b]) if rates else 0.0
-                        n2 = 1.0 / inv
-                        dv = vel[k2] - vel[k1]
-                        da = acc[k2] - acc[k1]
-                        w[b] = (dn.real * dv.imag - dn.imag * dv.real) / n2
-                        al[b] = (dn.real * da.imag - dn.imag * da.real) / n2
-                    elif kind == 2:  # a slider translating on a frame guide
-                        rot[b] = 1.0 + 0.0j
-                        ph[b] = 0.0
-                        w[b] = 0.0
-                        al[b] = 0.0
-                    elif kind == 3:  # a point of body b, from its point k1
-                        r = rot[b] * (dz[v, t] - dz[v, k1])
-                        pos[t] = pos[k1] + r
-                        vel[t] = vel[k1] + 1j * r * w[b]
-                        acc[t] = acc[k1] + r * (1j * al[b] - w[b] * w[b])
-                    elif kind == 4:  # RRR dyad
-                        r1, r2, sg = fdata[v, o, 0], fdata[v, o, 1], fdata[v, o, 2]
-                        d = pos[k2] - pos[k1]
-                        dist = abs(d)
-                        x = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist)
-                        h2 = r1 * r1 - x * x
-                        if h2 < 0.0:
-                            h2 = np.nan
-                        pp = pos[k1] + d / dist * (x + 1j * sg * np.sqrt(h2))
-                        a1 = pp - pos[k1]
-                        a2 = pp - pos[k2]
-                        det = a1.real * a2.imag - a1.imag * a2.real
-                        if dyad_meas.shape[0] > 0:  # sine of the transmission angle, signed
-                            dyad_meas[v, k, ops[o, 5]] = det / (abs(a1) * abs(a2))
-                        b1 = a1.real * vel[k1].real + a1.imag * vel[k1].imag
-                        b2 = a2.real * vel[k2].real + a2.imag * vel[k2].imag
-                        vv = ((b1 * a2.imag - b2 * a1.imag) + 1j * (a1.real * b2 - a2.real * b1)) / det
-                        e1 = vv - vel[k1]
-                        e2 = vv - vel[k2]
-                        c1 = (
-                            a1.real * acc[k1].real
-                            + a1.imag * acc[k1].imag
-                            - (e1.real * e1.real + e1.imag * e1.imag)
-                        )
-                        c2 = (
-                            a2.real * acc[k2].real
-                            + a2.imag * acc[k2].imag
-                            - (e2.real * e2.real + e2.imag * e2.imag)
-                        )
-                        pos[t] = pp
-                        vel[t] = vv
-                        acc[t] = ((c1 * a2.imag - c2 * a1.imag) + 1j * (a1.real * c2 - a2.real * c1)) / det
-                    else:  # RRP dyad: a link end on a frame guide through the point's drawing position
-                        L, sg = fdata[v, o, 0], fdata[v, o, 1]
-                        u = fdata[v, o, 2] + 1j * fdata[v, o, 3]
-                        q0 = dz[v, t]
-                        wq = q0 - pos[k1]
-                        bq = wq.real * u.real + wq.imag * u.imag
-                        disc = bq * bq - (wq.real * wq.real + wq.imag * wq.imag - L * L)
-                        if disc < 0.0:
-                            disc = np.nan
-                        sp = -bq + sg * np.sqrt(disc)
-                        pp = q0 + sp * u
-                        rel = pp - pos[k1]
-                        den = rel.real * u.real + rel.imag * u.imag
-                        if dyad_meas.shape[0] > 0:
-                            dyad_meas[v, k, ops[o, 5]] = den / abs(rel)
-                        sd = (rel.real * vel[k1].real + rel.imag * vel[k1].imag) / den
-                        vv = sd * u
-                        e = vv - vel[k1]
-                        sdd = (
-                            rel.real * acc[k1].real
-                            + rel.imag * acc[k1].imag
-                            - (e.real * e.real + e.imag * e.imag)
-                        ) / den
-                        pos[t] = pp
-                        vel[t] = vv
-                        acc[t] = sdd * u
-                # loads from the power and momentum balances of the whole mechanism
-                f = 0.0 + 0.0j
-                mo = 0.0
-                pw = 0.0
-                for i in range(nb):
-                    c = P + i
-                    net = mass[v, i] * (grav - acc[c])
-                    f += net
-                    mo += pos[c].real * net.imag - pos[c].imag * net.real - inertia[v, i] * al[i]
-                    pw += (
-                        mass[v, i]
-                        * (
-                            vel[c].real * acc[c].real
-                            + vel[c].imag * acc[c].imag
-                            - grav.real * vel[c].real
-                            - grav.imag * vel[c].imag
-                        )
-                        + inertia[v, i] * w[i] * al[i]
+        msum = 0.0
+        for i in range(nb):
+            msum += mass[v, i]
+        pos = np.zeros(S, dtype=np.complex128)
+        vel = np.zeros(S, dtype=np.complex128)
+        acc = np.zeros(S, dtype=np.complex128)
+        rot = np.ones(nb, dtype=np.complex128)
+        w = np.zeros(nb)
+        al = np.zeros(nb)
+        ph = np.zeros(nb)
+        for k in range(N):
+            for g in grounded:
+                pos[g] = dz[v, g]
+            for o in range(ops.shape[0]):
+                kind, t, k1, k2, b = ops[o, 0], ops[o, 1], ops[o, 2], ops[o, 3], ops[o, 4]
+                if kind == 0:  # crank: turned by step × k from the drawing
+                    rot[b] = turn[k]
+                    ph[b] = np.angle(turn[k]) if rates else 0.0
+                    w[b] = omega[k]
+                    al[b] = alpha[k]
+                elif kind == 1:  # rigid body from two known points
+                    dn = pos[k2] - pos[k1]
+                    dd = dz[v, k2] - dz[v, k1]
+                    inv = fdata[v, o, 0]  # 1/|dd|² = 1/|dn|²: a rigid body keeps its lengths
+                    rot[b] = dn * np.conj(dd) * inv
+                    ph[b] = np.angle(rot[b]) if rates else 0.0
+                    n2 = 1.0 / inv
+                    dv = vel[k2] - vel[k1]
+                    da = acc[k2] - acc[k1]
+                    w[b] = (dn.real * dv.imag - dn.imag * dv.real) / n2
+                    al[b] = (dn.real * da.imag - dn.imag * da.real) / n2
+                elif kind == 2:  # a slider translating on a frame guide
+                    rot[b] = 1.0 + 0.0j
+                    ph[b] = 0.0
+                    w[b] = 0.0
+                    al[b] = 0.0
+                elif kind == 3:  # a point of body b, from its point k1
+                    r = rot[b] * (dz[v, t] - dz[v, k1])
+                    pos[t] = pos[k1] + r
+                    vel[t] = vel[k1] + 1j * r * w[b]
+                    acc[t] = acc[k1] + r * (1j * al[b] - w[b] * w[b])
+                elif kind == 4:  # RRR dyad
+                    r1, r2, sg = fdata[v, o, 0], fdata[v, o, 1], fdata[v, o, 2]
+                    d = pos[k2] - pos[k1]
+                    dist = abs(d)
+                    x = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist)
+                    h2 = r1 * r1 - x * x
+                    if h2 < 0.0:
+                        h2 = np.nan
+                    pp = pos[k1] + d / dist * (x + 1j * sg * np.sqrt(h2))
+                    a1 = pp - pos[k1]
+                    a2 = pp - pos[k2]
+                    det = a1.real * a2.imag - a1.imag * a2.real
+                    if dyad_meas.shape[0] > 0:  # sine of the transmission angle, signed
+                        dyad_meas[v, k, ops[o, 5]] = det / (abs(a1) * abs(a2))
+                    b1 = a1.real * vel[k1].real + a1.imag * vel[k1].imag
+                    b2 = a2.real * vel[k2].real + a2.imag * vel[k2].imag
+                    vv = ((b1 * a2.imag - b2 * a1.imag) + 1j * (a1.real * b2 - a2.real * b1)) / det
+                    e1 = vv - vel[k1]
+                    e2 = vv - vel[k2]
+                    c1 = (
+                        a1.real * acc[k1].real
+                        + a1.imag * acc[k1].imag
+                        - (e1.real * e1.real + e1.imag * e1.imag)
                     )
-                force[v, k] = f
-                inertia_force[v, k] = f - grav * msum[v]
-                moment[v, k] = mo
-                torque[v, k] = pw / omega[k]
-                if out_slot >= 0:
-                    d = pos[out_slot] - dz[v, out_slot]
-                    s_out[v, k] = d.real * u_out.real + d.imag * u_out.imag
-                for j in range(keep.shape[0]):
-                    pos_out[v, k, j] = pos[keep[j]]
-                    vel_out[v, k, j] = vel[keep[j]]
-                    acc_out[v, k, j] = acc[keep[j]]
-                if rates:
-                    for i in range(nb):
-                        rate_out[v, k, i, 0] = ph[i]
-                        rate_out[v, k, i, 1] = w[i]
-                        rate_out[v, k, i, 2] = al[i]
+                    c2 = (
+                        a2.real * acc[k2].real
+                        + a2.imag * acc[k2].imag
+                        - (e2.real * e2.real + e2.imag * e2.imag)
+                    )
+                    pos[t] = pp
+                    vel[t] = vv
+                    acc[t] = ((c1 * a2.imag - c2 * a1.imag) + 1j * (a1.real * c2 - a2.real * c1)) / det
+                else:  # RRP dyad: a link end on a frame guide through the point's drawing position
+                    L, sg = fdata[v, o, 0], fdata[v, o, 1]
+                    u = fdata[v, o, 2] + 1j * fdata[v, o, 3]
+                    q0 = dz[v, t]
+                    wq = q0 - pos[k1]
+                    bq = wq.real * u.real + wq.imag * u.imag
+                    disc = bq * bq - (wq.real * wq.real + wq.imag * wq.imag - L * L)
+                    if disc < 0.0:
+                        disc = np.nan
+                    sp = -bq + sg * np.sqrt(disc)
+                    pp = q0 + sp * u
+                    rel = pp - pos[k1]
+                    den = rel.real * u.real + rel.imag * u.imag
+                    if dyad_meas.shape[0] > 0:
+                        dyad_meas[v, k, ops[o, 5]] = den / abs(rel)
+                    sd = (rel.real * vel[k1].real + rel.imag * vel[k1].imag) / den
+                    vv = sd * u
+                    e = vv - vel[k1]
+                    sdd = (
+                        rel.real * acc[k1].real
+                        + rel.imag * acc[k1].imag
+                        - (e.real * e.real + e.imag * e.imag)
+                    ) / den
+                    pos[t] = pp
+                    vel[t] = vv
+                    acc[t] = sdd * u
+            # loads from the power and momentum balances of the whole mechanism
+            f = 0.0 + 0.0j
+            mo = 0.0
+            pw = 0.0
+            for i in range(nb):
+                c = P + i
+                net = mass[v, i] * (grav - acc[c])
+                f += net
+                mo += pos[c].real * net.imag - pos[c].imag * net.real - inertia[v, i] * al[i]
+                pw += (
+                    mass[v, i]
+                    * (
+                        vel[c].real * acc[c].real
+                        + vel[c].imag * acc[c].imag
+                        - grav.real * vel[c].real
+                        - grav.imag * vel[c].imag
+                    )
+                    + inertia[v, i] * w[i] * al[i]
+                )
+            force[v, k] = f
+            inertia_force[v, k] = f - grav * msum
+            moment[v, k] = mo
+            torque[v, k] = pw / omega[k]
+            if out_slot >= 0:
+                d = pos[out_slot] - dz[v, out_slot]
+                s_out[v, k] = d.real * u_out.real + d.imag * u_out.imag
+            for j in range(keep.shape[0]):
+                pos_out[v, k, j] = pos[keep[j]]
+                vel_out[v, k, j] = vel[keep[j]]
+                acc_out[v, k, j] = acc[keep[j]]
+            if rates:
+                for i in range(nb):
+                    rate_out[v, k, i, 0] = ph[i]
+                    rate_out[v, k, i, 1] = w[i]
+                    rate_out[v, k, i, 2] = al[i]
 
-    _KERNEL = run
-    return run
+    @numba.njit(parallel=True, cache=True, error_model="numpy")
+    def run_parallel(
+        dz,
+        ops,
+        fdata,
+        grounded,
+        turn,
+        omega,
+        alpha,
+        mass,
+        inertia,
+        grav,
+        keep,
+        out_slot,
+        u_out,
+        pos_out,
+        vel_out,
+        acc_out,
+        rate_out,
+        force,
+        inertia_force,
+        moment,
+        torque,
+        s_out,
+        dyad_meas,
+    ):
+        for v in numba.prange(force.shape[0]):
+            variant(
+                v,
+                dz,
+                ops,
+                fdata,
+                grounded,
+                turn,
+                omega,
+                alpha,
+                mass,
+                inertia,
+                grav,
+                keep,
+                out_slot,
+                u_out,
+                pos_out,
+                vel_out,
+                acc_out,
+                rate_out,
+                force,
+                inertia_force,
+                moment,
+                torque,
+                s_out,
+                dyad_meas,
+            )
+
+    @numba.njit(cache=True, error_model="numpy")
+    def run_serial(
+        dz,
+        ops,
+        fdata,
+        grounded,
+        turn,
+        omega,
+        alpha,
+        mass,
+        inertia,
+        grav,
+        keep,
+        out_slot,
+        u_out,
+        pos_out,
+        vel_out,
+        acc_out,
+        rate_out,
+        force,
+        inertia_force,
+        moment,
+        torque,
+        s_out,
+        dyad_meas,
+    ):
+        for v in range(force.shape[0]):
+            variant(
+                v,
+                dz,
+                ops,
+                fdata,
+                grounded,
+                turn,
+                omega,
+                alpha,
+                mass,
+                inertia,
+                grav,
+                keep,
+                out_slot,
+                u_out,
+                pos_out,
+                vel_out,
+                acc_out,
+                rate_out,
+                force,
+                inertia_force,
+                moment,
+                torque,
+                s_out,
+                dyad_meas,
+            )
+
+    _KERNELS[True], _KERNELS[False] = run_parallel, run_serial
+    return _KERNELS[parallel]
 
 
 def cycle(
@@ -564,16 +642,16 @@ def cycle(
     """
     m = mechanism
     steps = plan(m)
-    V = 1
-    draw: dict[str, np.ndarray] = {k: np.atleast_1d(_z(v)) for k, v in m.points.items()}
+    given = {}
     for name, arr in (points or {}).items():
-        if name not in draw:
+        if name not in m.points:
             raise ModelError(f"point {name!r} is not in the drawing", element="points")
-        draw[name] = _z(np.asarray(arr, dtype=float).reshape(-1, 2))
-        V = max(V, draw[name].size)
-    for arr in (masses or {}).values():
-        V = max(V, np.asarray(arr).size)
-    draw = {k: np.broadcast_to(v, (V,)).copy() for k, v in draw.items()}
+        given[name] = _z(np.asarray(arr, dtype=float).reshape(-1, 2))
+    V = max([1, *(a.size for a in given.values()), *(np.asarray(a).size for a in (masses or {}).values())])
+    draw = {
+        k: np.broadcast_to(given[k], (V,)).copy() if k in given else np.full(V, complex(*v))
+        for k, v in m.points.items()
+    }
     nb = len(m.bodies)
     mass = np.tile(m.masses, (V, 1))
     inertia = np.tile(m.inertias, (V, 1))
@@ -610,7 +688,7 @@ def cycle(
     omega_k, alpha_k = m.driver.rates(abs(step) * np.arange(N))
     n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
     dyad_meas = np.empty((V, N, n_dyads) if store_points else (0, 0, 0))
-    _kernel()(
+    _kernel(parallel=V > 8)(
         dz,
         ops,
         fdata,
@@ -658,7 +736,20 @@ def cycle(
         if store_points
         else {}
     )
-    return CycleBatch(m, angle, torque, moment, s_out, force, inertia_force, z, body_rates, dyad_meas, steps)
+    return CycleBatch(
+        m,
+        angle,
+        torque,
+        moment,
+        s_out,
+        force,
+        inertia_force,
+        z,
+        body_rates,
+        dyad_meas,
+        steps,
+        (pos, vel, acc, rates),
+    )
 
 
 def _explain_failure(
@@ -682,13 +773,14 @@ def _explain_failure(
     raise AssemblyError(f"cannot assemble variant {v} at crank angle {step * k:.6g}° from the drawing")
 
 
-def _com(body, draw: Mapping[str, np.ndarray]) -> np.ndarray:
+def _com(body, draw: Mapping[str, np.ndarray]) -> np.ndarray | complex:
+    """A body's centre of mass in each variant's drawing (the same in all when given as coordinates)."""
     c = body.center_of_mass
     if c is None:
-        return np.mean([draw[p] for p in body.points], axis=0)
+        return sum(draw[p] for p in body.points) / len(body.points)
     if isinstance(c, str):
         return draw[c]
-    return np.broadcast_to(_z(c), draw[body.points[0]].shape)
+    return complex(c[0], c[1])
 
 
 def _output(m: Mechanism, draw, pos) -> np.ndarray | None:

@@ -127,13 +127,13 @@ class DynamicsResult:
     @property
     def crank_speed(self) -> np.ndarray:
         """θ̇ at every angle, rad/s."""
-        return self.kinematics.qd[:, 3 * self.kinematics.constraints.crank + 2]
+        return self.kinematics.qd[:, 3 * self.mechanism.body_index[self.mechanism.driver.body] + 2]
 
     @property
     def output_position(self) -> np.ndarray | None:
         """Output point along its prismatic axis, m (the axis points up: BDC is the minimum)."""
         k = self.kinematics
-        return output_position(self.mechanism, k.constraints, k.q)
+        return output_position(self.mechanism, k.q)
 
     def summary(self) -> dict[str, Any]:
         """Stroke, dead centres, inertia-force extremes, torque, power balance (SI, angles in degrees)."""
@@ -206,10 +206,10 @@ class DynamicsResult:
 def _applied(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:
     N, n = k.q.shape
     Q = np.zeros((N, n))
-    g = np.asarray(mechanism.gravity)
-    for i, b in enumerate(mechanism.bodies):
-        Q[:, 3 * i : 3 * i + 2] += b.mass * g
-    s_out = output_position(mechanism, k.constraints, k.q)
+    Q.reshape(N, -1, 3)[:, :, :2] = mechanism.masses[:, None] * np.asarray(mechanism.gravity)
+    if not mechanism.process_forces:
+        return Q
+    s_out = output_position(mechanism, k.q)
     for pf in mechanism.process_forces:
         i = mechanism.body_index[pf.body]
         pos, _, _ = k.point(pf.body, pf.point)

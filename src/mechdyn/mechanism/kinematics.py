@@ -51,6 +51,7 @@ class KinematicsResult:
     q, qd, qdd : ndarray
         (N, n) body coordinates (x_G, y_G, φ per body), velocities and accelerations.
     constraints : ConstraintSet
+        Assembled on first use (the dyad path needs none).
     dyads : CycleBatch or None
         The closed-form dyad solution it came from, if any (its joint forces follow by dyad
         kinetostatics, without the full Jacobian).
@@ -68,8 +69,11 @@ class KinematicsResult:
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
-    constraints: ConstraintSet
     dyads: object = None
+
+    @cached_property
+    def constraints(self) -> ConstraintSet:
+        return ConstraintSet(self.mechanism)
 
     def point(self, body: str, point: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Position, velocity and acceleration of a drawing point on a body, each (N, 2)."""
@@ -220,7 +224,7 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
         cs, Q[-1] + dq * step + 0.5 * (A[-1] - dq * ak[-1]) / wk[-1] ** 2 * step**2, thetas[-1] + step, scale
     )
     closes = it >= 0 and _same_pose(q_end, Q[0], scale)
-    datum = _datum(mechanism, cs, Q, thetas)
+    datum = _datum(mechanism, Q, thetas)
     angle = np.mod(thetas - datum + 1e-12, 2 * math.pi) - 1e-12
     order = np.argsort(angle)
     result = KinematicsResult(
@@ -231,7 +235,6 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
         Q[order],
         V[order],
         A[order],
-        cs,
     )
     _check_conditioning(result.evaluation.jacobian, angle[order], closes)
     return result
@@ -239,22 +242,24 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
 
 def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
     """A KinematicsResult from the dyad path (one variant), ordered by angle and checked."""
-    cs = ConstraintSet(mechanism)
     order = np.argsort(c.angle[0])
     n = c.angle.shape[1]
     step = 2.0 * math.pi / n * math.copysign(1.0, mechanism.driver.speed)
+    turned = np.abs(step) * np.arange(n)
     theta = (mechanism.drawing_crank_angle + step * np.arange(n))[order]
-    q, qd, qdd = c.q[0][order], c.qd[0][order], c.qdd[0][order]
+    q, qd, qdd = (a[0][order] for a in c.coordinates())
     angle = c.angle[0][order]
-    time = mechanism.driver.time(np.abs(step) * np.arange(n))[order]
-    result = KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, cs, c)
-    meas = c._dyad_measure[0][order]  # (N, dyads): Φ_q is singular exactly where one of these is 0
-    crossing = (np.sign(meas) != np.sign(np.roll(meas, -1, axis=0))).any(axis=1)
-    bad = ~np.isfinite(meas).all(axis=1) | (np.abs(meas).min(axis=1, initial=1.0) < 1e-9) | crossing
+    time = mechanism.driver.time(turned)[order]
+    result = KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, c)
+    # (N, dyads) in cycle order: Φ_q is singular exactly where one of these is zero, or changes sign
+    # between neighbouring angles (NaN where a loop does not close)
+    meas = c._dyad_measure[0]
+    nxt = np.concatenate([meas[1:], meas[:1]])
+    bad = ~((meas * nxt > 0) & (np.abs(meas) >= 1e-9)).all(axis=1)
     if bad.any():
         k = int(np.argmin(np.abs(meas).min(axis=1, initial=1.0)))
         raise SingularPositionError(
-            f"singular (toggle or dead-centre) position at crank angle {math.degrees(angle[k]):.6g}° "
+            f"singular (toggle or dead-centre) position at crank angle {math.degrees(c.angle[0, k]):.6g}° "
             "(a dyad's links fall in line there); the mechanism locks or bifurcates, so velocities and "
             "forces are unbounded; change the link lengths"
         )
@@ -270,7 +275,7 @@ def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
     )
 
 
-def output_position(mechanism: Mechanism, cs: ConstraintSet, q: np.ndarray) -> np.ndarray | None:
+def output_position(mechanism: Mechanism, q: np.ndarray) -> np.ndarray | None:
     """Position of the output point along its prismatic axis, m (None without a prismatic output)."""
     j = mechanism.output_joint()
     if j is None:
@@ -286,11 +291,11 @@ def output_position(mechanism: Mechanism, cs: ConstraintSet, q: np.ndarray) -> n
     return (p - np.asarray(mechanism.points[j.point])) @ u
 
 
-def _datum(mechanism: Mechanism, cs: ConstraintSet, Q: np.ndarray, thetas: np.ndarray) -> float:
+def _datum(mechanism: Mechanism, Q: np.ndarray, thetas: np.ndarray) -> float:
     d = mechanism.angle_datum
     if d != "bdc":
         return float(d)
-    s = output_position(mechanism, cs, Q)
+    s = output_position(mechanism, Q)
     if s is None:
         raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
     return float(thetas[int(np.argmin(s))])  # BDC: lowest along the upward output axis

@@ -4,8 +4,10 @@ A mechanism made of a crank and RRR/RRP dyads is statically determinate group by
 last dyad's six joint-force components follow from the six Newton–Euler equations of its two links;
 its reactions on the links before it are then known loads there, and so on back to the crank, whose
 equations give the frame pivot's force and the driving torque (e.g. Norton, *Design of Machinery*,
-ch. 11; Uicker, Pennock & Shigley, *Theory of Machines and Mechanisms*, ch. 14). Each dyad is one 6×6
-linear system per crank angle; no full constraint Jacobian is formed. The result is written as the
+ch. 11; Uicker, Pennock & Shigley, *Theory of Machines and Mechanisms*, ch. 14). Each dyad's six
+equations reduce, by taking moments about its inner pin, to a 2×2 system whose determinant is the
+dyad's transmission measure; it is solved by Cramer's rule for all crank angles at once, and no
+full constraint Jacobian is formed. The result is written as the
 Lagrange multipliers of :class:`~mechdyn.mechanism.constraints.ConstraintSet`, so that
 :class:`~mechdyn.mechanism.dynamics.DynamicsResult` serves both paths; the tests check both against
 each other.
@@ -17,15 +19,9 @@ import math
 
 import numpy as np
 
-from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic, Revolute
 
 __all__ = ["multipliers"]
-
-
-def _arm(r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Coefficients of (Fx, Fy) in r × F."""
-    return -r.imag, r.real
 
 
 def multipliers(c, applied: np.ndarray) -> np.ndarray:
@@ -91,25 +87,18 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
             b2 = jb[1] if b1 == jb[0] else jb[0]
             j1, _ = joint_at(k1, b1, b2)
             j2, _ = joint_at(k2, b2, b1)
-            A = np.zeros((N, 6, 6))
-            r1, rp1 = pos(k1) - G[b1], pos(p) - G[b1]
-            r2, rp2 = pos(k2) - G[b2], pos(p) - G[b2]
-            # unknowns: F1 (on b1 at K1), F2 (on b2 at K2), Fp (on b2 at P; −Fp on b1)
-            A[:, 0, 0] = A[:, 1, 1] = 1.0
-            A[:, 0, 4] = A[:, 1, 5] = -1.0
-            A[:, 2, 0], A[:, 2, 1] = _arm(r1)
-            ax, ay = _arm(rp1)
-            A[:, 2, 4], A[:, 2, 5] = -ax, -ay
-            A[:, 3, 2] = A[:, 4, 3] = 1.0
-            A[:, 3, 4] = A[:, 4, 5] = 1.0
-            A[:, 5, 2], A[:, 5, 3] = _arm(r2)
-            A[:, 5, 4], A[:, 5, 5] = _arm(rp2)
-            rhs = np.stack(
-                [need_f[b1].real, need_f[b1].imag, need_m[b1], need_f[b2].real, need_f[b2].imag, need_m[b2]],
-                -1,
-            )
-            x, _ = solve_with_det(A, rhs)
-            F1, F2, Fp = x[:, 0] + 1j * x[:, 1], x[:, 2] + 1j * x[:, 3], x[:, 4] + 1j * x[:, 5]
+            # unknowns F1 (on b1 at K1), F2 (on b2 at K2), Fp (on b2 at P; −Fp on b1). Moments of
+            # each link about P leave F1 and F2; their sum is what both links need together:
+            #   a1 × F1 = M1 − (P − G1) × f1,  a2 × F2 = M2 − (P − G2) × f2,  F1 + F2 = f1 + f2
+            # with a_i = K_i − P; the 2×2 system in F1 has determinant a1 × a2 (zero at a toggle).
+            P = pos(p)
+            a1, a2 = pos(k1) - P, pos(k2) - P
+            f1, f2 = need_f[b1], need_f[b2]
+            m1 = need_m[b1] - _cross(P - G[b1], f1)
+            m2 = _cross(a2, f1 + f2) - need_m[b2] + _cross(P - G[b2], f2)
+            F1 = _solve_cross(a1, m1, a2, m2)
+            F2 = f1 + f2 - F1
+            Fp = F1 - f1
             record(j1, b1, F1, k1)
             record(j2, b2, F2, k2)
             kpb = joints[kp]
@@ -124,30 +113,23 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
             kp, b1 = joint_at(p, s)
             j1, _ = joint_at(k1, b1, s)
             n = complex(-math.sin(g.axis), math.cos(g.axis))
-            r1, rp1, rps = pos(k1) - G[b1], pos(p) - G[b1], pos(p) - G[s]
-            A = np.zeros((N, 6, 6))
-            # unknowns: F1 (on b1 at K1), Fp (on the slider at P; −Fp on b1), N (guide force along n), Mg
-            A[:, 0, 0] = A[:, 1, 1] = 1.0
-            A[:, 0, 2] = A[:, 1, 3] = -1.0
-            A[:, 2, 0], A[:, 2, 1] = _arm(r1)
-            ax, ay = _arm(rp1)
-            A[:, 2, 2], A[:, 2, 3] = -ax, -ay
-            A[:, 3, 2] = A[:, 4, 3] = 1.0
-            A[:, 3, 4], A[:, 4, 4] = n.real, n.imag
-            A[:, 5, 2], A[:, 5, 3] = _arm(rps)
-            A[:, 5, 4] = _cross(rps, n)
-            A[:, 5, 5] = 1.0
-            rhs = np.stack(
-                [need_f[b1].real, need_f[b1].imag, need_m[b1], need_f[s].real, need_f[s].imag, need_m[s]], -1
-            )
-            x, _ = solve_with_det(A, rhs)
-            F1, Fp = x[:, 0] + 1j * x[:, 1], x[:, 2] + 1j * x[:, 3]
+            # unknowns F1 (on b1 at K1), Fp (on the slider at P; −Fp on b1), the guide's normal force
+            # N n and moment Mg on the slider. The slider's balances give Fp = f_s − N n and Mg; the
+            # link's moments about P then give N (a1 × n = 0 when the link lies across the guide).
+            P = pos(p)
+            a1 = pos(k1) - P
+            m1 = need_m[b1] - _cross(P - G[b1], need_f[b1])
+            total = need_f[b1] + need_f[s]
+            normal = (_cross(a1, total) - m1) / _cross(a1, n)
+            Fp = need_f[s] - normal * n
+            F1 = need_f[b1] + Fp
+            moment = need_m[s] - _cross(P - G[s], need_f[s])
             record(j1, b1, F1, k1)
             jp = joints[kp]
             lam[:, 2 * kp] = (Fp if jp.bodies[1] == s else -Fp).real
             lam[:, 2 * kp + 1] = (Fp if jp.bodies[1] == s else -Fp).imag
-            lam[:, 2 * kg + 1] = -x[:, 4]  # the guide: force −λ₂ n and moment −λ₁ on the slider
-            lam[:, 2 * kg] = -x[:, 5]
+            lam[:, 2 * kg + 1] = -normal  # the guide: force −λ₂ n and moment −λ₁ on the slider
+            lam[:, 2 * kg] = -moment
     # the crank: its frame pivot and the motor
     crank = m.driver.body
     k0, _ = joint_at(m.driver.pivot, crank)
@@ -158,6 +140,12 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
     lam[:, 2 * k0 + 1] = (F0 if j0.bodies[1] == crank else -F0).imag
     lam[:, -1] = -T
     return lam
+
+
+def _solve_cross(a1: np.ndarray, m1: np.ndarray, a2: np.ndarray, m2: np.ndarray) -> np.ndarray:
+    """F with a1 × F = m1 and a2 × F = m2 (complex plane vectors), by Cramer's rule."""
+    det = _cross(a1, a2)
+    return (a2 * m1 - a1 * m2) / det
 
 
 def _cross(r: np.ndarray, f) -> np.ndarray:
