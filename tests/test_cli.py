@@ -14,14 +14,21 @@ from mechdyn.cli.main import main
 
 DRIVETRAIN_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drivetrain"' in p.read_text())
 MECHANISM_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mechanism"' in p.read_text())
+SUPPORT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "support"' in p.read_text())
 GEAR_EXAMPLES = sorted(
-    p for p in EXAMPLES.glob("*.toml") if p not in DRIVETRAIN_EXAMPLES + MECHANISM_EXAMPLES
+    p for p in EXAMPLES.glob("*.toml") if p not in DRIVETRAIN_EXAMPLES + MECHANISM_EXAMPLES + SUPPORT_EXAMPLES
 )
 
 
 def test_every_example_is_run_by_one_of_the_tests():
     kinds = {p: p.read_text() for p in EXAMPLES.glob("*.toml")}
-    known = ('type = "drivetrain"', 'type = "gear_pair"', 'type = "tooth_pair"', 'type = "mechanism"')
+    known = (
+        'type = "drivetrain"',
+        'type = "gear_pair"',
+        'type = "tooth_pair"',
+        'type = "mechanism"',
+        'type = "support"',
+    )
     assert all(any(k in t for k in known) for t in kinds.values())
 
 
@@ -123,6 +130,40 @@ def test_every_mechanism_example_runs(example, db, capsys, tmp_path):
         } <= set(doc)
 
 
+@pytest.mark.parametrize("example", SUPPORT_EXAMPLES, ids=lambda p: p.stem)
+def test_every_support_example_runs(example, db, capsys, tmp_path):
+    csv = tmp_path / "steady.csv"
+    plots = tmp_path / "plots"
+    doc = run_json(capsys, "support", str(example), "--plots", str(plots), "--csv", str(csv), "--cycles", "6")
+    assert {
+        "inertia_force_range_N",
+        "transmitted_force_range_N",
+        "displacement_max_m",
+        "displacement_min_m",
+        "natural_frequencies_hz",
+    } <= set(doc)
+    # quasi-static: the transmitted force follows the inertia force (published: 86 against 83 tonf)
+    assert 1.0 < doc["transmitted_force_range_N"] / doc["inertia_force_range_N"] < 1.05
+    assert doc["startup_last_cycle_deviation_relative"] < 1e-5
+    assert len(doc["influence"]) == 8 and doc["force_balance_residual_N"] < 1e-3
+    header = csv.read_text().splitlines()[0].split(",")
+    assert {"time_s", "crank_angle_deg", "z_m", "exciting_force_z_N", "floor_force_z_N"} <= set(header)
+    names = ["displacement.png", "forces.png", "transmitted_vs_exciting.png", "modes.png"]
+    if len(doc["natural_frequencies_hz"]) == 6:
+        names += ["mount_forces.png", "mode_shapes.png"]
+        assert doc["elastic_centre_m"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)
+    for name in names:
+        assert (plots / name).stat().st_size > 10_000
+    assert main(["support", str(example)]) == 0
+    out = capsys.readouterr().out
+    assert "influence of the support" in out and "transmitted force range" in out
+
+
+def test_support_command_refuses_a_mechanism(db, capsys):
+    assert main(["support", str(EXAMPLES / "slider_crank.toml")]) == 2
+    assert 'this command needs type = "support"' in capsys.readouterr().err
+
+
 def test_slider_crank_cli_figures(db, capsys):
     doc = run_json(capsys, "mechanism", str(EXAMPLES / "slider_crank.toml"))
     assert doc["stroke_m"] == pytest.approx(0.2) and (doc["bdc_deg"], doc["tdc_deg"]) == (180.0, 0.0)
@@ -215,6 +256,7 @@ def test_readme_documents_every_json_key(db, capsys):
         ["gear", gear],
         ["gear", tooth],
         ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "36"],
+        ["support", str(EXAMPLES / "press_on_mounts.toml"), "--cycles", "2"],
     ):
         keys = set(run_json(capsys, *argv))
         assert keys <= documented, f"{argv[0]}: undocumented JSON keys {sorted(keys - documented)}"

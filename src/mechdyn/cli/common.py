@@ -21,7 +21,7 @@ from mechdyn.io.modelfile import ModelSource, load_with_source
 from mechdyn.store import ResultStore
 from mechdyn.store.store import jsonable
 
-__all__ = ["AnalysisOutput", "Table", "add_common_options", "run_analysis"]
+__all__ = ["AnalysisOutput", "Table", "add_common_options", "column_unit", "run_analysis"]
 
 
 @dataclass(frozen=True)
@@ -59,6 +59,24 @@ class AnalysisOutput:
     arrays: dict[str, tuple[np.ndarray, str]] = field(default_factory=dict)
     tables: list[Table] = field(default_factory=list)
     plots: dict[str, Callable[[], Any]] = field(default_factory=dict)
+
+
+_SUFFIX_UNITS = (
+    ("_m_per_s2", "m/s^2"),
+    ("_m_per_s", "m/s"),
+    ("_Nm", "N*m"),
+    ("_N", "N"),
+    ("_deg", "deg"),
+    ("_m", "m"),
+    ("_rad", "rad"),
+    ("_s", "s"),
+    ("_W", "W"),
+)
+
+
+def column_unit(column: str) -> str:
+    """The unit a per-angle column's name ends with."""
+    return next((u for suffix, u in _SUFFIX_UNITS if column.endswith(suffix)), "")
 
 
 def add_common_options(p: argparse.ArgumentParser) -> None:

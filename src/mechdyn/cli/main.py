@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from mechdyn.cli import drivetrain, gear, mechanism, results
+from mechdyn.cli import drivetrain, gear, mechanism, results, support
 from mechdyn.errors import MechdynError
 
 __all__ = ["build_parser", "main"]
@@ -25,6 +25,7 @@ def build_parser() -> argparse.ArgumentParser:
     drivetrain.register(sub)
     gear.register(sub)
     mechanism.register(sub)
+    support.register(sub)
     results.register(sub)
     return p
 

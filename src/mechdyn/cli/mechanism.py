@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.cli.common import AnalysisOutput, Table, add_common_options, run_analysis
+from mechdyn.cli.common import AnalysisOutput, Table, add_common_options, column_unit, run_analysis
 from mechdyn.errors import ModelFileError
 from mechdyn.io.modelfile import ModelSource
 from mechdyn.mechanism.dynamics import inverse_dynamics
@@ -36,23 +36,6 @@ UNITS = {
     "shaking_moment_range_Nm": "N·m",
     "power_balance_residual_relative": "",
 }
-
-
-_SUFFIX_UNITS = (
-    ("_m_per_s2", "m/s^2"),
-    ("_m_per_s", "m/s"),
-    ("_Nm", "N*m"),
-    ("_N", "N"),
-    ("_deg", "deg"),
-    ("_m", "m"),
-    ("_s", "s"),
-    ("_W", "W"),
-)
-
-
-def _unit(column: str) -> str:
-    """The unit a per-angle column's name ends with."""
-    return next((u for suffix, u in _SUFFIX_UNITS if column.endswith(suffix)), "")
 
 
 def _mechanism_command(args: argparse.Namespace) -> int:
@@ -91,7 +74,7 @@ def _mechanism_command(args: argparse.Namespace) -> int:
                 [[k, v] for k, v in peaks.items()],
             ),
         ]
-        arrays = {name: (frame[name].to_numpy(), _unit(name)) for name in frame.columns}
+        arrays = {name: (frame[name].to_numpy(), column_unit(name)) for name in frame.columns}
         plots = {
             "output_motion.png": lambda: plot_output_motion(d),
             "inertia_forces.png": lambda: plot_inertia_forces(d),

@@ -39,6 +39,7 @@ _BUILDERS: dict[str, str] = {
     "gear_pair": "mechdyn.gears.schema:build_gear_pair",
     "tooth_pair": "mechdyn.gears.schema:build_tooth_pair",
     "mechanism": "mechdyn.mechanism.schema:build",
+    "support": "mechdyn.support.schema:build",
 }
 
 

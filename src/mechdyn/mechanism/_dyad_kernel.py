@@ -1,0 +1,279 @@
+"""The compiled kernel of the dyad path (numba): one design variant over all crank angles, and the
+drivers that run many variants in parallel threads or one serially.
+
+Imported on first use by :mod:`mechdyn.mechanism.dyads` (numba is slow to import); compiled once and
+cached on disk. The operation codes are those of :func:`mechdyn.mechanism.dyads._encode`.
+"""
+
+import numba
+import numpy as np
+
+__all__ = ["run_parallel", "run_serial"]
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def variant(
+    v,
+    dz,
+    ops,
+    fdata,
+    grounded,
+    turn,
+    omega,
+    alpha,
+    mass,
+    inertia,
+    grav,
+    keep,
+    out_slot,
+    u_out,
+    pos_out,
+    vel_out,
+    acc_out,
+    rate_out,
+    force,
+    inertia_force,
+    moment,
+    torque,
+    s_out,
+    dyad_meas,
+):
+    N = force.shape[1]
+    S = dz.shape[1]
+    nb = mass.shape[1]
+    P = S - nb
+    rates = rate_out.shape[0] > 0
+    msum = 0.0
+    for i in range(nb):
+        msum += mass[v, i]
+    pos = np.zeros(S, dtype=np.complex128)
+    vel = np.zeros(S, dtype=np.complex128)
+    acc = np.zeros(S, dtype=np.complex128)
+    rot = np.ones(nb, dtype=np.complex128)
+    w = np.zeros(nb)
+    al = np.zeros(nb)
+    ph = np.zeros(nb)
+    for k in range(N):
+        for g in grounded:
+            pos[g] = dz[v, g]
+        for o in range(ops.shape[0]):
+            kind, t, k1, k2, b = ops[o, 0], ops[o, 1], ops[o, 2], ops[o, 3], ops[o, 4]
+            if kind == 0:  # crank: turned by step × k from the drawing
+                rot[b] = turn[k]
+                ph[b] = np.angle(turn[k]) if rates else 0.0
+                w[b] = omega[k]
+                al[b] = alpha[k]
+            elif kind == 1:  # rigid body from two known points
+                dn = pos[k2] - pos[k1]
+                dd = dz[v, k2] - dz[v, k1]
+                inv = fdata[v, o, 0]  # 1/|dd|² = 1/|dn|²: a rigid body keeps its lengths
+                rot[b] = dn * np.conj(dd) * inv
+                ph[b] = np.angle(rot[b]) if rates else 0.0
+                n2 = 1.0 / inv
+                dv = vel[k2] - vel[k1]
+                da = acc[k2] - acc[k1]
+                w[b] = (dn.real * dv.imag - dn.imag * dv.real) / n2
+                al[b] = (dn.real * da.imag - dn.imag * da.real) / n2
+            elif kind == 2:  # a slider translating on a frame guide
+                rot[b] = 1.0 + 0.0j
+                ph[b] = 0.0
+                w[b] = 0.0
+                al[b] = 0.0
+            elif kind == 3:  # a point of body b, from its point k1
+                r = rot[b] * (dz[v, t] - dz[v, k1])
+                pos[t] = pos[k1] + r
+                vel[t] = vel[k1] + 1j * r * w[b]
+                acc[t] = acc[k1] + r * (1j * al[b] - w[b] * w[b])
+            elif kind == 4:  # RRR dyad
+                r1, r2, sg = fdata[v, o, 0], fdata[v, o, 1], fdata[v, o, 2]
+                d = pos[k2] - pos[k1]
+                dist = abs(d)
+                x = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist)
+                h2 = r1 * r1 - x * x
+                if h2 < 0.0:
+                    h2 = np.nan
+                pp = pos[k1] + d / dist * (x + 1j * sg * np.sqrt(h2))
+                a1 = pp - pos[k1]
+                a2 = pp - pos[k2]
+                det = a1.real * a2.imag - a1.imag * a2.real
+                if dyad_meas.shape[0] > 0:  # sine of the transmission angle, signed
+                    dyad_meas[v, k, ops[o, 5]] = det / (abs(a1) * abs(a2))
+                b1 = a1.real * vel[k1].real + a1.imag * vel[k1].imag
+                b2 = a2.real * vel[k2].real + a2.imag * vel[k2].imag
+                vv = ((b1 * a2.imag - b2 * a1.imag) + 1j * (a1.real * b2 - a2.real * b1)) / det
+                e1 = vv - vel[k1]
+                e2 = vv - vel[k2]
+                c1 = a1.real * acc[k1].real + a1.imag * acc[k1].imag - (e1.real * e1.real + e1.imag * e1.imag)
+                c2 = a2.real * acc[k2].real + a2.imag * acc[k2].imag - (e2.real * e2.real + e2.imag * e2.imag)
+                pos[t] = pp
+                vel[t] = vv
+                acc[t] = ((c1 * a2.imag - c2 * a1.imag) + 1j * (a1.real * c2 - a2.real * c1)) / det
+            else:  # RRP dyad: a link end on a frame guide through the point's drawing position
+                L, sg = fdata[v, o, 0], fdata[v, o, 1]
+                u = fdata[v, o, 2] + 1j * fdata[v, o, 3]
+                q0 = dz[v, t]
+                wq = q0 - pos[k1]
+                bq = wq.real * u.real + wq.imag * u.imag
+                disc = bq * bq - (wq.real * wq.real + wq.imag * wq.imag - L * L)
+                if disc < 0.0:
+                    disc = np.nan
+                sp = -bq + sg * np.sqrt(disc)
+                pp = q0 + sp * u
+                rel = pp - pos[k1]
+                den = rel.real * u.real + rel.imag * u.imag
+                if dyad_meas.shape[0] > 0:
+                    dyad_meas[v, k, ops[o, 5]] = den / abs(rel)
+                sd = (rel.real * vel[k1].real + rel.imag * vel[k1].imag) / den
+                vv = sd * u
+                e = vv - vel[k1]
+                sdd = (
+                    rel.real * acc[k1].real + rel.imag * acc[k1].imag - (e.real * e.real + e.imag * e.imag)
+                ) / den
+                pos[t] = pp
+                vel[t] = vv
+                acc[t] = sdd * u
+        # loads from the power and momentum balances of the whole mechanism
+        f = 0.0 + 0.0j
+        mo = 0.0
+        pw = 0.0
+        for i in range(nb):
+            c = P + i
+            net = mass[v, i] * (grav - acc[c])
+            f += net
+            mo += pos[c].real * net.imag - pos[c].imag * net.real - inertia[v, i] * al[i]
+            pw += (
+                mass[v, i]
+                * (
+                    vel[c].real * acc[c].real
+                    + vel[c].imag * acc[c].imag
+                    - grav.real * vel[c].real
+                    - grav.imag * vel[c].imag
+                )
+                + inertia[v, i] * w[i] * al[i]
+            )
+        force[v, k] = f
+        inertia_force[v, k] = f - grav * msum
+        moment[v, k] = mo
+        torque[v, k] = pw / omega[k]
+        if out_slot >= 0:
+            d = pos[out_slot] - dz[v, out_slot]
+            s_out[v, k] = d.real * u_out.real + d.imag * u_out.imag
+        for j in range(keep.shape[0]):
+            pos_out[v, k, j] = pos[keep[j]]
+            vel_out[v, k, j] = vel[keep[j]]
+            acc_out[v, k, j] = acc[keep[j]]
+        if rates:
+            for i in range(nb):
+                rate_out[v, k, i, 0] = ph[i]
+                rate_out[v, k, i, 1] = w[i]
+                rate_out[v, k, i, 2] = al[i]
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def run_parallel(
+    dz,
+    ops,
+    fdata,
+    grounded,
+    turn,
+    omega,
+    alpha,
+    mass,
+    inertia,
+    grav,
+    keep,
+    out_slot,
+    u_out,
+    pos_out,
+    vel_out,
+    acc_out,
+    rate_out,
+    force,
+    inertia_force,
+    moment,
+    torque,
+    s_out,
+    dyad_meas,
+):
+    for v in numba.prange(force.shape[0]):
+        variant(
+            v,
+            dz,
+            ops,
+            fdata,
+            grounded,
+            turn,
+            omega,
+            alpha,
+            mass,
+            inertia,
+            grav,
+            keep,
+            out_slot,
+            u_out,
+            pos_out,
+            vel_out,
+            acc_out,
+            rate_out,
+            force,
+            inertia_force,
+            moment,
+            torque,
+            s_out,
+            dyad_meas,
+        )
+
+
+@numba.njit(cache=True, error_model="numpy")
+def run_serial(
+    dz,
+    ops,
+    fdata,
+    grounded,
+    turn,
+    omega,
+    alpha,
+    mass,
+    inertia,
+    grav,
+    keep,
+    out_slot,
+    u_out,
+    pos_out,
+    vel_out,
+    acc_out,
+    rate_out,
+    force,
+    inertia_force,
+    moment,
+    torque,
+    s_out,
+    dyad_meas,
+):
+    for v in range(force.shape[0]):
+        variant(
+            v,
+            dz,
+            ops,
+            fdata,
+            grounded,
+            turn,
+            omega,
+            alpha,
+            mass,
+            inertia,
+            grav,
+            keep,
+            out_slot,
+            u_out,
+            pos_out,
+            vel_out,
+            acc_out,
+            rate_out,
+            force,
+            inertia_force,
+            moment,
+            torque,
+            s_out,
+            dyad_meas,
+        )

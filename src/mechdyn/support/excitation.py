@@ -1,0 +1,246 @@
+"""Periodic loads on the machine: a force and a moment over one period, held as a Fourier series.
+
+A load has six channels in machine coordinates (z up): the force (Fx, Fy, Fz), N, and the moment
+about the machine origin (Mx, My, Mz), N·m. It is held as the coefficients of its real Fourier
+series, f(t) = c₀ + 2 Re Σ_{h≥1} c_h exp(i h Ω t), Ω = 2π/T; from N equally spaced samples the
+series is the trigonometric interpolant, which passes through every sample (the Nyquist term
+halved so that it does). Both the frequency-domain steady state and the time integration of the
+start-up see this same continuous force.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mechdyn.errors import ModelError
+from mechdyn.units import si_field
+
+__all__ = ["CHANNELS", "PeriodicLoad", "Placement"]
+
+CHANNELS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+
+
+@dataclass(frozen=True)
+class PeriodicLoad:
+    """A periodic load on the machine.
+
+    Attributes
+    ----------
+    period : float
+        s.
+    coefficients : ndarray
+        (H + 1, 6) complex Fourier coefficients c_h of (Fx, Fy, Fz, Mx, My, Mz about the origin),
+        N and N·m.
+    angle : ndarray or None
+        (N,) crank angle of each sample, rad, when the load came from a mechanism (for plots).
+    """
+
+    period: float
+    coefficients: np.ndarray
+    angle: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        T = si_field("load", "period", self.period, "s")
+        if not T > 0:
+            raise ModelError(f"{T:g} s must be positive", element="load", field="period")
+        object.__setattr__(self, "period", T)
+        c = np.asarray(self.coefficients, dtype=complex)
+        if c.ndim != 2 or c.shape[1] != 6 or c.shape[0] < 1:
+            raise ModelError(
+                f"shape {c.shape} must be (harmonics + 1, 6)", element="load", field="coefficients"
+            )
+        object.__setattr__(self, "coefficients", c)
+
+    # -- constructors --------------------------------------------------------------------------
+    @classmethod
+    def from_samples(cls, period: Any, samples: Any, angle: Any = None) -> PeriodicLoad:
+        """From N equally spaced samples over one period, starting at t = 0.
+
+        Parameters
+        ----------
+        period : float or quantity
+            s.
+        samples : array_like
+            (N, 6) force N and moment about the origin N·m, or (N,) a vertical force Fz alone.
+        angle : array_like, optional
+            (N,) crank angle of each sample, rad.
+        """
+        f = np.asarray(samples, dtype=float)
+        if f.ndim == 1:
+            f = np.column_stack([np.zeros_like(f), np.zeros_like(f), f, *(np.zeros_like(f),) * 3])
+        if f.ndim != 2 or f.shape[1] != 6 or f.shape[0] < 2:
+            raise ModelError(
+                f"shape {f.shape}: give (N, 6) samples of (Fx, Fy, Fz, Mx, My, Mz) or (N,) of Fz, N ≥ 2",
+                element="load",
+                field="samples",
+            )
+        if not np.isfinite(f).all():
+            raise ModelError("the samples must be finite", element="load", field="samples")
+        n = f.shape[0]
+        c = np.fft.rfft(f, axis=0) / n
+        if n % 2 == 0:
+            c[-1] *= 0.5  # the Nyquist term appears once in the real series
+        return cls(period, c, None if angle is None else np.asarray(angle, dtype=float))
+
+    @classmethod
+    def from_times(
+        cls, period: Any, time: Any, samples: Any, angle: Any = None, n: int | None = None
+    ) -> PeriodicLoad:
+        """From samples at arbitrary increasing times within one period (a periodic cubic spline
+        resamples them onto ``n`` equal steps, by default as many as given)."""
+        from scipy.interpolate import CubicSpline
+
+        T = si_field("load", "period", period, "s")
+        t = np.asarray(time, dtype=float)
+        f = np.asarray(samples, dtype=float)
+        if t.ndim != 1 or t.size != f.shape[0] or np.any(np.diff(t) <= 0) or t[-1] - t[0] >= T:
+            raise ModelError(
+                "times must increase and span less than one period", element="load", field="time"
+            )
+        n = n or t.size
+        spline = CubicSpline(np.append(t, t[0] + T), np.concatenate([f, f[:1]]), bc_type="periodic", axis=0)
+        tn = t[0] + T * np.arange(n) / n
+        out = spline(tn)
+        a = None
+        if angle is not None:
+            a_spline = CubicSpline(np.append(t, t[0] + T), np.unwrap(np.append(angle, angle[0])), axis=0)
+            a = np.mod(a_spline(tn), 2 * math.pi)
+        return cls.from_samples(T, out, a)
+
+    @classmethod
+    def from_harmonics(cls, period: Any, harmonics: dict[int, Any], mean: Any = None) -> PeriodicLoad:
+        """From harmonic amplitudes: f(t) = mean + Σ_h Re(A_h exp(i h Ω t)).
+
+        Parameters
+        ----------
+        harmonics : dict of order h ≥ 1 → complex amplitude A_h
+            A 6-vector (N, N·m) or a scalar for Fz alone; |A_h| is the amplitude, arg A_h the phase.
+        mean : 6-vector or scalar, optional
+        """
+        H = max(harmonics, default=0)
+        if any(h < 1 for h in harmonics):
+            raise ModelError("harmonic orders must be ≥ 1", element="load", field="harmonics")
+        c = np.zeros((H + 1, 6), dtype=complex)
+
+        def vec(a: Any) -> np.ndarray:
+            a = np.asarray(a, dtype=complex)
+            return a if a.shape == (6,) else np.array([0, 0, complex(a), 0, 0, 0])
+
+        for h, a in harmonics.items():
+            c[h] = 0.5 * vec(a)
+        if mean is not None:
+            c[0] = vec(mean)
+        return cls(period, c)
+
+    @classmethod
+    def from_mechanism(cls, dynamics: Any, placement: Placement | None = None) -> PeriodicLoad:
+        """The load a mechanism puts on the machine: its shaking force and moment (frame loads).
+
+        Parameters
+        ----------
+        dynamics : mechdyn.mechanism.DynamicsResult
+            One revolution; the load starts (t = 0) at the mechanism's angle datum (the press:
+            bottom dead centre).
+        placement : Placement, optional
+            Where the mechanism's plane sits in the machine; by default
+            :meth:`Placement.output_up`.
+        """
+        mech = dynamics.mechanism
+        place = placement or Placement.output_up(mech)
+        f2 = dynamics.shaking_force  # (N, 2) in the mechanism's plane
+        m0 = dynamics.shaking_moment()  # about the mechanism's origin
+        F = f2[:, :1] * place.x_axis + f2[:, 1:] * place.y_axis
+        M = m0[:, None] * np.cross(place.x_axis, place.y_axis) + np.cross(place.origin, F)
+        samples = np.hstack([F, M])
+        angle = dynamics.angle
+        period = abs(float(mech.driver.time(np.array([2 * math.pi]))[0]))
+        t = np.asarray(dynamics.kinematics.time, dtype=float)
+        t = np.mod(t - t[np.argmin(angle)], period)
+        order = np.argsort(t)
+        if np.allclose(np.diff(t[order]), period / t.size, rtol=1e-9, atol=1e-12 * period):
+            return cls.from_samples(period, samples[order], angle[order])
+        return cls.from_times(period, t[order], samples[order], angle[order])
+
+    # -- evaluation ----------------------------------------------------------------------------
+    @property
+    def n_harmonics(self) -> int:
+        return self.coefficients.shape[0] - 1
+
+    @property
+    def frequency(self) -> float:
+        """Fundamental, Hz."""
+        return 1.0 / self.period
+
+    def orders(self) -> np.ndarray:
+        """(H + 1,) harmonic orders 0..H."""
+        return np.arange(self.coefficients.shape[0])
+
+    def time(self, n: int | None = None) -> np.ndarray:
+        """(n,) equally spaced times over one period from 0, s (by default 2 H samples)."""
+        n = n or max(2 * self.n_harmonics, 2)
+        return self.period * np.arange(n) / n
+
+    def value(self, t: Any) -> np.ndarray:
+        """(…, 6) the load at times t, s."""
+        return series(self.coefficients, self.period, t)
+
+    def scaled(self, factor: float) -> PeriodicLoad:
+        return PeriodicLoad(self.period, self.coefficients * factor, self.angle)
+
+
+def series(coefficients: np.ndarray, period: float, t: Any) -> np.ndarray:
+    """c₀ + 2 Re Σ c_h exp(i h Ω t) for (H + 1, …) coefficients at times t: shape (t…, …)."""
+    t = np.asarray(t, dtype=float)
+    h = np.arange(coefficients.shape[0])
+    w = np.where(h == 0, 1.0, 2.0)
+    phase = np.exp(1j * 2 * math.pi / period * np.multiply.outer(t, h))  # (t…, H+1)
+    flat = coefficients.reshape(coefficients.shape[0], -1) * w[:, None]
+    out = (phase @ flat).real
+    return out.reshape(*t.shape, *coefficients.shape[1:])
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Where a planar mechanism sits in the machine.
+
+    Parameters
+    ----------
+    origin : (x, y, z)
+        The machine coordinates of the mechanism drawing's origin, m.
+    x_axis, y_axis : (3,)
+        The drawing's x and y directions in machine coordinates (unit, perpendicular).
+    """
+
+    origin: Any = (0.0, 0.0, 0.0)
+    x_axis: Any = (1.0, 0.0, 0.0)
+    y_axis: Any = (0.0, 0.0, 1.0)
+
+    def __post_init__(self) -> None:
+        o = np.array([si_field("placement", "origin", v, "m") for v in self.origin])
+        ex, ey = np.asarray(self.x_axis, dtype=float), np.asarray(self.y_axis, dtype=float)
+        if o.shape != (3,) or ex.shape != (3,) or ey.shape != (3,):
+            raise ModelError("origin, x_axis and y_axis must have three components each", element="placement")
+        for name, v in (("x_axis", ex), ("y_axis", ey)):
+            if not math.isclose(np.linalg.norm(v), 1.0, rel_tol=1e-6):
+                raise ModelError(f"{v.tolist()} must be a unit vector", element="placement", field=name)
+        if abs(ex @ ey) > 1e-6:
+            raise ModelError("x_axis and y_axis must be perpendicular", element="placement", field="y_axis")
+        object.__setattr__(self, "origin", o)
+        object.__setattr__(self, "x_axis", ex)
+        object.__setattr__(self, "y_axis", ey)
+
+    @classmethod
+    def output_up(cls, mechanism: Any, origin: Any = (0.0, 0.0, 0.0)) -> Placement:
+        """The drawing in the machine's x–z plane with the mechanism's output axis pointing up (+z).
+
+        Without a prismatic output the drawing's y axis points up.
+        """
+        j = mechanism.output_joint()
+        a = j.axis if j is not None else math.pi / 2
+        c, s = math.cos(a), math.sin(a)
+        # drawing vector v: its part along the output axis u goes to +z, along u turned +90° to −x
+        return cls(origin, (s, 0.0, c), (-c, 0.0, s))

@@ -1,0 +1,166 @@
+"""Plots of a machine on its supports: bed displacement, exciting and transmitted forces, mount
+forces, mode shapes."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.plotting import new_axes
+
+if TYPE_CHECKING:
+    from mechdyn.support.modes import SupportModes
+    from mechdyn.support.response import SupportResponse
+
+__all__ = [
+    "plot_displacement",
+    "plot_forces",
+    "plot_mode_shapes",
+    "plot_modes",
+    "plot_mount_forces",
+    "plot_transmitted_vs_exciting",
+]
+
+
+def _force_scale(values: np.ndarray, force_unit: str | None) -> tuple[float, str]:
+    from mechdyn.units import ureg
+
+    if force_unit is None:
+        force_unit = "kN" if np.abs(values).max(initial=0.0) >= 1e3 else "N"
+    return float(ureg.Quantity(1.0, force_unit).m_as("N")), force_unit
+
+
+def _abscissa(r: SupportResponse) -> tuple[np.ndarray, str]:
+    """Crank angle when the load came from a mechanism and the response is one steady period."""
+    a = r.load.angle
+    if a is not None and r.kind == "steady state" and a.size == r.time.size:
+        return np.degrees(a), "crank angle from the datum (deg)"
+    return r.time, "time (s)"
+
+
+def plot_displacement(startup: SupportResponse, steady: SupportResponse, ax: Any = None) -> Any:
+    """Bed displacement z(t): the start-up from rest and the steady state repeated over it, mm."""
+    ax = new_axes(ax, figsize=(8.0, 4.0))
+    ax.plot(startup.time, 1e3 * startup.vertical_displacement, lw=1, label="start-up from rest")
+    T = steady.load.period
+    cycles = round(startup.time[-1] / T)
+    t = np.concatenate([steady.time + k * T for k in range(cycles)])
+    z = np.tile(steady.vertical_displacement, cycles)
+    ax.plot(t, 1e3 * z, lw=1, ls="--", color="k", label="steady state (frequency domain)")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("bed displacement z (mm)")
+    ax.set_title(f"{steady.machine.name}: bed displacement")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_forces(r: SupportResponse, ax: Any = None, force_unit: str | None = None) -> Any:
+    """Exciting (inertia) force F and transmitted force F_T over one period."""
+    ax = new_axes(ax)
+    scale, unit = _force_scale(r.exciting_force, force_unit)
+    x, label = _abscissa(r)
+    ax.plot(x, r.exciting_force / scale, label="exciting force F (on the machine)")
+    ax.plot(x, r.transmitted_force / scale, ls="--", label="transmitted force F_T (to the floor)")
+    ax.set_xlabel(label)
+    ax.set_ylabel(f"vertical force ({unit})")
+    ax.set_title(f"{r.machine.name}: exciting and transmitted force, steady state")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_transmitted_vs_exciting(r: SupportResponse, ax: Any = None, force_unit: str | None = None) -> Any:
+    """F_T against F over one period: a line of slope 1 means quasi-static transmission."""
+    ax = new_axes(ax, figsize=(5.5, 5.0))
+    scale, unit = _force_scale(r.exciting_force, force_unit)
+    F, FT = r.exciting_force / scale, r.transmitted_force / scale
+    ax.plot(F, FT, lw=1.5)
+    lim = [min(F.min(), FT.min()), max(F.max(), FT.max())]
+    ax.plot(lim, lim, color="0.5", ls=":", lw=1, label="F_T = F")
+    ax.set_xlabel(f"exciting force F ({unit})")
+    ax.set_ylabel(f"transmitted force F_T ({unit})")
+    ax.set_title("transmitted against exciting force")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_mount_forces(r: SupportResponse, ax: Any = None, force_unit: str | None = None) -> Any:
+    """Vertical force of each mount on the floor over one period (dynamic part)."""
+    ax = new_axes(ax)
+    scale, unit = _force_scale(r.mount_forces[..., 2], force_unit)
+    x, label = _abscissa(r)
+    for i, m in enumerate(r.machine.mounts):
+        ax.plot(x, r.mount_forces[:, i, 2] / scale, lw=1.2, label=m.name)
+    ax.set_xlabel(label)
+    ax.set_ylabel(f"vertical mount force on the floor ({unit})")
+    ax.set_title(f"{r.machine.name}: mount forces, steady state")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_modes(m: SupportModes, ax: Any = None) -> Any:
+    """Each mode's kinetic energy shares by coordinate (stacked bars), frequencies on the axis."""
+    ax = new_axes(ax, figsize=(7.0, 4.0))
+    shares = 100 * m.energy_share
+    bottom = np.zeros(shares.shape[0])
+    labels = [f"{k + 1}\n{f:.3g} Hz" for k, f in enumerate(m.natural_frequencies)]
+    x = np.arange(shares.shape[0])
+    for j, d in enumerate(m.machine.dofs):
+        ax.bar(x, shares[:, j], bottom=bottom, label=d)
+        bottom += shares[:, j]
+    ax.set_xticks(x, labels)
+    ax.set_ylim(0, 100)
+    ax.set_ylabel("kinetic energy share (%)")
+    ax.set_xlabel("mode")
+    ax.set_title(f"{m.machine.name}: modes and their coupling")
+    ax.legend(
+        fontsize="small", ncols=min(6, len(m.machine.dofs)), loc="upper center", bbox_to_anchor=(0.5, -0.2)
+    )
+    return ax
+
+
+def plot_mode_shapes(m: SupportModes) -> Any:
+    """Each mode drawn on the machine's outline: side view (x–z) above, top view (x–y) below.
+
+    The outline is the box over the mounts up to twice the height of the centre of mass; the mode
+    is scaled so that its largest corner displacement is a tenth of the box.
+    """
+    import matplotlib.pyplot as plt
+
+    from mechdyn.support.model import Mount
+
+    mach = m.machine
+    pos = np.array([mt.position for mt in mach.mounts])
+    g = mach.body.center_of_mass
+    lo = np.minimum(pos.min(axis=0), g) - 0.5
+    hi = np.maximum(pos.max(axis=0), g) + 0.5
+    hi[2] = max(hi[2], 2 * g[2] - lo[2])
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    T = np.array([mach.mount_transform(Mount("c", c, (0.0, 0.0, 0.0))) for c in corners])  # (8, 3, n)
+    size = float(np.max(hi - lo))
+    n = len(m.natural_frequencies)
+    fig, axes = plt.subplots(2, n, figsize=(2.4 * n + 0.6, 5.2), layout="constrained", squeeze=False)
+    side = [0, 1, 3, 2, 0]  # corner order around the face y = lo (x, z)
+    top = [0, 2, 6, 4, 0]  # around the face z = lo (x, y)
+    for k in range(n):
+        u = T @ m.shapes[:, k]  # (8, 3)
+        u *= 0.1 * size / max(np.abs(u).max(), 1e-300)
+        moved = corners + u
+        for row, (face, (i, j)) in enumerate(((side, (0, 2)), (top, (0, 1)))):
+            ax = axes[row, k]
+            ax.plot(corners[face, i], corners[face, j], color="0.6", lw=1, ls=":")
+            ax.plot(moved[face, i], moved[face, j], color="C0", lw=1.5)
+            ax.plot(pos[:, i], pos[:, j], "k^", ms=5)
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            if k == 0:
+                ax.set_ylabel("side (x–z)" if row == 0 else "top (x–y)")
+        axes[0, k].set_title(f"{k + 1}: {m.natural_frequencies[k]:.3g} Hz\n{m.dominant[k]}", fontsize="small")
+    fig.suptitle(f"{mach.name}: mode shapes")
+    return axes[0, 0]

@@ -1,0 +1,230 @@
+"""The support model file: ``[model] type = "support"``.
+
+``[machine]`` is the rigid machine (mass, centre of mass, inertia); it stands either on a
+one-degree-of-freedom ``[support]`` (stiffness and damping ratio, as published for press A) or on
+``[[mounts]]`` (position, stiffness and damping along three local axes, orientation, anchored).
+``[excitation]`` is a mechanism model file (its shaking force and moment, placed in the machine by
+``origin``, ``x_axis`` and ``y_axis``) or a vertical force over one ``period`` given as samples or
+harmonics. ``[analysis]`` picks the planar or spatial model, the start-up cycles and the factors of
+the stiffness and damping study. See ``examples/press_on_support.toml`` and
+``examples/press_on_mounts.toml``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from mechdyn.errors import ModelFileError
+from mechdyn.io.fields import (
+    Angle,
+    Dimensionless,
+    FileModel,
+    Length,
+    LinearStiffness,
+    ModelTableBase,
+    quantity,
+)
+from mechdyn.io.modelfile import ModelSource, field_context, load_with_source, validate
+from mechdyn.support.excitation import PeriodicLoad, Placement
+from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
+
+__all__ = ["SupportFile", "SupportSpec", "build"]
+
+Mass = quantity("kg")
+Inertia = quantity("kg*m^2")
+Damping = quantity("N*s/m")
+Time = quantity("s")
+Force = quantity("N")
+Vector3 = tuple[float, float, float]
+
+
+class ModelTable(ModelTableBase):
+    type: Literal["support"]
+    name: str = "machine on its supports"
+
+
+class MachineTable(FileModel):
+    mass: Mass
+    center_of_mass: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    inertia: tuple[Inertia, Inertia, Inertia] = (0.0, 0.0, 0.0)
+    inertia_products: tuple[Inertia, Inertia, Inertia] = Field(
+        default=(0.0, 0.0, 0.0), description="(Ixy, Ixz, Iyz) of the tensor, kg·m²"
+    )
+
+
+class SingleDofTable(FileModel):
+    stiffness: LinearStiffness
+    damping_ratio: Dimensionless
+
+
+class MountTable(FileModel):
+    name: str
+    position: tuple[Length, Length, Length]
+    stiffness: tuple[LinearStiffness, LinearStiffness, LinearStiffness]
+    damping: tuple[Damping, Damping, Damping] = (0.0, 0.0, 0.0)
+    orientation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
+    anchored: bool = False
+
+
+class ExcitationTable(FileModel):
+    mechanism: str | None = None
+    angles: int | None = Field(default=None, ge=8, le=100_000)
+    origin: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    x_axis: Vector3 | None = None
+    y_axis: Vector3 | None = None
+    period: Time | None = None
+    force_z: list[Force] | None = None
+    harmonics: list[tuple[int, Force, Angle]] | None = None
+    mean_force_z: Force = 0.0
+
+    @model_validator(mode="after")
+    def _one_source(self) -> ExcitationTable:
+        given = [k for k in ("mechanism", "force_z", "harmonics") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(
+                "give exactly one of mechanism (a mechanism model file), force_z (samples over one "
+                f"period) or harmonics ([order, amplitude, phase] rows); got {given or 'none'}"
+            )
+        if self.mechanism is None and self.period is None:
+            raise ValueError('samples and harmonics need the period, e.g. period = "4 s"')
+        if self.mechanism is not None and self.period is not None:
+            raise ValueError("the mechanism's speed sets the period; remove period")
+        if (self.x_axis is None) != (self.y_axis is None):
+            raise ValueError("give both x_axis and y_axis, or neither (the output axis then points up)")
+        return self
+
+
+class AnalysisTable(FileModel):
+    dofs: Literal["planar", "spatial"] = "spatial"
+    start_up_cycles: int = Field(default=5, ge=1, le=1000)
+    start_up_method: Literal["DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "duhamel"] = "DOP853"
+    stiffness_factors: tuple[float, ...] = (1.0, 0.9, 0.8, 0.7)
+    damping_factors: tuple[float, ...] = (1.0, 0.9, 0.8, 0.7)
+    gravity: quantity("m/s^2") = 9.80665  # type: ignore[valid-type]
+
+
+class SupportFile(FileModel):
+    """Schema of a support model file."""
+
+    model: ModelTable
+    machine: MachineTable
+    support: SingleDofTable | None = None
+    mounts: list[MountTable] | None = None
+    excitation: ExcitationTable
+    analysis: AnalysisTable = AnalysisTable()
+
+    @model_validator(mode="after")
+    def _one_support(self) -> SupportFile:
+        if (self.support is None) == (self.mounts is None):
+            raise ValueError(
+                "give either [support] (one degree of freedom: stiffness and damping_ratio) or "
+                "[[mounts]] (a rigid machine on mounts), not both or neither"
+            )
+        return self
+
+
+@dataclass(frozen=True)
+class SupportSpec:
+    """A machine on its supports as read from a file, with its load and analysis settings."""
+
+    name: str
+    machine: MountedMachine
+    load: PeriodicLoad
+    settings: AnalysisTable
+    dynamics: Any = None  # the mechanism's DynamicsResult, when the load came from one
+    mechanism_path: str | None = None
+    notes: dict[str, Any] = field(default_factory=dict)
+
+
+def _inertia_tensor(t: MachineTable) -> np.ndarray:
+    ixx, iyy, izz = t.inertia
+    ixy, ixz, iyz = t.inertia_products
+    return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+
+
+def _load(f: SupportFile, source: ModelSource) -> tuple[PeriodicLoad, Any, str | None]:
+    e = f.excitation
+    if e.mechanism is not None:
+        from mechdyn.mechanism.dynamics import inverse_dynamics
+        from mechdyn.mechanism.schema import MechanismSpec
+
+        path = Path(source.path).parent / e.mechanism
+        if not path.is_file():
+            raise ModelFileError(
+                source.path,
+                "[excitation] → mechanism",
+                f"{e.mechanism!r}: no such file next to this model ({path}); give the mechanism "
+                "model file's path relative to this file",
+                e.mechanism,
+            )
+        spec, msource = load_with_source(path)
+        if not isinstance(spec, MechanismSpec):
+            raise ModelFileError(
+                source.path,
+                "[excitation] → mechanism",
+                f"{e.mechanism!r} is a {msource.model_type!r} model; give a mechanism model file",
+                e.mechanism,
+            )
+        d = inverse_dynamics(spec.mechanism, e.angles or spec.n_angles)
+        with field_context(source, "[excitation]"):
+            if e.x_axis is None:
+                place = Placement.output_up(spec.mechanism, e.origin)
+            else:
+                place = Placement(e.origin, e.x_axis, e.y_axis)
+        return PeriodicLoad.from_mechanism(d, place), d, str(path)
+    with field_context(source, "[excitation]"):
+        if e.force_z is not None:
+            samples = np.asarray(e.force_z, dtype=float)
+            if samples.size < 2:
+                raise ValueError("force_z needs at least two samples over the period")
+            return PeriodicLoad.from_samples(e.period, samples + e.mean_force_z), None, None
+        amps = {}
+        for order, amp, phase in e.harmonics or []:
+            if order < 1 or order in amps:
+                raise ValueError(f"harmonic order {order} must be ≥ 1 and appear once")
+            amps[order] = amp * complex(math.cos(phase), math.sin(phase))
+        return PeriodicLoad.from_harmonics(e.period, amps, e.mean_force_z), None, None
+
+
+def build(source: ModelSource) -> SupportSpec:
+    """Builder for ``[model] type = "support"``."""
+    f = validate(SupportFile, source)
+    load, dynamics, mpath = _load(f, source)
+    if f.support is not None:
+        with field_context(source, "[support]"):
+            machine = MountedMachine.single_dof(
+                f.machine.mass, f.support.stiffness, f.support.damping_ratio, f.model.name
+            )
+            machine = replace(machine, gravity=f.analysis.gravity)
+    else:
+        mounts = []
+        for i, m in enumerate(f.mounts or []):
+            with field_context(source, f"[[mounts]] #{i + 1} (name = {m.name!r})"):
+                mounts.append(
+                    Mount.with_orientation(
+                        m.name, m.position, m.stiffness, m.orientation, damping=m.damping, anchored=m.anchored
+                    )
+                )
+        tables = {m.name: f"[[mounts]] #{i + 1} (name = {m.name!r})" for i, m in enumerate(f.mounts or [])}
+        tables |= {"machine": "[machine]", f.model.name: "[[mounts]]"}
+        with field_context(source, "[machine]", tables):
+            body = RigidBody(f.machine.mass, f.machine.center_of_mass, _inertia_tensor(f.machine))
+            machine = MountedMachine(
+                body,
+                tuple(mounts),
+                PLANAR if f.analysis.dofs == "planar" else SPATIAL,
+                f.analysis.gravity,
+                f.model.name,
+            )
+    with field_context(source, "[analysis]"):
+        if any(v <= 0 for v in f.analysis.stiffness_factors):
+            raise ValueError(f"stiffness_factors {f.analysis.stiffness_factors} must all be positive")
+        if any(v < 0 for v in f.analysis.damping_factors):
+            raise ValueError(f"damping_factors {f.analysis.damping_factors} must not be negative")
+    return SupportSpec(f.model.name, machine, load, f.analysis, dynamics, mpath)
