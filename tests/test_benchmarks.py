@@ -6,12 +6,14 @@ import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 import modal_chain
+import periodic_response as periodic_benchmark
 
 
 def test_modal_chain_small_case_agrees_with_its_baselines():
@@ -37,3 +39,14 @@ def test_modal_chain_quick_run():
         for key, value in c.items():
             if key.startswith("max_rel_diff"):
                 assert value < 1e-6, (c["n"], key, value)
+
+
+def test_periodic_response_baseline_reaches_the_frequency_domain_steady_state():
+    import mechdyn
+    from mechdyn.support import periodic_response
+
+    spec = mechdyn.load(ROOT / "examples" / "press_on_support.toml")
+    q, periods = periodic_benchmark.integrate_to_steady_state(spec.machine, spec.load, 90)
+    fd = periodic_response(spec.machine, spec.load, 90)
+    assert periods > 2
+    assert np.abs(q - fd.displacement).max() < 1e-6 * np.abs(fd.displacement).max()

@@ -6,8 +6,11 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
+from mechdyn.errors import ModelError
 from mechdyn.support import (
     PLANAR,
     Mount,
@@ -79,7 +82,7 @@ def test_frequency_domain_steady_state_equals_a_long_time_integration():
     assert np.abs(sol.y[0] - steady.displacement[:, 0]).max() < 1e-7 * scale
 
 
-@pytest.mark.parametrize("method", ["DOP853", "Radau", "duhamel"])
+@pytest.mark.parametrize("method", ["DOP853", "RK45", "duhamel"])
 def test_startup_converges_onto_the_steady_state(method):
     zeta = 0.1
     m = MountedMachine.single_dof(M, K, zeta)
@@ -201,3 +204,50 @@ def test_samples_are_reproduced_by_the_series():
         samples = rng.normal(size=(n, 6))
         load = PeriodicLoad.from_samples(2.0, samples)
         np.testing.assert_allclose(load.value(load.time(n)), samples, atol=1e-12)
+
+
+@pytest.mark.parametrize(("H", "n"), [(5, 10), (5, 16), (4, 9), (180, 360)])
+def test_the_series_on_an_equal_grid_by_inverse_fft(H, n):
+    from mechdyn.support.excitation import series, series_on_grid
+
+    rng = np.random.default_rng(H + n)
+    c = rng.normal(size=(H + 1, 3)) + 1j * rng.normal(size=(H + 1, 3))
+    t = 2.0 * np.arange(n) / n
+    np.testing.assert_allclose(series_on_grid(c, n), series(c, 2.0, t), atol=1e-11)
+
+
+@st.composite
+def mounted_machines(draw):
+    n = draw(st.integers(3, 6))
+    coord = st.floats(-2.0, 2.0, allow_nan=False)
+    stiff = st.floats(1e4, 1e7)
+    mounts = [
+        Mount.with_orientation(
+            f"m{i}",
+            (draw(coord), draw(coord), draw(st.floats(-0.5, 0.5))),
+            (draw(stiff), draw(stiff), draw(stiff)),
+            (draw(st.floats(-0.5, 0.5)), draw(st.floats(-0.5, 0.5)), draw(st.floats(-0.5, 0.5))),
+            damping=(draw(st.floats(0.0, 1e4)),) * 3,
+            anchored=True,  # bolted: a random layout may have to hold the machine down
+        )
+        for i in range(n)
+    ]
+    body = RigidBody(draw(st.floats(100.0, 1e4)), (0.1, -0.2, 0.8), (draw(st.floats(10.0, 1e3)),) * 3)
+    try:
+        return MountedMachine(body, mounts)
+    except ModelError:
+        assume(False)
+
+
+@settings(max_examples=25, deadline=None)
+@given(mounted_machines())
+def test_random_layouts_assemble_symmetric_definite_matrices_and_balance_forces(mm):
+    K, C = mm.stiffness_matrix, mm.damping_matrix
+    assert np.array_equal(K, K.T) and np.array_equal(C, C.T)
+    assert np.linalg.eigvalsh(K).min() > 0 and np.linalg.eigvalsh(C).min() > -1e-9 * np.abs(C).max()
+    md = modes(mm)
+    np.testing.assert_allclose(md.energy_share.sum(axis=1), 1.0, atol=1e-9)
+    f0 = math.sqrt(np.linalg.eigvalsh(K).max() / 100.0)
+    load = PeriodicLoad.from_harmonics(1.0 / max(f0, 1e-3), {1: np.full(6, 1e3), 2: np.full(6, 300j)})
+    r = periodic_response(mm, load, 16)
+    assert np.abs(r.force_balance_residual).max() < 1e-7 * max(np.abs(r.floor_force).max(), 1e3)

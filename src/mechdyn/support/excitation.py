@@ -192,6 +192,22 @@ class PeriodicLoad:
         return PeriodicLoad(self.period, self.coefficients * factor, self.angle)
 
 
+def series_on_grid(coefficients: np.ndarray, n: int) -> np.ndarray:
+    """The series at t = k T / n, k = 0..n−1, by one inverse real FFT (n ≥ 2 H; shape (n, …)).
+
+    With Y_h = n c_h (2 n c_h at the Nyquist bin, of which the FFT keeps the real part, as the
+    series does: 2 Re(c e^{iπk}) = 2 Re(c) (−1)^k), ``irfft`` returns c₀ + 2 Re Σ c_h e^{2πi hk/n}.
+    """
+    H = coefficients.shape[0] - 1
+    if n < 2 * H:
+        raise ValueError(f"{n} steps cannot carry {H} harmonics; need at least {2 * H}")
+    Y = np.zeros((n // 2 + 1, *coefficients.shape[1:]), dtype=complex)
+    Y[: H + 1] = n * coefficients
+    if n % 2 == 0 and H == n // 2:
+        Y[H] *= 2.0
+    return np.fft.irfft(Y, n, axis=0)
+
+
 def series(coefficients: np.ndarray, period: float, t: Any) -> np.ndarray:
     """c₀ + 2 Re Σ c_h exp(i h Ω t) for (H + 1, …) coefficients at times t: shape (t…, …)."""
     t = np.asarray(t, dtype=float)

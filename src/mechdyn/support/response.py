@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.support.excitation import PeriodicLoad, series
+from mechdyn.support.excitation import PeriodicLoad, series, series_on_grid
 from mechdyn.support.model import DOFS, MountedMachine
 
 __all__ = ["SupportResponse", "harmonic_response", "influence", "periodic_response", "startup_response"]
@@ -195,10 +195,13 @@ def periodic_response(
     """
     X = harmonic_response(machine, load)
     w = 2 * math.pi / load.period * load.orders()[:, None]
-    t = load.time(n_samples or max(2 * load.n_harmonics, 2)) if time is None else np.asarray(time, float)
-    q = series(X, load.period, t)
-    qd = series(1j * w * X, load.period, t)
-    qdd = series(-(w**2) * X, load.period, t)
+    n = n_samples or max(2 * load.n_harmonics, 2)
+    if time is None and n >= 2 * load.n_harmonics:  # equal steps over one period: inverse FFTs
+        t = load.time(n)
+        q, qd, qdd = (series_on_grid(c, n) for c in (X, 1j * w * X, -(w**2) * X))
+    else:
+        t = load.time(n) if time is None else np.asarray(time, dtype=float)
+        q, qd, qdd = (series(c, load.period, t) for c in (X, 1j * w * X, -(w**2) * X))
     return SupportResponse(machine, load, t, q, qd, qdd, "steady state")
 
 
