@@ -78,7 +78,7 @@ def main(argv: list[str] | None = None) -> int:
         machine, load = spec.machine, spec.load
         t_fd, fd = best_time(lambda m=machine, ld=load: periodic_response(m, ld, n), max_repeats=50)
         t_ivp, (q, periods) = best_time(
-            lambda m=machine, ld=load: integrate_to_steady_state(m, ld, n), max_repeats=repeats, budget=0.0
+            lambda m=machine, ld=load: integrate_to_steady_state(m, ld, n), max_repeats=repeats, budget=60.0
         )
         agreement = float(np.abs(q - fd.displacement).max() / np.abs(fd.displacement).max())
         result["cases"][label] = {  # type: ignore[index]
