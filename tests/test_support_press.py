@@ -230,3 +230,22 @@ def test_a_file_with_samples_and_one_with_harmonics(tmp_path):
         _write(tmp_path, base + '[excitation]\nperiod = "0.5 s"\nharmonics = [[1, "1 kN", "-90 deg"]]\n')
     )
     np.testing.assert_allclose(h.load.value(s.load.time(4))[:, 2], [0, 1e3, 0, -1e3], atol=1e-9)
+
+
+def test_a_crank_with_a_speed_profile_loads_the_machine_at_its_own_times():
+    # the samples are equal steps of crank angle, not of time: the load is resampled in time
+    spec = mechdyn.load(EXAMPLES / "slider_crank.toml")
+    w0 = spec.mechanism.driver.speed
+
+    def profile(psi):
+        return w0 * (1 + 0.2 * np.cos(psi)), -0.2 * w0**2 * (1 + 0.2 * np.cos(psi)) * np.sin(psi)
+
+    mech = replace(spec.mechanism, driver=replace(spec.mechanism.driver, profile=profile))
+    d = inverse_dynamics(mech, 720)
+    load = PeriodicLoad.from_mechanism(d, Placement((0, 0, 0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)))
+    assert load.period == pytest.approx(abs(mech.driver.time(np.array([2 * np.pi]))[0]))
+    t = np.mod(d.kinematics.time - d.kinematics.time[np.argmin(d.angle)], load.period)
+    f = load.value(t)
+    scale = np.abs(d.shaking_force).max()
+    np.testing.assert_allclose(f[:, 0], d.shaking_force[:, 0], atol=1e-4 * scale)
+    np.testing.assert_allclose(f[:, 2], d.shaking_force[:, 1], atol=1e-4 * scale)
