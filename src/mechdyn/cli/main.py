@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from mechdyn.cli import drivetrain, gear, mechanism, results, support
+from mechdyn.cli import drivetrain, gear, mechanism, mount, results, support
 from mechdyn.errors import MechdynError
 
 __all__ = ["build_parser", "main"]
@@ -26,6 +26,7 @@ def build_parser() -> argparse.ArgumentParser:
     gear.register(sub)
     mechanism.register(sub)
     support.register(sub)
+    mount.register(sub)
     results.register(sub)
     return p
 

@@ -40,6 +40,7 @@ _BUILDERS: dict[str, str] = {
     "tooth_pair": "mechdyn.gears.schema:build_tooth_pair",
     "mechanism": "mechdyn.mechanism.schema:build",
     "support": "mechdyn.support.schema:build",
+    "mount": "mechdyn.mounts.schema:build",
 }
 
 

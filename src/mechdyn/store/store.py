@@ -34,7 +34,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column, rela
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["DEFAULT_DB", "ENV_VAR", "ResultStore", "StoredRun", "resolve_url"]
+__all__ = ["DEFAULT_DB", "ENV_VAR", "ResultStore", "StoredRecord", "StoredRun", "resolve_url"]
 
 ENV_VAR = "MECHDYN_DB"
 DEFAULT_DB = "mechdyn.db"
@@ -71,6 +71,32 @@ class _Array(_Base):
     unit: Mapped[str] = mapped_column(String(64))
     data: Mapped[bytes] = mapped_column(LargeBinary)
     run: Mapped[_Run] = relationship(back_populates="arrays")
+
+
+class _Record(_Base):
+    """A named, reusable value with its provenance: a material, a calibrated parameter."""
+
+    __tablename__ = "mechdyn_records"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+    kind: Mapped[str] = mapped_column(String(64), index=True)
+    name: Mapped[str] = mapped_column(String(256), index=True)
+    data: Mapped[dict[str, Any]] = mapped_column(JSON)
+    provenance: Mapped[str] = mapped_column(Text)
+    package_version: Mapped[str] = mapped_column(String(64))
+
+
+@dataclass(frozen=True)
+class StoredRecord:
+    """A named record as read back: what it is, its data and where it came from."""
+
+    id: int
+    created_at: datetime
+    kind: str
+    name: str
+    data: dict[str, Any]
+    provenance: str
+    package_version: str
 
 
 def resolve_url(value: str | os.PathLike[str] | None = None) -> str:
@@ -228,6 +254,55 @@ class ResultStore:
             base = self._summary(r)
             arrays = {a.name: (_unpack(a.data), a.unit) for a in r.arrays}
         return StoredRun(**{**base.__dict__, "arrays": arrays})
+
+    def put_record(self, kind: str, name: str, data: Mapping[str, Any], provenance: str) -> int:
+        """Store a named record (e.g. ``kind="material"`` or ``"calibration"``); returns its id.
+
+        Records are never overwritten: a new one of the same kind and name supersedes the old for
+        :meth:`latest_record`, and the history stays.
+        """
+        from mechdyn import __version__
+
+        if not provenance.strip():
+            raise StoreError(f"record {kind}/{name}: say where it comes from (provenance is empty)")
+        rec = _Record(
+            created_at=datetime.now(UTC),
+            kind=kind,
+            name=name,
+            data=jsonable(dict(data)),
+            provenance=provenance,
+            package_version=__version__,
+        )
+        with Session(self._engine) as s, s.begin():
+            s.add(rec)
+            s.flush()
+            return int(rec.id)
+
+    def records(self, kind: str, name: str | None = None) -> list[StoredRecord]:
+        """Records of a kind (and name), newest first."""
+        q = select(_Record).where(_Record.kind == kind).order_by(_Record.id.desc())
+        if name is not None:
+            q = q.where(_Record.name == name)
+        with Session(self._engine) as s:
+            return [
+                StoredRecord(
+                    r.id,
+                    r.created_at if r.created_at.tzinfo else r.created_at.replace(tzinfo=UTC),
+                    r.kind,
+                    r.name,
+                    dict(r.data),
+                    r.provenance,
+                    r.package_version,
+                )
+                for r in s.scalars(q)
+            ]
+
+    def latest_record(self, kind: str, name: str) -> StoredRecord:
+        """The newest record of a kind and name."""
+        found = self.records(kind, name)
+        if not found:
+            raise StoreError(f"no {kind} record named {name!r} in the results database")
+        return found[0]
 
     @staticmethod
     def _summary(r: _Run) -> StoredRun:

@@ -1,0 +1,211 @@
+"""One mount, all the way: the estimate with its parts, the FE reference with its mesh convergence,
+the calibration, the isolation figures. What ``mechdyn mount`` prints, stores and plots."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from mechdyn.errors import ModelError
+from mechdyn.mounts.bolted import BoltedJoint
+from mechdyn.mounts.calibration import (
+    Calibration,
+    SdofFit,
+    apply,
+    fit_cone_angle,
+    fit_frf,
+    fit_pad_factor,
+    load_calibration,
+    read_frf_csv,
+)
+from mechdyn.mounts.fe import AnchorFE, FEResult, anchor_members, pad_compression
+from mechdyn.mounts.pad import ElastomerPad
+from mechdyn.mounts.types import DampingPad, isolation
+
+__all__ = ["MountReport", "analyse"]
+
+
+@dataclass
+class MountReport:
+    """Everything one mount analysis found (SI)."""
+
+    summary: dict[str, Any]
+    mount: Any
+    fe_levels: list[FEResult] = field(default_factory=list)
+    anchor: AnchorFE | None = None
+    calibration: Calibration | None = None
+    frf: tuple[np.ndarray, np.ndarray, SdofFit] | None = None
+
+
+def _stiffness(mount: Any) -> float:
+    if isinstance(mount, ElastomerPad):
+        return mount.compression_stiffness
+    if isinstance(mount, BoltedJoint):
+        return mount.joint_stiffness
+    return float(mount.stiffness)
+
+
+def _pad_of(mount: Any) -> ElastomerPad | None:
+    if isinstance(mount, ElastomerPad):
+        return mount
+    if isinstance(mount, DampingPad):
+        return mount.pad
+    return None
+
+
+def _fe(spec: Any, mount: Any, report: MountReport) -> float | None:
+    fe = spec.fe
+    if fe is None:
+        return None
+    pad = _pad_of(mount)
+    if pad is not None:
+        if pad.diameter is None:
+            raise ModelError(
+                "the FE reference is axisymmetric: give the pad a diameter", element=spec.name, field="fe"
+            )
+        m = pad.material
+        report.fe_levels = [
+            pad_compression(pad.diameter, pad.thickness, m.youngs_modulus, m.poissons_ratio, n=n)
+            for n in fe.refinements
+        ]
+        return report.fe_levels[-1].stiffness
+    joint: BoltedJoint = mount
+    if len(joint.layers) != 2:
+        raise ModelError(
+            "the FE reference models a base plate on one concrete layer: give two layers",
+            element=spec.name,
+            field="fe",
+        )
+    plate, conc = joint.layers
+    kw = dict(
+        plate_thickness=plate.thickness,
+        plate_radius=fe.plate_radius or 2.5 * joint.head_diameter,
+        embedment=conc.thickness,
+        concrete_radius=fe.concrete_radius or 6.0 * joint.head_diameter,
+        hole_diameter=joint.hole_diameter,
+        washer_diameter=joint.head_diameter,
+        anchor_head_diameter=joint.lower_bearing_diameter,
+        plate_E=plate.material.youngs_modulus,
+        plate_nu=plate.material.poissons_ratio,
+        concrete_E=conc.material.youngs_modulus,
+        concrete_nu=conc.material.poissons_ratio,
+    )
+    runs = [anchor_members(**kw, n=n) for n in fe.refinements]
+    report.fe_levels = [r.result for r in runs]
+    report.anchor = runs[-1]
+    return runs[-1].stiffness
+
+
+def analyse(spec: Any, store: Any = None) -> MountReport:
+    """Run everything a mount file asks for; ``store`` keeps (and supplies) calibrations."""
+    mount = spec.mount
+    s: dict[str, Any] = {"mount_type": spec.kind}
+    stored = None
+    if spec.calibration.use_stored:
+        if store is None:
+            raise ModelError("use_stored needs a results database", element=spec.name, field="calibration")
+        stored = load_calibration(store, spec.name)
+        s["stiffness_as_drawn_N_per_m"] = _stiffness(mount)
+        mount = apply(stored, mount)
+        s["applied_calibration"] = stored.as_dict() | {"provenance": stored.provenance}
+    report = MountReport(s, mount)
+    s["stiffness_N_per_m"] = _stiffness(mount)
+    s["breakdown"] = mount.breakdown()
+    s["adjusts_height"] = bool(getattr(mount, "adjusts_height", False))
+    s["damps"] = bool(getattr(mount, "damps", isinstance(mount, ElastomerPad)))
+    s["loss_factor"] = float(getattr(mount, "loss_factor", 0.1 if isinstance(mount, ElastomerPad) else 0.0))
+    pad = _pad_of(mount)
+    if pad is not None:
+        s["shape_factor"] = pad.shape_factor
+        s["shear_stiffness_N_per_m"] = pad.shear_stiffness
+        s["linear_limits_N"] = pad.linear_limits
+    if isinstance(mount, BoltedJoint):
+        s["bolt_stiffness_N_per_m"] = mount.bolt_stiffness
+        s["member_stiffness_N_per_m"] = mount.member_stiffness()
+        s["load_factor"] = mount.load_factor
+        s["cone_half_angle_deg"] = math.degrees(mount.cone_angle)
+    fe_k = _fe(spec, mount, report)
+    if fe_k is not None:
+        s["fe_stiffness_N_per_m"] = fe_k
+        s["fe_convergence"] = [
+            {
+                "elements_through_thickness": n,
+                "elements": r.elements,
+                "dofs": r.dofs,
+                "stiffness_N_per_m": r.stiffness,
+            }
+            for n, r in zip(spec.fe.refinements, report.fe_levels, strict=True)
+        ]
+        estimate = mount.member_stiffness() if isinstance(mount, BoltedJoint) else pad.compression_stiffness
+        s["estimate_to_fe"] = estimate / fe_k
+        if pad is not None:  # the FE solid is the k = 1 law's; the table's k < 1 is the filled rubber's
+            s["ideal_solid_estimate_to_fe"] = pad.ideal_compression_stiffness / fe_k
+    if report.anchor is not None:
+        a = report.anchor
+        thr = spec.fe.pressure_threshold
+        s["contact"] = [
+            {
+                "preload_N": F,
+                "pressure_max_Pa": float(a.pressure(F).max()),
+                "head_pressure_Pa": a.head_pressure * F,
+                "radius_above_threshold_m": a.radius_above(thr, F) if thr is not None else None,
+            }
+            for F in spec.fe.preloads
+        ]
+        s["contact_lift_off_radius_m"] = a.lift_off_radius
+        s["pressure_threshold_Pa"] = thr
+    cal = spec.calibration
+    provenance = cal.provenance or f"{spec.name}: {cal.reference} reference"
+    if cal.reference == "fe":
+        if fe_k is None:
+            raise ModelError('reference = "fe" needs an [fe] table', element=spec.name, field="calibration")
+        report.calibration = (
+            fit_cone_angle(mount, fe_k, provenance)
+            if isinstance(mount, BoltedJoint)
+            else fit_pad_factor(pad, fe_k, provenance)
+        )
+    elif cal.reference == "measured":
+        target = cal.measured_stiffness
+        if isinstance(mount, BoltedJoint):  # the test sees bolt and members in parallel
+            report.calibration = fit_cone_angle(mount, target - mount.bolt_stiffness, provenance)
+        else:
+            report.calibration = fit_pad_factor(pad, target, provenance)
+    elif cal.reference == "frf":
+        f, H, kind = read_frf_csv(Path(spec.directory) / cal.frf_csv)
+        fit = fit_frf(f, H, kind)
+        power = {"receptance": 0, "mobility": 1, "accelerance": 2}[kind]
+        report.frf = (f, H / (2j * np.pi * f) ** power, fit)
+        s["frf_fit"] = {
+            "stiffness_N_per_m": fit.stiffness,
+            "damping_N_s_per_m": fit.damping,
+            "mass_kg": fit.mass,
+            "natural_frequency_hz": fit.natural_frequency,
+            "damping_ratio": fit.damping_ratio,
+            "residual_relative": fit.residual,
+        }
+        if store is not None:
+            s["frf_fit"]["record_id"] = store.put_record(
+                "frf_fit", spec.name, s["frf_fit"], provenance + f" ({cal.frf_csv})"
+            )
+    if report.calibration is not None:
+        c = report.calibration
+        after = apply(c, mount)
+        s["calibration"] = c.as_dict() | {
+            "provenance": c.provenance,
+            "value_deg" if c.parameter == "cone_angle" else "value_factor": (
+                math.degrees(c.value) if c.parameter == "cone_angle" else c.value
+            ),
+            "stiffness_after_N_per_m": _stiffness(after),
+        }
+        if store is not None:
+            s["calibration"]["record_id"] = c.save(store)
+    if spec.load is not None:
+        eta = spec.load.loss_factor if spec.load.loss_factor is not None else s["loss_factor"]
+        s["isolation"] = isolation(
+            s["stiffness_N_per_m"], spec.load.weight, spec.load.disturbing_frequency, eta
+        )
+    return report

@@ -1,0 +1,284 @@
+"""Bolted joints and anchor bolts into concrete: bolt stiffness, clamped members by pressure cones,
+joint stiffness and load factor.
+
+Members (Shigley's Mechanical Engineering Design, Budynas & Nisbett, §8-5, Eq. 8-20): a frustum of
+half-angle α, thickness t, smaller diameter D, hole d, modulus E has
+k = π E d tan α / ln[((2 t tan α + D − d)(D + d)) / ((2 t tan α + D + d)(D − d))]; the clamped
+stack is cut at mid-grip, a cone grows from each bearing face towards the middle, one frustum per
+layer and all in series. α = 30° by default; VDI 2230 gives the cone angle from the joint geometry
+(tan φ = 0.362 + 0.032 ln(β_L/2) + 0.153 ln y for a through-bolted joint, β_L = l_K/d_W,
+y = D_A/d_W), offered as an option.
+
+Bolt: k_b = A_s E / L_eq with L_eq = L + (1.95 − β/2 − ν) d (the published estimate; β = head or
+washer diameter over bolt diameter), or the VDI 2230 section-by-section resilience
+δ_S = δ_head + Σ l_i/(E A_i) + δ_thread + δ_nut with δ_head = 0.5 d/(E A_N) (hexagon head),
+δ_thread = 0.5 d/(E A_d3) (engaged thread), δ_nut = 0.4 d/(E A_N) for a nut, 0.33 d/(E A_N) for a
+tapped hole or a cast-in anchor (VDI 2230 Part 1, 2015, §5.1.1).
+
+For an external load the bolt and the members work in parallel: k_t = k_b + k_m; the bolt takes the
+share C = k_b/(k_b + k_m) of it (the load factor). (The published captions swap "series" and
+"parallel"; the physics is as here: under preload the two are in series, in the force loop.)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from itertools import pairwise
+from typing import Any
+
+from mechdyn.errors import ModelError
+from mechdyn.mounts.materials import Material
+from mechdyn.units import si_field
+
+__all__ = ["BoltedJoint", "Layer", "frustum_stiffness", "vdi2230_cone_angle"]
+
+
+def frustum_stiffness(E: float, d: float, D: float, t: float, alpha: float) -> float:
+    """Stiffness of one pressure-cone frustum, N/m (Shigley Eq. 8-20).
+
+    Parameters
+    ----------
+    E : float
+        Pa.
+    d : float
+        Hole diameter, m.
+    D : float
+        Diameter of the frustum's smaller face, m (> d).
+    t : float
+        Thickness, m.
+    alpha : float
+        Cone half-angle, rad.
+    """
+    ta = math.tan(alpha)
+    return (
+        math.pi * E * d * ta / math.log(((2 * t * ta + D - d) * (D + d)) / ((2 * t * ta + D + d) * (D - d)))
+    )
+
+
+def vdi2230_cone_angle(grip: float, bearing_diameter: float, outer_diameter: float) -> float:
+    """Cone half-angle φ of VDI 2230 Part 1 (2015) Eq. (5.1/13) for a through-bolted joint, rad.
+
+    tan φ = 0.362 + 0.032 ln(β_L / 2) + 0.153 ln y, β_L = l_K / d_W, y = D_A′ / d_W.
+    """
+    beta_l = grip / bearing_diameter
+    y = max(outer_diameter / bearing_diameter, 1.0)
+    return math.atan(0.362 + 0.032 * math.log(beta_l / 2) + 0.153 * math.log(y))
+
+
+@dataclass(frozen=True)
+class Layer:
+    """One clamped layer: its thickness and material (top to bottom)."""
+
+    thickness: Any
+    material: Material
+
+    def __post_init__(self) -> None:
+        t = si_field(self.material.name, "thickness", self.thickness, "m")
+        if not t > 0:
+            raise ModelError(
+                f"{t:g} m: a layer's thickness must be positive",
+                element=self.material.name,
+                field="thickness",
+            )
+        object.__setattr__(self, "thickness", t)
+
+
+@dataclass(frozen=True)
+class BoltedJoint:
+    """A bolt clamping layers: a machine base on concrete with an anchor, or plates with a nut.
+
+    Parameters
+    ----------
+    name : str
+    diameter : float or quantity
+        Nominal bolt diameter d, m.
+    layers : sequence of Layer
+        The clamped members, from the bolt head down.
+    bolt_material : Material
+    head_diameter : float or quantity
+        Bearing diameter under the head or washer d_W, m (> hole).
+    lower_bearing_diameter : float or quantity, optional
+        Bearing diameter at the other end (nut, or the anchor's embedded head), m; by default d_W.
+    hole_diameter : float or quantity, optional
+        m; by default d.
+    stress_area : float or quantity, optional
+        A_s, m²; by default the ISO metric coarse-thread value π/4 (d − 0.9382 P)² with
+        P ≈ 0.15 d.
+    nut : {"nut", "tapped", "anchor"}
+        What holds the lower end (VDI 2230 nut resilience 0.4 d, or 0.33 d).
+    cone_angle : float or quantity or "vdi2230"
+        Half-angle α of the pressure cones, rad or quantity; ``"vdi2230"`` takes it from the joint's
+        geometry.
+    outer_diameter : float or quantity, optional
+        Diameter of the clamped parts (for the VDI cone angle), m; by default 3 d_W.
+    """
+
+    name: str
+    diameter: Any
+    layers: Sequence[Layer]
+    bolt_material: Material
+    head_diameter: Any
+    lower_bearing_diameter: Any = None
+    hole_diameter: Any = None
+    stress_area: Any = None
+    nut: str = "nut"
+    cone_angle: Any = "30 deg"
+    outer_diameter: Any = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "layers", tuple(self.layers))
+        if not self.layers:
+            raise ModelError("a joint needs at least one clamped layer", element=self.name, field="layers")
+        d = self._length("diameter", self.diameter)
+        object.__setattr__(self, "diameter", d)
+        hole = d if self.hole_diameter is None else self._length("hole_diameter", self.hole_diameter)
+        if hole < d:
+            raise ModelError(
+                f"{hole:g} m is smaller than the bolt ({d:g} m)", element=self.name, field="hole_diameter"
+            )
+        object.__setattr__(self, "hole_diameter", hole)
+        for f in ("head_diameter", "lower_bearing_diameter"):
+            v = getattr(self, f)
+            v = self.head_diameter if v is None else v
+            v = self._length(f, v)
+            if v <= hole:
+                raise ModelError(
+                    f"{v * 1e3:g} mm is not larger than the hole ({hole * 1e3:g} mm): a washer or head "
+                    "must be wider than the bolt to bear on the members",
+                    element=self.name,
+                    field=f,
+                )
+            object.__setattr__(self, f, v)
+        if self.stress_area is None:
+            object.__setattr__(self, "stress_area", math.pi / 4 * (d - 0.9382 * 0.15 * d) ** 2)
+        else:
+            a = si_field(self.name, "stress_area", self.stress_area, "m^2")
+            if not 0 < a <= math.pi / 4 * d**2:
+                raise ModelError(
+                    f"{a:g} m² must be positive and below π d²/4", element=self.name, field="stress_area"
+                )
+            object.__setattr__(self, "stress_area", a)
+        if self.nut not in ("nut", "tapped", "anchor"):
+            raise ModelError(
+                f"{self.nut!r} must be 'nut', 'tapped' or 'anchor'", element=self.name, field="nut"
+            )
+        outer = (
+            3 * self.head_diameter
+            if self.outer_diameter is None
+            else self._length("outer_diameter", self.outer_diameter)
+        )
+        object.__setattr__(self, "outer_diameter", outer)
+        if isinstance(self.cone_angle, str) and self.cone_angle.strip().lower() == "vdi2230":
+            a = vdi2230_cone_angle(self.grip, self.head_diameter, outer)
+        else:
+            a = si_field(self.name, "cone_angle", self.cone_angle, "rad")
+        if not 0 < a < math.pi / 2:
+            raise ModelError(
+                f"{math.degrees(a):g}° must lie between 0 and 90°", element=self.name, field="cone_angle"
+            )
+        object.__setattr__(self, "cone_angle", a)
+
+    def _length(self, f: str, v: Any) -> float:
+        x = si_field(self.name, f, v, "m")
+        if not x > 0:
+            raise ModelError(f"{x:g} m must be positive", element=self.name, field=f)
+        return x
+
+    @property
+    def grip(self) -> float:
+        """Clamped length l_K, m."""
+        return sum(layer.thickness for layer in self.layers)
+
+    # -- members -----------------------------------------------------------------------------
+    def frusta(self, alpha: float | None = None) -> list[dict[str, float]]:
+        """The cone frusta of the member stack, each with its layer, thickness, D, E and stiffness.
+
+        A cone grows from the head down and one from the lower bearing face up; they meet at
+        mid-grip. Each cone is cut wherever it crosses a layer boundary.
+        """
+        a = self.cone_angle if alpha is None else alpha
+        half = self.grip / 2
+        out = []
+        bounds = [0.0]
+        for layer in self.layers:
+            bounds.append(bounds[-1] + layer.thickness)
+        for start, direction, D0 in (
+            (0.0, 1, self.head_diameter),
+            (self.grip, -1, self.lower_bearing_diameter),
+        ):
+            cuts = sorted({start, half, *[b for b in bounds if min(start, half) < b < max(start, half)]})
+            if direction < 0:
+                cuts = cuts[::-1]
+            for z0, z1 in pairwise(cuts):
+                t = abs(z1 - z0)
+                mid = 0.5 * (z0 + z1)
+                i = next(k for k in range(len(self.layers)) if bounds[k] <= mid <= bounds[k + 1])
+                D = D0 + 2 * abs(z0 - start) * math.tan(a)
+                E = self.layers[i].material.youngs_modulus
+                out.append(
+                    {
+                        "layer": i,
+                        "material": self.layers[i].material.name,
+                        "thickness_m": t,
+                        "diameter_m": D,
+                        "youngs_modulus_Pa": E,
+                        "stiffness_N_per_m": frustum_stiffness(E, self.hole_diameter, D, t, a),
+                    }
+                )
+        return out
+
+    def member_stiffness(self, alpha: float | None = None) -> float:
+        """k_m, the frusta in series, N/m."""
+        return 1.0 / sum(1.0 / f["stiffness_N_per_m"] for f in self.frusta(alpha))
+
+    # -- bolt ----------------------------------------------------------------------------------
+    @property
+    def bolt_stiffness(self) -> float:
+        """k_b = A_s E / L_eq, L_eq = L + (1.95 − β/2 − ν) d (the published estimate), N/m."""
+        m = self.bolt_material
+        beta = self.head_diameter / self.diameter
+        L_eq = self.grip + (1.95 - beta / 2 - m.poissons_ratio) * self.diameter
+        return self.stress_area * m.youngs_modulus / L_eq
+
+    def bolt_stiffness_vdi2230(self, shank_length: float | None = None) -> float:
+        """k_b from the VDI 2230 section-by-section resilience, N/m.
+
+        The grip is plain shank (A_N) over ``shank_length`` (by default all of it but one diameter)
+        and free loaded thread (A_d3) over the rest; plus head, engaged thread and nut or tapped hole.
+        """
+        d, E = self.diameter, self.bolt_material.youngs_modulus
+        A_N = math.pi / 4 * d**2
+        d3 = d - 1.2269 * 0.15 * d  # ISO 68-1 minor diameter with P ≈ 0.15 d
+        A_d3 = math.pi / 4 * d3**2
+        ls = max(self.grip - d, 0.0) if shank_length is None else min(shank_length, self.grip)
+        lt = self.grip - ls
+        nut = 0.4 if self.nut == "nut" else 0.33
+        resilience = (0.5 * d + nut * d) / (E * A_N) + ls / (E * A_N) + (lt + 0.5 * d) / (E * A_d3)
+        return 1.0 / resilience
+
+    # -- the joint ---------------------------------------------------------------------------
+    @property
+    def joint_stiffness(self) -> float:
+        """k_t = k_b + k_m for an external load (bolt and members in parallel), N/m."""
+        return self.bolt_stiffness + self.member_stiffness()
+
+    @property
+    def load_factor(self) -> float:
+        """C = k_b / (k_b + k_m): the share of an external load the bolt takes."""
+        kb = self.bolt_stiffness
+        return kb / (kb + self.member_stiffness())
+
+    def breakdown(self) -> dict[str, Any]:
+        """Every part of the estimate (SI)."""
+        return {
+            "bolt_stiffness_N_per_m": self.bolt_stiffness,
+            "bolt_stiffness_vdi2230_N_per_m": self.bolt_stiffness_vdi2230(),
+            "member_stiffness_N_per_m": self.member_stiffness(),
+            "joint_stiffness_N_per_m": self.joint_stiffness,
+            "load_factor": self.load_factor,
+            "cone_half_angle_deg": math.degrees(self.cone_angle),
+            "grip_m": self.grip,
+            "frusta": self.frusta(),
+        }

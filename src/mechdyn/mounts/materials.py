@@ -1,0 +1,245 @@
+"""Materials for mount estimates: shipped as data with their sources, extendable, storable.
+
+The shipped table (``mechdyn/mounts/data/materials.toml``) holds steels, cast irons, concrete grades
+and rubbers by Shore A hardness, each value with its source. A user adds materials from a file of the
+same form or in Python; :func:`save_materials` writes a database's materials into the results store
+with their provenance, and :meth:`MaterialDatabase.from_store` reads them back.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from mechdyn.errors import ModelError
+from mechdyn.units import si_field
+
+__all__ = ["Material", "MaterialDatabase", "default_materials", "save_materials"]
+
+KINDS = ("steel", "cast_iron", "concrete", "rubber", "other")
+
+
+@dataclass(frozen=True)
+class Material:
+    """A linear-elastic material.
+
+    Parameters
+    ----------
+    name : str
+    kind : {"steel", "cast_iron", "concrete", "rubber", "other"}
+    youngs_modulus : float or quantity
+        E, Pa.
+    poissons_ratio : float, optional
+        ν, −1 < ν < 0.5. For rubber it follows from E and the bulk modulus when not given.
+    shear_modulus : float or quantity, optional
+        G, Pa; by default E / (2 (1 + ν)).
+    bulk_modulus : float or quantity, optional
+        B, Pa; by default E / (3 (1 − 2ν)).
+    compression_coefficient : float, optional
+        k of the shape-factor formula E_c = E (1 + 2 k S²) (rubber; 1 for an ideal elastic solid).
+    shore_a : float, optional
+        Hardness (rubber).
+    density : float or quantity, optional
+        kg/m³.
+    source : str
+        Where the values come from.
+    """
+
+    name: str
+    kind: str
+    youngs_modulus: Any
+    poissons_ratio: Any = None
+    shear_modulus: Any = None
+    bulk_modulus: Any = None
+    compression_coefficient: float = 1.0
+    shore_a: float | None = None
+    density: Any = None
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ModelError(f"{self.kind!r} must be one of {KINDS}", element=self.name, field="kind")
+        E = si_field(self.name, "youngs_modulus", self.youngs_modulus, "Pa")
+        if not E > 0:
+            raise ModelError(f"{E:g} Pa must be positive", element=self.name, field="youngs_modulus")
+        object.__setattr__(self, "youngs_modulus", E)
+        B = (
+            None
+            if self.bulk_modulus is None
+            else si_field(self.name, "bulk_modulus", self.bulk_modulus, "Pa")
+        )
+        nu = self.poissons_ratio
+        if nu is None:
+            if B is None:
+                raise ModelError(
+                    "give poissons_ratio (or, for rubber, bulk_modulus)",
+                    element=self.name,
+                    field="poissons_ratio",
+                )
+            nu = 0.5 - E / (6.0 * B)
+        nu = si_field(self.name, "poissons_ratio", nu, "")
+        if not -1.0 < nu < 0.5:
+            raise ModelError(
+                f"{nu:g} must lie between −1 and 0.5 (0.5 is an incompressible solid, which has no finite "
+                "bulk modulus; give rubber a bulk modulus instead)",
+                element=self.name,
+                field="poissons_ratio",
+            )
+        object.__setattr__(self, "poissons_ratio", nu)
+        G = (
+            E / (2 * (1 + nu))
+            if self.shear_modulus is None
+            else si_field(self.name, "shear_modulus", self.shear_modulus, "Pa")
+        )
+        if not G > 0:
+            raise ModelError(f"{G:g} Pa must be positive", element=self.name, field="shear_modulus")
+        object.__setattr__(self, "shear_modulus", G)
+        object.__setattr__(self, "bulk_modulus", E / (3 * (1 - 2 * nu)) if B is None else B)
+        k = si_field(self.name, "compression_coefficient", self.compression_coefficient, "")
+        if not 0 < k <= 1:
+            raise ModelError(f"{k:g} must lie in (0, 1]", element=self.name, field="compression_coefficient")
+        object.__setattr__(self, "compression_coefficient", k)
+        if self.density is not None:
+            object.__setattr__(self, "density", si_field(self.name, "density", self.density, "kg/m^3"))
+
+    def as_dict(self) -> dict[str, Any]:
+        """SI values, JSON-ready."""
+        return {
+            "name": self.name,
+            "kind": self.kind,
+            "youngs_modulus_Pa": self.youngs_modulus,
+            "poissons_ratio": self.poissons_ratio,
+            "shear_modulus_Pa": self.shear_modulus,
+            "bulk_modulus_Pa": self.bulk_modulus,
+            "compression_coefficient": self.compression_coefficient,
+            "shore_a": self.shore_a,
+            "density_kg_per_m3": self.density,
+            "source": self.source,
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> Material:
+        return cls(
+            d["name"],
+            d["kind"],
+            d["youngs_modulus_Pa"],
+            d["poissons_ratio"],
+            d["shear_modulus_Pa"],
+            d["bulk_modulus_Pa"],
+            d["compression_coefficient"],
+            d["shore_a"],
+            d["density_kg_per_m3"],
+            d["source"],
+        )
+
+
+def _read(text: str, origin: str) -> list[Material]:
+    data = tomllib.loads(text)
+    out = []
+    for i, row in enumerate(data.get("materials", [])):
+        row = dict(row)
+        try:
+            out.append(Material(row.pop("name"), row.pop("kind"), row.pop("youngs_modulus"), **row))
+        except (KeyError, TypeError) as exc:
+            raise ModelError(
+                f"{origin}: [[materials]] #{i + 1}: {exc}; each needs name, kind, youngs_modulus "
+                "and a source",
+                element=str(row.get("name", i + 1)),
+            ) from None
+    return out
+
+
+@dataclass(frozen=True)
+class MaterialDatabase:
+    """Materials by name; the shipped ones plus whatever the user adds (a new object each time)."""
+
+    materials: dict[str, Material] = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> Material:
+        try:
+            return self.materials[name]
+        except KeyError:
+            import difflib
+
+            close = difflib.get_close_matches(name, list(self.materials), n=3)
+            hint = f"; did you mean {', '.join(map(repr, close))}?" if close else ""
+            raise ModelError(
+                f"no material {name!r} in the database{hint}", element=name, field="material"
+            ) from None
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.materials
+
+    def names(self, kind: str | None = None) -> list[str]:
+        return [n for n, m in self.materials.items() if kind is None or m.kind == kind]
+
+    def add(self, *materials: Material) -> MaterialDatabase:
+        """A database with these materials added (a material of the same name is replaced)."""
+        return MaterialDatabase({**self.materials, **{m.name: m for m in materials}})
+
+    def with_file(self, path: str | Path) -> MaterialDatabase:
+        """A database with the materials of a TOML file (``[[materials]]`` rows, as shipped) added."""
+        p = Path(path)
+        return self.add(*_read(p.read_text(encoding="utf-8"), str(p)))
+
+    def rubber(self, shore_a: float) -> Material:
+        """Rubber of a Shore A hardness, interpolated linearly between the tabulated hardnesses.
+
+        E and G interpolate in log scale (the table grows roughly exponentially with hardness).
+        """
+        table = sorted(
+            (m for m in self.materials.values() if m.kind == "rubber" and m.shore_a is not None),
+            key=lambda m: m.shore_a,
+        )
+        h = np.array([m.shore_a for m in table], dtype=float)
+        if not table or not h[0] <= shore_a <= h[-1]:
+            raise ModelError(
+                f"Shore A {shore_a:g} is outside the table ({h[0]:g}–{h[-1]:g}); give the rubber's "
+                "moduli instead",
+                element="rubber",
+                field="shore_a",
+            )
+        exact = [m for m in table if m.shore_a == shore_a]
+        if exact:
+            return exact[0]
+
+        def interp(values, log=False):
+            v = np.log(values) if log else np.asarray(values)
+            out = float(np.interp(shore_a, h, v))
+            return float(np.exp(out)) if log else out
+
+        lo = table[int(np.searchsorted(h, shore_a)) - 1]
+        return Material(
+            f"rubber shore {shore_a:g}",
+            "rubber",
+            interp([m.youngs_modulus for m in table], log=True),
+            shear_modulus=interp([m.shear_modulus for m in table], log=True),
+            bulk_modulus=interp([m.bulk_modulus for m in table]),
+            compression_coefficient=interp([m.compression_coefficient for m in table]),
+            shore_a=shore_a,
+            source=f"interpolated in hardness; {lo.source}",
+        )
+
+    @classmethod
+    def from_store(cls, store: Any, base: MaterialDatabase | None = None) -> MaterialDatabase:
+        """The materials saved in a results store (latest of each name) over ``base``."""
+        rows = store.records("material")
+        return (base or cls()).add(*(Material.from_dict(r.data) for r in reversed(rows)))
+
+
+def default_materials() -> MaterialDatabase:
+    """The shipped materials."""
+    text = resources.files("mechdyn.mounts").joinpath("data/materials.toml").read_text(encoding="utf-8")
+    return MaterialDatabase({m.name: m for m in _read(text, "mechdyn/mounts/data/materials.toml")})
+
+
+def save_materials(store: Any, materials: MaterialDatabase, provenance: str) -> list[int]:
+    """Write every material into the results store with its provenance; returns the record ids."""
+    return [
+        store.put_record("material", m.name, m.as_dict(), provenance) for m in materials.materials.values()
+    ]

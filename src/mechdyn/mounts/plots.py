@@ -1,0 +1,108 @@
+"""Plots of mount estimates: pad load–deflection, FE mesh convergence, anchor contact pressure,
+calibration curve, measured against fitted FRF."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from mechdyn.plotting import new_axes
+
+__all__ = ["plot_calibration", "plot_contact_pressure", "plot_convergence", "plot_frf_fit", "plot_pad_curve"]
+
+
+def plot_pad_curve(pad: Any, ax: Any = None) -> Any:
+    """Compressive force against deflection: linear and load-dependent, with the linear limit."""
+    ax = new_axes(ax)
+    d = np.linspace(0.0, 0.3 * pad.thickness, 100)
+    ax.plot(1e3 * d, 1e-3 * pad.compression_stiffness * d, label="linear K_c")
+    ax.plot(1e3 * d, 1e-3 * pad.compression_force(d), label="load-dependent (neo-Hookean, E_c)")
+    lim = 0.10 * pad.thickness
+    ax.axvline(1e3 * lim, color="0.5", ls=":", lw=1)
+    ax.annotate(
+        "linear estimate holds to here (10 % strain)",
+        (1e3 * lim, 0.95),
+        xycoords=("data", "axes fraction"),
+        fontsize="small",
+        ha="right",
+    )
+    ax.set_xlabel("deflection (mm)")
+    ax.set_ylabel("compressive force (kN)")
+    ax.set_title(f"{pad.name}: S = {pad.shape_factor:.2f}, K_c = {pad.compression_stiffness / 1e6:.3g} N/mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_convergence(levels: list[Any], estimate: float | None = None, ax: Any = None) -> Any:
+    """FE stiffness against the number of unknowns (mesh refinement)."""
+    ax = new_axes(ax, figsize=(6.0, 4.0))
+    n = [r.dofs for r in levels]
+    k = [r.stiffness / 1e6 for r in levels]
+    ax.semilogx(n, k, "o-", label="finite elements")
+    if estimate is not None:
+        ax.axhline(estimate / 1e6, color="C3", ls="--", label="estimate from the drawing")
+    ax.set_xlabel("unknowns")
+    ax.set_ylabel("stiffness (N/mm)")
+    ax.set_title("mesh convergence")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_contact_pressure(anchor: Any, preloads: list[float], threshold: float | None, ax: Any = None) -> Any:
+    """Contact pressure between base plate and concrete against radius, per preload."""
+    ax = new_axes(ax)
+    r = 1e3 * anchor.contact_radius
+    for F in preloads:
+        ax.plot(r, anchor.pressure(F) / 1e6, label=f"preload {F / 1e3:g} kN")
+    if threshold is not None:
+        ax.axhline(threshold / 1e6, color="k", ls="--", lw=1, label=f"threshold {threshold / 1e6:g} MPa")
+    ax.axvline(1e3 * anchor.lift_off_radius, color="0.5", ls=":", lw=1)
+    ax.annotate(
+        "plate lifts off",
+        (1e3 * anchor.lift_off_radius, 0.9),
+        xycoords=("data", "axes fraction"),
+        fontsize="small",
+    )
+    ax.set_xlabel("radius from the bolt axis (mm)")
+    ax.set_ylabel("contact pressure (MPa)")
+    ax.set_title("base plate on concrete: contact pressure under preload (FE)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_calibration(joint: Any, target: float, fitted: float, ax: Any = None) -> Any:
+    """Member stiffness of the pressure-cone model against the cone half-angle, and the fit."""
+    ax = new_axes(ax, figsize=(6.0, 4.0))
+    a = np.radians(np.linspace(10, 60, 101))
+    ax.plot(np.degrees(a), [joint.member_stiffness(x) / 1e6 for x in a], label="pressure cones")
+    ax.axhline(target / 1e6, color="k", ls="--", lw=1, label="reference")
+    ax.axvline(math.degrees(fitted), color="C3", ls=":", label=f"fitted α = {math.degrees(fitted):.1f}°")
+    ax.set_xlabel("cone half-angle α (deg)")
+    ax.set_ylabel("member stiffness (N/mm)")
+    ax.set_title(f"{joint.name}: calibration of the cone angle")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_frf_fit(frequency: np.ndarray, measured: np.ndarray, fit: Any, ax: Any = None) -> Any:
+    """Measured receptance (m/N) magnitude against the fitted single-degree-of-freedom model."""
+    ax = new_axes(ax)
+    ax.semilogy(frequency, np.abs(measured) * 1e6, ".", label="measured")
+    f = np.linspace(frequency.min(), frequency.max(), 400)
+    ax.semilogy(
+        f,
+        np.abs(fit.receptance(f)) * 1e6,
+        label=f"fit: k {fit.stiffness / 1e6:.3g} N/mm, ζ {fit.damping_ratio:.3f}",
+    )
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel("receptance |x/F| (µm/N)")
+    ax.set_title("mount from its measured frequency response")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    return ax

@@ -1,0 +1,268 @@
+"""The other mount types of the published survey, and the isolation figures a vendor calculator gives.
+
+Every mount answers the same questions: its stiffness along its main (vertical) axis, whether it
+adjusts the machine's height, whether it damps (and its loss factor), and the parts of its estimate.
+
+- Levelling wedge mount: hardened steel wedges in a housing, adjusted by a screw. Catalogue
+  stiffness when given; otherwise the steel stack in compression, k = E A / h, an upper bound (the
+  contact joints between the parts make real mounts softer; vendors list 1–5 kN/µm for mid sizes).
+- Screw levelling foot: the spindle in compression over its free length in series with its base
+  (a steel disc or an elastomer pad), k = 1/(L/(E A_s) + 1/k_base).
+- Damping pad: an elastomer pad (:class:`~mechdyn.mounts.pad.ElastomerPad`) with a loss factor.
+- Spring isolator: n helical springs in parallel, k = n G d⁴/(8 D³ N_a) (Shigley §10-3, Eq. 10-9).
+
+Isolation (e.g. Rao, *Mechanical Vibrations*, §9.10): static deflection δ = W/k, natural frequency
+f_n = √(k/m)/(2π) = √(g/δ)/(2π), transmissibility T = √((1 + (2ζr)²)/((1 − r²)² + (2ζr)²)) with
+r = f/f_n and ζ = η/2 for a loss factor η, isolation efficiency 1 − T (negative: amplification).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from mechdyn.errors import ModelError
+from mechdyn.mounts.materials import Material
+from mechdyn.mounts.pad import ElastomerPad
+from mechdyn.units import si_field
+
+__all__ = ["DampingPad", "LevellingWedge", "ScrewFoot", "SpringIsolator", "isolation"]
+
+G0 = 9.80665
+
+
+def _positive(owner: str, field: str, value: Any, unit: str) -> float:
+    v = si_field(owner, field, value, unit)
+    if not v > 0:
+        raise ModelError(f"{v:g} {unit} must be positive", element=owner, field=field)
+    return v
+
+
+@dataclass(frozen=True)
+class LevellingWedge:
+    """A levelling wedge mount.
+
+    Parameters
+    ----------
+    name : str
+    bearing_area : float or quantity
+        Load-bearing area of the wedge stack, m².
+    height : float or quantity
+        Stack height, m.
+    material : Material
+        The wedges' steel.
+    catalogue_stiffness : float or quantity, optional
+        The vendor's vertical stiffness, N/m; used when given.
+    """
+
+    name: str
+    bearing_area: Any
+    height: Any
+    material: Material
+    catalogue_stiffness: Any = None
+    adjusts_height: bool = True
+    damps: bool = False
+    loss_factor: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "bearing_area", _positive(self.name, "bearing_area", self.bearing_area, "m^2")
+        )
+        object.__setattr__(self, "height", _positive(self.name, "height", self.height, "m"))
+        if self.catalogue_stiffness is not None:
+            object.__setattr__(
+                self,
+                "catalogue_stiffness",
+                _positive(self.name, "catalogue_stiffness", self.catalogue_stiffness, "N/m"),
+            )
+
+    @property
+    def solid_stiffness(self) -> float:
+        """E A / h of the steel stack, N/m (an upper bound)."""
+        return self.material.youngs_modulus * self.bearing_area / self.height
+
+    @property
+    def stiffness(self) -> float:
+        """Vertical stiffness, N/m: the catalogue's, else the solid stack's."""
+        return self.catalogue_stiffness if self.catalogue_stiffness is not None else self.solid_stiffness
+
+    def breakdown(self) -> dict[str, Any]:
+        return {
+            "solid_steel_stack_N_per_m": self.solid_stiffness,
+            "catalogue_N_per_m": self.catalogue_stiffness,
+            "used": "catalogue"
+            if self.catalogue_stiffness is not None
+            else "solid steel stack (upper bound)",
+        }
+
+
+@dataclass(frozen=True)
+class ScrewFoot:
+    """A screw levelling foot: a threaded spindle standing on a base.
+
+    Parameters
+    ----------
+    name : str
+    diameter : float or quantity
+        Spindle nominal diameter, m.
+    free_length : float or quantity
+        Spindle length between the machine and the base, m.
+    material : Material
+    base : ElastomerPad or float or quantity, optional
+        An elastomer base pad, or the base's stiffness (N/m); none means a rigid steel base.
+    """
+
+    name: str
+    diameter: Any
+    free_length: Any
+    material: Material
+    base: Any = None
+    adjusts_height: bool = True
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "diameter", _positive(self.name, "diameter", self.diameter, "m"))
+        object.__setattr__(self, "free_length", _positive(self.name, "free_length", self.free_length, "m"))
+        if self.base is not None and not isinstance(self.base, ElastomerPad):
+            object.__setattr__(self, "base", _positive(self.name, "base", self.base, "N/m"))
+
+    @property
+    def spindle_stiffness(self) -> float:
+        """A_s E / L, N/m (stress area with P ≈ 0.15 d)."""
+        a_s = math.pi / 4 * (self.diameter - 0.9382 * 0.15 * self.diameter) ** 2
+        return a_s * self.material.youngs_modulus / self.free_length
+
+    @property
+    def base_stiffness(self) -> float | None:
+        if self.base is None:
+            return None
+        return self.base.compression_stiffness if isinstance(self.base, ElastomerPad) else self.base
+
+    @property
+    def stiffness(self) -> float:
+        """Spindle and base in series, N/m."""
+        kb = self.base_stiffness
+        return self.spindle_stiffness if kb is None else 1.0 / (1.0 / self.spindle_stiffness + 1.0 / kb)
+
+    @property
+    def damps(self) -> bool:
+        return isinstance(self.base, ElastomerPad)
+
+    @property
+    def loss_factor(self) -> float:
+        return 0.1 if self.damps else 0.0
+
+    def breakdown(self) -> dict[str, Any]:
+        return {"spindle_N_per_m": self.spindle_stiffness, "base_N_per_m": self.base_stiffness}
+
+
+@dataclass(frozen=True)
+class DampingPad:
+    """An elastomer damping pad: a bonded pad with a loss factor (does not adjust height)."""
+
+    name: str
+    pad: ElastomerPad
+    loss_factor: float = 0.1
+    adjusts_height: bool = False
+    damps: bool = True
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.loss_factor < 2:
+            raise ModelError(
+                f"{self.loss_factor:g} must lie in [0, 2)", element=self.name, field="loss_factor"
+            )
+
+    @property
+    def stiffness(self) -> float:
+        return self.pad.compression_stiffness
+
+    def breakdown(self) -> dict[str, Any]:
+        return self.pad.breakdown() | {"loss_factor": self.loss_factor}
+
+
+@dataclass(frozen=True)
+class SpringIsolator:
+    """Helical compression springs in parallel under a housing.
+
+    Parameters
+    ----------
+    name : str
+    wire_diameter, coil_diameter : float or quantity
+        d and mean coil diameter D, m.
+    active_coils : float
+        N_a.
+    springs : int
+        How many in parallel.
+    material : Material
+        Spring steel (its shear modulus G).
+    """
+
+    name: str
+    wire_diameter: Any
+    coil_diameter: Any
+    active_coils: float
+    material: Material
+    springs: int = 1
+    adjusts_height: bool = False
+    damps: bool = False
+    loss_factor: float = 0.005
+
+    def __post_init__(self) -> None:
+        d = _positive(self.name, "wire_diameter", self.wire_diameter, "m")
+        D = _positive(self.name, "coil_diameter", self.coil_diameter, "m")
+        if D <= d:
+            raise ModelError(
+                f"coil diameter {D:g} m must exceed the wire {d:g} m",
+                element=self.name,
+                field="coil_diameter",
+            )
+        if not self.active_coils > 0 or self.springs < 1:
+            raise ModelError(
+                "active coils and springs must be positive", element=self.name, field="active_coils"
+            )
+        object.__setattr__(self, "wire_diameter", d)
+        object.__setattr__(self, "coil_diameter", D)
+
+    @property
+    def stiffness(self) -> float:
+        """n G d⁴ / (8 D³ N_a), N/m."""
+        d, D = self.wire_diameter, self.coil_diameter
+        return self.springs * self.material.shear_modulus * d**4 / (8 * D**3 * self.active_coils)
+
+    def breakdown(self) -> dict[str, Any]:
+        return {"spring_N_per_m": self.stiffness / self.springs, "springs": self.springs}
+
+
+def isolation(
+    stiffness: Any, load: Any, disturbing_frequency: Any, loss_factor: float = 0.0
+) -> dict[str, float]:
+    """Static deflection, natural frequency, transmissibility and isolation efficiency of a mount.
+
+    Parameters
+    ----------
+    stiffness : float or quantity
+        N/m.
+    load : float or quantity
+        The weight the mount carries, N (or a mass in kg, taken under standard gravity).
+    disturbing_frequency : float or quantity
+        Hz (or rpm).
+    loss_factor : float
+        η; the viscous equivalent ζ = η/2.
+    """
+    k = _positive("isolation", "stiffness", stiffness, "N/m")
+    try:
+        W = _positive("isolation", "load", load, "N")
+    except ModelError:
+        W = _positive("isolation", "load", load, "kg") * G0
+    f = _positive("isolation", "disturbing_frequency", disturbing_frequency, "Hz")
+    m = W / G0
+    fn = math.sqrt(k / m) / (2 * math.pi)
+    r, zeta = f / fn, loss_factor / 2
+    T = math.sqrt((1 + (2 * zeta * r) ** 2) / ((1 - r**2) ** 2 + (2 * zeta * r) ** 2))
+    return {
+        "static_deflection_m": W / k,
+        "natural_frequency_hz": fn,
+        "frequency_ratio": r,
+        "transmissibility": T,
+        "isolation_efficiency": 1 - T,
+    }
