@@ -15,21 +15,18 @@ from mechdyn.cli.main import main
 DRIVETRAIN_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drivetrain"' in p.read_text())
 MECHANISM_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mechanism"' in p.read_text())
 SUPPORT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "support"' in p.read_text())
+MOUNT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mount"' in p.read_text())
 GEAR_EXAMPLES = sorted(
-    p for p in EXAMPLES.glob("*.toml") if p not in DRIVETRAIN_EXAMPLES + MECHANISM_EXAMPLES + SUPPORT_EXAMPLES
+    p
+    for p in EXAMPLES.glob("*.toml")
+    if 'type = "gear_pair"' in p.read_text() or 'type = "tooth_pair"' in p.read_text()
 )
 
 
 def test_every_example_is_run_by_one_of_the_tests():
-    kinds = {p: p.read_text() for p in EXAMPLES.glob("*.toml")}
-    known = (
-        'type = "drivetrain"',
-        'type = "gear_pair"',
-        'type = "tooth_pair"',
-        'type = "mechanism"',
-        'type = "support"',
-    )
-    assert all(any(k in t for k in known) for t in kinds.values())
+    lists = [DRIVETRAIN_EXAMPLES, MECHANISM_EXAMPLES, SUPPORT_EXAMPLES, MOUNT_EXAMPLES, GEAR_EXAMPLES]
+    for p in EXAMPLES.glob("*.toml"):
+        assert sum(p in group for group in lists) == 1, p.name
 
 
 @pytest.fixture
@@ -159,6 +156,40 @@ def test_every_support_example_runs(example, db, capsys, tmp_path):
     assert "influence of the support" in out and "transmitted force range" in out
 
 
+def test_there_are_the_mount_examples():
+    names = {p.name for p in MOUNT_EXAMPLES}
+    assert {"pad_shore60.toml", "anchor_concrete.toml", "wedge_mount.toml", "mount_frf.toml"} <= names
+
+
+@pytest.mark.parametrize("example", MOUNT_EXAMPLES, ids=lambda p: p.stem)
+def test_every_mount_example_runs(example, db, capsys, tmp_path):
+    plots = tmp_path / "plots"
+    doc = run_json(capsys, "mount", str(example), "--plots", str(plots))
+    assert doc["stiffness_N_per_m"] > 0 and isinstance(doc["breakdown"], dict)
+    assert all((plots / p).stat().st_size > 10_000 for p in doc["plots"]) if "plots" in doc else True
+    if "contact" in doc:  # the published anchor: three preloads against 1.7 MPa
+        assert [c["preload_N"] for c in doc["contact"]] == [2000.0, 4000.0, 6000.0]
+        assert doc["pressure_threshold_Pa"] == 1.7e6
+        assert doc["calibration"]["parameter"] == "cone_angle" and 15 < doc["calibration"]["value_deg"] < 30
+        assert doc["calibration"]["record_id"] >= 1
+    if "frf_fit" in doc:
+        assert doc["frf_fit"]["stiffness_N_per_m"] == pytest.approx(1.2e7, rel=0.03)
+        assert doc["frf_fit"]["damping_ratio"] == pytest.approx(0.08, rel=0.05)
+    assert main(["mount", str(example)]) == 0
+    assert "stiffness along the main axis" in capsys.readouterr().out
+
+
+def test_a_stored_calibration_is_used_in_the_next_prediction(db, capsys, tmp_path):
+    anchor = (EXAMPLES / "anchor_concrete.toml").read_text()
+    first = run_json(capsys, "mount", str(EXAMPLES / "anchor_concrete.toml"))
+    later = tmp_path / "later.toml"
+    later.write_text(anchor.split("[fe]")[0] + "[calibration]\nuse_stored = true\n")
+    doc = run_json(capsys, "mount", str(later))
+    assert doc["applied_calibration"]["provenance"].startswith("axisymmetric FE")
+    assert doc["member_stiffness_N_per_m"] == pytest.approx(first["fe_stiffness_N_per_m"], rel=1e-9)
+    assert doc["stiffness_N_per_m"] < doc["stiffness_as_drawn_N_per_m"]
+
+
 def test_support_command_refuses_a_mechanism(db, capsys):
     assert main(["support", str(EXAMPLES / "slider_crank.toml")]) == 2
     assert 'this command needs type = "support"' in capsys.readouterr().err
@@ -257,6 +288,7 @@ def test_readme_documents_every_json_key(db, capsys):
         ["gear", tooth],
         ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "36"],
         ["support", str(EXAMPLES / "press_on_mounts.toml"), "--cycles", "2"],
+        *(["mount", str(p)] for p in MOUNT_EXAMPLES),
     ):
         keys = set(run_json(capsys, *argv))
         assert keys <= documented, f"{argv[0]}: undocumented JSON keys {sorted(keys - documented)}"
