@@ -287,3 +287,41 @@ def test_bad_inputs_are_refused_by_name():
 def _anchor_with(**kw):
     layers = [Layer("20 mm", DB["steel"])]
     return BoltedJoint("a", "12 mm", layers, DB["bolt steel"], kw.pop("head_diameter", "24 mm"), **kw)
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        (
+            '[pad]\nshore_a = 60\nmaterial = "rubber shore 60"\nthickness = "10 mm"\ndiameter = "50 mm"\n',
+            "one of the two",
+        ),
+        (
+            '[pad]\nshore_a = 60\nthickness = "-10 mm"\ndiameter = "50 mm"\n',
+            "[pad] → thickness: -0.01 m must be positive",
+        ),
+        (
+            '[bolted]\ndiameter = "12 mm"\nhead_diameter = "24 mm"\n[[bolted.layers]]\nthickness = "20 mm"\n'
+            'material = "steal"\n',
+            "[[bolted.layers]] #1 → material: no material 'steal' in the database; did you mean 'steel'?",
+        ),
+        (
+            '[wedge]\nbearing_area = "1e-2 m^2"\nheight = "50 mm"\n[fe]\n',
+            "the FE reference models pads and bolted",
+        ),
+        (
+            '[pad]\nshore_a = 60\nthickness = "10 mm"\ndiameter = "50 mm"\n'
+            '[spring]\nwire_diameter = "5 mm"\ncoil_diameter = "40 mm"\nactive_coils = 5\n',
+            "describe exactly one mount",
+        ),
+    ],
+)
+def test_mount_file_errors_name_the_table(tmp_path, body, message):
+    import mechdyn
+    from mechdyn.errors import ModelFileError
+
+    p = tmp_path / "m.toml"
+    p.write_text('[model]\ntype = "mount"\nname = "m"\n' + body)
+    with pytest.raises(ModelFileError) as info:
+        mechdyn.load(p)
+    assert message in str(info.value)
