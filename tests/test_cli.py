@@ -195,6 +195,23 @@ def test_support_command_refuses_a_mechanism(db, capsys):
     assert 'this command needs type = "support"' in capsys.readouterr().err
 
 
+def test_the_planting_mechanism_from_the_command_line(db, capsys, tmp_path):
+    plots = tmp_path / "plots"
+    doc = run_json(
+        capsys, "mechanism", str(EXAMPLES / "transplanter_rp1.toml"), "--plots", str(plots), "--angles", "72"
+    )
+    assert {
+        "shaking_force_x_range_N",
+        "shaking_force_y_range_N",
+        "driving_torque_max_Nm",
+        "tooth_force_max_N",
+    } <= set(doc)
+    assert doc["power_balance_residual_relative"] < 1e-9
+    assert 20 < doc["tooth_force_max_N"] < 200 and doc["shaking_force_x_range_N"] > 1
+    for name in ("trajectory.png", "joint_forces.png", "driving_torque.png", "shaking_force_polar.png"):
+        assert (plots / name).stat().st_size > 10_000
+
+
 def test_slider_crank_cli_figures(db, capsys):
     doc = run_json(capsys, "mechanism", str(EXAMPLES / "slider_crank.toml"))
     assert doc["stroke_m"] == pytest.approx(0.2) and (doc["bdc_deg"], doc["tdc_deg"]) == (180.0, 0.0)

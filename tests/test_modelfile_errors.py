@@ -347,7 +347,7 @@ def test_bad_tooth_pair_files_are_named(tmp_path, old, new, where, what):
             'type = "prismatic"',
             'type = "spherical"',
             "[[joints]] #4 (name = 'guide') → type",
-            "'revolute' or 'prismatic'",
+            "'revolute', 'prismatic' or 'gear'",
         ),
         ('mass = "5 kg"', 'mass = "-5 kg"', "[[bodies]] #3 (name = 'slider') → mass", "must not be negative"),
         ('B = ["0.5 m", "0 m"]', 'B = ["0.5 m"]', "[points] → B → item 2", "required field is missing"),

@@ -12,7 +12,16 @@ from mechdyn.cli.common import AnalysisOutput, Table, add_common_options, column
 from mechdyn.errors import ModelFileError
 from mechdyn.io.modelfile import ModelSource
 from mechdyn.mechanism.dynamics import inverse_dynamics
-from mechdyn.mechanism.plots import plot_frames, plot_inertia_forces, plot_output_motion, plot_torque
+from mechdyn.mechanism.model import GearJoint
+from mechdyn.mechanism.plots import (
+    plot_frames,
+    plot_inertia_forces,
+    plot_joint_forces,
+    plot_output_motion,
+    plot_shaking_polar,
+    plot_torque,
+    plot_trajectory,
+)
 from mechdyn.mechanism.schema import MechanismSpec
 
 __all__ = ["register"]
@@ -34,6 +43,9 @@ UNITS = {
     "driving_torque_rms_Nm": "N·m",
     "shaking_force_max_N": "N",
     "shaking_moment_range_Nm": "N·m",
+    "shaking_force_x_range_N": "N",
+    "shaking_force_y_range_N": "N",
+    "tooth_force_max_N": "N",
     "power_balance_residual_relative": "",
 }
 
@@ -56,6 +68,12 @@ def _mechanism_command(args: argparse.Namespace) -> int:
             for j in model.mechanism.joints
         }
         summary["joint_force_peak_N"] = peaks
+        F = d.shaking_force
+        summary["shaking_force_x_range_N"] = float(np.ptp(F[:, 0]))
+        summary["shaking_force_y_range_N"] = float(np.ptp(F[:, 1]))
+        gears = [j.name for j in model.mechanism.joints if isinstance(j, GearJoint)]
+        if gears:  # the mesh force on gear 2: tangential and, by the pressure angle, normal
+            summary["tooth_force_max_N"] = max(peaks[g] for g in gears)
         summary["n_angles"] = n
         frame = d.to_frame()
         if args.csv:
@@ -81,6 +99,10 @@ def _mechanism_command(args: argparse.Namespace) -> int:
             "driving_torque.png": lambda: plot_torque(d),
             "frames.png": lambda: plot_frames(d),
         }
+        plots["joint_forces.png"] = lambda: plot_joint_forces(d)
+        plots["shaking_force_polar.png"] = lambda: plot_shaking_polar(d)
+        if model.trace:
+            plots["trajectory.png"] = lambda: plot_trajectory(d, list(model.trace), model.field_velocity)
         if d.output_position is None:
             plots.pop("output_motion.png")
         return AnalysisOutput("mechanism", {"n_angles": n, "csv": args.csv}, summary, arrays, tables, plots)

@@ -10,11 +10,12 @@ ch. 3–4 (revolute and translational joints in body coordinates). All arrays ca
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic, Revolute
+from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Revolute
 
 __all__ = ["ConstraintSet", "Evaluation"]
 
@@ -45,12 +46,26 @@ class Evaluation:
         −ground_jacobianᵀ λ (forces and the moment about the origin).
     gamma : ndarray
         (..., m) right-hand side of Φ_q q̈ = γ (when velocities were given).
+    force_jacobian, force_ground_jacobian : ndarray or None
+        With gear pairs: the Jacobian with each gear row replaced by its mesh-force row.
     """
 
     residual: np.ndarray
     jacobian: np.ndarray
     ground_jacobian: np.ndarray
     gamma: np.ndarray | None
+    force_jacobian: np.ndarray | None = None
+    force_ground_jacobian: np.ndarray | None = None
+
+    @property
+    def load_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
+        """(Φ_q, frame part) whose transpose times λ gives the joint loads: the Jacobian itself,
+        except that a gear pair's row is its mesh force at the pitch point along the line of
+        action (the same constraint on the motions the other joints allow, so the same motion and
+        the same power, but the forces where the teeth put them)."""
+        if self.force_jacobian is None:
+            return self.jacobian, self.ground_jacobian
+        return self.force_jacobian, self.force_ground_jacobian
 
 
 class ConstraintSet:
@@ -73,23 +88,34 @@ class ConstraintSet:
         frame = nb  # the frame's slot in the augmented coordinates
         rev, pri = [], []
         template = np.zeros((self.m, 3 * (nb + 1)))
-        for k, j in enumerate(mechanism.joints):
+        gears = []
+        for j, rows in zip(mechanism.joints, mechanism.joint_rows, strict=True):
+            r0 = rows.start
+            if isinstance(j, GearJoint):
+                g1, g2 = (frame if b == GROUND else idx[b] for b in j.bodies)
+                ic = frame if j.carrier == GROUND else idx[j.carrier]
+                c1 = mechanism.local(j.carrier, j.points[0])
+                c2 = mechanism.local(j.carrier, j.points[1])
+                gears.append((r0, g1, g2, ic, c1, c2, mechanism.gear_laws[j.name], j))
+                self.rows.append((j.name, "rolling"))
+                continue
             a, b = j.bodies
             ia = frame if a == GROUND else idx[a]
             ib = frame if b == GROUND else idx[b]
             sa, sb = mechanism.local(a, j.point), mechanism.local(b, j.point)
             if isinstance(j, Revolute):
-                rev.append((2 * k, ia, ib, sa, sb))
-                template[2 * k, 3 * ia], template[2 * k + 1, 3 * ia + 1] = 1.0, 1.0
-                template[2 * k, 3 * ib], template[2 * k + 1, 3 * ib + 1] = -1.0, -1.0
+                rev.append((r0, ia, ib, sa, sb))
+                template[r0, 3 * ia], template[r0 + 1, 3 * ia + 1] = 1.0, 1.0
+                template[r0, 3 * ib], template[r0 + 1, 3 * ib + 1] = -1.0, -1.0
                 self.rows += [(j.name, "x"), (j.name, "y")]
             elif isinstance(j, Prismatic):
                 u = np.array([np.cos(j.axis), np.sin(j.axis)])
-                pri.append((2 * k, ia, ib, sa, sb, _perp(u)))
-                template[2 * k, 3 * ia + 2], template[2 * k, 3 * ib + 2] = 1.0, -1.0
+                pri.append((r0, ia, ib, sa, sb, _perp(u)))
+                template[r0, 3 * ia + 2], template[r0, 3 * ib + 2] = 1.0, -1.0
                 self.rows += [(j.name, "rotation"), (j.name, "distance to the axis")]
             else:  # pragma: no cover
                 raise TypeError(type(j))
+        self._gears = gears
         self.crank = idx[mechanism.driver.body]
         template[-1, 3 * self.crank + 2], template[-1, 3 * frame + 2] = 1.0, -1.0
         self.rows.append(("driver", "crank angle"))
@@ -103,8 +129,11 @@ class ConstraintSet:
         )
         self._pri = pri
 
-    def evaluate(self, q: np.ndarray, crank_angle: np.ndarray, qd: np.ndarray | None = None) -> Evaluation:
-        """Φ, Φ_q, the frame's Jacobian and (with velocities ``qd``) γ.
+    def evaluate(
+        self, q: np.ndarray, crank_angle: np.ndarray, qd: np.ndarray | None = None, *, forces: bool = False
+    ) -> Evaluation:
+        """Φ, Φ_q, the frame's Jacobian and (with velocities ``qd``) γ; with ``forces``, also the
+        gear pairs' mesh-force rows (see :attr:`Evaluation.load_jacobian`).
 
         Parameters
         ----------
@@ -161,6 +190,40 @@ class ConstraintSet:
                     - 2.0 * wb * np.sum(Bn * dd, axis=-1)
                     + np.sum(nrm * (Asa * (wa**2)[..., None] - Asb * (wb**2)[..., None]), axis=-1)
                 )
+        fjac = jac.copy() if self._gears and forces else None
+        for r0, g1, g2, ic, c1, c2, law, joint in self._gears:
+            pc = body[..., ic, 2]
+            psi1, psi2 = body[..., g1, 2] - pc, body[..., g2, 2] - pc
+            g, dg, ddg = law(psi1)
+            res[..., r0] = psi2 - g
+            jac[..., r0, 3 * g1 + 2] += -dg
+            jac[..., r0, 3 * g2 + 2] += 1.0
+            jac[..., r0, 3 * ic + 2] += dg - 1.0
+            if gam is not None:
+                w1 = rate[..., g1, 2] - rate[..., ic, 2]
+                gam[..., r0] = ddg * w1**2
+            if fjac is None:
+                continue
+            # the force row: the mesh force λ u on gear 2 (−λ u on gear 1) at the pitch point P
+            rc = body[..., ic, :2]
+            p1 = rc + _rotate(pc, c1)
+            e = _rotate(pc, c2) - _rotate(pc, c1)
+            e = e / np.linalg.norm(e, axis=-1, keepdims=True)
+            if law.internal:
+                e = -e
+            r, dr_dpsi, _ = law.contact_radius(psi1)
+            P = p1 + e * r[..., None]
+            t = _perp(e) * r[..., None] - e * dr_dpsi[..., None]  # dr/dθ = −dr/dψ
+            t = t / np.linalg.norm(t, axis=-1, keepdims=True)
+            u = t - _perp(t) * math.tan(joint.pressure_angle)  # −perp(t): gear 1's outward normal
+            fjac[..., r0, :] = 0.0
+            for slot, sign in ((g1, 1.0), (g2, -1.0)):
+                arm = P - body[..., slot, :2]
+                fjac[..., r0, 3 * slot] += sign * u[..., 0]
+                fjac[..., r0, 3 * slot + 1] += sign * u[..., 1]
+                fjac[..., r0, 3 * slot + 2] += sign * (arm[..., 0] * u[..., 1] - arm[..., 1] * u[..., 0])
         # driver: φ_crank − φ_frame − (θ − θ_drawing) = 0
         res[..., -1] = q[..., 3 * self.crank + 2] - (crank_angle - self.mechanism.drawing_crank_angle)
-        return Evaluation(res, jac[..., :n], jac[..., n:], gam)
+        if fjac is None:
+            return Evaluation(res, jac[..., :n], jac[..., n:], gam)
+        return Evaluation(res, jac[..., :n], jac[..., n:], gam, fjac[..., :n], fjac[..., n:])

@@ -27,7 +27,7 @@ import numpy as np
 
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.kinematics import AssemblyError
-from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic, Revolute
+from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Revolute
 
 __all__ = ["CycleBatch", "NotDecomposable", "cycle", "plan"]
 
@@ -50,6 +50,9 @@ class Step:
 def plan(mechanism: Mechanism) -> list[Step]:
     """The order in which the points become known; :class:`NotDecomposable` if there is none."""
     m = mechanism
+    for j in m.joints:
+        if isinstance(j, GearJoint):
+            raise NotDecomposable(f"gear pair {j.name!r} runs on the general engine", element=j.name)
     pts_of = {b.name: set(b.points) for b in m.bodies}
     grounded = {j.point for j in m.joints if isinstance(j, Revolute) and GROUND in j.bodies}
     for j in m.joints:

@@ -55,11 +55,11 @@ class DynamicsResult:
     # -- loads -----------------------------------------------------------------------------------
     @cached_property
     def _constraint_loads(self) -> tuple[np.ndarray, np.ndarray]:
-        ev = self.kinematics.evaluation
+        J, Jg = self.kinematics.evaluation.load_jacobian
         lam = self.multipliers
         # per row r: generalised load on the moving bodies −J[r]ᵀ λ_r and on the frame −Jg[r]ᵀ λ_r
-        on_bodies = -ev.jacobian * lam[..., None]  # (N, m, n)
-        on_frame = -ev.ground_jacobian * lam[..., None]  # (N, m, 3)
+        on_bodies = -J * lam[..., None]  # (N, m, n)
+        on_frame = -Jg * lam[..., None]  # (N, m, 3)
         return on_bodies, on_frame
 
     @property
@@ -76,7 +76,7 @@ class DynamicsResult:
             raise KeyError(joint)
         k = names.index(joint)
         on_bodies, on_frame = self._constraint_loads
-        rows = slice(2 * k, 2 * k + 2)
+        rows = m.joint_rows[k]
         if body == GROUND:
             return on_frame[:, rows, :].sum(axis=1)
         i = m.body_index[body]
@@ -253,6 +253,6 @@ def inverse_dynamics(
         inverse[order] = np.arange(order.size)
         lam = multipliers(k.dyads, Q[inverse])[order]
         return DynamicsResult(k, lam, Q)
-    ev = k.evaluation
-    lam, _ = solve_with_det(np.swapaxes(ev.jacobian, -1, -2), Q - mass.ravel() * k.qdd)
+    J, _ = k.evaluation.load_jacobian
+    lam, _ = solve_with_det(np.swapaxes(J, -1, -2), Q - mass.ravel() * k.qdd)
     return DynamicsResult(k, lam, Q)

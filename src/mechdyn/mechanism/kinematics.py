@@ -60,7 +60,7 @@ class KinematicsResult:
     @cached_property
     def evaluation(self):
         """The constraints at every angle (Φ, Φ_q, the frame's Jacobian), computed once."""
-        return self.constraints.evaluate(self.q, self.crank_angle)
+        return self.constraints.evaluate(self.q, self.crank_angle, forces=True)
 
     mechanism: Mechanism
     crank_angle: np.ndarray
@@ -223,7 +223,7 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
     q_end, it = _newton(
         cs, Q[-1] + dq * step + 0.5 * (A[-1] - dq * ak[-1]) / wk[-1] ** 2 * step**2, thetas[-1] + step, scale
     )
-    closes = it >= 0 and _same_pose(q_end, Q[0], scale)
+    closes = it >= 0 and _same_pose(mechanism, q_end, Q[0], scale)
     datum = _datum(mechanism, Q, thetas)
     angle = np.mod(thetas - datum + 1e-12, 2 * math.pi) - 1e-12
     order = np.argsort(angle)
@@ -266,13 +266,19 @@ def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
     return result
 
 
-def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
-    """Equal positions and equal rotations up to whole turns."""
+def _same_pose(mechanism: Mechanism, a: np.ndarray, b: np.ndarray, scale: float) -> bool:
+    """Every body's centre of mass and drawing points in the same place (rotations up to whole
+    turns; a body with one point, such as a gear on its pivot, may end turned by any angle)."""
     pa, pb = a.reshape(-1, 3), b.reshape(-1, 3)
-    return bool(
-        np.abs(pa[:, :2] - pb[:, :2]).max() < 1e-6 * scale
-        and np.abs(np.angle(np.exp(1j * (pa[:, 2] - pb[:, 2])))).max() < 1e-6
-    )
+    if np.abs(pa[:, :2] - pb[:, :2]).max() >= 1e-6 * scale:
+        return False
+    for i, body in enumerate(mechanism.bodies):
+        s = np.array([mechanism.local(body.name, p) for p in body.points])
+        c, sn = math.cos(pa[i, 2] - pb[i, 2]), math.sin(pa[i, 2] - pb[i, 2])
+        turned = s @ np.array([[c, sn], [-sn, c]])  # R(Δφ) s, row by row
+        if np.abs(turned - s).max() >= 1e-6 * scale:
+            return False
+    return True
 
 
 def output_position(mechanism: Mechanism, q: np.ndarray) -> np.ndarray | None:

@@ -22,7 +22,7 @@ import numpy as np
 from mechdyn.errors import ModelError
 from mechdyn.units import si_field
 
-__all__ = ["GROUND", "Body", "Driver", "Mechanism", "Prismatic", "ProcessForce", "Revolute"]
+__all__ = ["GROUND", "Body", "Driver", "GearJoint", "Mechanism", "Prismatic", "ProcessForce", "Revolute"]
 
 GROUND = "ground"
 """Name of the frame in joint definitions."""
@@ -101,6 +101,67 @@ class Prismatic:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
+
+
+@dataclass(frozen=True)
+class GearJoint:
+    """Two gears in mesh, rolling without slip at a fixed centre distance (one constraint).
+
+    Both gears pivot on the same carrier (a body, or the frame) at the drawing points ``points``;
+    the revolute joints that hold them there are separate joints of the model. A gear may be the
+    frame itself (a fixed sun gear). The mesh force acts at the pitch point along the line of
+    action: tangential to the pitch curves and, by the working pressure angle φ, F_n = F_t tan φ
+    towards gear 2 (the linear law of the published analyses; when F_t reverses, so does F_n —
+    real teeth would change flank).
+
+    Parameters
+    ----------
+    name : str
+    bodies : (gear 1, gear 2)
+        Gear 1 carries the pitch curve; gear 2 is its pure-rolling mate. Either may be ``"ground"``.
+    points : (centre 1, centre 2)
+        Drawing points of the two pivots; their distance is the centre distance.
+    curve : PitchCurve
+        Gear 1's pitch curve in its own frame (:mod:`mechdyn.mechanism.pitch`).
+    carrier : str
+        The body both pivots are fixed in (``"ground"`` for a fixed gearbox).
+    orientation : float or quantity
+        The drawing direction of the curve's θ = 0 (rad or quantity), e.g. the line from an
+        eccentric gear's pivot to its centre.
+    pressure_angle : float or quantity
+        φ, rad or quantity (20° by default).
+    internal : bool
+        Gear 2 is an annulus (circular gears only).
+    """
+
+    name: str
+    bodies: tuple[str, str]
+    points: tuple[str, str]
+    curve: Any
+    carrier: str = GROUND
+    orientation: Any = 0.0
+    pressure_angle: Any = "20 deg"
+    internal: bool = False
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "bodies", tuple(self.bodies))
+        object.__setattr__(self, "points", tuple(self.points))
+        object.__setattr__(self, "orientation", si_field(self.name, "orientation", self.orientation, "rad"))
+        phi = si_field(self.name, "pressure_angle", self.pressure_angle, "rad")
+        if not 0 <= phi < math.radians(45):
+            raise ModelError(
+                f"{math.degrees(phi):g}° must lie in [0°, 45°)", element=self.name, field="pressure_angle"
+            )
+        object.__setattr__(self, "pressure_angle", phi)
+        if len(self.points) != 2 or self.points[0] == self.points[1]:
+            raise ModelError(
+                f"{self.points!r} must be two different points", element=self.name, field="points"
+            )
+
+    @property
+    def point(self) -> str:
+        """Gear 1's pivot (where the joint is drawn)."""
+        return self.points[0]
 
 
 @dataclass(frozen=True)
@@ -187,7 +248,7 @@ class Mechanism:
     points : mapping of name → (x, y)
         The drawing, global coordinates in m.
     bodies : sequence of Body
-    joints : sequence of Revolute or Prismatic
+    joints : sequence of Revolute, Prismatic or GearJoint
     driver : Driver
     gravity : (gx, gy), optional
         m/s² (e.g. ``(0, -9.81)``); none by default.
@@ -203,7 +264,7 @@ class Mechanism:
 
     points: Mapping[str, tuple[float, float]]
     bodies: tuple[Body, ...]
-    joints: tuple[Revolute | Prismatic, ...]
+    joints: tuple[Revolute | Prismatic | GearJoint, ...]
     driver: Driver
     gravity: tuple[float, float] = (0.0, 0.0)
     process_forces: tuple[ProcessForce, ...] = ()
@@ -252,6 +313,9 @@ class Mechanism:
                 raise ModelError(
                     f"{j.bodies!r} must name two different bodies", element=j.name, field="bodies"
                 )
+            if isinstance(j, GearJoint):
+                self._check_gear(j, pts, names)
+                continue
             if j.point not in pts:
                 raise ModelError(f"point {j.point!r} is not in the drawing", element=j.name, field="point")
             for b in j.bodies:
@@ -278,6 +342,50 @@ class Mechanism:
                     f"output {self.output!r} must be a body and one of its points", element="output"
                 )
         self._check_count()
+        self.gear_laws  # noqa: B018 - a gear pair that cannot close is refused here
+
+    def _check_gear(self, j: GearJoint, pts: dict[str, Any], names: dict[str, int]) -> None:
+        for b in (*j.bodies, j.carrier):
+            if b != GROUND and b not in names:
+                raise ModelError(
+                    f"body {b!r} is not defined; bodies: {', '.join(names)}", element=j.name, field="bodies"
+                )
+        if j.carrier in j.bodies:
+            raise ModelError("a gear cannot be its own carrier", element=j.name, field="carrier")
+        for b, p in zip(j.bodies, j.points, strict=True):
+            if p not in pts:
+                raise ModelError(f"point {p!r} is not in the drawing", element=j.name, field="points")
+            for owner in (b, j.carrier):
+                if owner != GROUND and p not in self.bodies[names[owner]].points:
+                    raise ModelError(f"point {p!r} is not on body {owner!r}", element=j.name, field="points")
+
+    @cached_property
+    def gear_laws(self) -> dict[str, Any]:
+        """The motion law of every gear joint (:class:`~mechdyn.mechanism.pitch.PitchLaw`), from the
+        drawing's centre distances."""
+        from mechdyn.mechanism.pitch import pitch_law
+
+        out = {}
+        for j in self.joints:
+            if isinstance(j, GearJoint):
+                c1, c2 = (np.asarray(self.points[p], dtype=float) for p in j.points)
+                a = float(np.hypot(*(c2 - c1)))
+                beta = math.atan2(c2[1] - c1[1], c2[0] - c1[0])
+                try:
+                    out[j.name] = pitch_law(j.curve, a, beta - j.orientation, j.internal)
+                except ModelError as exc:
+                    raise ModelError(exc.detail, element=j.name, field=exc.field) from None
+        return out
+
+    @cached_property
+    def joint_rows(self) -> list[slice]:
+        """The constraint rows of each joint (two for revolute and prismatic, one for a gear pair)."""
+        out, r = [], 0
+        for j in self.joints:
+            n = 1 if isinstance(j, GearJoint) else 2
+            out.append(slice(r, r + n))
+            r += n
+        return out
 
     # -- structure ---------------------------------------------------------------------------
     @property
@@ -290,7 +398,7 @@ class Mechanism:
 
     @property
     def n_constraints(self) -> int:
-        return 2 * len(self.joints) + 1
+        return sum(1 if isinstance(j, GearJoint) else 2 for j in self.joints) + 1
 
     def _check_count(self) -> None:
         n, m = self.n_coordinates, self.n_constraints
@@ -299,7 +407,8 @@ class Mechanism:
         bodies = ", ".join(b.name for b in self.bodies)
         if m > n:
             raise ModelError(
-                f"over-constrained: {m} constraint equations (2 per joint, 1 driver) for {n} coordinates "
+                f"over-constrained: {m} constraint equations (2 per joint, 1 per gear pair, 1 driver) for "
+                f"{n} coordinates "
                 f"(3 per body: {bodies}); remove {m - n} equation(s) or add bodies"
             )
         raise ModelError(

@@ -11,7 +11,15 @@ from mechdyn.plotting import new_axes
 if TYPE_CHECKING:
     from mechdyn.mechanism.dynamics import DynamicsResult
 
-__all__ = ["plot_frames", "plot_inertia_forces", "plot_output_motion", "plot_torque"]
+__all__ = [
+    "plot_frames",
+    "plot_inertia_forces",
+    "plot_joint_forces",
+    "plot_output_motion",
+    "plot_shaking_polar",
+    "plot_torque",
+    "plot_trajectory",
+]
 
 
 def _dead_centres(ax: Any, result: DynamicsResult) -> None:
@@ -122,3 +130,71 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
         a.axis("off")
     fig.suptitle(f"{m.name}: frames over one revolution")
     return np.ravel(axes)[0]
+
+
+def plot_joint_forces(result: DynamicsResult, joints: list[str] | None = None, ax: Any = None) -> Any:
+    """Magnitude of each joint's force over the cycle (on the joint's second body), N."""
+    ax = new_axes(ax)
+    deg = np.degrees(result.angle)
+    m = result.mechanism
+    for j in m.joints:
+        if joints is not None and j.name not in joints:
+            continue
+        f = np.linalg.norm(result.joint_load(j.name, j.bodies[1])[:, :2], axis=1)
+        ax.plot(deg, f, lw=1.2, label=j.name)
+    ax.set_xlabel("crank angle (deg)")
+    ax.set_ylabel("joint force (N)")
+    ax.set_title(f"{m.name}: joint and tooth forces")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small", ncols=2)
+    return ax
+
+
+def plot_shaking_polar(result: DynamicsResult, ax: Any = None) -> Any:
+    """The shaking force vector over the cycle: its tip traced in the (Fx, Fy) plane, N."""
+    ax = new_axes(ax, figsize=(5.5, 5.5))
+    F = result.shaking_force
+    ax.plot(F[:, 0], F[:, 1], lw=1.5)
+    ax.plot([0], [0], "k+", ms=10)
+    for k in range(0, len(F), max(1, len(F) // 12)):
+        ax.annotate(f"{np.degrees(result.angle[k]):.0f}°", F[k], fontsize="x-small")
+    ax.set_xlabel("shaking force Fx (N)")
+    ax.set_ylabel("shaking force Fy (N)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_title(f"{result.mechanism.name}: shaking force (on the frame)")
+    ax.grid(alpha=0.3)
+    return ax
+
+
+def plot_trajectory(
+    result: DynamicsResult, points: list[str], field_velocity: tuple[float, float] | None = None
+) -> Any:
+    """Paths of drawing points relative to the machine and, with the machine's velocity over the
+    field, over the ground for two revolutions (m)."""
+    import matplotlib.pyplot as plt
+
+    k, m = result.kinematics, result.mechanism
+    n = 2 if field_velocity is not None else 1
+    fig, axes = plt.subplots(1, n, figsize=(6.0 * n, 5.0), layout="constrained", squeeze=False)
+    T = float(k.time.max() - k.time.min()) * len(k.time) / max(len(k.time) - 1, 1)
+    order = np.argsort(k.time)
+    for p in points:
+        body = next(b.name for b in m.bodies if p in b.points)
+        xy = k.point(body, p)[0][order]
+        axes[0, 0].plot(1e3 * xy[:, 0], 1e3 * xy[:, 1], label=p)
+        if field_velocity is not None:
+            t = k.time[order] - k.time[order][0]
+            v = np.asarray(field_velocity)
+            path = np.concatenate([xy + np.outer(t + c * T, v) for c in range(2)])
+            axes[0, 1].plot(1e3 * path[:, 0], 1e3 * path[:, 1], label=p)
+    axes[0, 0].set_title("relative to the machine")
+    if field_velocity is not None:
+        axes[0, 1].set_title(f"over the field at {np.hypot(*field_velocity):g} m/s")
+    for a in axes.ravel():
+        a.set_aspect("equal", adjustable="datalim")
+        a.set_xlabel("x (mm)")
+        a.set_ylabel("y (mm)")
+        a.grid(alpha=0.3)
+        a.legend(fontsize="small")
+    fig.suptitle(f"{m.name}: paths")
+    return axes[0, 0]

@@ -3,8 +3,13 @@
 ``[points]`` is the drawing (global coordinates of every named point in one assembled pose);
 ``[[bodies]]`` list their points, mass, inertia about the centre of mass and centre of mass;
 ``[[joints]]`` are revolute or prismatic at a point; ``[driver]`` turns a crank; ``[settings]`` sets
-gravity, the angle datum, the output and the number of crank angles; ``[[process_forces]]`` are
-piecewise-linear tables against crank angle or output position. See ``examples/slider_crank.toml``.
+gravity, the angle datum, the output, the number of crank angles, the points to ``trace`` and the
+machine's ``field_velocity`` (for the path of a tool over the ground); ``[[process_forces]]`` are
+piecewise-linear tables against crank angle or output position. A ``gear`` joint meshes two gears
+pivoted on a common ``carrier`` at its two ``points``, with gear 1's pitch curve in ``pitch``
+(circle, eccentric circle, ellipse about a focus, or sampled radii; ``radius = "closing"`` sizes a
+noncircular gear so that its mate closes at the drawing's centre distance). See
+``examples/slider_crank.toml`` and ``examples/transplanter_rp1.toml``.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from pydantic import Field, field_validator
 
 from mechdyn.io.fields import Angle, FileModel, Length, ModelTableBase, quantity
 from mechdyn.io.modelfile import ModelSource, field_context, validate
-from mechdyn.mechanism.model import Body, Driver, Mechanism, Prismatic, ProcessForce, Revolute
+from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Prismatic, ProcessForce, Revolute
 
 __all__ = ["MechanismFile", "MechanismSpec", "build"]
 
@@ -42,12 +47,26 @@ class BodyTable(FileModel):
     center_of_mass: tuple[Length, Length] | str | None = None
 
 
+class PitchTable(FileModel):
+    kind: Literal["circle", "eccentric", "ellipse", "samples"]
+    radius: Length | Literal["closing"] | None = None
+    eccentricity_ratio: float | None = Field(default=None, ge=0, lt=1)
+    semi_major: Length | Literal["closing"] | None = None
+    radii: list[Length] | None = None
+
+
 class JointTable(FileModel):
     name: str
-    type: Literal["revolute", "prismatic"]
+    type: Literal["revolute", "prismatic", "gear"]
     bodies: tuple[str, str]
-    point: str
+    point: str | None = None
     axis: Angle | None = None
+    points: tuple[str, str] | None = None
+    carrier: str = "ground"
+    pitch: PitchTable | None = None
+    orientation: Angle = 0.0
+    pressure_angle: Angle = 0.3490658503988659
+    internal: bool = False
 
 
 class DriverTable(FileModel):
@@ -63,6 +82,8 @@ class SettingsTable(FileModel):
     angle_datum: Angle | Literal["bdc"] = 0.0
     n_angles: int = Field(default=360, ge=8, le=100_000)
     output: tuple[str, str] | None = None
+    trace: list[str] = Field(default_factory=list)
+    field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
 
     @field_validator("angle_datum", mode="before")
     @classmethod
@@ -96,6 +117,8 @@ class MechanismSpec:
 
     mechanism: Mechanism
     n_angles: int
+    trace: tuple[str, ...] = ()
+    field_velocity: tuple[float, float] | None = None
 
     @property
     def name(self) -> str:
@@ -152,6 +175,46 @@ def _profile(table: list[tuple[str, str]], speed: float):
     return rates
 
 
+def _gear(j: JointTable, points: dict[str, tuple[float, float]]) -> GearJoint:
+    """A gear joint from its table; ``"closing"`` sizes a noncircular curve to the drawing's centre
+    distance."""
+    from mechdyn.mechanism import pitch
+
+    if j.points is None or j.pitch is None:
+        raise ValueError("a gear joint needs points (the two pivots) and a pitch table")
+    if j.point is not None or j.axis is not None:
+        raise ValueError("a gear joint has points, not point or axis; remove them")
+    for p in j.points:
+        if p not in points:
+            raise ValueError(f"point {p!r} is not in the drawing")
+    a = float(np.hypot(*np.subtract(points[j.points[1]], points[j.points[0]])))
+    t = j.pitch
+    if t.kind == "circle":
+        if not isinstance(t.radius, float):
+            raise ValueError('pitch: a circle needs its radius, e.g. radius = "20 mm"')
+        curve = pitch.circle(t.radius)
+    elif t.kind == "eccentric":
+        eps = t.eccentricity_ratio or 0.0
+        rho = t.radius
+        if rho == "closing":
+            rho = a / pitch.closing_centre_distance(pitch.eccentric_circle(1.0, eps))
+        if not isinstance(rho, float):
+            raise ValueError('pitch: an eccentric gear needs radius (or "closing") and eccentricity_ratio')
+        curve = pitch.eccentric_circle(rho, eps * rho)
+    elif t.kind == "ellipse":
+        A = a / 2 if t.semi_major == "closing" else t.semi_major
+        if not isinstance(A, float) or t.eccentricity_ratio is None:
+            raise ValueError('pitch: an ellipse needs semi_major (or "closing") and eccentricity_ratio')
+        curve = pitch.ellipse_about_focus(A, t.eccentricity_ratio)
+    else:
+        if not t.radii:
+            raise ValueError("pitch: samples need radii over one turn")
+        curve = pitch.sampled(t.radii, j.name)
+    return GearJoint(
+        j.name, j.bodies, j.points, curve, j.carrier, j.orientation, j.pressure_angle, j.internal
+    )
+
+
 def build(source: ModelSource) -> MechanismSpec:
     """Builder for ``[model] type = "mechanism"``."""
     f = validate(MechanismFile, source)
@@ -159,9 +222,14 @@ def build(source: ModelSource) -> MechanismSpec:
     for i, b in enumerate(f.bodies):
         with field_context(source, f"[[bodies]] #{i + 1} (name = {b.name!r})"):
             bodies.append(Body(b.name, tuple(b.points), b.mass, b.inertia, b.center_of_mass))
-    joints: list[Revolute | Prismatic] = []
+    joints: list[Revolute | Prismatic | GearJoint] = []
     for i, j in enumerate(f.joints):
         with field_context(source, f"[[joints]] #{i + 1} (name = {j.name!r})"):
+            if j.type == "gear":
+                joints.append(_gear(j, f.points))
+                continue
+            if j.point is None:
+                raise ValueError(f"a {j.type} joint needs its point")
             if j.type == "revolute":
                 if j.axis is not None:
                     raise ValueError("a revolute joint has no axis; remove it")
@@ -193,4 +261,8 @@ def build(source: ModelSource) -> MechanismSpec:
             angle_datum=f.settings.angle_datum,
             name=f.model.name,
         )
-    return MechanismSpec(mech, f.settings.n_angles)
+    with field_context(source, "[settings] → trace"):
+        for p in f.settings.trace:
+            if p not in mech.points:
+                raise ValueError(f"point {p!r} is not in the drawing")
+    return MechanismSpec(mech, f.settings.n_angles, tuple(f.settings.trace), f.settings.field_velocity)

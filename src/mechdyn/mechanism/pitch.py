@@ -1,0 +1,256 @@
+"""Pitch curves of gear pairs: circular, eccentric, elliptic and general noncircular gears.
+
+A gear's pitch curve is r(θ) in its own frame (polar about its pivot). Two gears rolling without slip
+at a fixed centre distance a touch on the line of centres: with gear 1 turned by ψ₁ from the drawing
+(relative to the carrier that holds both pivots), the contact is at r₁(ψ₁) = r(β − ψ₁ − θ₀) from
+pivot 1 (β: direction of the line of centres, θ₀: the gear's drawing orientation), and the mate turns
+by dψ₂/dψ₁ = −r₁/(a − r₁) (external; Litvin & Fuentes, *Gear Geometry and Applied Theory*, ch. 16
+"Noncircular gears"). The mate closes over one turn of gear 1 when the mean of r₁/(a − r₁) is 1;
+:func:`closing_centre_distance` solves it. The law ψ₂ = g(ψ₁) = −(k ψ₁ + P(ψ₁)), with P periodic, is
+held as a Fourier series of the sampled ratio, so g, g′ and g″ are smooth to round-off.
+
+Checks: a pitch curve is convex where r² + 2 r′² − r r″ > 0 (θ-derivatives; a concave stretch would
+need internal teeth and undercuts the generating rack); the pitch tangent leans from the normal of
+the line of centres by ν = atan(r′/r), which adds to the working pressure angle as the pair turns.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+from mechdyn.errors import ModelError
+
+__all__ = [
+    "PitchCurve",
+    "PitchLaw",
+    "circle",
+    "closing_centre_distance",
+    "eccentric_circle",
+    "ellipse_about_focus",
+    "pitch_law",
+    "sampled",
+]
+
+_N = 4096  # samples of one turn for the Fourier representation
+
+
+@dataclass(frozen=True)
+class PitchCurve:
+    """r(θ) of a gear about its pivot, with its θ-derivatives (callable on arrays, m)."""
+
+    name: str
+    radius: Callable[[np.ndarray], np.ndarray]
+    circular: bool = False
+
+    @cached_property
+    def _series(self) -> tuple[np.ndarray, np.ndarray]:
+        """Fourier coefficients of r (weighted for the real series) and their orders, trimmed to
+        the terms that matter."""
+        c = np.fft.rfft(self.radius(2 * np.pi * np.arange(_N) / _N)) / _N
+        h = np.arange(c.size)
+        w = np.where(h == 0, 1.0, 2.0)
+        w[-1] = 1.0
+        cw = c * w
+        keep = np.nonzero(np.abs(cw) > 1e-14 * np.abs(cw).max())[0]  # above round-off
+        n = int(keep.max()) + 1 if keep.size else 1
+        return cw[:n], h[:n]
+
+    def derivatives(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """r, r′, r″ at θ, by the Fourier series of r over one turn (exact for smooth curves)."""
+        th = np.asarray(theta, dtype=float)
+        cw, h = self._series
+        e = np.exp(1j * np.multiply.outer(th, h)) * cw
+        return e.real.sum(-1), (1j * h * e).real.sum(-1), (-(h**2) * e).real.sum(-1)
+
+    def convexity(self) -> float:
+        """min over θ of (r² + 2r′² − r r″)/r²: positive for a convex curve."""
+        th = 2 * np.pi * np.arange(720) / 720
+        r, r1, r2 = self.derivatives(th)
+        return float(np.min((r**2 + 2 * r1**2 - r * r2) / r**2))
+
+    def length(self) -> float:
+        """Perimeter, m: ∫ √(r² + r′²) dθ."""
+        th = 2 * np.pi * np.arange(_N) / _N
+        r, r1, _ = self.derivatives(th)
+        return float(np.mean(np.sqrt(r**2 + r1**2)) * 2 * np.pi)
+
+
+def circle(radius: float) -> PitchCurve:
+    """A circular gear of pitch radius ``radius`` (m)."""
+    if not radius > 0:
+        raise ModelError(f"{radius:g} m must be positive", element="pitch curve", field="radius")
+    return PitchCurve("circle", lambda th: np.full(np.shape(th), float(radius)), circular=True)
+
+
+def eccentric_circle(radius: float, eccentricity: float) -> PitchCurve:
+    """A circle of radius ρ pivoted at e from its centre (θ = 0 towards the centre):
+    r(θ) = e cos θ + √(ρ² − e² sin² θ) (SPEC §6)."""
+    rho, e = float(radius), float(eccentricity)
+    if not (rho > 0 and 0 <= e < rho):
+        raise ModelError(
+            f"need 0 ≤ e < ρ (e = {e:g} m, ρ = {rho:g} m)", element="pitch curve", field="eccentricity"
+        )
+    return PitchCurve(
+        "eccentric circle",
+        lambda th: e * np.cos(th) + np.sqrt(rho**2 - (e * np.sin(th)) ** 2),
+        circular=e == 0,
+    )
+
+
+def ellipse_about_focus(semi_major: float, eccentricity: float) -> PitchCurve:
+    """An ellipse turning about a focus: r(θ) = A(1 − ε²)/(1 − ε cos θ) (θ = 0 towards the far vertex).
+
+    Two equal ellipses about their foci are exact conjugates at centre distance 2A.
+    """
+    A, eps = float(semi_major), float(eccentricity)
+    if not (A > 0 and 0 <= eps < 1):
+        raise ModelError(
+            f"need A > 0 and 0 ≤ ε < 1 (got {A:g}, {eps:g})", element="pitch curve", field="eccentricity"
+        )
+    return PitchCurve(
+        "ellipse about a focus", lambda th: A * (1 - eps**2) / (1 - eps * np.cos(th)), circular=eps == 0
+    )
+
+
+def sampled(radii: Any, name: str = "sampled curve") -> PitchCurve:
+    """A closed pitch curve from radii at equal angles over one turn (m), interpolated by its
+    Fourier series."""
+    r = np.asarray(radii, dtype=float)
+    if r.ndim != 1 or r.size < 8 or np.any(r <= 0):
+        raise ModelError("give at least 8 positive radii over one turn", element=name, field="radii")
+    c = np.fft.rfft(r) / r.size
+    h = np.arange(c.size)
+    w = np.where(h == 0, 1.0, 2.0)
+    if r.size % 2 == 0:
+        w[-1] = 1.0
+
+    def radius(th):
+        return (np.exp(1j * np.multiply.outer(np.asarray(th, dtype=float), h)) * (c * w)).real.sum(-1)
+
+    return PitchCurve(name, radius)
+
+
+@dataclass(frozen=True)
+class PitchLaw:
+    """The motion law of a gear pair: ψ₂ = g(ψ₁) and where and how the gears touch.
+
+    Attributes
+    ----------
+    curve : PitchCurve
+        Gear 1's pitch curve.
+    centre_distance : float
+        a, m.
+    line_angle : float
+        β − θ₀: where the line of centres points in gear 1's frame at the drawing, rad.
+    internal : bool
+        Gear 2 is an annulus (circular gears only).
+    ratio : float
+        k, the mean of dψ₂/dψ₁ in magnitude (1 for a closing noncircular pair).
+    """
+
+    curve: PitchCurve
+    centre_distance: float
+    line_angle: float
+    internal: bool
+    ratio: float
+    _coef: np.ndarray  # Fourier coefficients of the periodic part of h = |dψ₂/dψ₁| − k
+
+    def contact_radius(self, psi1: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """r₁ and its ψ-derivatives at the contact, m."""
+        r, r1, r2 = self.curve.derivatives(self.line_angle - np.asarray(psi1, dtype=float))
+        return r, -r1, r2
+
+    def __call__(self, psi1: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """ψ₂, dψ₂/dψ₁, d²ψ₂/dψ₁² at ψ₁ (external pairs turn opposite ways)."""
+        psi = np.asarray(psi1, dtype=float)
+        h = np.arange(self._coef.size)
+        e = np.exp(1j * np.multiply.outer(psi, h))
+        c = self._coef
+        # P(ψ) = Σ_{h≥1} 2 Re(c_h (e^{ihψ} − 1)/(ih)), P′ = h-series of the ratio's periodic part
+        ih = 1j * np.where(h == 0, 1, h)
+        P = (2 * np.where(h > 0, c / ih, 0) * (e - 1)).real.sum(-1)
+        dP = (2 * np.where(h > 0, c, 0) * e).real.sum(-1)
+        ddP = (2 * np.where(h > 0, c * 1j * h, 0) * e).real.sum(-1)
+        s = 1.0 if self.internal else -1.0
+        return s * (self.ratio * psi + P), s * (self.ratio + dP), s * ddP
+
+    def pitch_tangent_lean(self, psi1: Any) -> np.ndarray:
+        """ν = atan(dr/dθ / r): how far the common pitch tangent leans from the normal to the line
+        of centres, rad (0 for circular gears). The pressure angle against the line of centres
+        varies by this much."""
+        r, dr_dpsi, _ = self.contact_radius(psi1)
+        return np.arctan2(-dr_dpsi, r)
+
+
+def _ratio_samples(curve: PitchCurve, a: float, line_angle: float, internal: bool) -> np.ndarray:
+    psi = 2 * np.pi * np.arange(_N) / _N
+    r = curve.radius(line_angle - psi)
+    other = a + r if internal else a - r
+    if np.any(other <= 0):
+        raise ModelError(
+            f"the centre distance {a:g} m is too short for the pitch curve (up to {r.max():g} m)",
+            element=curve.name,
+            field="centre_distance",
+        )
+    return r / other
+
+
+def closing_centre_distance(curve: PitchCurve) -> float:
+    """The centre distance at which the external conjugate of ``curve`` closes over one turn, m
+    (mean r/(a − r) = 1; for a circle, the diameter)."""
+    th = 2 * np.pi * np.arange(_N) / _N
+    r = curve.radius(th)
+
+    def mean_ratio(a: float) -> float:
+        return float(np.mean(r / (a - r))) - 1.0
+
+    lo, hi = r.max() * (1 + 1e-9), 4 * r.max()
+    return float(brentq(mean_ratio, lo, hi, xtol=1e-15, rtol=1e-14))
+
+
+def pitch_law(
+    curve: PitchCurve,
+    centre_distance: float,
+    line_angle: float = 0.0,
+    internal: bool = False,
+    closing_tolerance: float = 1e-6,
+) -> PitchLaw:
+    """The motion law of gear 1 (``curve``) with its pure-rolling mate at ``centre_distance`` (m).
+
+    For a noncircular curve the mate must close over one turn: the mean ratio must be 1 (to
+    ``closing_tolerance``); otherwise :class:`ModelError` names the centre distance that closes.
+    """
+    if internal and not curve.circular:
+        raise ModelError("internal meshes are for circular gears only", element=curve.name, field="internal")
+    h = _ratio_samples(curve, centre_distance, line_angle, internal)
+    k = float(np.mean(h))
+    if not curve.circular and abs(k - 1) > closing_tolerance:
+        raise ModelError(
+            f"the mate does not close over one turn at centre distance {centre_distance * 1e3:.6g} mm "
+            f"(mean ratio {k:.6g}); it closes at {closing_centre_distance(curve) * 1e3:.6g} mm",
+            element=curve.name,
+            field="centre_distance",
+        )
+    if not curve.circular:
+        k = 1.0  # exactly: the closing residual is below the tolerance
+    c = np.fft.rfft(h - np.mean(h)) / _N
+    c[-1] *= 0.5
+    big = np.nonzero(np.abs(c) > 1e-14 * max(abs(k), np.abs(c).max()))[0]
+    c = c[: int(big.max()) + 1] if big.size else c[:1]  # the terms that matter
+    return PitchLaw(curve, float(centre_distance), float(line_angle), bool(internal), k, c)
+
+
+def conjugate(law: PitchLaw, n: int = 720) -> tuple[np.ndarray, np.ndarray]:
+    """The mate's pitch curve as (θ₂, r₂) samples in its own frame, for plots and checks."""
+    psi = 2 * np.pi * np.arange(n) / n
+    r1, _, _ = law.contact_radius(psi)
+    psi2, _, _ = law(psi)
+    r2 = law.centre_distance + r1 if law.internal else law.centre_distance - r1
+    theta2 = np.mod(np.pi + law.line_angle - psi2, 2 * np.pi)
+    return theta2, r2
