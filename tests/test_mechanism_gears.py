@@ -175,11 +175,9 @@ def _independent_forces(m: Mechanism, k, i: int) -> np.ndarray:
         e = (c2 - c1) / np.linalg.norm(c2 - c1)
         phi1 = 0.0 if j.bodies[0] == "ground" else q[idx[j.bodies[0]], 2]
         theta = law.line_angle - (phi1 - phi_c)
-        h = 1e-6
+        # r and dr/dθ straight from the curve's formula, dr/dθ by a complex step (exact to round-off)
         r = float(j.curve.radius(np.array([theta]))[0])
-        dr = float(
-            (j.curve.radius(np.array([theta + h])) - j.curve.radius(np.array([theta - h])))[0] / (2 * h)
-        )
+        dr = float(j.curve.radius(np.array([theta + 1e-30j]))[0].imag / 1e-30)
         P = c1 + r * e
         t = dr * e + r * np.array([-e[1], e[0]])
         t /= np.linalg.norm(t)
@@ -218,13 +216,13 @@ def test_the_independent_fifteen_unknown_system_agrees_to_round_off(transplanter
     meshes = [j for j in m.joints if isinstance(j, GearJoint)]
     for i in range(0, 24, 5):
         x = _independent_forces(m, k, i)
-        assert x[14] == pytest.approx(d.driving_torque[i], rel=1e-9, abs=1e-12)
+        assert x[14] == pytest.approx(d.driving_torque[i], rel=1e-10, abs=1e-12)
         for n, j in enumerate(meshes):
             force = d.joint_load(j.name, j.bodies[1])[i, :2]
             u = np.linalg.norm(force) / math.hypot(1.0, math.tan(j.pressure_angle))
-            assert abs(x[n]) == pytest.approx(u, rel=1e-7, abs=1e-9)
+            assert abs(x[n]) == pytest.approx(u, rel=1e-10, abs=1e-10)
         frame = d.joint_load("O", "arm")[i, :2]
-        np.testing.assert_allclose(x[12:14], frame, rtol=1e-8, atol=1e-9)
+        np.testing.assert_allclose(x[12:14], frame, rtol=1e-10, atol=1e-10)
         for n, name in enumerate(["I1", "P1", "I2", "P2"]):
             body = m.joints[[j.name for j in m.joints].index(name)].bodies[1]
             on_gear = d.joint_load(name, body)[i, :2]
@@ -232,7 +230,7 @@ def test_the_independent_fifteen_unknown_system_agrees_to_round_off(transplanter
             b = math.radians(rp1.BETA) + phi_c
             along = np.array([math.cos(b), math.sin(b)])
             across = np.array([-along[1], along[0]])
-            np.testing.assert_allclose(x[4 + 2 * n] * along + x[5 + 2 * n] * across, on_gear, atol=1e-8)
+            np.testing.assert_allclose(x[4 + 2 * n] * along + x[5 + 2 * n] * across, on_gear, atol=1e-10)
 
 
 def test_the_sensitivity_study_runs(capsys):
@@ -270,3 +268,16 @@ def test_bad_gear_pairs_are_refused():
             _pair(circle(0.02), 0.05),
             joints=(GearJoint("mesh", ("g1", "g2"), ("O1", "X"), circle(0.02)),),
         )
+
+
+def test_the_pair_report_flags_a_concave_pitch_curve():
+    from mechdyn.mechanism.pitch import report
+
+    lobed = sampled(0.02 * (1 + 0.3 * np.cos(3 * 2 * np.pi * np.arange(64) / 64)), "three lobes")
+    assert lobed.convexity() < 0
+    rep = report(pitch_law(lobed, closing_centre_distance(lobed)), math.radians(20))
+    assert rep["convex"] is False and rep["mean_ratio"] == 1.0
+    ok = report(
+        pitch_law(eccentric_circle(0.02, 0.002), closing_centre_distance(eccentric_circle(0.02, 0.002))), 0.35
+    )
+    assert ok["convex"] and ok["pressure_angle_min_deg"] < 20.05 < ok["pressure_angle_max_deg"]

@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import warnings
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from mechdyn.cli.common import AnalysisOutput, Table, add_common_options, column_unit, run_analysis
-from mechdyn.errors import ModelFileError
+from mechdyn.errors import ModelFileError, ModelWarning
 from mechdyn.io.modelfile import ModelSource
 from mechdyn.mechanism.dynamics import inverse_dynamics
 from mechdyn.mechanism.model import GearJoint
@@ -73,13 +74,38 @@ def _mechanism_command(args: argparse.Namespace) -> int:
         summary["shaking_force_y_range_N"] = float(np.ptp(F[:, 1]))
         gears = [j.name for j in model.mechanism.joints if isinstance(j, GearJoint)]
         if gears:  # the mesh force on gear 2: tangential and, by the pressure angle, normal
+            from mechdyn.mechanism.pitch import report
+
             summary["tooth_force_max_N"] = max(peaks[g] for g in gears)
+            summary["gear_pairs"] = {
+                j.name: report(model.mechanism.gear_laws[j.name], j.pressure_angle)
+                for j in model.mechanism.joints
+                if isinstance(j, GearJoint)
+            }
+            for name, rep in summary["gear_pairs"].items():
+                if not rep["convex"]:
+                    warnings.warn(
+                        f"gear pair {name!r}: a pitch curve is concave; its teeth would be undercut",
+                        ModelWarning,
+                        stacklevel=2,
+                    )
         summary["n_angles"] = n
         frame = d.to_frame()
         if args.csv:
             path = Path(args.csv)
             path.parent.mkdir(parents=True, exist_ok=True)
             frame.to_csv(path, index=False, float_format="%.10g")
+        gear_rows = [
+            [
+                n,
+                r["centre_distance_m"] * 1e3,
+                r["mean_ratio"],
+                r["convex"],
+                r["pressure_angle_min_deg"],
+                r["pressure_angle_max_deg"],
+            ]
+            for n, r in summary.get("gear_pairs", {}).items()
+        ]
         tables = [
             Table(
                 "summary",
@@ -92,6 +118,14 @@ def _mechanism_command(args: argparse.Namespace) -> int:
                 [[k, v] for k, v in peaks.items()],
             ),
         ]
+        if gear_rows:
+            tables.append(
+                Table(
+                    "gear pairs",
+                    ["pair", "centre distance [mm]", "mean ratio", "convex", "φ min [deg]", "φ max [deg]"],
+                    gear_rows,
+                )
+            )
         arrays = {name: (frame[name].to_numpy(), column_unit(name)) for name in frame.columns}
         plots = {
             "output_motion.png": lambda: plot_output_motion(d),

@@ -16,6 +16,7 @@ the line of centres by ν = atan(r′/r), which adds to the working pressure ang
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
@@ -31,9 +32,12 @@ __all__ = [
     "PitchLaw",
     "circle",
     "closing_centre_distance",
+    "conjugate",
     "eccentric_circle",
     "ellipse_about_focus",
+    "mate_curve",
     "pitch_law",
+    "report",
     "sampled",
 ]
 
@@ -254,3 +258,27 @@ def conjugate(law: PitchLaw, n: int = 720) -> tuple[np.ndarray, np.ndarray]:
     r2 = law.centre_distance + r1 if law.internal else law.centre_distance - r1
     theta2 = np.mod(np.pi + law.line_angle - psi2, 2 * np.pi)
     return theta2, r2
+
+
+def mate_curve(law: PitchLaw, n: int = 2048) -> PitchCurve:
+    """The mate's pitch curve in its own frame, as a sampled curve (for its convexity and length)."""
+    theta2, r2 = conjugate(law, 4 * n)
+    o = np.argsort(theta2)
+    grid = 2 * np.pi * np.arange(n) / n
+    return sampled(np.interp(grid, theta2[o], r2[o], period=2 * np.pi), f"mate of {law.curve.name}")
+
+
+def report(law: PitchLaw, pressure_angle: float) -> dict[str, float | bool]:
+    """What a designer checks on a gear pair: centre distance, mean ratio, convexity of both pitch
+    curves (a concave stretch undercuts), and the range of the pressure angle against the line of
+    centres as the pitch tangent leans (rad → degrees in the result)."""
+    psi = 2 * np.pi * np.arange(720) / 720
+    lean = law.pitch_tangent_lean(psi)
+    mate = law.curve if law.curve.circular else mate_curve(law)
+    return {
+        "centre_distance_m": law.centre_distance,
+        "mean_ratio": law.ratio,
+        "convex": bool(law.curve.convexity() > 0 and mate.convexity() > 0),
+        "pressure_angle_min_deg": math.degrees(pressure_angle + lean.min()),
+        "pressure_angle_max_deg": math.degrees(pressure_angle + lean.max()),
+    }
