@@ -30,7 +30,7 @@ def plot_pad_curve(pad: Any, ax: Any = None) -> Any:
     )
     ax.set_xlabel("deflection (mm)")
     ax.set_ylabel("compressive force (kN)")
-    ax.set_title(f"{pad.name}: S = {pad.shape_factor:.2f}, K_c = {pad.compression_stiffness / 1e6:.3g} N/mm")
+    ax.set_title(f"{pad.name}: S = {pad.shape_factor:.2f}, K_c = {pad.compression_stiffness / 1e6:.3g} kN/mm")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return ax
@@ -45,7 +45,7 @@ def plot_convergence(levels: list[Any], estimate: float | None = None, ax: Any =
     if estimate is not None:
         ax.axhline(estimate / 1e6, color="C3", ls="--", label="estimate from the drawing")
     ax.set_xlabel("unknowns")
-    ax.set_ylabel("stiffness (N/mm)")
+    ax.set_ylabel("stiffness (kN/mm)")
     ax.set_title("mesh convergence")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize="small")
@@ -83,7 +83,7 @@ def plot_calibration(joint: Any, target: float, fitted: float, ax: Any = None) -
     ax.axhline(target / 1e6, color="k", ls="--", lw=1, label="reference")
     ax.axvline(math.degrees(fitted), color="C3", ls=":", label=f"fitted α = {math.degrees(fitted):.1f}°")
     ax.set_xlabel("cone half-angle α (deg)")
-    ax.set_ylabel("member stiffness (N/mm)")
+    ax.set_ylabel("member stiffness (kN/mm)")
     ax.set_title(f"{joint.name}: calibration of the cone angle")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
@@ -98,7 +98,7 @@ def plot_frf_fit(frequency: np.ndarray, measured: np.ndarray, fit: Any, ax: Any 
     ax.semilogy(
         f,
         np.abs(fit.receptance(f)) * 1e6,
-        label=f"fit: k {fit.stiffness / 1e6:.3g} N/mm, ζ {fit.damping_ratio:.3f}",
+        label=f"fit: k {fit.stiffness / 1e6:.3g} kN/mm, ζ {fit.damping_ratio:.3f}",
     )
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("receptance |x/F| (µm/N)")
