@@ -13,7 +13,7 @@ import pytest
 import mechdyn
 from conftest import EXAMPLES
 from mechdyn.errors import ModelError
-from mechdyn.mechanism import Body, Driver, GearJoint, Mechanism, Revolute, inverse_dynamics
+from mechdyn.mechanism import Body, Driver, GearJoint, Mechanism, Revolute, inverse_dynamics, kinematics
 from mechdyn.mechanism.pitch import (
     circle,
     closing_centre_distance,
@@ -141,6 +141,29 @@ def test_without_eccentricity_the_shaking_force_is_the_weight(transplanter):
     assert np.abs(d.driving_torque).max() < 1e-9
 
 
+def _mesh_geometry(m: Mechanism, k, i: int, j: GearJoint) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pitch point, unit pitch tangent and gear 1's outward normal of a mesh at sample i, from the
+    motion and the pitch curve's formula (dr/dθ by a complex step, exact to round-off)."""
+    idx = m.body_index
+    q = k.q[i].reshape(-1, 3)
+    phi_c = q[idx[j.carrier], 2]
+
+    def on_carrier(p: str) -> np.ndarray:
+        s = m.local(j.carrier, p)
+        c, sn = math.cos(phi_c), math.sin(phi_c)
+        return q[idx[j.carrier], :2] + np.array([c * s[0] - sn * s[1], sn * s[0] + c * s[1]])
+
+    c1, c2 = on_carrier(j.points[0]), on_carrier(j.points[1])
+    e = (c2 - c1) / np.linalg.norm(c2 - c1)
+    phi1 = 0.0 if j.bodies[0] == "ground" else q[idx[j.bodies[0]], 2]
+    theta = m.gear_laws[j.name].line_angle - (phi1 - phi_c)
+    r = float(j.curve.radius(np.array([theta]))[0])
+    dr = float(j.curve.radius(np.array([theta + 1e-30j]))[0].imag / 1e-30)
+    t = dr * e + r * np.array([-e[1], e[0]])
+    t /= np.linalg.norm(t)
+    return c1 + r * e, t, np.array([t[1], -t[0]])
+
+
 def _independent_forces(m: Mechanism, k, i: int) -> np.ndarray:
     """The published per-angle system: 15 unknowns — the tangential tooth force of the four meshes
     (F_n = F_t tan φ), the carrier's force on each of the four gears along and across the arm, the
@@ -169,19 +192,7 @@ def _independent_forces(m: Mechanism, k, i: int) -> np.ndarray:
     row = {name: 3 * n for n, name in enumerate(gears)}
     row["arm"] = 12
     for n, j in enumerate(meshes):  # columns 0–3: F_t of each mesh, positive on gear 2
-        law = m.gear_laws[j.name]
-        c1 = point("arm", j.points[0])
-        c2 = point("arm", j.points[1])
-        e = (c2 - c1) / np.linalg.norm(c2 - c1)
-        phi1 = 0.0 if j.bodies[0] == "ground" else q[idx[j.bodies[0]], 2]
-        theta = law.line_angle - (phi1 - phi_c)
-        # r and dr/dθ straight from the curve's formula, dr/dθ by a complex step (exact to round-off)
-        r = float(j.curve.radius(np.array([theta]))[0])
-        dr = float(j.curve.radius(np.array([theta + 1e-30j]))[0].imag / 1e-30)
-        P = c1 + r * e
-        t = dr * e + r * np.array([-e[1], e[0]])
-        t /= np.linalg.norm(t)
-        normal = np.array([t[1], -t[0]])  # gear 1's outward normal
+        P, t, normal = _mesh_geometry(m, k, i, j)
         u = t + math.tan(j.pressure_angle) * normal
         for body, sign in ((j.bodies[0], -1.0), (j.bodies[1], 1.0)):
             if body == "ground":
@@ -209,8 +220,14 @@ def _independent_forces(m: Mechanism, k, i: int) -> np.ndarray:
     return np.linalg.solve(A, b)
 
 
+def _published_law(m: Mechanism) -> Mechanism:
+    """The mechanism with every mesh on the published linear law F_n = F_t tan φ."""
+    joints = tuple(replace(j, flank="fixed") if isinstance(j, GearJoint) else j for j in m.joints)
+    return replace(m, joints=joints)
+
+
 def test_the_independent_fifteen_unknown_system_agrees_to_round_off(transplanter):
-    m = transplanter
+    m = _published_law(transplanter)
     d = inverse_dynamics(m, 24)
     k = d.kinematics
     meshes = [j for j in m.joints if isinstance(j, GearJoint)]
@@ -281,3 +298,47 @@ def test_the_pair_report_flags_a_concave_pitch_curve():
         pitch_law(eccentric_circle(0.02, 0.002), closing_centre_distance(eccentric_circle(0.02, 0.002))), 0.35
     )
     assert ok["convex"] and ok["pressure_angle_min_deg"] < 20.05 < ok["pressure_angle_max_deg"]
+
+
+def test_the_teeth_push_apart_on_whichever_flank_is_loaded(transplanter):
+    m = transplanter
+    d = inverse_dynamics(m, 72)
+    fixed = inverse_dynamics(_published_law(m), 72)
+    k = d.kinematics
+    rows = k.constraints.gear_rows
+    flipped = d.multipliers[:, rows] < 0
+    assert flipped.any() and not flipped.all()  # the tangential force reverses during a turn
+    for j in (g for g in m.joints if isinstance(g, GearJoint)):
+        force = d.joint_load(j.name, j.bodies[1])[:, :2]
+        for i in range(0, 72, 7):
+            _, t, normal = _mesh_geometry(m, k, i, j)
+            # on gear 2: the normal part pushes it away from gear 1, |F_t| tan φ, whatever F_t's sign
+            assert force[i] @ normal == pytest.approx(
+                abs(force[i] @ t) * math.tan(j.pressure_angle), abs=1e-9
+            )
+            assert force[i] @ normal >= 0
+    # the motion, the torque and the momentum balance are the same; the bearings feel the flank
+    power = np.abs(d.driving_torque * d.crank_speed).max()
+    assert np.abs(d.power_balance_residual).max() < 1e-9 * power
+    np.testing.assert_allclose(d.shaking_force, fixed.shaking_force, atol=1e-9)
+    same = ~flipped.any(axis=1)
+    on_idler, on_idler_fixed = d.joint_load("I1", "idler 1"), fixed.joint_load("I1", "idler 1")
+    np.testing.assert_allclose(on_idler[same], on_idler_fixed[same], atol=1e-9)
+    assert np.abs(on_idler[~same] - on_idler_fixed[~same]).max() > 1.0
+
+
+def test_a_train_that_repeats_only_after_several_crank_turns_is_named():
+    m = Mechanism(
+        points={"O1": (0.0, 0.0), "T1": (0.01, 0.0), "O2": (0.05, 0.0), "C2": (0.06, 0.0)},
+        bodies=(Body("g1", ("O1", "T1"), 1.0, 2e-3, "O1"), Body("g2", ("O2", "C2"), 3.0, 5e-3, "O2")),
+        joints=(
+            Revolute("A", ("ground", "g1"), "O1"),
+            Revolute("B", ("ground", "g2"), "O2"),
+            GearJoint("mesh", ("g1", "g2"), ("O1", "O2"), circle(0.02)),
+        ),
+        driver=Driver("g1", "O1", "T1", 20.0),
+    )
+    with pytest.raises(
+        ModelError, match=r"gear 'g2' is turned by -240° .* repeats only after several crank turns"
+    ):
+        kinematics(m, 36)

@@ -122,6 +122,12 @@ def test_bolt_and_members_act_in_parallel_for_an_external_load():
     # a wider cone spreads the load: stiffer members
     assert j.member_stiffness(math.radians(40)) > km > j.member_stiffness(math.radians(20))
     assert 15 < math.degrees(_anchor(cone_angle="vdi2230").cone_angle) < 45
+    # VDI 2230's tapped-thread joint (ESV) has its own cone law
+    from mechdyn.mounts import vdi2230_cone_angle
+
+    assert math.tan(vdi2230_cone_angle(0.03, 0.02, 0.06, tapped=True)) == pytest.approx(
+        0.348 + 0.013 * math.log(1.5) + 0.193 * math.log(3.0)
+    )
 
 
 # -- the FE reference ---------------------------------------------------------------------------

@@ -251,3 +251,17 @@ def test_random_layouts_assemble_symmetric_definite_matrices_and_balance_forces(
     load = PeriodicLoad.from_harmonics(1.0 / max(f0, 1e-3), {1: np.full(6, 1e3), 2: np.full(6, 300j)})
     r = periodic_response(mm, load, 16)
     assert np.abs(r.force_balance_residual).max() < 1e-7 * max(np.abs(r.floor_force).max(), 1e3)
+
+
+@pytest.mark.parametrize("phase", [0.0, 0.5 * math.pi])
+def test_a_harmonic_load_is_sampled_finely_enough_by_default(phase):
+    # one harmonic: 2H samples would sit on the Nyquist limit and miss the peaks
+    m = MountedMachine.single_dof(M, K, 0.05)
+    load = PeriodicLoad.from_harmonics(
+        2 * math.pi / (0.8 * WN), {1: 1000.0 * complex(math.cos(phase), math.sin(phase))}
+    )
+    r = periodic_response(m, load)
+    FT = abs(2 * (K + 1j * 0.8 * WN * 2 * 0.05 * math.sqrt(K * M)) * harmonic_response(m, load)[1, 0])
+    assert r.time.size >= 64
+    assert np.ptp(r.transmitted_force) / 2 == pytest.approx(FT, rel=5e-3)
+    assert np.ptp(r.exciting_force) / 2 == pytest.approx(1000.0, rel=5e-3)

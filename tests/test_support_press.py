@@ -249,3 +249,19 @@ def test_a_crank_with_a_speed_profile_loads_the_machine_at_its_own_times():
     scale = np.abs(d.shaking_force).max()
     np.testing.assert_allclose(f[:, 0], d.shaking_force[:, 0], atol=1e-4 * scale)
     np.testing.assert_allclose(f[:, 2], d.shaking_force[:, 1], atol=1e-4 * scale)
+
+
+def test_a_process_force_stays_inside_the_machine():
+    # the slide's forming force comes back through the bed: the machine's load is unchanged
+    from mechdyn.mechanism import ProcessForce
+
+    spec = mechdyn.load(EXAMPLES / "slider_crank.toml")
+
+    def forming(angle, position):
+        return -2000.0 * (np.sin(angle) > 0.5), 300.0 * np.cos(angle)
+
+    with_force = replace(spec.mechanism, process_forces=(ProcessForce("slider", "B", forming),))
+    plain = PeriodicLoad.from_mechanism(inverse_dynamics(spec.mechanism, 72))
+    worked = PeriodicLoad.from_mechanism(inverse_dynamics(with_force, 72))
+    t = plain.time(72)
+    np.testing.assert_allclose(worked.value(t), plain.value(t), atol=1e-6)

@@ -44,3 +44,11 @@ def test_plain_numbers_are_si_only_when_asked():
     assert to_si(2.5, "m", plain_is_si=True) == 2.5
     assert to_si(4, "", plain_is_si=False) == 4.0  # dimensionless needs no unit
     assert to_si(0.5, "rad") == 0.5  # radians are dimensionless in pint
+
+
+def test_a_speed_given_for_a_frequency_counts_cycles():
+    # pint counts a revolution as 2π rad, so "1500 rpm" in 1/s would be 157; as a frequency it is 25 Hz
+    assert to_si("1500 rpm", "Hz") == pytest.approx(25.0)
+    assert to_si("314.159265 rad/s", "Hz") == pytest.approx(50.0)
+    assert to_si("2 kHz", "Hz") == 2000.0
+    assert to_si("1500 rpm", "rad/s") == pytest.approx(157.0796, rel=1e-6)

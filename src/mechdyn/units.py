@@ -94,6 +94,13 @@ def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
         return out
     q = _coerce(value, unit)
     target = ureg.Quantity(1.0, unit)
+    if (
+        _angular(q)
+        and not _angular(target)
+        and target.dimensionality == ureg.Quantity(1.0, "Hz").dimensionality
+    ):
+        # a speed asked for as a frequency: "1500 rpm" is 25 Hz (cycles), not 157 1/s (radians)
+        q = q.to("turn/s").magnitude * ureg.Quantity(1.0, "1/s")
     if q.dimensionless and not target.dimensionless:
         raise UnitError(
             f"{value!r} has no unit; expected a quantity of {_dimension_text(unit)}, "
@@ -108,6 +115,24 @@ def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
     if not np.isfinite(out):
         raise UnitError(f"{value!r} is not finite")
     return out
+
+
+_ANGLES = {
+    "radian",
+    "degree",
+    "turn",
+    "revolution",
+    "revolutions_per_minute",
+    "revolutions_per_second",
+    "arcminute",
+    "arcsecond",
+    "gradian",
+}
+
+
+def _angular(q: pint.Quantity) -> bool:
+    """Whether a quantity's units carry an angle (pint counts angles as dimensionless)."""
+    return any(name in _ANGLES for name, _ in q.unit_items())
 
 
 def _example(value: Any) -> str:

@@ -116,6 +116,8 @@ class ConstraintSet:
             else:  # pragma: no cover
                 raise TypeError(type(j))
         self._gears = gears
+        self.gear_rows = np.array([g[0] for g in gears], dtype=int)
+        self.gear_flank_follows_load = np.array([g[7].flank == "load" for g in gears], dtype=bool)
         self.crank = idx[mechanism.driver.body]
         template[-1, 3 * self.crank + 2], template[-1, 3 * frame + 2] = 1.0, -1.0
         self.rows.append(("driver", "crank angle"))
@@ -130,10 +132,17 @@ class ConstraintSet:
         self._pri = pri
 
     def evaluate(
-        self, q: np.ndarray, crank_angle: np.ndarray, qd: np.ndarray | None = None, *, forces: bool = False
+        self,
+        q: np.ndarray,
+        crank_angle: np.ndarray,
+        qd: np.ndarray | None = None,
+        *,
+        forces: bool = False,
+        flank: np.ndarray | None = None,
     ) -> Evaluation:
         """Φ, Φ_q, the frame's Jacobian and (with velocities ``qd``) γ; with ``forces``, also the
-        gear pairs' mesh-force rows (see :attr:`Evaluation.load_jacobian`).
+        gear pairs' mesh-force rows (see :attr:`Evaluation.load_jacobian`), their normal part on
+        the side ``flank`` gives (..., gear pairs) of ±1 (+1 by default: towards gear 2).
 
         Parameters
         ----------
@@ -191,7 +200,7 @@ class ConstraintSet:
                     + np.sum(nrm * (Asa * (wa**2)[..., None] - Asb * (wb**2)[..., None]), axis=-1)
                 )
         fjac = jac.copy() if self._gears and forces else None
-        for r0, g1, g2, ic, c1, c2, law, joint in self._gears:
+        for n_gear, (r0, g1, g2, ic, c1, c2, law, joint) in enumerate(self._gears):
             pc = body[..., ic, 2]
             psi1, psi2 = body[..., g1, 2] - pc, body[..., g2, 2] - pc
             g, dg, ddg = law(psi1)
@@ -215,7 +224,8 @@ class ConstraintSet:
             P = p1 + e * r[..., None]
             t = _perp(e) * r[..., None] - e * dr_dpsi[..., None]  # dr/dθ = −dr/dψ
             t = t / np.linalg.norm(t, axis=-1, keepdims=True)
-            u = t - _perp(t) * math.tan(joint.pressure_angle)  # −perp(t): gear 1's outward normal
+            side = 1.0 if flank is None else np.asarray(flank)[..., n_gear, None]
+            u = t - _perp(t) * (side * math.tan(joint.pressure_angle))  # −perp(t): gear 1's outward normal
             fjac[..., r0, :] = 0.0
             for slot, sign in ((g1, 1.0), (g2, -1.0)):
                 arm = P - body[..., slot, :2]

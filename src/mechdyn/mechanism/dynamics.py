@@ -42,6 +42,7 @@ class DynamicsResult:
     kinematics: KinematicsResult
     multipliers: np.ndarray
     applied: np.ndarray
+    load_jacobian: tuple[np.ndarray, np.ndarray] | None = None  # with gear flanks chosen by the load
 
     @property
     def mechanism(self) -> Mechanism:
@@ -55,7 +56,7 @@ class DynamicsResult:
     # -- loads -----------------------------------------------------------------------------------
     @cached_property
     def _constraint_loads(self) -> tuple[np.ndarray, np.ndarray]:
-        J, Jg = self.kinematics.evaluation.load_jacobian
+        J, Jg = self.load_jacobian or self.kinematics.evaluation.load_jacobian
         lam = self.multipliers
         # per row r: generalised load on the moving bodies −J[r]ᵀ λ_r and on the frame −Jg[r]ᵀ λ_r
         on_bodies = -J * lam[..., None]  # (N, m, n)
@@ -253,6 +254,22 @@ def inverse_dynamics(
         inverse[order] = np.arange(order.size)
         lam = multipliers(k.dyads, Q[inverse])[order]
         return DynamicsResult(k, lam, Q)
-    J, _ = k.evaluation.load_jacobian
-    lam, _ = solve_with_det(np.swapaxes(J, -1, -2), Q - mass.ravel() * k.qdd)
+    rhs = Q - mass.ravel() * k.qdd
+    J, Jg = k.evaluation.load_jacobian
+    lam, _ = solve_with_det(np.swapaxes(J, -1, -2), rhs)
+    cs = k.constraints
+    if cs.gear_flank_follows_load.any():
+        # the teeth push apart on whichever flank the tangential force loads: choose the flank by
+        # the sign of F_t and solve again until the choice holds (it settles in a pass or two)
+        for _ in range(8):
+            flank = np.where(cs.gear_flank_follows_load, np.where(lam[:, cs.gear_rows] < 0, -1.0, 1.0), 1.0)
+            ev = cs.evaluate(k.q, k.crank_angle, forces=True, flank=flank)
+            J, Jg = ev.load_jacobian
+            lam, _ = solve_with_det(np.swapaxes(J, -1, -2), rhs)
+            if np.array_equal(
+                np.where(lam[:, cs.gear_rows] < 0, -1.0, 1.0)[:, cs.gear_flank_follows_load],
+                flank[:, cs.gear_flank_follows_load],
+            ):
+                break
+        return DynamicsResult(k, lam, Q, (J, Jg))
     return DynamicsResult(k, lam, Q)

@@ -18,7 +18,7 @@ import numpy as np
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.constraints import ConstraintSet
 from mechdyn.mechanism.linalg import solve_with_det
-from mechdyn.mechanism.model import GROUND, Mechanism
+from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
 
 __all__ = ["AssemblyError", "KinematicsResult", "SingularPositionError", "kinematics"]
 
@@ -224,6 +224,8 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
         cs, Q[-1] + dq * step + 0.5 * (A[-1] - dq * ak[-1]) / wk[-1] ** 2 * step**2, thetas[-1] + step, scale
     )
     closes = it >= 0 and _same_pose(mechanism, q_end, Q[0], scale)
+    if not closes and it >= 0:
+        _check_gear_period(mechanism, q_end, Q[0], scale)
     datum = _datum(mechanism, Q, thetas)
     angle = np.mod(thetas - datum + 1e-12, 2 * math.pi) - 1e-12
     order = np.argsort(angle)
@@ -279,6 +281,24 @@ def _same_pose(mechanism: Mechanism, a: np.ndarray, b: np.ndarray, scale: float)
         if np.abs(turned - s).max() >= 1e-6 * scale:
             return False
     return True
+
+
+def _check_gear_period(mechanism: Mechanism, a: np.ndarray, b: np.ndarray, scale: float) -> None:
+    """A gear that has not come back after one crank turn: the train's period is several turns."""
+    geared = {g for j in mechanism.joints if isinstance(j, GearJoint) for g in j.bodies}
+    for i, body in enumerate(mechanism.bodies):
+        if body.name not in geared:
+            continue
+        s = np.array([mechanism.local(body.name, p) for p in body.points])
+        d = a[3 * i + 2] - b[3 * i + 2]
+        turned = s @ np.array([[math.cos(d), math.sin(d)], [-math.sin(d), math.cos(d)]])
+        if np.abs(turned - s).max() >= 1e-6 * scale:
+            raise ModelError(
+                f"gear {body.name!r} is turned by {math.degrees(d):.6g}° from its drawing pose after one "
+                "turn of the crank: the gear train repeats only after several crank turns, and its "
+                "points with it. Drive the gear that turns slowest, or pick ratios that repeat every turn",
+                element=body.name,
+            )
 
 
 def output_position(mechanism: Mechanism, q: np.ndarray) -> np.ndarray | None:

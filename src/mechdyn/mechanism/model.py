@@ -110,9 +110,9 @@ class GearJoint:
     Both gears pivot on the same carrier (a body, or the frame) at the drawing points ``points``;
     the revolute joints that hold them there are separate joints of the model. A gear may be the
     frame itself (a fixed sun gear). The mesh force acts at the pitch point along the line of
-    action: tangential to the pitch curves and, by the working pressure angle φ, F_n = F_t tan φ
-    towards gear 2 (the linear law of the published analyses; when F_t reverses, so does F_n —
-    real teeth would change flank).
+    action: tangential to the pitch curves and, by the working pressure angle φ, a normal part
+    F_n = |F_t| tan φ that pushes the gears apart, on the flank the tangential force loads
+    (``flank = "fixed"`` keeps the published linear law F_n = F_t tan φ).
 
     Parameters
     ----------
@@ -132,6 +132,10 @@ class GearJoint:
         φ, rad or quantity (20° by default).
     internal : bool
         Gear 2 is an annulus (circular gears only).
+    flank : {"load", "fixed"}
+        ``"load"``: the teeth always push apart, F_n = |F_t| tan φ, on whichever flank the
+        tangential force loads; ``"fixed"``: F_n = F_t tan φ, the linear law of the published
+        analyses (it pulls the gears together where F_t reverses).
     """
 
     name: str
@@ -142,10 +146,13 @@ class GearJoint:
     orientation: Any = 0.0
     pressure_angle: Any = "20 deg"
     internal: bool = False
+    flank: str = "load"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "bodies", tuple(self.bodies))
         object.__setattr__(self, "points", tuple(self.points))
+        if self.flank not in ("load", "fixed"):
+            raise ModelError(f"{self.flank!r} must be 'load' or 'fixed'", element=self.name, field="flank")
         object.__setattr__(self, "orientation", si_field(self.name, "orientation", self.orientation, "rad"))
         phi = si_field(self.name, "pressure_angle", self.pressure_angle, "rad")
         if not 0 <= phi < math.radians(45):

@@ -67,6 +67,7 @@ class JointTable(FileModel):
     orientation: Angle = 0.0
     pressure_angle: Angle = 0.3490658503988659
     internal: bool = False
+    flank: Literal["load", "fixed"] = "load"
 
 
 class DriverTable(FileModel):

@@ -193,13 +193,18 @@ def analyse(spec: Any, store: Any = None) -> MountReport:
             )
     if report.calibration is not None:
         c = report.calibration
-        after = apply(c, mount)
+        calibrated = apply(c, mount)
+        # the quantity the parameter governs, as before and target: members, or the pad
+        after = (
+            calibrated.member_stiffness() if isinstance(calibrated, BoltedJoint) else _stiffness(calibrated)
+        )
         s["calibration"] = c.as_dict() | {
             "provenance": c.provenance,
             "value_deg" if c.parameter == "cone_angle" else "value_factor": (
                 math.degrees(c.value) if c.parameter == "cone_angle" else c.value
             ),
-            "stiffness_after_N_per_m": _stiffness(after),
+            "stiffness_after_N_per_m": after,
+            "mount_stiffness_after_N_per_m": _stiffness(calibrated),
         }
         if store is not None:
             s["calibration"]["record_id"] = c.save(store)

@@ -57,13 +57,18 @@ def frustum_stiffness(E: float, d: float, D: float, t: float, alpha: float) -> f
     )
 
 
-def vdi2230_cone_angle(grip: float, bearing_diameter: float, outer_diameter: float) -> float:
-    """Cone half-angle φ of VDI 2230 Part 1 (2015) Eq. (5.1/13) for a through-bolted joint, rad.
+def vdi2230_cone_angle(
+    grip: float, bearing_diameter: float, outer_diameter: float, tapped: bool = False
+) -> float:
+    """Cone half-angle φ of VDI 2230 Part 1 (2015), rad, with β_L = l_K / d_W and y = D_A′ / d_W.
 
-    tan φ = 0.362 + 0.032 ln(β_L / 2) + 0.153 ln y, β_L = l_K / d_W, y = D_A′ / d_W.
+    Through-bolted joint (DSV), Eq. (5.1/13): tan φ = 0.362 + 0.032 ln(β_L / 2) + 0.153 ln y;
+    tapped-thread joint (ESV), Eq. (5.1/14): tan φ = 0.348 + 0.013 ln β_L + 0.193 ln y.
     """
     beta_l = grip / bearing_diameter
     y = max(outer_diameter / bearing_diameter, 1.0)
+    if tapped:
+        return math.atan(0.348 + 0.013 * math.log(beta_l) + 0.193 * math.log(y))
     return math.atan(0.362 + 0.032 * math.log(beta_l / 2) + 0.153 * math.log(y))
 
 
@@ -171,7 +176,7 @@ class BoltedJoint:
         )
         object.__setattr__(self, "outer_diameter", outer)
         if isinstance(self.cone_angle, str) and self.cone_angle.strip().lower() == "vdi2230":
-            a = vdi2230_cone_angle(self.grip, self.head_diameter, outer)
+            a = vdi2230_cone_angle(self.grip, self.head_diameter, outer, tapped=self.nut == "tapped")
         else:
             a = si_field(self.name, "cone_angle", self.cone_angle, "rad")
         if not 0 < a < math.pi / 2:

@@ -112,7 +112,11 @@ def fit_cone_angle(joint: BoltedJoint, target: float, provenance: str) -> Calibr
 
 
 def fit_pad_factor(pad: ElastomerPad, target: float, provenance: str) -> Calibration:
-    """The compression coefficient k at which the pad formula gives the reference stiffness (N/m)."""
+    """The compression coefficient k at which the pad formula gives the reference stiffness (N/m).
+
+    Against an FE model of a linear-elastic solid k comes out near 1 (the solid's own law); the
+    k < 1 of a filled rubber shows only in a test of the compound, which is the reference to use.
+    """
 
     def err(k: float) -> float:
         return replace(pad, compression_coefficient=k).compression_stiffness - target

@@ -37,11 +37,14 @@ class PeriodicLoad:
         N and N·m.
     angle : ndarray or None
         (N,) crank angle of each sample, rad, when the load came from a mechanism (for plots).
+    n_samples : int or None
+        N, when the load came from samples: results are given at the same instants by default.
     """
 
     period: float
     coefficients: np.ndarray
     angle: np.ndarray | None = None
+    n_samples: int | None = None
 
     def __post_init__(self) -> None:
         T = si_field("load", "period", self.period, "s")
@@ -84,7 +87,7 @@ class PeriodicLoad:
         c = np.fft.rfft(f, axis=0) / n
         if n % 2 == 0:
             c[-1] *= 0.5  # the Nyquist term appears once in the real series
-        return cls(period, c, None if angle is None else np.asarray(angle, dtype=float))
+        return cls(period, c, None if angle is None else np.asarray(angle, dtype=float), n)
 
     @classmethod
     def from_times(
@@ -144,15 +147,29 @@ class PeriodicLoad:
         ----------
         dynamics : mechdyn.mechanism.DynamicsResult
             One revolution; the load starts (t = 0) at the mechanism's angle datum (the press:
-            bottom dead centre).
+            bottom dead centre). Process forces stay inside the machine (their reaction is on the
+            bed). With gravity in the mechanism model its moving parts' weight is part of the mean
+            load: then leave them out of the machine's rigid-body mass, or model the mechanism
+            without gravity (the dynamic response is the same either way).
         placement : Placement, optional
             Where the mechanism's plane sits in the machine; by default
             :meth:`Placement.output_up`.
         """
         mech = dynamics.mechanism
         place = placement or Placement.output_up(mech)
-        f2 = dynamics.shaking_force  # (N, 2) in the mechanism's plane
-        m0 = dynamics.shaking_moment()  # about the mechanism's origin
+        f2 = dynamics.shaking_force.copy()  # (N, 2) in the mechanism's plane
+        m0 = dynamics.shaking_moment().copy()  # about the mechanism's origin
+        if mech.process_forces:
+            # the work pushes back on the bed where the tool meets it: inside the machine, so the
+            # process force does not reach the floor (the linkage carries it to the frame)
+            s = dynamics.output_position
+            s = np.zeros(len(dynamics.angle)) if s is None else s
+            for pf in mech.process_forces:
+                fx, fy = pf.force(dynamics.angle, s)
+                F = np.stack(np.broadcast_arrays(np.asarray(fx, float), np.asarray(fy, float)), axis=-1)
+                pos = dynamics.kinematics.point(pf.body, pf.point)[0]
+                f2 -= F
+                m0 -= pos[:, 0] * F[:, 1] - pos[:, 1] * F[:, 0]
         F = f2[:, :1] * place.x_axis + f2[:, 1:] * place.y_axis
         M = m0[:, None] * np.cross(place.x_axis, place.y_axis) + np.cross(place.origin, F)
         samples = np.hstack([F, M])
@@ -179,9 +196,15 @@ class PeriodicLoad:
         """(H + 1,) harmonic orders 0..H."""
         return np.arange(self.coefficients.shape[0])
 
+    @property
+    def default_samples(self) -> int:
+        """Time steps per period for results: the samples the load came from, else 16 per period of
+        the highest harmonic (at least 64), so that a harmonic's peaks are not missed."""
+        return self.n_samples or max(16 * self.n_harmonics, 64)
+
     def time(self, n: int | None = None) -> np.ndarray:
-        """(n,) equally spaced times over one period from 0, s (by default 2 H samples)."""
-        n = n or max(2 * self.n_harmonics, 2)
+        """(n,) equally spaced times over one period from 0, s (by default :attr:`default_samples`)."""
+        n = n or self.default_samples
         return self.period * np.arange(n) / n
 
     def value(self, t: Any) -> np.ndarray:
@@ -189,7 +212,7 @@ class PeriodicLoad:
         return series(self.coefficients, self.period, t)
 
     def scaled(self, factor: float) -> PeriodicLoad:
-        return PeriodicLoad(self.period, self.coefficients * factor, self.angle)
+        return PeriodicLoad(self.period, self.coefficients * factor, self.angle, self.n_samples)
 
 
 def series_on_grid(coefficients: np.ndarray, n: int) -> np.ndarray:

@@ -185,7 +185,8 @@ def periodic_response(
     machine : MountedMachine
     load : PeriodicLoad
     n_samples : int, optional
-        Time steps over one period from t = 0 (default: the load's own sampling, 2 H).
+        Time steps over one period from t = 0 (default: the load's own samples, else 16 per
+        period of its highest harmonic).
     time : array_like, optional
         Evaluate at these times instead, s (the series holds for any t).
 
@@ -195,7 +196,7 @@ def periodic_response(
     """
     X = harmonic_response(machine, load)
     w = 2 * math.pi / load.period * load.orders()[:, None]
-    n = n_samples or max(2 * load.n_harmonics, 2)
+    n = n_samples or load.default_samples
     if time is None and n >= 2 * load.n_harmonics:  # equal steps over one period: inverse FFTs
         t = load.time(n)
         q, qd, qdd = (series_on_grid(c, n) for c in (X, 1j * w * X, -(w**2) * X))

@@ -54,7 +54,9 @@ class MachineTable(FileModel):
     center_of_mass: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
     inertia: tuple[Inertia, Inertia, Inertia] = (0.0, 0.0, 0.0)
     inertia_products: tuple[Inertia, Inertia, Inertia] = Field(
-        default=(0.0, 0.0, 0.0), description="(Ixy, Ixz, Iyz) of the tensor, kg·m²"
+        default=(0.0, 0.0, 0.0),
+        description="(Ixy, Ixz, Iyz): the tensor's off-diagonal components, I_xy = −∫xy dm, kg·m² "
+        "(CAD programs often list +∫xy dm: change the sign)",
     )
 
 
