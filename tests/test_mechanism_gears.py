@@ -342,3 +342,14 @@ def test_a_train_that_repeats_only_after_several_crank_turns_is_named():
         ModelError, match=r"gear 'g2' is turned by -240° .* repeats only after several crank turns"
     ):
         kinematics(m, 36)
+
+
+def test_an_idler_that_would_have_to_be_two_gears_is_warned_about():
+    from mechdyn.errors import ModelWarning
+
+    m = rp1.build()  # consistent: the sun's phase is solved for it (no warning; warnings are errors)
+    joints = tuple(replace(j, orientation=math.radians(-35)) if j.name == "G1-G2" else j for j in m.joints)
+    with pytest.warns(
+        ModelWarning, match=r"gear 'idler 1' meshes in 'G1-G2' and 'G3-G2'.* 0\.87\d mm apart"
+    ):
+        replace(m, joints=joints)

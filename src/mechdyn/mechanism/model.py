@@ -350,6 +350,7 @@ class Mechanism:
                 )
         self._check_count()
         self.gear_laws  # noqa: B018 - a gear pair that cannot close is refused here
+        self._check_gear_bodies()
 
     def _check_gear(self, j: GearJoint, pts: dict[str, Any], names: dict[str, int]) -> None:
         for b in (*j.bodies, j.carrier):
@@ -383,6 +384,43 @@ class Mechanism:
                 except ModelError as exc:
                     raise ModelError(exc.detail, element=j.name, field=exc.field) from None
         return out
+
+    def _check_gear_bodies(self) -> None:
+        """A gear that meshes twice (an idler) is one gear: the pitch curves its meshes give it,
+        each in its own drawing axes, must agree; warn where they do not."""
+        import warnings
+
+        from mechdyn.errors import ModelWarning
+
+        grid = 2 * np.pi * np.arange(720) / 720
+        for body in self.bodies:
+            meshes = [j for j in self.joints if isinstance(j, GearJoint) and body.name in j.bodies]
+            if len(meshes) < 2:
+                continue
+            curves = []
+            for j in meshes:
+                law = self.gear_laws[j.name]
+                if j.bodies[0] == body.name:  # its own curve, turned by its orientation
+                    theta, r = np.mod(grid + j.orientation, 2 * np.pi), j.curve.radius(grid)
+                else:  # the curve this mesh implies: the mate of gear 1's
+                    c1, c2 = (np.asarray(self.points[p], dtype=float) for p in j.points)
+                    beta = math.atan2(c2[1] - c1[1], c2[0] - c1[0])
+                    r1 = law.contact_radius(grid)[0]
+                    theta = np.mod(beta + math.pi - law(grid)[0], 2 * np.pi)
+                    r = law.centre_distance + r1 if law.internal else law.centre_distance - r1
+                o = np.argsort(theta)
+                curves.append((j.name, np.interp(grid, theta[o], r[o], period=2 * np.pi)))
+            ref_name, ref = curves[0]
+            for name, other in curves[1:]:
+                gap = float(np.abs(other - ref).max())
+                if gap > 1e-4 * float(ref.max()):  # a few µm on gears of centimetres
+                    warnings.warn(
+                        f"gear {body.name!r} meshes in {ref_name!r} and {name!r}, which give it pitch curves "
+                        f"up to {gap * 1e3:.3g} mm apart: one gear cannot be both; adjust the installation "
+                        "angles (orientation) or the curves",
+                        ModelWarning,
+                        stacklevel=3,
+                    )
 
     @cached_property
     def joint_rows(self) -> list[slice]:
