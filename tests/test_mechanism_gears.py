@@ -349,7 +349,5 @@ def test_an_idler_that_would_have_to_be_two_gears_is_warned_about():
 
     m = rp1.build()  # consistent: the sun's phase is solved for it (no warning; warnings are errors)
     joints = tuple(replace(j, orientation=math.radians(-35)) if j.name == "G1-G2" else j for j in m.joints)
-    with pytest.warns(
-        ModelWarning, match=r"gear 'idler 1' meshes in 'G1-G2' and 'G3-G2'.* 0\.87\d mm apart"
-    ):
+    with pytest.warns(ModelWarning, match=r"gear 'idler 1' meshes in 'G1-G2' and 'G3-G2'.* 0\.87\d mm apart"):
         replace(m, joints=joints)
