@@ -1,15 +1,19 @@
 """mechdyn: dynamic analysis of machines at the design stage.
 
-Subpackages, one per capability: :mod:`mechdyn.drivetrain` (torsional vibration of geared
-drivetrains). Shared: :mod:`mechdyn.units` (one pint registry), :mod:`mechdyn.io` (model files),
+Subpackages, one per capability: :mod:`mechdyn.mechanism` (planar mechanisms),
+:mod:`mechdyn.support` (the machine on its supports), :mod:`mechdyn.drivetrain` (torsional vibration
+of geared drivetrains), :mod:`mechdyn.gears` (tooth and mesh stiffness), :mod:`mechdyn.mounts` (mount
+stiffness from the drawing). Shared: :mod:`mechdyn.units` (one pint registry), :mod:`mechdyn.io`
+(model files), :mod:`mechdyn.results` (the result protocol), :mod:`mechdyn.registry` (the analyses),
 :mod:`mechdyn.store` (results database), :mod:`mechdyn.cli`.
+
+Names are imported on first use, so ``import mechdyn`` (and the command line's start-up) stays light.
 """
 
 from importlib.metadata import PackageNotFoundError, version
+from typing import Any
 
 from mechdyn.errors import MechdynError, ModelCheckError, ModelError, ModelFileError, ModelWarning
-from mechdyn.io import load
-from mechdyn.units import Q_, ureg
 
 try:
     __version__ = version("mechdyn")
@@ -27,3 +31,15 @@ __all__ = [
     "load",
     "ureg",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in ("Q_", "ureg"):
+        from mechdyn import units
+
+        return getattr(units, name)
+    if name == "load":
+        from mechdyn.io.modelfile import load
+
+        return load
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

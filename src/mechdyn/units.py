@@ -3,24 +3,46 @@
 Model files, the command line and public constructors accept quantities ("0.019 m", "80.8 GPa",
 "1500 rpm", a :class:`pint.Quantity`); everything behind them works on bare SI floats and NumPy arrays.
 A bare number given where a dimensional quantity is expected is rejected rather than guessed.
+Results go the other way: :func:`convert` shows an SI value in a display unit (``"tonf"``,
+``"kN/mm"``), and :func:`key_unit` reads the unit from the end of a result key (``stroke_m``).
+
+The registry (``ureg``, ``Q_``) is created on first use, so that commands which convert nothing do
+not pay for importing pint.
 """
 
 from __future__ import annotations
 
-from typing import Any
+import functools
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pint
 
-__all__ = ["Q_", "UnitError", "si_field", "to_si", "ureg"]
+if TYPE_CHECKING:
+    import pint
 
-ureg = pint.UnitRegistry()
-"""The package-wide :class:`pint.UnitRegistry`; quantities from other registries are rejected."""
-ureg.formatter.default_format = "~P"
-# The press literature quotes forces in metric tonnes-force (1000 kgf), written "tf" or "tonf";
-# pint knows only the short and long ton-force, so the metric one is defined here.
-ureg.define("tonne_force = 1000 * kilogram_force = tf = tonf")
-Q_ = ureg.Quantity
+__all__ = ["Q_", "UnitError", "convert", "key_unit", "si_field", "to_si", "ureg"]
+
+
+@functools.cache
+def registry() -> pint.UnitRegistry:
+    """The package-wide :class:`pint.UnitRegistry` (``mechdyn.units.ureg``), made on first use."""
+    import pint
+
+    reg = pint.UnitRegistry()
+    reg.formatter.default_format = "~P"
+    # The press literature quotes forces in metric tonnes-force (1000 kgf), written "tf" or "tonf";
+    # pint knows only the short and long ton-force, so the metric one is defined here.
+    reg.define("tonne_force = 1000 * kilogram_force = tf = tonf")
+    return reg
+
+
+def __getattr__(name: str) -> Any:
+    # ``ureg`` and ``Q_`` are module attributes made on first access (PEP 562)
+    if name == "ureg":
+        return registry()
+    if name == "Q_":
+        return registry().Quantity
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 class UnitError(ValueError):
@@ -28,10 +50,13 @@ class UnitError(ValueError):
 
 
 def _dimension_text(unit: str) -> str:
-    return str(ureg.Quantity(1.0, unit).dimensionality)
+    return str(registry().Quantity(1.0, unit).dimensionality)
 
 
 def _coerce(value: Any, unit: str) -> pint.Quantity:
+    import pint
+
+    ureg = registry()
     if isinstance(value, pint.Quantity):
         if value._REGISTRY is not ureg:
             # Quantities of another registry cannot be compared with ours.
@@ -93,6 +118,7 @@ def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
             raise UnitError(f"{value!r} is not finite")
         return out
     q = _coerce(value, unit)
+    ureg = registry()
     target = ureg.Quantity(1.0, unit)
     if (
         _angular(q)
@@ -156,3 +182,77 @@ def si_field(element: str, field: str, value: Any, unit: str) -> float:
         return to_si(value, unit, plain_is_si=True)
     except UnitError as exc:
         raise ModelError(str(exc), element=element, field=field) from None
+
+
+def convert(value: Any, unit: str, display: str) -> Any:
+    """An SI value (float or array) in ``unit`` shown in the display unit ``display``.
+
+    Parameters
+    ----------
+    value : float or ndarray
+        Magnitude in ``unit``.
+    unit : str
+        Its unit, e.g. ``"N"``, ``"N/m"``.
+    display : str
+        The unit to show it in, e.g. ``"tonf"``, ``"kN/mm"``; any unit of the same dimension that
+        pint reads.
+
+    Returns
+    -------
+    float or ndarray
+        The magnitude in ``display``. None stays None.
+
+    Raises
+    ------
+    UnitError
+        If ``display`` is not a unit of the dimension of ``unit``.
+    """
+    if value is None or unit == display:
+        return value
+    import pint
+
+    ureg = registry()
+    try:
+        factor = ureg.Quantity(1.0, unit).m_as(display)
+    except (pint.errors.PintError, ValueError, AttributeError, TypeError) as exc:
+        raise UnitError(f"cannot show {unit} in {display!r} ({exc}); give a unit of {_dimension_text(unit)}")
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return float(value) * factor
+    return np.asarray(value) * factor
+
+
+# Unit suffixes of result keys and table columns, longest first where one ends another; what the
+# key's end says, in pint's spelling. Results name their keys this way so that a key is its own unit.
+_KEY_UNITS: tuple[tuple[str, str], ...] = (
+    ("_N_per_mm_um", "N/(mm*um)"),
+    ("_N_s_per_m", "N*s/m"),
+    ("_N_per_m", "N/m"),
+    ("_m_per_N", "m/N"),
+    ("_m_per_s2", "m/s^2"),
+    ("_m_per_s", "m/s"),
+    ("_rad_s", "rad/s"),
+    ("_Nm", "N*m"),
+    ("_Pa", "Pa"),
+    ("_kg", "kg"),
+    ("_hz", "Hz"),
+    ("_Hz", "Hz"),
+    ("_rpm", "rpm"),
+    ("_deg", "deg"),
+    ("_rad", "rad"),
+    ("_mm", "mm"),
+    ("_m", "m"),
+    ("_N", "N"),
+    ("_s", "s"),
+    ("_W", "W"),
+    ("_percent", "%"),
+    ("_relative", "1"),
+    ("_ratio", "1"),
+)
+
+
+def key_unit(key: str) -> str | None:
+    """The unit a result key or column name ends with (``"stroke_m"`` → ``"m"``), None if none.
+
+    Dimensionless ratios end in ``_relative`` or ``_ratio`` and give ``"1"``.
+    """
+    return next((u for suffix, u in _KEY_UNITS if key.endswith(suffix)), None)

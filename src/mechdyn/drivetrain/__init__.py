@@ -6,33 +6,30 @@ run :func:`modal`, :func:`campbell`, :func:`frf` or :func:`compare_rigid`. :func
 checked matrices; :func:`check_matrices` checks a hand-made pair.
 """
 
-from mechdyn.drivetrain.assembly import Assembly, assemble, check_matrices
-from mechdyn.drivetrain.campbell import CampbellResult, campbell
-from mechdyn.drivetrain.compare import ModeComparison, compare_rigid, mac
-from mechdyn.drivetrain.elements import Disk, GearMesh, GroundDamper, GroundSpring, Shaft
-from mechdyn.drivetrain.modal import ModalResult, modal
-from mechdyn.drivetrain.model import Drivetrain
-from mechdyn.drivetrain.response import FRFResult, ModalDamping, RayleighDamping, frf
+from mechdyn._lazy import attach
 
-__all__ = [
-    "Assembly",
-    "CampbellResult",
-    "Disk",
-    "Drivetrain",
-    "FRFResult",
-    "GearMesh",
-    "GroundDamper",
-    "GroundSpring",
-    "ModalDamping",
-    "ModalResult",
-    "ModeComparison",
-    "RayleighDamping",
-    "Shaft",
-    "assemble",
-    "campbell",
-    "check_matrices",
-    "compare_rigid",
-    "frf",
-    "mac",
-    "modal",
-]
+__all__ = attach(
+    __name__,
+    {
+        "Assembly": "assembly",
+        "CampbellResult": "campbell",
+        "Disk": "elements",
+        "Drivetrain": "model",
+        "FRFResult": "response",
+        "GearMesh": "elements",
+        "GroundDamper": "elements",
+        "GroundSpring": "elements",
+        "ModalDamping": "response",
+        "ModalResult": "modal",
+        "ModeComparison": "compare",
+        "RayleighDamping": "response",
+        "Shaft": "elements",
+        "assemble": "assembly",
+        "campbell": "campbell",
+        "check_matrices": "assembly",
+        "compare_rigid": "compare",
+        "frf": "response",
+        "mac": "compare",
+        "modal": "modal",
+    },
+)

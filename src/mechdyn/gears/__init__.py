@@ -6,18 +6,18 @@ stiffness of one tooth pair along the path of contact and the mesh stiffness ove
 :func:`iso_stiffness` is ISO 6336-1 Method B for comparison.
 """
 
-from mechdyn.gears.geometry import SpurGear
-from mechdyn.gears.iso6336 import IsoStiffness, iso_stiffness
-from mechdyn.gears.mesh import GearPair, MeshCycle
-from mechdyn.gears.tooth import TruncatedTooth, hertz_compliance, pair_compliance
+from mechdyn._lazy import attach
 
-__all__ = [
-    "GearPair",
-    "IsoStiffness",
-    "MeshCycle",
-    "SpurGear",
-    "TruncatedTooth",
-    "hertz_compliance",
-    "iso_stiffness",
-    "pair_compliance",
-]
+__all__ = attach(
+    __name__,
+    {
+        "GearPair": "mesh",
+        "IsoStiffness": "iso6336",
+        "MeshCycle": "mesh",
+        "SpurGear": "geometry",
+        "TruncatedTooth": "tooth",
+        "hertz_compliance": "tooth",
+        "iso_stiffness": "iso6336",
+        "pair_compliance": "tooth",
+    },
+)

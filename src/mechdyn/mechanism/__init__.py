@@ -8,36 +8,27 @@ Gear pairs (:class:`GearJoint`, circular or noncircular pitch curves from :mod:`
 geared linkages and planetary trains on a carrier.
 """
 
-from mechdyn.mechanism.dyads import CycleBatch, NotDecomposable, cycle
-from mechdyn.mechanism.dynamics import DynamicsResult, inverse_dynamics
-from mechdyn.mechanism.kinematics import AssemblyError, KinematicsResult, SingularPositionError, kinematics
-from mechdyn.mechanism.model import (
-    GROUND,
-    Body,
-    Driver,
-    GearJoint,
-    Mechanism,
-    Prismatic,
-    ProcessForce,
-    Revolute,
-)
+from mechdyn._lazy import attach
 
-__all__ = [
-    "GROUND",
-    "AssemblyError",
-    "Body",
-    "CycleBatch",
-    "Driver",
-    "DynamicsResult",
-    "GearJoint",
-    "KinematicsResult",
-    "Mechanism",
-    "NotDecomposable",
-    "Prismatic",
-    "ProcessForce",
-    "Revolute",
-    "SingularPositionError",
-    "cycle",
-    "inverse_dynamics",
-    "kinematics",
-]
+__all__ = attach(
+    __name__,
+    {
+        "AssemblyError": "kinematics",
+        "Body": "model",
+        "CycleBatch": "dyads",
+        "Driver": "model",
+        "DynamicsResult": "dynamics",
+        "GROUND": "model",
+        "GearJoint": "model",
+        "KinematicsResult": "kinematics",
+        "Mechanism": "model",
+        "NotDecomposable": "dyads",
+        "Prismatic": "model",
+        "ProcessForce": "model",
+        "Revolute": "model",
+        "SingularPositionError": "kinematics",
+        "cycle": "dyads",
+        "inverse_dynamics": "dynamics",
+        "kinematics": "kinematics",
+    },
+)

@@ -10,47 +10,36 @@ stiffness and load factor), :class:`LevellingWedge`, :class:`ScrewFoot`, :class:
 :func:`fit_frf`. A ``type = "mount"`` model file holds one mount (``mechdyn mount``).
 """
 
-from mechdyn.mounts.bolted import BoltedJoint, Layer, frustum_stiffness, vdi2230_cone_angle
-from mechdyn.mounts.calibration import (
-    Calibration,
-    SdofFit,
-    apply,
-    fit_cone_angle,
-    fit_frf,
-    fit_pad_factor,
-    load_calibration,
-    read_frf_csv,
-)
-from mechdyn.mounts.fe import AnchorFE, FEResult, anchor_members, pad_compression
-from mechdyn.mounts.materials import Material, MaterialDatabase, default_materials, save_materials
-from mechdyn.mounts.pad import ElastomerPad
-from mechdyn.mounts.types import DampingPad, LevellingWedge, ScrewFoot, SpringIsolator, isolation
+from mechdyn._lazy import attach
 
-__all__ = [
-    "AnchorFE",
-    "BoltedJoint",
-    "Calibration",
-    "DampingPad",
-    "ElastomerPad",
-    "FEResult",
-    "Layer",
-    "LevellingWedge",
-    "Material",
-    "MaterialDatabase",
-    "ScrewFoot",
-    "SdofFit",
-    "SpringIsolator",
-    "anchor_members",
-    "apply",
-    "default_materials",
-    "fit_cone_angle",
-    "fit_frf",
-    "fit_pad_factor",
-    "frustum_stiffness",
-    "isolation",
-    "load_calibration",
-    "pad_compression",
-    "read_frf_csv",
-    "save_materials",
-    "vdi2230_cone_angle",
-]
+__all__ = attach(
+    __name__,
+    {
+        "AnchorFE": "fe",
+        "BoltedJoint": "bolted",
+        "Calibration": "calibration",
+        "DampingPad": "types",
+        "ElastomerPad": "pad",
+        "FEResult": "fe",
+        "Layer": "bolted",
+        "LevellingWedge": "types",
+        "Material": "materials",
+        "MaterialDatabase": "materials",
+        "ScrewFoot": "types",
+        "SdofFit": "calibration",
+        "SpringIsolator": "types",
+        "anchor_members": "fe",
+        "apply": "calibration",
+        "default_materials": "materials",
+        "fit_cone_angle": "calibration",
+        "fit_frf": "calibration",
+        "fit_pad_factor": "calibration",
+        "frustum_stiffness": "bolted",
+        "isolation": "types",
+        "load_calibration": "calibration",
+        "pad_compression": "fe",
+        "read_frf_csv": "calibration",
+        "save_materials": "materials",
+        "vdi2230_cone_angle": "bolted",
+    },
+)

@@ -8,33 +8,27 @@ domain), :func:`startup_response` (time integration from rest), :func:`modes` an
 :func:`influence`. A ``type = "support"`` model file holds all of it (``mechdyn support``).
 """
 
-from mechdyn.support.excitation import CHANNELS, PeriodicLoad, Placement
-from mechdyn.support.model import DOFS, PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
-from mechdyn.support.modes import SupportModes, elastic_centre, modes
-from mechdyn.support.response import (
-    SupportResponse,
-    harmonic_response,
-    influence,
-    periodic_response,
-    startup_response,
-)
+from mechdyn._lazy import attach
 
-__all__ = [
-    "CHANNELS",
-    "DOFS",
-    "PLANAR",
-    "SPATIAL",
-    "Mount",
-    "MountedMachine",
-    "PeriodicLoad",
-    "Placement",
-    "RigidBody",
-    "SupportModes",
-    "SupportResponse",
-    "elastic_centre",
-    "harmonic_response",
-    "influence",
-    "modes",
-    "periodic_response",
-    "startup_response",
-]
+__all__ = attach(
+    __name__,
+    {
+        "CHANNELS": "excitation",
+        "DOFS": "model",
+        "Mount": "model",
+        "MountedMachine": "model",
+        "PLANAR": "model",
+        "PeriodicLoad": "excitation",
+        "Placement": "excitation",
+        "RigidBody": "model",
+        "SPATIAL": "model",
+        "SupportModes": "modes",
+        "SupportResponse": "response",
+        "elastic_centre": "modes",
+        "harmonic_response": "response",
+        "influence": "response",
+        "modes": "modes",
+        "periodic_response": "response",
+        "startup_response": "response",
+    },
+)

@@ -1,0 +1,115 @@
+"""The one result protocol every analysis follows.
+
+Every analysis function returns an immutable result object with the same small interface, so that
+the command line, the results database, design studies and reports handle all of them alike:
+
+``summary()``
+    JSON-ready scalars (and small nested tables of scalars) in SI, each key ending with its unit
+    (``stroke_m``, ``driving_torque_peak_Nm``, ``frequencies_hz``); :func:`mechdyn.units.key_unit`
+    reads the unit back from the key.
+``to_frame()``
+    The per-sample table (per crank angle, time step, frequency, mode or mesh position) as a
+    :class:`pandas.DataFrame`, with the unit at the end of every column name.
+``tables(**display_units)``
+    The titled tables the command line prints, in the display units given as keyword arguments
+    (``force_unit="tonf"``), converted by the package's one unit registry.
+``plots(**display_units)`` / ``plot()``
+    The figures: a mapping of file name to a callable that draws one figure and returns its axes;
+    ``plot()`` draws the first.
+``arrays()``
+    Named arrays with their units, kept bit for bit by the results database.
+``warnings``
+    What the user should know about this result (e.g. a concave pitch curve), as text.
+
+The protocol is a mixin (:class:`Result`) with defaults for the last three; the test suite walks every
+registered analysis (:mod:`mechdyn.registry`) and checks it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import numpy as np
+    import pandas as pd
+
+__all__ = ["Result", "Table", "frame_arrays"]
+
+
+@dataclass(frozen=True)
+class Table:
+    """A titled table for a terminal or a report.
+
+    Attributes
+    ----------
+    title : str
+    columns : list of str
+        Column headers, each with its unit in brackets where it has one.
+    rows : list of list
+        Rows of values: numbers (formatted by the renderer), text, or None (shown as "—").
+    """
+
+    title: str
+    columns: list[str]
+    rows: list[list[Any]]
+
+
+def frame_arrays(frame: pd.DataFrame) -> dict[str, tuple[np.ndarray, str]]:
+    """The columns of a result table as named arrays with the unit read from each column name."""
+    from mechdyn.units import key_unit
+
+    return {str(c): (frame[c].to_numpy(), key_unit(str(c)) or "") for c in frame.columns}
+
+
+class Result:
+    """Mixin of the result protocol; subclasses are frozen dataclasses.
+
+    A subclass implements :meth:`summary` and :meth:`to_frame`, and overrides :meth:`tables`,
+    :meth:`plots`, :meth:`arrays` and :attr:`warnings` where the defaults do not fit.
+    """
+
+    def summary(self) -> dict[str, Any]:
+        """Scalars with unit-suffixed keys, SI (see the module docstring)."""
+        raise NotImplementedError
+
+    def to_frame(self) -> pd.DataFrame:
+        """The per-sample table, one unit-suffixed column per quantity."""
+        raise NotImplementedError
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """Titled tables for the terminal; the default lists the summary's scalars with units."""
+        from mechdyn.units import key_unit
+
+        rows = [
+            [k, v, key_unit(k) or ""]
+            for k, v in self.summary().items()
+            if isinstance(v, (int, float, str)) and not isinstance(v, bool)
+        ]
+        return [Table("summary", ["quantity", "value", "unit"], rows)]
+
+    def plots(self, **display_units: str) -> dict[str, Callable[[], Any]]:
+        """File name → callable drawing one figure and returning its matplotlib axes."""
+        return {}
+
+    def plot(self, **display_units: str) -> Any:
+        """Draw the first of :meth:`plots` and return its axes (None when the result has no plot)."""
+        plots = self.plots(**display_units)
+        return next(iter(plots.values()))() if plots else None
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        """Named arrays with units for the results database; by default the columns of :meth:`to_frame`."""
+        return frame_arrays(self.to_frame())
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """Notes on this result that the user should read (also issued as :class:`ModelWarning`)."""
+        return ()
+
+
+def describe(keys: Mapping[str, str]) -> list[dict[str, str]]:
+    """``[{"key", "unit", "description"}]`` for documented summary keys (units read from the keys)."""
+    from mechdyn.units import key_unit
+
+    return [{"key": k, "unit": key_unit(k) or "", "description": d} for k, d in keys.items()]
