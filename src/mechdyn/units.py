@@ -20,7 +20,8 @@ import numpy as np
 if TYPE_CHECKING:
     import pint
 
-__all__ = ["Q_", "UnitError", "convert", "key_unit", "si_field", "to_si", "ureg"]
+# ``Q_`` and ``ureg`` come from the module ``__getattr__`` below
+__all__ = ["Q_", "UnitError", "convert", "key_unit", "si_field", "to_si", "ureg"]  # noqa: F822
 
 
 @functools.cache
@@ -215,7 +216,7 @@ def convert(value: Any, unit: str, display: str) -> Any:
     try:
         factor = ureg.Quantity(1.0, unit).m_as(display)
     except (pint.errors.PintError, ValueError, AttributeError, TypeError) as exc:
-        raise UnitError(f"cannot show {unit} in {display!r} ({exc}); give a unit of {_dimension_text(unit)}")
+        raise UnitError(f"cannot show {unit} in {display!r} ({exc}); give a unit of {_dimension_text(unit)}") from None
     if isinstance(value, (int, float, np.integer, np.floating)):
         return float(value) * factor
     return np.asarray(value) * factor
