@@ -216,7 +216,9 @@ def convert(value: Any, unit: str, display: str) -> Any:
     try:
         factor = ureg.Quantity(1.0, unit).m_as(display)
     except (pint.errors.PintError, ValueError, AttributeError, TypeError) as exc:
-        raise UnitError(f"cannot show {unit} in {display!r} ({exc}); give a unit of {_dimension_text(unit)}") from None
+        raise UnitError(
+            f"cannot show {unit} in {display!r} ({exc}); give a unit of {_dimension_text(unit)}"
+        ) from None
     if isinstance(value, (int, float, np.integer, np.floating)):
         return float(value) * factor
     return np.asarray(value) * factor
