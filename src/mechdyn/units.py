@@ -15,8 +15,6 @@ from __future__ import annotations
 import functools
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 if TYPE_CHECKING:
     import pint
 
@@ -55,6 +53,7 @@ def _dimension_text(unit: str) -> str:
 
 
 def _coerce(value: Any, unit: str) -> pint.Quantity:
+    import numpy as np
     import pint
 
     ureg = registry()
@@ -109,6 +108,8 @@ def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
     UnitError
         If the value is not a quantity of the dimension of ``unit``.
     """
+    import numpy as np
+
     if (
         plain_is_si
         and isinstance(value, (int, float, np.integer, np.floating))
@@ -208,6 +209,8 @@ def convert(value: Any, unit: str, display: str) -> Any:
     UnitError
         If ``display`` is not a unit of the dimension of ``unit``.
     """
+    import numpy as np
+
     if value is None or unit == display:
         return value
     import pint

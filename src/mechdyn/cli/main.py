@@ -1,4 +1,9 @@
-"""The ``mechdyn`` command line: one entry point, one subcommand per analysis."""
+"""The ``mechdyn`` command line: one subcommand per registered analysis, plus ``analyses`` and
+``results``.
+
+The parser is built from the analysis registry without importing any numerical library, so
+``mechdyn --help`` and ``mechdyn analyses`` answer at once; an analysis imports what it runs.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +11,6 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from mechdyn.cli import drivetrain, gear, mechanism, mount, results, support
 from mechdyn.errors import MechdynError
 
 __all__ = ["build_parser", "main"]
@@ -14,19 +18,25 @@ __all__ = ["build_parser", "main"]
 
 def build_parser() -> argparse.ArgumentParser:
     from mechdyn import __version__
+    from mechdyn.cli import analyses_command, results
+    from mechdyn.cli.runner import add_analysis_parser
+    from mechdyn.registry import analyses
 
     p = argparse.ArgumentParser(
         prog="mechdyn",
         description="Dynamic analysis of machines at the design stage. Every analysis run is stored "
-        "in the results database (see `mechdyn results`).",
+        "in the results database (see `mechdyn results`); `mechdyn analyses` lists the analyses.",
+        epilog="examples:\n"
+        "  mechdyn modal examples/turret_indexing.toml --compare-rigid --plots plots\n"
+        "  mechdyn mechanism examples/press_link_drive.toml --csv press.csv\n"
+        "  mechdyn analyses --json",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--version", action="version", version=f"mechdyn {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    drivetrain.register(sub)
-    gear.register(sub)
-    mechanism.register(sub)
-    support.register(sub)
-    mount.register(sub)
+    for analysis in analyses().values():
+        add_analysis_parser(sub, analysis)
+    analyses_command.register(sub)
     results.register(sub)
     return p
 

@@ -6,13 +6,14 @@ import argparse
 import json
 
 from mechdyn.cli.common import Table, print_table
-from mechdyn.store import ResultStore
-from mechdyn.store.store import jsonable
 
 __all__ = ["register"]
 
 
 def _list(args: argparse.Namespace) -> int:
+    from mechdyn.store import ResultStore
+    from mechdyn.store.store import jsonable
+
     with ResultStore(args.db) as store:
         runs = store.runs(analysis=args.analysis, limit=args.limit)
     if args.json:
@@ -49,6 +50,9 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _show(args: argparse.Namespace) -> int:
+    from mechdyn.store import ResultStore
+    from mechdyn.store.store import jsonable
+
     with ResultStore(args.db) as store:
         r = store.get(args.id)
     if args.json:

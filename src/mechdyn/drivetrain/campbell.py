@@ -11,7 +11,8 @@ import numpy as np
 from mechdyn.drivetrain.modal import ModalResult, modal
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelError
-from mechdyn.units import to_si
+from mechdyn.results import Result, Table
+from mechdyn.units import convert, to_si
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -43,7 +44,7 @@ class ExcitationLine:
 
 
 @dataclass(frozen=True)
-class CampbellResult:
+class CampbellResult(Result):
     """Excitation lines and natural frequencies over a reference speed range.
 
     Attributes
@@ -91,7 +92,50 @@ class CampbellResult:
 
         return pd.DataFrame(self.crossings, columns=["line", "kind", "mode", "frequency_hz", "speed_rpm"])
 
-    def plot(self, ax: Any = None, max_frequency_hz: float | None = None) -> Any:
+    @property
+    def speed_range_rpm(self) -> tuple[float, float]:
+        """The reference speed range, rpm."""
+        lo, hi = convert(np.asarray(self.speed_range), "rad/s", "rpm")
+        return float(lo), float(hi)
+
+    def summary(self) -> dict[str, Any]:
+        """Reference disk, speed range (rpm), natural frequencies (Hz), excitation lines, crossings."""
+        return {
+            "reference_disk": self.reference,
+            "speed_range_rpm": list(self.speed_range_rpm),
+            "frequencies_hz": self.modal.frequencies_hz.tolist(),
+            "rigid_body_modes": self.modal.rigid_body_modes,
+            "lines": [{"label": ln.label, "kind": ln.kind, "per_rev": ln.per_rev} for ln in self.lines],
+            "crossings": self.crossings,
+        }
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The excitation lines and their crossings with the natural frequencies."""
+        lo, hi = self.speed_range_rpm
+        return [
+            Table(
+                f"excitation lines (reference disk {self.reference})",
+                ["line", "kind", "cycles per rev", f"at {hi:.0f} rpm [Hz]"],
+                [
+                    [ln.label, ln.kind, ln.per_rev, float(ln.frequency_hz(self.speed_range[1]))]
+                    for ln in self.lines
+                ],
+            ),
+            Table(
+                f"crossings with natural frequencies between {lo:.0f} and {hi:.0f} rpm",
+                ["line", "mode", "frequency [Hz]", "speed [rpm]"],
+                [[x["line"], x["mode"], x["frequency_hz"], x["speed_rpm"]] for x in self.crossings],
+            ),
+        ]
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """``campbell.png``."""
+        return {"campbell.png": lambda: self.plot()}
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        return {"frequencies_hz": (self.modal.frequencies_hz, "Hz")}
+
+    def plot(self, ax: Any = None, max_frequency_hz: float | None = None, **display_units: str) -> Any:
         """Draw the Campbell diagram; returns the matplotlib axes."""
         from mechdyn.drivetrain.plots import plot_campbell
 

@@ -10,6 +10,7 @@ from scipy.optimize import linear_sum_assignment
 
 from mechdyn.drivetrain.modal import ModalResult, modal
 from mechdyn.drivetrain.model import Drivetrain
+from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -32,7 +33,7 @@ def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class ModeComparison:
+class ModeComparison(Result):
     """Flexible-mesh modes next to the rigid-gear modes of the same shape.
 
     Attributes
@@ -75,7 +76,53 @@ class ModeComparison:
             out.append(row)
         return out
 
+    def summary(self) -> dict[str, Any]:
+        """The flexible model's modal summary, the pairing rows and the rigid-gear frequencies (Hz)."""
+        return self.flexible.summary() | {
+            "comparison": self.rows,
+            "rigid_frequencies_hz": self.rigid.frequencies_hz.tolist(),
+        }
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The flexible model's tables, then the pairing."""
+        pairing = Table(
+            "flexible meshes against rigid gears (modes paired by shape, MAC)",
+            [
+                "flexible mode",
+                "flexible [Hz]",
+                "rigid mode",
+                "rigid [Hz]",
+                "MAC",
+                "change [%]",
+                "most strain energy in",
+            ],
+            [
+                [
+                    c["flexible_mode"],
+                    c["flexible_hz"],
+                    c["rigid_mode"],
+                    c["rigid_hz"],
+                    c["mac"],
+                    c["change_percent"],
+                    c["dominant_element"],
+                ]
+                for c in self.rows
+            ],
+        )
+        return [*self.flexible.tables(**display_units), pairing]
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """The flexible and the rigid-gear mode shapes."""
+        return {
+            "mode_shapes.png": lambda: self.flexible.plot(),
+            "mode_shapes_rigid.png": lambda: self.rigid.plot(),
+        }
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        return self.flexible.arrays() | {"mac": (self.mac, "")}
+
     def to_frame(self) -> pd.DataFrame:
+        """One row per flexible mode with its rigid-gear partner (frequencies in Hz)."""
         import pandas as pd
 
         return pd.DataFrame(self.rows)

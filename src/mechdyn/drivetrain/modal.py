@@ -11,6 +11,7 @@ import numpy as np
 from mechdyn.drivetrain.assembly import Assembly, assemble
 from mechdyn.drivetrain.eigen import Solver, solve_eigen
 from mechdyn.drivetrain.model import Drivetrain
+from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -28,7 +29,7 @@ def _unit_shapes(shapes: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class ModalResult:
+class ModalResult(Result):
     """Undamped modes of a drivetrain.
 
     Attributes
@@ -46,6 +47,8 @@ class ModalResult:
         The eigen solver that ran.
     reduced_shapes : ndarray
         (n_coordinates, n_modes) the same modes on the independent coordinates (shapes = T @ this).
+    rigid_gears : bool
+        Whether the gear meshes were taken as rigid constraints.
     """
 
     assembly: Assembly
@@ -54,6 +57,7 @@ class ModalResult:
     rigid_body_shapes: np.ndarray
     solver: str
     reduced_shapes: np.ndarray
+    rigid_gears: bool = False
 
     @property
     def drivetrain(self) -> Drivetrain:
@@ -116,6 +120,90 @@ class ModalResult:
         i = int(np.argmax(share[:, mode]))
         return names[i], float(share[i, mode])
 
+    @property
+    def label(self) -> str:
+        """``"rigid gears"`` or ``"as modelled"``, for titles."""
+        return "rigid gears" if self.rigid_gears else "as modelled"
+
+    def summary(self) -> dict[str, Any]:
+        """Frequencies (Hz), rigid-body mode count, solver, and each mode's shape and owner."""
+        modes = []
+        for m, f in enumerate(self.frequencies_hz):
+            el, share = self.dominant_element(m)
+            modes.append(
+                {
+                    "mode": m + 1,
+                    "frequency_hz": float(f),
+                    "dominant_element": el,
+                    "dominant_element_share": share,
+                    "shape": dict(zip(self.disk_names, self.unit_shapes[:, m].tolist(), strict=True)),
+                }
+            )
+        return {
+            "frequencies_hz": self.frequencies_hz.tolist(),
+            "rigid_body_modes": self.rigid_body_modes,
+            "rigid_gears": self.rigid_gears,
+            "solver": self.solver,
+            "modes": modes,
+        }
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """Frequencies with the owning element and disk; shapes, strain energy, rigid-body modes."""
+        title = self.label
+        names, share = self.strain_energy
+        rows = []
+        for m, f in enumerate(self.frequencies_hz):
+            el, es = self.dominant_element(m)
+            d = int(np.argmax(self.kinetic_energy[:, m]))
+            rows.append([m + 1, f, el, 100 * es, self.disk_names[d], 100 * self.kinetic_energy[d, m]])
+        tables = [
+            Table(
+                f"{title}: natural frequencies ({self.rigid_body_modes} rigid-body mode(s) set aside)",
+                [
+                    "mode",
+                    "frequency [Hz]",
+                    "most strain energy in",
+                    "share [%]",
+                    "most kinetic energy in",
+                    "share [%]",
+                ],
+                rows,
+            )
+        ]
+        modes = range(len(self.omega))
+        if modes:  # a model that only turns as a rigid body has no shapes or strain energy to show
+            tables.append(
+                Table(
+                    f"{title}: mode shapes (largest disk angle = 1)",
+                    ["disk", *[f"mode {m + 1}" for m in modes]],
+                    [[d, *self.unit_shapes[i].tolist()] for i, d in enumerate(self.disk_names)],
+                )
+            )
+            tables.append(
+                Table(
+                    f"{title}: strain energy per element [%]",
+                    ["element", *[f"mode {m + 1}" for m in modes]],
+                    [[n, *(100 * share[i]).tolist()] for i, n in enumerate(names)],
+                )
+            )
+        if self.rigid_body_modes:
+            tables.append(
+                Table(
+                    f"{title}: rigid-body modes (0 Hz)",
+                    ["disk", *[f"rigid {k + 1}" for k in range(self.rigid_body_modes)]],
+                    [[d, *self.rigid_body_shapes[i].tolist()] for i, d in enumerate(self.disk_names)],
+                )
+            )
+        return tables
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """``mode_shapes.png``."""
+        return {"mode_shapes.png": lambda: self.plot()}
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        """Natural frequencies (Hz) and mass-normalised shapes of every disk (rad)."""
+        return {"frequencies_hz": (self.frequencies_hz, "Hz"), "mode_shapes": (self.shapes, "rad")}
+
     def to_frame(self) -> pd.DataFrame:
         """One row per flexible mode: frequency, and the element and disk that dominate it."""
         import pandas as pd
@@ -129,9 +217,9 @@ class ModalResult:
                     "mode": m + 1,
                     "frequency_hz": f,
                     "strain_energy_element": el,
-                    "strain_energy_share": es,
+                    "strain_energy_share_relative": es,
                     "kinetic_energy_disk": self.disk_names[d],
-                    "kinetic_energy_share": float(self.kinetic_energy[d, m]),
+                    "kinetic_energy_share_relative": float(self.kinetic_energy[d, m]),
                 }
             )
         return pd.DataFrame(rows)
@@ -153,7 +241,7 @@ class ModalResult:
         cols = {f"mode {m + 1}": 100 * share[:, m] for m in range(share.shape[1])}
         return pd.DataFrame(cols, index=pd.Index(names, name="element"))
 
-    def plot(self, modes: Any = None, ax: Any = None) -> Any:
+    def plot(self, modes: Any = None, ax: Any = None, **display_units: str) -> Any:
         """Plot unit-scaled mode shapes against disk; returns the matplotlib axes."""
         from mechdyn.drivetrain.plots import plot_mode_shapes
 
@@ -203,4 +291,4 @@ def modal(
     lam, Q = lam[n_rb:], Q[:, n_rb:]
     omega = np.sqrt(np.clip(lam, 0.0, None))
     shapes = np.asarray(asm.T @ Q) if asm.T.shape[0] != asm.T.shape[1] else Q  # T = I without rigid meshes
-    return ModalResult(asm, omega, shapes, _unit_shapes(asm.rigid_body_vectors), used, Q)
+    return ModalResult(asm, omega, shapes, _unit_shapes(asm.rigid_body_vectors), used, Q, rigid_gears)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -12,6 +12,7 @@ from mechdyn.drivetrain.assembly import assemble
 from mechdyn.drivetrain.modal import modal
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelError
+from mechdyn.results import Result, Table
 from mechdyn.units import to_si
 
 if TYPE_CHECKING:
@@ -52,7 +53,7 @@ class RayleighDamping:
 
 
 @dataclass(frozen=True)
-class FRFResult:
+class FRFResult(Result):
     """Steady-state complex amplitudes over frequency.
 
     Attributes
@@ -70,6 +71,11 @@ class FRFResult:
     natural_frequencies_hz : ndarray
         Undamped natural frequencies of the model, for reference.
     model_name : str
+    excitation : mapping of disk name → complex torque amplitude, N·m
+    damping : ModalDamping or RayleighDamping or None
+        The damping added to the model's own dampers.
+    outputs : tuple of str
+        The disks to report and plot (all disks when empty).
     """
 
     frequencies_hz: np.ndarray
@@ -80,6 +86,59 @@ class FRFResult:
     element_units: tuple[str, ...]
     natural_frequencies_hz: np.ndarray
     model_name: str = ""
+    excitation: Mapping[str, complex] = field(default_factory=dict)
+    damping: Any = None
+    outputs: tuple[str, ...] = ()
+
+    @property
+    def peaks(self) -> dict[str, dict[str, Any]]:
+        """For each output disk and each element: largest amplitude, its unit and frequency (Hz)."""
+        out = {}
+        for n in (*(self.outputs or self.disk_names), *self.element_names):
+            amp, at = self.peak(n)
+            unit = "rad" if n in self.disk_names else self.element_units[self.element_names.index(n)]
+            out[n] = {"peak": amp, "unit": unit, "frequency_hz": at}
+        return out
+
+    def summary(self) -> dict[str, Any]:
+        """Excitation, frequency range (Hz), damping, natural frequencies (Hz) and the peaks."""
+        f = self.frequencies_hz
+        return {
+            "excitation": {
+                k: {"re": complex(v).real, "im": complex(v).imag} for k, v in self.excitation.items()
+            },
+            "frequency_range_hz": [float(f.min()), float(f.max())],
+            "points": int(f.size),
+            "damping": repr(self.damping),
+            "natural_frequencies_hz": self.natural_frequencies_hz.tolist(),
+            "peaks": self.peaks,
+        }
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The largest steady-state amplitude of every output and element."""
+        rows = [
+            [("disk " if p["unit"] == "rad" else "") + n, p["peak"], p["unit"], p["frequency_hz"]]
+            for n, p in self.peaks.items()
+        ]
+        return [
+            Table(
+                "largest steady-state amplitudes over the frequency range",
+                ["output", "peak", "unit", "at [Hz]"],
+                rows,
+            )
+        ]
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """``frf.png``: the output disks' amplitudes over frequency."""
+        return {"frf.png": lambda: self.plot(list(self.outputs) or None)}
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        """Frequencies (Hz), complex disk angles (rad) and element loads (N·m or N)."""
+        return {
+            "frequencies_hz": (self.frequencies_hz, "Hz"),
+            "angles": (self.angles, "rad"),
+            "element_loads": (self.element_loads, "N*m | N"),
+        }
 
     def peak(self, name: str) -> tuple[float, float]:
         """Largest magnitude of a disk angle or element load, and its frequency (Hz)."""
@@ -96,11 +155,12 @@ class FRFResult:
         """Magnitudes over frequency: one column per disk (rad) and element (its unit)."""
         import pandas as pd
 
+        suffix = {"rad": "rad", "N*m": "Nm", "N": "N"}
         cols: dict[str, Any] = {"frequency_hz": self.frequencies_hz}
         for j, n in enumerate(self.disk_names):
-            cols[f"{n} [rad]"] = np.abs(self.angles[:, j])
+            cols[f"disk_{n}_rad"] = np.abs(self.angles[:, j])
         for j, (n, u) in enumerate(zip(self.element_names, self.element_units, strict=True)):
-            cols[f"{n} [{u}]"] = np.abs(self.element_loads[:, j])
+            cols[f"{n}_{suffix.get(u, u)}"] = np.abs(self.element_loads[:, j])
         return pd.DataFrame(cols)
 
     def plot(self, outputs: Sequence[str] | None = None, ax: Any = None) -> Any:
@@ -116,6 +176,7 @@ def frf(
     excitation: Mapping[str, Any],
     *,
     damping: ModalDamping | RayleighDamping | None = None,
+    outputs: Sequence[str] = (),
 ) -> FRFResult:
     """Steady-state response of a drivetrain to harmonic torques.
 
@@ -128,6 +189,8 @@ def frf(
         Complex amplitudes in N·m (or quantities, e.g. ``"10 N*m"``), all at the same frequency.
     damping : ModalDamping or RayleighDamping, optional
         Added to the model's own dampers; default ``ModalDamping(0.02)``.
+    outputs : sequence of str
+        Disks to report and plot (default: all).
 
     Returns
     -------
@@ -194,4 +257,7 @@ def frf(
         tuple(units),
         modes.frequencies_hz,
         drivetrain.name,
+        {d: complex(force[idx[d]]) for d in excitation},
+        damping,
+        tuple(outputs),
     )

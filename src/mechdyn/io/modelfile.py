@@ -23,9 +23,11 @@ from pydantic import BaseModel, ValidationError
 from mechdyn.errors import ModelError, ModelFileError
 
 __all__ = [
+    "LoadedModel",
     "ModelSource",
     "field_context",
     "load",
+    "load_model",
     "load_with_source",
     "register_model_type",
     "validate",
@@ -97,6 +99,47 @@ def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
     module, _, func = _BUILDERS[source.model_type].partition(":")
     builder: Callable[[ModelSource], Any] = getattr(importlib.import_module(module), func)
     return builder(source), source
+
+
+@dataclass(frozen=True)
+class LoadedModel:
+    """A model file as loaded: the model, the file's analysis settings, and the file itself.
+
+    Attributes
+    ----------
+    type : str
+        The file's ``[model] type``.
+    model : object
+        The immutable model the analyses run on (a :class:`~mechdyn.drivetrain.Drivetrain`, a
+        :class:`~mechdyn.mechanism.Mechanism`, a :class:`~mechdyn.support.MountedMachine`, a
+        :class:`~mechdyn.gears.GearPair`, two teeth, a mount estimate).
+    settings : object
+        What else the file says (analysis tables, load, samples); its builder's own record.
+    source : ModelSource or None
+        The file (None for a model built in Python).
+    """
+
+    type: str
+    model: Any
+    settings: Any = None
+    source: ModelSource | None = None
+
+    @property
+    def name(self) -> str:
+        return str(getattr(self.model, "name", "") or getattr(self.settings, "name", ""))
+
+
+def load_model(path: str | Path) -> LoadedModel:
+    """Load a model file into a :class:`LoadedModel` (one shape for every model type)."""
+    built, source = load_with_source(path)
+    kind = source.model_type
+    if kind == "drivetrain":
+        from mechdyn.drivetrain.schema import settings
+
+        return LoadedModel(kind, built, settings(source, built), source)
+    # the other builders return a record of the model and its settings; name the model in it
+    model_attr = {"mechanism": "mechanism", "support": "machine", "gear_pair": "pair", "tooth_pair": "teeth"}
+    return LoadedModel(kind, getattr(built, model_attr.get(kind, "mount")), built, source)
 
 
 def load(path: str | Path) -> Any:

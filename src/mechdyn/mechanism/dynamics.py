@@ -18,7 +18,8 @@ import numpy as np
 
 from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
 from mechdyn.mechanism.linalg import solve_with_det
-from mechdyn.mechanism.model import GROUND, Mechanism
+from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
+from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -27,7 +28,7 @@ __all__ = ["DynamicsResult", "inverse_dynamics"]
 
 
 @dataclass(frozen=True)
-class DynamicsResult:
+class DynamicsResult(Result):
     """Inverse dynamics over one crank revolution (all arrays over the N crank angles).
 
     Attributes
@@ -37,12 +38,20 @@ class DynamicsResult:
         (N, m) λ, one per constraint equation.
     applied : ndarray
         (N, n) generalised applied forces Q (gravity and process forces).
+    load_jacobian : (ndarray, ndarray), optional
+        The constraint Jacobians with gear flanks chosen by the load.
+    trace : tuple of str
+        ``"body.point"`` names whose paths the trajectory plot draws.
+    field_velocity : (float, float), optional
+        Velocity of the field under the machine, m/s (the trajectory plot adds it to the paths).
     """
 
     kinematics: KinematicsResult
     multipliers: np.ndarray
     applied: np.ndarray
     load_jacobian: tuple[np.ndarray, np.ndarray] | None = None  # with gear flanks chosen by the load
+    trace: tuple[str, ...] = ()
+    field_velocity: tuple[float, float] | None = None
 
     @property
     def mechanism(self) -> Mechanism:
@@ -170,6 +179,116 @@ class DynamicsResult:
                 inertia_force_min_deg=float(deg[int(np.argmin(f))]),
                 inertia_force_fluctuation_N=float(f.max() - f.min()),
             )
+        moment = self.shaking_moment()
+        F = self.shaking_force
+        out["shaking_moment_range_Nm"] = float(moment.max() - moment.min())
+        out["shaking_force_x_range_N"] = float(np.ptp(F[:, 0]))
+        out["shaking_force_y_range_N"] = float(np.ptp(F[:, 1]))
+        peaks = self.joint_force_peaks
+        out["joint_force_peak_N"] = peaks
+        gears = self.gear_pairs
+        if gears:
+            out["tooth_force_max_N"] = max(peaks[g] for g in gears)
+            out["gear_pairs"] = gears
+        out["n_angles"] = int(self.angle.size)
+        return out
+
+    @cached_property
+    def joint_force_peaks(self) -> dict[str, float]:
+        """Largest force magnitude over the cycle in each joint (on its second body), N."""
+        return {
+            j.name: float(np.linalg.norm(self.joint_load(j.name, j.bodies[1])[:, :2], axis=1).max())
+            for j in self.mechanism.joints
+        }
+
+    @cached_property
+    def gear_pairs(self) -> dict[str, dict[str, Any]]:
+        """For each gear joint: centre distance, mean ratio, convexity, pressure-angle range
+        (:func:`mechdyn.mechanism.pitch.report`)."""
+        from mechdyn.mechanism.pitch import report
+
+        m = self.mechanism
+        return {
+            j.name: report(m.gear_laws[j.name], j.pressure_angle)
+            for j in m.joints
+            if isinstance(j, GearJoint)
+        }
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """A concave pitch curve (its teeth would be undercut)."""
+        return tuple(
+            f"gear pair {name!r}: a pitch curve is concave; its teeth would be undercut"
+            for name, rep in self.gear_pairs.items()
+            if not rep["convex"]
+        )
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The summary with units, the joint-force peaks and the gear pairs.
+
+        ``length_unit`` (default ``"mm"``) shows the gears' centre distances.
+        """
+        from mechdyn.units import convert, key_unit
+
+        length = display_units.get("length_unit", "mm")
+        summary = self.summary()
+        rows = [
+            [k, v, key_unit(k) or ""]
+            for k, v in summary.items()
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and k != "n_angles"
+        ]
+        tables = [
+            Table("summary", ["quantity", "value", "unit"], rows),
+            Table(
+                "joint forces (largest over the cycle)",
+                ["joint", "force [N]"],
+                [[k, v] for k, v in self.joint_force_peaks.items()],
+            ),
+        ]
+        if self.gear_pairs:
+            tables.append(
+                Table(
+                    "gear pairs",
+                    [
+                        "pair",
+                        f"centre distance [{length}]",
+                        "mean ratio",
+                        "convex",
+                        "φ min [deg]",
+                        "φ max [deg]",
+                    ],
+                    [
+                        [
+                            n,
+                            convert(r["centre_distance_m"], "m", length),
+                            r["mean_ratio"],
+                            r["convex"],
+                            r["pressure_angle_min_deg"],
+                            r["pressure_angle_max_deg"],
+                        ]
+                        for n, r in self.gear_pairs.items()
+                    ],
+                )
+            )
+        return tables
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """Output motion (with a slide), inertia forces, torque, frames, joint forces, shaking force
+        polar, and the traced paths (when the model names points to trace)."""
+        from mechdyn.mechanism import plots as mp
+
+        out: dict[str, Any] = {}
+        if self.output_position is not None:
+            out["output_motion.png"] = lambda: mp.plot_output_motion(self)
+        out |= {
+            "inertia_forces.png": lambda: mp.plot_inertia_forces(self),
+            "driving_torque.png": lambda: mp.plot_torque(self),
+            "frames.png": lambda: mp.plot_frames(self),
+            "joint_forces.png": lambda: mp.plot_joint_forces(self),
+            "shaking_force_polar.png": lambda: mp.plot_shaking_polar(self),
+        }
+        if self.trace:
+            out["trajectory.png"] = lambda: mp.plot_trajectory(self, list(self.trace), self.field_velocity)
         return out
 
     def to_frame(self) -> pd.DataFrame:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,13 +25,17 @@ from mechdyn.mounts.calibration import (
 from mechdyn.mounts.fe import AnchorFE, FEResult, anchor_members, pad_compression
 from mechdyn.mounts.pad import ElastomerPad
 from mechdyn.mounts.types import DampingPad, isolation
+from mechdyn.results import Result, Table
 
-__all__ = ["MountReport", "analyse"]
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["MountResult", "analyse"]
 
 
 @dataclass
-class MountReport:
-    """Everything one mount analysis found (SI)."""
+class _Draft:
+    """What the analysis has found so far (SI)."""
 
     summary: dict[str, Any]
     mount: Any
@@ -39,6 +43,94 @@ class MountReport:
     anchor: AnchorFE | None = None
     calibration: Calibration | None = None
     frf: tuple[np.ndarray, np.ndarray, SdofFit] | None = None
+
+
+@dataclass(frozen=True)
+class MountResult(Result):
+    """Everything one mount analysis found: the estimate and its parts, the FE reference with its
+    mesh convergence, the contact pressure, the calibration, the FRF fit, the isolation (SI).
+
+    Attributes
+    ----------
+    name, kind : str
+        The mount's name and type (``"pad"``, ``"anchor"``, ...).
+    mount : object
+        The estimate (calibrated when a stored calibration was applied).
+    data : dict
+        The summary (see :meth:`summary`).
+    fe_levels : tuple of FEResult
+        The FE reference at each refinement.
+    anchor : AnchorFE, optional
+        The finest anchor FE model (contact pressure).
+    calibration : Calibration, optional
+    frf : (ndarray, ndarray, SdofFit), optional
+        Measured frequencies (Hz), receptance (m/N) and the single-DOF fit.
+    preloads : tuple of float
+        Preloads of the contact-pressure study, N.
+    pressure_threshold : float, optional
+        Pa.
+    """
+
+    name: str
+    kind: str
+    mount: Any
+    data: dict[str, Any]
+    fe_levels: tuple[FEResult, ...] = ()
+    anchor: AnchorFE | None = None
+    calibration: Calibration | None = None
+    frf: tuple[np.ndarray, np.ndarray, SdofFit] | None = None
+    preloads: tuple[float, ...] = ()
+    pressure_threshold: float | None = None
+
+    def summary(self) -> dict[str, Any]:
+        """Stiffness along the main axis (N/m) with its breakdown, and what else the file asked for."""
+        return dict(self.data)
+
+    def to_frame(self) -> pd.DataFrame:
+        """The FE mesh convergence (one row per refinement), or the scalar figures as one row."""
+        import pandas as pd
+
+        if "fe_convergence" in self.data:
+            return pd.DataFrame(self.data["fe_convergence"])
+        return pd.DataFrame(
+            [{k: v for k, v in self.data.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}]
+        )
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        return {}
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The estimate, the frusta, the FE convergence, the contact pressure, calibration, FRF fit,
+        isolation. ``length_unit`` (default ``"mm"``) and ``pressure_unit`` (default ``"MPa"``)."""
+        from mechdyn.mounts.tables import mount_tables
+
+        return mount_tables(
+            self, display_units.get("length_unit", "mm"), display_units.get("pressure_unit", "MPa")
+        )
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """The pad's load curve, the FE convergence, the contact pressure, the calibration, the FRF fit
+        (each where it applies)."""
+        from mechdyn.mounts import plots as mp
+
+        out: dict[str, Any] = {}
+        mount = self.mount
+        pad = getattr(mount, "pad", mount) if self.kind in ("pad", "damping_pad") else None
+        if pad is not None:
+            out["pad_curve.png"] = lambda: mp.plot_pad_curve(pad)
+        if self.fe_levels:
+            est = mount.member_stiffness() if isinstance(mount, BoltedJoint) else pad.compression_stiffness
+            out["fe_convergence.png"] = lambda: mp.plot_convergence(list(self.fe_levels), est)
+        if self.anchor is not None:
+            out["contact_pressure.png"] = lambda: mp.plot_contact_pressure(
+                self.anchor, list(self.preloads), self.pressure_threshold
+            )
+        if self.calibration is not None and isinstance(mount, BoltedJoint):
+            c = self.calibration
+            out["calibration.png"] = lambda: mp.plot_calibration(mount, c.target, c.value)
+        if self.frf is not None:
+            out["frf_fit.png"] = lambda: mp.plot_frf_fit(*self.frf)
+        return out
 
 
 def _stiffness(mount: Any) -> float:
@@ -57,7 +149,7 @@ def _pad_of(mount: Any) -> ElastomerPad | None:
     return None
 
 
-def _fe(spec: Any, mount: Any, report: MountReport) -> float | None:
+def _fe(spec: Any, mount: Any, report: _Draft) -> float | None:
     fe = spec.fe
     if fe is None:
         return None
@@ -100,8 +192,20 @@ def _fe(spec: Any, mount: Any, report: MountReport) -> float | None:
     return runs[-1].stiffness
 
 
-def analyse(spec: Any, store: Any = None) -> MountReport:
-    """Run everything a mount file asks for; ``store`` keeps (and supplies) calibrations."""
+def analyse(spec: Any, store: Any = None) -> MountResult:
+    """Run everything a mount file asks for; ``store`` keeps (and supplies) calibrations.
+
+    Parameters
+    ----------
+    spec : MountSpec
+        A mount file as read (:func:`mechdyn.io.load_with_source`).
+    store : ResultStore, optional
+        Where calibrations are kept and read (``use_stored``).
+
+    Returns
+    -------
+    MountResult
+    """
     mount = spec.mount
     s: dict[str, Any] = {"mount_type": spec.kind}
     stored = None
@@ -112,7 +216,7 @@ def analyse(spec: Any, store: Any = None) -> MountReport:
         s["stiffness_as_drawn_N_per_m"] = _stiffness(mount)
         mount = apply(stored, mount)
         s["applied_calibration"] = stored.as_dict() | {"provenance": stored.provenance}
-    report = MountReport(s, mount)
+    report = _Draft(s, mount)
     s["stiffness_N_per_m"] = _stiffness(mount)
     s["breakdown"] = mount.breakdown()
     s["adjusts_height"] = bool(getattr(mount, "adjusts_height", False))
@@ -213,4 +317,16 @@ def analyse(spec: Any, store: Any = None) -> MountReport:
         s["isolation"] = isolation(
             s["stiffness_N_per_m"], spec.load.weight, spec.load.disturbing_frequency, eta
         )
-    return report
+    fe = spec.fe
+    return MountResult(
+        spec.name,
+        spec.kind,
+        report.mount,
+        s,
+        tuple(report.fe_levels),
+        report.anchor,
+        report.calibration,
+        report.frf,
+        tuple(fe.preloads) if fe is not None else (),
+        fe.pressure_threshold if fe is not None else None,
+    )

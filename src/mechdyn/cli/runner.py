@@ -1,0 +1,168 @@
+"""One generic command for every registered analysis: load, run, store, print, plot.
+
+``mechdyn NAME FILE [options]`` is built from the analysis' registration (:mod:`mechdyn.registry`):
+its options become flags, and the result protocol (:mod:`mechdyn.results`) gives the tables, the
+JSON summary, the CSV table, the plots and the arrays kept in the results database. Nothing here
+knows an analysis by name.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import warnings
+from pathlib import Path
+from typing import Any
+
+from mechdyn.registry import Analysis, Option
+
+__all__ = ["add_analysis_parser", "run"]
+
+_QUANTITY_LABEL = {"rad/s": "speed", "Hz": "frequency"}
+
+
+def _quantity(option: Option) -> Any:
+    label = _QUANTITY_LABEL.get(option.unit or "", option.name.replace("_", " "))
+
+    def parse(text: str) -> float:
+        from mechdyn.units import UnitError, to_si
+
+        try:
+            return to_si(text, option.unit or "")
+        except UnitError as exc:
+            raise argparse.ArgumentTypeError(f"{label} {text!r}: {exc}") from None
+
+    return parse
+
+
+def _number(option: Option, cast: type) -> Any:
+    def parse(text: str) -> Any:
+        try:
+            value = cast(text)
+        except ValueError:
+            value = None
+        if value is None or (option.minimum is not None and value < option.minimum):
+            least = "" if option.minimum is None else f" of at least {cast(option.minimum)}"
+            kind = "a whole number" if cast is int else "a number"
+            raise argparse.ArgumentTypeError(f"{option.name.replace('_', ' ')} {text!r}: give {kind}{least}")
+        return value
+
+    return parse
+
+
+def _add_option(p: argparse.ArgumentParser, o: Option) -> None:
+    kw: dict[str, Any] = {"help": o.help, "dest": o.name, "default": o.default}
+    if o.metavar is not None:
+        kw["metavar"] = o.metavar
+    if o.nargs:
+        kw["nargs"] = o.nargs
+    if o.kind == "flag":
+        p.add_argument(o.flag, action="store_true", help=o.help, dest=o.name)
+        return
+    if o.kind == "quantity":
+        kw["type"] = _quantity(o)
+    elif o.kind == "int":
+        kw["type"] = _number(o, int)
+    elif o.kind == "float":
+        kw["type"] = _number(o, float)
+    elif o.kind == "choice":
+        kw["choices"] = o.choices
+    elif o.kind == "names":
+        kw["nargs"] = "+"
+    p.add_argument(o.flag, **kw)
+
+
+def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> None:
+    """Add ``mechdyn NAME``: the common options, then the analysis' own."""
+    epilog = None
+    if analysis.examples:
+        epilog = "examples:\n" + "\n".join(f"  {e}" for e in analysis.examples)
+    p = sub.add_parser(
+        analysis.name,
+        help=analysis.help,
+        description=analysis.help,
+        epilog=epilog,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    types = " or ".join(f'type = "{t}"' for t in analysis.model_types)
+    p.add_argument("file", help=f"model file (TOML, {types})")
+    p.add_argument("--json", action="store_true", help="print a machine-readable summary (JSON) on stdout")
+    p.add_argument("--plots", metavar="DIR", help="write the plots (PNG) into DIR")
+    p.add_argument("--csv", metavar="FILE", help="write the result table (columns named with their units)")
+    p.add_argument(
+        "--db",
+        metavar="URL",
+        help="results database: a SQLite file path or a SQLAlchemy URL "
+        "(default: $MECHDYN_DB, else mechdyn.db in the working directory)",
+    )
+    for o in analysis.options:
+        _add_option(p, o)
+    p.set_defaults(func=lambda args: run(args, analysis))
+
+
+def run(args: argparse.Namespace, analysis: Analysis) -> int:
+    """Load ``args.file``, run the analysis, store the run, print a table or JSON, write plots."""
+    from mechdyn.io.modelfile import load_model
+    from mechdyn.store import ResultStore
+    from mechdyn.store.store import jsonable
+
+    options = {o.name: getattr(args, o.name) for o in analysis.options}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        loaded = load_model(args.file)
+        if analysis.uses_store:
+            with ResultStore(args.db) as store:
+                result = analysis.run(loaded, store=store, **options)
+        else:
+            result = analysis.run(loaded, **options)
+        summary = result.summary()
+    notes = list(dict.fromkeys([str(w.message) for w in caught] + list(result.warnings)))
+    for n in notes:
+        print(f"warning: {n}", file=sys.stderr)
+    if args.csv:
+        path = Path(args.csv)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        result.to_frame().to_csv(path, index=False, float_format="%.10g")
+    plot_files: list[str] = []
+    if args.plots:
+        from mechdyn.plotting import save_figure
+
+        for name, make in result.plots().items():
+            plot_files.append(str(save_figure(make(), Path(args.plots) / name)))
+    source = loaded.source
+    parameters = {k: v for k, v in options.items() if v is not None and v is not False}
+    with ResultStore(args.db) as store:
+        run_id = store.record(
+            analysis=analysis.name,
+            model_name=loaded.name,
+            model_path=source.path,
+            model_text=source.text,
+            model_sha256=source.sha256,
+            parameters=jsonable(parameters),
+            scalars={**summary, "warnings": notes},
+            arrays=result.arrays(),
+        )
+    if args.json:
+        doc = {
+            "run_id": run_id,
+            "analysis": analysis.name,
+            "model": loaded.name,
+            "model_file": source.path,
+            "model_sha256": source.sha256,
+            "parameters": parameters,
+            **summary,
+            "warnings": notes,
+            "plots": plot_files,
+        }
+        print(json.dumps(jsonable(doc), indent=2))
+        return 0
+    from mechdyn.cli.common import print_table
+
+    print(f"{loaded.name}  ({source.path})")
+    for t in result.tables():
+        print_table(t)
+    for p in plot_files:
+        print(f"plot: {p}")
+    print(f"stored as run {run_id}  (mechdyn results show {run_id})")
+    return 0

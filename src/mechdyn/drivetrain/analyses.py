@@ -1,0 +1,197 @@
+"""The drivetrain's analyses in the registry: ``modal``, ``campbell``, ``frf``.
+
+Each function takes the model a ``type = "drivetrain"`` file builds (its optional ``[campbell]`` and
+``[response]`` tables are the defaults of the options) and returns a result of the protocol.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mechdyn.errors import MechdynError
+from mechdyn.registry import Analysis, Option, Output, register
+
+__all__: list[str] = []
+
+_MODAL_OUTPUTS = (
+    Output("frequencies_hz", "natural frequencies of the flexible modes, ascending"),
+    Output("rigid_body_modes", "number of rigid-body (0 Hz) modes set aside", ""),
+    Output("rigid_gears", "whether every mesh was taken as a rigid constraint", ""),
+    Output("solver", "the eigen solver that ran", ""),
+    Output("modes", "per mode: frequency (Hz), dominant element and its share, unit-scaled shape", ""),
+)
+
+
+def _modal(
+    loaded: Any,
+    rigid_gears: bool = False,
+    compare_rigid: bool = False,
+    modes: int | None = None,
+    solver: str = "auto",
+) -> Any:
+    from mechdyn.drivetrain.compare import compare_rigid as compare
+    from mechdyn.drivetrain.modal import modal
+
+    if rigid_gears and compare_rigid:
+        raise MechdynError("give --rigid-gears or --compare-rigid, not both")
+    if compare_rigid:
+        return compare(loaded.model)
+    return modal(loaded.model, rigid_gears=rigid_gears, n_modes=modes, solver=solver)  # type: ignore[arg-type]
+
+
+def _where(loaded: Any) -> str:
+    return loaded.source.path if loaded.source is not None else repr(loaded.name)
+
+
+def _file_settings(loaded: Any) -> tuple[Any, Any]:
+    """The file's [campbell] and [response] settings (None for a model built in Python)."""
+    return loaded.settings or (None, None)
+
+
+def _campbell(
+    loaded: Any,
+    speed_range: tuple[float, float] | None = None,
+    reference: str | None = None,
+    rigid_gears: bool = False,
+) -> Any:
+    from mechdyn.drivetrain.campbell import campbell
+
+    model = loaded.model
+    camp, _ = _file_settings(loaded)
+    speed = speed_range or (camp.speed_range if camp else None)
+    if speed is None:
+        raise MechdynError(
+            f"{_where(loaded)}: no speed range; add a [campbell] table with speed_range, "
+            "or pass --speed-range LOW HIGH (e.g. '0 rpm' '3000 rpm')"
+        )
+    kw = {"shaft_orders": camp.shaft_orders, "mesh_orders": camp.mesh_orders} if camp else {}
+    ref = reference or (camp.reference_disk if camp else None)
+    return campbell(model, speed, reference=ref, rigid_gears=rigid_gears, **kw)
+
+
+def _frf(
+    loaded: Any,
+    excite: list[str] | None = None,
+    frequency_range: tuple[float, float] | None = None,
+    points: int | None = None,
+    damping: float | None = None,
+) -> Any:
+    import numpy as np
+
+    from mechdyn.drivetrain.response import ModalDamping, frf
+
+    model = loaded.model
+    _, resp = _file_settings(loaded)
+    if resp is None and not excite:
+        raise MechdynError(f"{_where(loaded)}: no excitation; add a [response] table, or pass --excite DISK")
+    excitation = {d: 1.0 + 0j for d in excite} if excite else resp.excitation
+    lo, hi = frequency_range or (resp.frequency_range if resp else (1.0, 1e4))
+    n = points or (resp.points if resp else 1000)
+    if damping is not None:
+        zeta = ModalDamping(damping)
+    else:
+        zeta = resp.damping if resp else ModalDamping()
+    outputs = tuple(resp.outputs) if resp and resp.outputs else tuple(model.disk_names)
+    return frf(model, np.geomspace(lo, hi, n), excitation, damping=zeta, outputs=outputs)
+
+
+register(
+    Analysis(
+        "modal",
+        ("drivetrain",),
+        _modal,
+        "natural frequencies, mode shapes and modal energy of a drivetrain",
+        options=(
+            Option("rigid_gears", "flag", "treat every gear mesh as a rigid constraint"),
+            Option(
+                "compare_rigid",
+                "flag",
+                "also solve with rigid gears and pair the modes by shape (MAC)",
+            ),
+            Option("modes", "int", "number of lowest flexible modes (default: all)", minimum=1),
+            Option(
+                "solver",
+                "choice",
+                "eigen solver (default: auto)",
+                choices=("auto", "dense", "banded", "sparse"),
+            ),
+        ),
+        outputs=(
+            *_MODAL_OUTPUTS,
+            Output("comparison", "with --compare-rigid: each flexible mode, its rigid partner, MAC", ""),
+            Output("rigid_frequencies_hz", "with --compare-rigid: the rigid-gear natural frequencies"),
+        ),
+        examples=(
+            "mechdyn modal examples/turret_indexing.toml --compare-rigid --plots plots",
+            "mechdyn modal examples/turret_milling.toml --modes 3 --json",
+        ),
+    )
+)
+
+register(
+    Analysis(
+        "campbell",
+        ("drivetrain",),
+        _campbell,
+        "Campbell (interference) diagram and its crossings",
+        options=(
+            Option(
+                "speed_range",
+                "quantity",
+                "reference speed range, e.g. '0 rpm' '3000 rpm' (default: the file's [campbell])",
+                unit="rad/s",
+                nargs=2,
+                metavar=("LOW", "HIGH"),
+            ),
+            Option("reference", "text", "disk whose speed is the abscissa", metavar="DISK"),
+            Option("rigid_gears", "flag", "natural frequencies with rigid gears"),
+        ),
+        outputs=(
+            Output("reference_disk", "the disk whose speed is the abscissa", ""),
+            Output("speed_range_rpm", "the reference speed range"),
+            Output("frequencies_hz", "natural frequencies of the flexible modes"),
+            Output("rigid_body_modes", "number of rigid-body modes", ""),
+            Output("lines", "excitation lines: label, kind, cycles per revolution of the reference", ""),
+            Output("crossings", "line, mode, frequency (Hz) and reference speed (rpm) of each crossing", ""),
+        ),
+        examples=(
+            "mechdyn campbell examples/turret_milling.toml --speed-range '0 rpm' '6000 rpm' --plots plots",
+        ),
+    )
+)
+
+register(
+    Analysis(
+        "frf",
+        ("drivetrain",),
+        _frf,
+        "steady-state response to harmonic torques",
+        options=(
+            Option(
+                "excite",
+                "names",
+                "unit torque (1 N·m) at these disks, replacing [response]",
+                metavar="DISK",
+            ),
+            Option(
+                "frequency_range",
+                "quantity",
+                "e.g. '10 Hz' '5 kHz' (default: the file's [response], else 1 Hz to 10 kHz)",
+                unit="Hz",
+                nargs=2,
+                metavar=("LOW", "HIGH"),
+            ),
+            Option("points", "int", "number of frequencies (log-spaced), at least 2", minimum=2),
+            Option("damping", "float", "modal damping ratio for every mode, e.g. 0.02", minimum=0.0),
+        ),
+        outputs=(
+            Output("excitation", "complex torque amplitude at each excited disk, N·m", ""),
+            Output("frequency_range_hz", "lowest and highest excitation frequency"),
+            Output("points", "number of frequencies", ""),
+            Output("damping", "the added damping", ""),
+            Output("natural_frequencies_hz", "undamped natural frequencies"),
+            Output("peaks", "per output disk and element: largest amplitude, unit, frequency (Hz)", ""),
+        ),
+        examples=("mechdyn frf examples/turret_indexing.toml --points 400 --plots plots",),
+    )
+)

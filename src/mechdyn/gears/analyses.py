@@ -1,0 +1,55 @@
+"""The gears' analysis in the registry: ``gear`` (tooth and mesh stiffness against ISO 6336-1)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mechdyn.registry import Analysis, Output, register
+
+__all__: list[str] = []
+
+
+def _gear(loaded: Any) -> Any:
+    from mechdyn.gears.results import gear_pair_stiffness, tooth_pair_stiffness
+
+    spec = loaded.settings
+    if loaded.type == "gear_pair":
+        return gear_pair_stiffness(loaded.model, spec.points, spec.specific_load)
+    return tooth_pair_stiffness(loaded.model, spec.load_heights, spec.load_angle, spec.published_stiffness)
+
+
+register(
+    Analysis(
+        "gear",
+        ("gear_pair", "tooth_pair"),
+        _gear,
+        "tooth and mesh stiffness of a gear pair, against ISO 6336-1",
+        model_noun="gear",
+        outputs=(
+            Output("contact_ratio", "transverse contact ratio ε_α", "1"),
+            Output("face_width_m", "common face width"),
+            Output("mesh_stiffness_mean_N_per_m", "mean mesh stiffness over a mesh cycle (gear pairs)"),
+            Output("mesh_stiffness_min_N_per_m", "smallest mesh stiffness over the cycle"),
+            Output("mesh_stiffness_max_N_per_m", "largest mesh stiffness over the cycle"),
+            Output("mesh_stiffness_fluctuation", "(max − min)/mean of the mesh stiffness", "1"),
+            Output("tooth_model", "the tooth model used", ""),
+            Output("mesh_stiffness_mean_other_model_N_per_m", "mean mesh stiffness, other tooth model"),
+            Output("pair_stiffness_pitch_N_per_m", "one tooth pair at the pitch point"),
+            Output("compliance_terms_pitch_m_per_N", "compliance terms at the pitch point"),
+            Output("iso_c_prime_N_per_mm_um", "ISO 6336-1 single stiffness c′ (gear pairs)"),
+            Output("iso_c_gamma_N_per_mm_um", "ISO 6336-1 mesh stiffness c_γα (gear pairs)"),
+            Output("iso_factors", "ISO factors q′, C_M, C_R, C_B", "1"),
+            Output("base_radii_m", "base radii of pinion and gear"),
+            Output("teeth", "tooth numbers of pinion and gear", ""),
+            Output("pair_stiffness_N_per_m", "tooth pair, Hertz counted once (tooth pairs)"),
+            Output("pair_stiffness_hertz_twice_N_per_m", "tooth pair, Hertz per tooth"),
+            Output("compliance_terms_m_per_N", "compliance terms of the tooth pair"),
+            Output("apex_height_m", "apex height w of each truncated triangle"),
+            Output("published_mesh_stiffness_N_per_m", "the published pair stiffness, if given"),
+        ),
+        examples=(
+            "mechdyn gear examples/spur_pair.toml --plots plots",
+            "mechdyn gear examples/tooth_pair1_published.toml --json",
+        ),
+    )
+)

@@ -1,0 +1,318 @@
+"""Gear-pair and tooth-pair stiffness as results of the protocol (what ``mechdyn gear`` reports).
+
+:func:`gear_pair_stiffness` gives the pitch-point pair compliance with its terms, the mesh stiffness
+over a mesh cycle (in both tooth models) and ISO 6336-1 Method B's c′ and c_γα beside them;
+:func:`tooth_pair_stiffness` gives two published teeth in series, Hertz counted once and twice.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.gears.iso6336 import IsoStiffness, iso_stiffness
+from mechdyn.gears.mesh import GearPair, MeshCycle
+from mechdyn.gears.tooth import TruncatedTooth, pair_compliance
+from mechdyn.results import Result, Table
+from mechdyn.units import convert
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["GearPairResult", "ToothPairResult", "gear_pair_stiffness", "tooth_pair_stiffness"]
+
+_PER_WIDTH = "N/(mm*um)"
+
+
+def _per_width(k: float, face_width: float) -> float:
+    """Stiffness (N/m) over a face width (m), in N/(mm·µm)."""
+    return float(convert(k / face_width, "N/m^2", _PER_WIDTH))
+
+
+def _terms_table(title: str, rows: dict[str, float]) -> Table:
+    total = rows["total"]
+    return Table(
+        title,
+        ["term", "compliance [m/N]", "share [%]"],
+        [[k, v, 100 * v / total] for k, v in rows.items()],
+    )
+
+
+@dataclass(frozen=True)
+class GearPairResult(Result):
+    """Stiffness of a gear pair along the line of action.
+
+    Attributes
+    ----------
+    pair : GearPair
+    cycle : MeshCycle
+        Mesh stiffness over one mesh cycle (the pair's tooth model).
+    other : MeshCycle
+        The same in the other tooth model (truncated ↔ involute).
+    pitch : dict of str → float
+        Compliance terms of one tooth pair at the pitch point, m/N.
+    iso : IsoStiffness
+        ISO 6336-1 Method B single and mesh stiffness.
+    specific_load : float
+        Load per face width used for ISO's load factor, N/mm.
+    """
+
+    pair: GearPair
+    cycle: MeshCycle
+    other: MeshCycle
+    pitch: dict[str, float]
+    iso: IsoStiffness
+    specific_load: float
+
+    @property
+    def face_width(self) -> float:
+        """Common face width, m."""
+        return min(self.pair.pinion.face_width, self.pair.gear.face_width)
+
+    @property
+    def other_model(self) -> str:
+        return "involute" if self.pair.tooth_model == "truncated" else "truncated"
+
+    def summary(self) -> dict[str, Any]:
+        """Contact ratio, mesh stiffness (mean, min, max, fluctuation), pitch-point pair stiffness and
+        its compliance terms, ISO c′ and c_γα with their factors."""
+        p, g, iso, cycle = self.pair.pinion, self.pair.gear, self.iso, self.cycle
+        return {
+            "contact_ratio": self.pair.contact_ratio,
+            "face_width_m": self.face_width,
+            "mesh_stiffness_mean_N_per_m": cycle.mean,
+            "mesh_stiffness_min_N_per_m": float(cycle.stiffness.min()),
+            "mesh_stiffness_max_N_per_m": float(cycle.stiffness.max()),
+            "mesh_stiffness_fluctuation": cycle.fluctuation,
+            "tooth_model": self.pair.tooth_model,
+            "mesh_stiffness_mean_other_model_N_per_m": self.other.mean,
+            "pair_stiffness_pitch_N_per_m": 1.0 / self.pitch["total"],
+            "compliance_terms_pitch_m_per_N": self.pitch,
+            "iso_c_prime_N_per_mm_um": iso.c_prime,
+            "iso_c_gamma_N_per_mm_um": iso.c_gamma_alpha,
+            "iso_factors": {"q_prime": iso.q_prime, "C_M": iso.C_M, "C_R": iso.C_R, "C_B": iso.C_B},
+            "base_radii_m": [p.base_radius, g.base_radius],
+            "teeth": [p.teeth, g.teeth],
+        }
+
+    def to_frame(self) -> pd.DataFrame:
+        """The mesh cycle: position along the line of action (m), stiffness (N/m), pairs in contact."""
+        return self.cycle.to_frame()
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        c = self.cycle
+        return {
+            "mesh_cycle_position": (c.position, "m"),
+            "mesh_stiffness": (c.stiffness, "N/m"),
+            "pairs_in_contact": (c.pairs_in_contact, ""),
+        }
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The gears' geometry, the pitch-point compliance terms, the stiffness against ISO.
+
+        ``length_unit`` (default ``"mm"``) shows radii and tooth dimensions.
+        """
+        lu = display_units.get("length_unit", "mm")
+        pair, b, cycle, iso = self.pair, self.face_width, self.cycle, self.iso
+
+        def L(v: float) -> float:
+            return float(convert(v, "m", lu))
+
+        geometry = Table(
+            f"gears (radii in {lu}; truncated-triangle tooth, heights from the root circle, {lu})",
+            ["", "teeth", "module", "r_base", "r_tip", "r_root", "h_a", "h_b", "t_a", "t_b", "foundation"],
+            [
+                [
+                    gear.name,
+                    gear.teeth,
+                    L(gear.module),
+                    L(gear.base_radius),
+                    L(gear.tip_radius),
+                    L(gear.root_radius),
+                    L(t.tip_height),
+                    L(t.root_height),
+                    L(t.tip_thickness),
+                    L(t.root_thickness),
+                    "elastic (Sainsot)" if t.root_radius is not None else "rigid",
+                ]
+                for gear, t in zip((pair.pinion, pair.gear), pair.teeth, strict=True)
+            ],
+        )
+        k_pitch = 1.0 / self.pitch["total"]
+        kmin, kmax = float(cycle.stiffness.min()), float(cycle.stiffness.max())
+        stiffness = Table(
+            f"stiffness along the line of action ({pair.tooth_model} tooth model)",
+            ["quantity", "value", "unit", "per face width [N/(mm·µm)]"],
+            [
+                ["contact ratio ε_α", pair.contact_ratio, "", None],
+                ["one tooth pair at the pitch point", k_pitch, "N/m", _per_width(k_pitch, b)],
+                ["mesh stiffness, mean over a cycle", cycle.mean, "N/m", _per_width(cycle.mean, b)],
+                ["mesh stiffness, min", kmin, "N/m", _per_width(kmin, b)],
+                ["mesh stiffness, max", kmax, "N/m", _per_width(kmax, b)],
+                ["fluctuation (max − min)/mean", cycle.fluctuation, "", None],
+                [
+                    f"mesh stiffness, mean ({self.other_model} tooth model)",
+                    self.other.mean,
+                    "N/m",
+                    _per_width(self.other.mean, b),
+                ],
+                [
+                    "ISO 6336-1 single stiffness c′",
+                    float(convert(iso.c_prime, _PER_WIDTH, "N/m^2")) * b,
+                    "N/m",
+                    iso.c_prime,
+                ],
+                ["ISO 6336-1 mesh stiffness c_γα", iso.mesh_stiffness(b), "N/m", iso.c_gamma_alpha],
+            ],
+        )
+        return [
+            geometry,
+            _terms_table("compliance of one tooth pair at the pitch point", self.pitch),
+            stiffness,
+        ]
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """``mesh_stiffness.png``: the mesh stiffness over one mesh cycle."""
+        return {"mesh_stiffness.png": lambda: self.cycle.plot()}
+
+
+def gear_pair_stiffness(pair: GearPair, points: int = 400, specific_load: float = 100.0) -> GearPairResult:
+    """Mesh stiffness of a gear pair over a mesh cycle, with ISO 6336-1 Method B beside it.
+
+    Parameters
+    ----------
+    pair : GearPair
+    points : int
+        Positions along one mesh cycle.
+    specific_load : float
+        Load per face width for ISO's load factor, N/mm (ISO 6336-1:2019, 9.3.1).
+
+    Returns
+    -------
+    GearPairResult
+    """
+    other = "involute" if pair.tooth_model == "truncated" else "truncated"
+    return GearPairResult(
+        pair,
+        pair.mesh_cycle(points),
+        replace(pair, tooth_model=other).mesh_cycle(points),
+        pair.pair_compliances(pair.pitch_point),
+        iso_stiffness(pair, specific_load=specific_load),
+        specific_load,
+    )
+
+
+@dataclass(frozen=True)
+class ToothPairResult(Result):
+    """Two truncated-triangle teeth in series at their load points.
+
+    Attributes
+    ----------
+    teeth : (TruncatedTooth, TruncatedTooth)
+    load_heights : (float, float)
+        Load heights above each root, m.
+    load_angle : float
+        Pressure angle of the load, rad.
+    published_stiffness : float, optional
+        The published pair stiffness to compare with, N/m.
+    """
+
+    teeth: tuple[TruncatedTooth, TruncatedTooth]
+    load_heights: tuple[float, float]
+    load_angle: float
+    published_stiffness: float | None = None
+
+    @property
+    def _loads(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        return ((self.load_heights[0], self.load_angle), (self.load_heights[1], self.load_angle))
+
+    @property
+    def compliance_terms(self) -> dict[str, float]:
+        """Every term of both teeth and the one Hertz term, m/N, and their total."""
+        t1, t2 = self.teeth
+        l1, l2 = self._loads
+        once = pair_compliance(t1, l1, t2, l2)
+        terms = {f"pinion_{k}": v for k, v in t1.compliances(*l1).items()}
+        terms |= {f"gear_{k}": v for k, v in t2.compliances(*l2).items()}
+        return terms | {"hertz": once["hertz"], "total": once["total"]}
+
+    @property
+    def stiffness(self) -> float:
+        """Pair stiffness with Hertz counted once, N/m."""
+        return 1.0 / self.compliance_terms["total"]
+
+    @property
+    def stiffness_hertz_twice(self) -> float:
+        """Pair stiffness with a Hertz term per tooth (as the published formulas count it), N/m."""
+        t1, t2 = self.teeth
+        l1, l2 = self._loads
+        return 1.0 / pair_compliance(t1, l1, t2, l2, hertz_per_tooth=True)["total"]
+
+    def summary(self) -> dict[str, Any]:
+        """Pair stiffness (Hertz once and twice), compliance terms, apex heights, published value."""
+        t1, t2 = self.teeth
+        return {
+            "pair_stiffness_N_per_m": self.stiffness,
+            "pair_stiffness_hertz_twice_N_per_m": self.stiffness_hertz_twice,
+            "compliance_terms_m_per_N": self.compliance_terms,
+            "apex_height_m": [t1.apex_height, t2.apex_height],
+            "published_mesh_stiffness_N_per_m": self.published_stiffness,
+            "mesh_stiffness_mean_N_per_m": None,
+            "iso_c_prime_N_per_mm_um": None,
+            "iso_c_gamma_N_per_mm_um": None,
+        }
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per compliance term, m/N."""
+        import pandas as pd
+
+        terms = self.compliance_terms
+        return pd.DataFrame({"term": list(terms), "compliance_m_per_N": list(terms.values())})
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The compliance terms and the pair stiffness against the published value."""
+        lu = display_units.get("length_unit", "mm")
+        k1, k2 = self.stiffness, self.stiffness_hertz_twice
+        w1, w2 = (float(convert(t.apex_height, "m", lu)) for t in self.teeth)
+        rows: list[list[Any]] = [
+            ["one tooth pair, Hertz once", k1, "N/m"],
+            ["one tooth pair, Hertz per tooth (counted twice)", k2, "N/m"],
+            ["apex height w, pinion / gear", f"{w1:.5g} / {w2:.5g}", lu],
+        ]
+        if self.published_stiffness is not None:
+            k = self.published_stiffness
+            rows += [
+                ["published k_c", k, "N/m"],
+                ["published / Hertz once", k / k1, ""],
+                ["published / Hertz twice", k / k2, ""],
+            ]
+        return [
+            _terms_table("compliance of the tooth pair at the load point", self.compliance_terms),
+            Table("stiffness along the line of action", ["quantity", "value", "unit"], rows),
+        ]
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        return {}
+
+
+def tooth_pair_stiffness(
+    teeth: tuple[TruncatedTooth, TruncatedTooth],
+    load_heights: tuple[float, float],
+    load_angle: float,
+    published_stiffness: float | None = None,
+) -> ToothPairResult:
+    """Stiffness of two truncated-triangle teeth in series (see :class:`ToothPairResult`).
+
+    Parameters
+    ----------
+    teeth : (TruncatedTooth, TruncatedTooth)
+    load_heights : (float, float)
+        Load height above each tooth's root, m.
+    load_angle : float
+        Pressure angle of the load, rad.
+    published_stiffness : float, optional
+        A published pair stiffness to compare with, N/m.
+    """
+    return ToothPairResult(tuple(teeth), tuple(load_heights), load_angle, published_stiffness)  # type: ignore[arg-type]

@@ -1,0 +1,65 @@
+"""The mechanism's analysis in the registry: ``mechanism`` (kinematics and inverse dynamics over one
+revolution of the crank)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mechdyn.registry import Analysis, Option, Output, register
+
+__all__: list[str] = []
+
+
+def _mechanism(loaded: Any, angles: int | None = None) -> Any:
+    from dataclasses import replace
+
+    from mechdyn.mechanism.dynamics import inverse_dynamics
+
+    spec = loaded.settings
+    n = angles or (spec.n_angles if spec is not None else 360)
+    result = inverse_dynamics(loaded.model, n)
+    if spec is not None and (spec.trace or spec.field_velocity is not None):
+        result = replace(result, trace=tuple(spec.trace), field_velocity=spec.field_velocity)
+    return result
+
+
+register(
+    Analysis(
+        "mechanism",
+        ("mechanism",),
+        _mechanism,
+        "kinematics and inverse dynamics of a planar mechanism",
+        options=(
+            Option("angles", "int", "crank angles per revolution (default: the file's, else 360)", minimum=3),
+        ),
+        outputs=(
+            Output("stroke_m", "slide stroke (mechanisms with a slide)"),
+            Output("bdc_deg", "crank angle of bottom dead centre"),
+            Output("tdc_deg", "crank angle of top dead centre"),
+            Output("return_stroke_deg", "crank angle from BDC to TDC"),
+            Output("working_stroke_deg", "crank angle from TDC to BDC"),
+            Output("inertia_force_max_N", "largest inertia force along the slide axis"),
+            Output("inertia_force_max_deg", "crank angle of the largest inertia force"),
+            Output("inertia_force_min_N", "smallest inertia force along the slide axis"),
+            Output("inertia_force_min_deg", "crank angle of the smallest inertia force"),
+            Output("inertia_force_fluctuation_N", "largest minus smallest inertia force"),
+            Output("driving_torque_max_Nm", "largest driving torque"),
+            Output("driving_torque_min_Nm", "smallest driving torque"),
+            Output("driving_torque_peak_Nm", "largest magnitude of the driving torque"),
+            Output("driving_torque_rms_Nm", "root mean square of the driving torque"),
+            Output("shaking_force_max_N", "largest magnitude of the shaking force"),
+            Output("shaking_moment_range_Nm", "range of the shaking moment about the origin"),
+            Output("shaking_force_x_range_N", "range of the shaking force along x"),
+            Output("shaking_force_y_range_N", "range of the shaking force along y"),
+            Output("joint_force_peak_N", "largest force in each joint"),
+            Output("tooth_force_max_N", "largest mesh force of the gear pairs (geared mechanisms)"),
+            Output("gear_pairs", "per gear pair: centre distance, ratio, convexity, pressure angles", ""),
+            Output("power_balance_residual_relative", "power balance residual over the peak power"),
+            Output("n_angles", "crank angles per revolution", ""),
+        ),
+        examples=(
+            "mechdyn mechanism examples/press_link_drive.toml --plots plots --csv press.csv",
+            "mechdyn mechanism examples/transplanter_rp1.toml --angles 72 --json",
+        ),
+    )
+)

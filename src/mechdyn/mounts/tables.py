@@ -1,0 +1,103 @@
+"""The tables of a mount analysis (:meth:`mechdyn.mounts.analysis.MountResult.tables`)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from mechdyn.results import Table
+from mechdyn.units import convert
+
+if TYPE_CHECKING:
+    from mechdyn.mounts.analysis import MountResult
+
+__all__ = ["mount_tables"]
+
+
+def _rows(d: dict[str, Any], prefix: str = "") -> list[list[Any]]:
+    """The scalar and text parts of a breakdown as (quantity, value) rows."""
+    return [
+        [prefix + k, v]
+        for k, v in d.items()
+        if (isinstance(v, (int, float)) and not isinstance(v, bool)) or isinstance(v, str)
+    ]
+
+
+def mount_tables(result: MountResult, length_unit: str = "mm", pressure_unit: str = "MPa") -> list[Table]:
+    """The estimate, frusta, FE convergence, contact pressure, calibration, FRF fit and isolation."""
+    s = result.data
+
+    def L(v: float | None) -> float | None:
+        return None if v is None else float(convert(v, "m", length_unit))
+
+    def P(v: float) -> float:
+        return float(convert(v, "Pa", pressure_unit))
+
+    tables = [
+        Table(
+            f"{result.name} ({result.kind})",
+            ["quantity", "value"],
+            [
+                ["stiffness along the main axis [N/m]", s["stiffness_N_per_m"]],
+                ["adjusts height", s["adjusts_height"]],
+                ["damps", s["damps"]],
+                *_rows(s["breakdown"]),
+            ],
+        )
+    ]
+    frusta = s["breakdown"].get("frusta") if isinstance(s["breakdown"], dict) else None
+    if frusta:
+        tables.append(
+            Table(
+                "pressure-cone frusta (in series)",
+                ["layer", "material", f"t [{length_unit}]", f"D [{length_unit}]", "k [N/m]"],
+                [
+                    [
+                        f["layer"] + 1,
+                        f["material"],
+                        L(f["thickness_m"]),
+                        L(f["diameter_m"]),
+                        f["stiffness_N_per_m"],
+                    ]
+                    for f in frusta
+                ],
+            )
+        )
+    if "fe_convergence" in s:
+        tables.append(
+            Table(
+                "finite-element reference (mesh convergence)",
+                ["elements through thickness", "elements", "unknowns", "stiffness [N/m]"],
+                [
+                    [r["elements_through_thickness"], r["elements"], r["dofs"], r["stiffness_N_per_m"]]
+                    for r in s["fe_convergence"]
+                ],
+            )
+        )
+    if "contact" in s:
+        tables.append(
+            Table(
+                "contact pressure, base plate on concrete",
+                [
+                    "preload [N]",
+                    f"max [{pressure_unit}]",
+                    f"under the washer [{pressure_unit}]",
+                    f"above threshold to r [{length_unit}]",
+                ],
+                [
+                    [
+                        c["preload_N"],
+                        P(c["pressure_max_Pa"]),
+                        P(c["head_pressure_Pa"]),
+                        L(c["radius_above_threshold_m"]),
+                    ]
+                    for c in s["contact"]
+                ],
+            )
+        )
+    if "calibration" in s:
+        tables.append(Table("calibration", ["quantity", "value"], _rows(s["calibration"])))
+    if "frf_fit" in s:
+        tables.append(Table("fit to the measured FRF", ["quantity", "value"], _rows(s["frf_fit"])))
+    if "isolation" in s:
+        tables.append(Table("isolation on the given load", ["quantity", "value"], _rows(s["isolation"])))
+    return tables

@@ -1,0 +1,229 @@
+"""The analysis registry: every analysis is registered once, and everything else finds it here.
+
+An :class:`Analysis` names the model types it runs on, the function that runs it, its options (with
+units and help) and the summary keys its result documents. The command line builds one subcommand
+per analysis from this, the results store records its name and options, and design studies and
+reports look analyses up by name. Adding an analysis is one function returning a
+:class:`mechdyn.results.Result` and one :func:`register` call in its capability's ``analyses``
+module.
+
+This module and the registration modules import no numerical library, so that listing analyses and
+``mechdyn --help`` start at once; the analysis function imports what it runs.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from mechdyn.errors import MechdynError
+
+__all__ = ["Analysis", "Option", "Output", "analyses", "get", "register"]
+
+# The modules in which the capabilities register their analyses, imported on first look-up.
+CAPABILITIES = (
+    "mechdyn.drivetrain.analyses",
+    "mechdyn.mechanism.analyses",
+    "mechdyn.support.analyses",
+    "mechdyn.gears.analyses",
+    "mechdyn.mounts.analyses",
+)
+
+OptionKind = Literal["flag", "int", "float", "quantity", "choice", "text", "names"]
+
+
+@dataclass(frozen=True)
+class Option:
+    """One option of an analysis: a keyword of its function and a ``--flag`` of its command.
+
+    Attributes
+    ----------
+    name : str
+        Keyword argument (``rigid_gears``); the command-line flag is ``--rigid-gears``.
+    kind : {"flag", "int", "float", "quantity", "choice", "text", "names"}
+        ``quantity`` values are read with units and converted to ``unit``; ``names`` is a list of
+        words (disk names, say).
+    help : str
+        One line for ``--help``.
+    unit : str, optional
+        SI unit of a ``quantity`` option (what the function receives).
+    nargs : int, optional
+        Number of values (2 for a range); one value when None.
+    choices : tuple of str
+        Allowed values of a ``choice`` option.
+    default : Any
+        Value when the option is not given (None: the model file's setting, else the function's).
+    minimum : float, optional
+        Smallest allowed value of an ``int`` or ``float`` option.
+    metavar : str or tuple of str, optional
+        Placeholder(s) in ``--help``.
+    """
+
+    name: str
+    kind: OptionKind
+    help: str
+    unit: str | None = None
+    nargs: int | None = None
+    choices: tuple[str, ...] = ()
+    default: Any = None
+    minimum: float | None = None
+    metavar: str | tuple[str, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind == "quantity" and not self.unit:
+            raise ValueError(f"option {self.name!r}: a quantity option needs its SI unit")
+
+    @property
+    def flag(self) -> str:
+        return "--" + self.name.replace("_", "-")
+
+    def describe(self) -> dict[str, Any]:
+        """JSON-ready description (``mechdyn analyses --json``)."""
+        d: dict[str, Any] = {"name": self.name, "flag": self.flag, "kind": self.kind, "help": self.help}
+        for key in ("unit", "nargs", "default", "minimum"):
+            if getattr(self, key) is not None:
+                d[key] = getattr(self, key)
+        if self.choices:
+            d["choices"] = list(self.choices)
+        return d
+
+
+@dataclass(frozen=True)
+class Output:
+    """A summary key of an analysis' result, its unit and what it means.
+
+    The unit is read from the key's suffix (:func:`mechdyn.units.key_unit`) unless given; keys
+    without a unit (counts, names, flags, nested tables) say so with ``unit=""``.
+    """
+
+    key: str
+    description: str
+    unit: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.unit is None:
+            from mechdyn.units import key_unit
+
+            unit = key_unit(self.key)
+            if unit is None:
+                raise ValueError(
+                    f"summary key {self.key!r} has no unit suffix; end it with its unit (e.g. _N, _m) "
+                    'or give unit="" for a count, name, flag or table'
+                )
+            object.__setattr__(self, "unit", unit)
+
+    def describe(self) -> dict[str, Any]:
+        return {"key": self.key, "unit": self.unit, "description": self.description}
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """A registered analysis.
+
+    Attributes
+    ----------
+    name : str
+        Its name, also its command (``mechdyn NAME FILE``).
+    model_types : tuple of str
+        The ``[model] type`` values of the files it runs on.
+    function : callable
+        ``function(loaded, **options) -> Result``, where ``loaded`` is the
+        :class:`mechdyn.io.LoadedModel` of a file of one of ``model_types``.
+    help : str
+        One line for ``mechdyn --help`` and ``mechdyn analyses``.
+    options : tuple of Option
+    outputs : tuple of Output
+        Every key its result's ``summary()`` can hold.
+    examples : tuple of str
+        Command lines shown at the end of ``--help``.
+    uses_store : bool
+        The function takes ``store=`` (the results database), e.g. to read or keep a calibration.
+    model_noun : str
+        What its models are called in messages (default: the first model type).
+    """
+
+    name: str
+    model_types: tuple[str, ...]
+    function: Callable[..., Any]
+    help: str
+    options: tuple[Option, ...] = ()
+    outputs: tuple[Output, ...] = ()
+    examples: tuple[str, ...] = ()
+    uses_store: bool = False
+    model_noun: str = ""
+
+    @property
+    def output_units(self) -> dict[str, str]:
+        """Summary key → unit."""
+        return {o.key: o.unit or "" for o in self.outputs}
+
+    def run(self, model: Any, **options: Any) -> Any:
+        """Run the analysis with the given options (None means "not given").
+
+        Parameters
+        ----------
+        model : LoadedModel or model object
+            A loaded model file (:func:`mechdyn.io.load_model`), or a model built in Python (then
+            taken as of the analysis' first model type, with no file settings).
+        **options
+            The analysis' options by name, SI.
+        """
+        from mechdyn.io.modelfile import LoadedModel
+
+        if not isinstance(model, LoadedModel):
+            model = LoadedModel(self.model_types[0], model)
+        if model.type not in self.model_types:
+            where = model.source.path if model.source is not None else repr(model.name)
+            from mechdyn.errors import ModelFileError
+
+            needs = " or ".join(f'type = "{t}"' for t in self.model_types)
+            noun = self.model_noun or self.model_types[0]
+            raise ModelFileError(
+                where, "[model] → type", f"{model.type!r} is not a {noun} model; this command needs {needs}"
+            )
+        kw = {k: v for k, v in options.items() if v is not None}
+        unknown = set(kw) - {o.name for o in self.options} - ({"store"} if self.uses_store else set())
+        if unknown:
+            raise MechdynError(
+                f"analysis {self.name!r} has no option {', '.join(sorted(unknown))}; "
+                f"its options: {', '.join(o.name for o in self.options) or 'none'}"
+            )
+        return self.function(model, **kw)
+
+    def describe(self) -> dict[str, Any]:
+        """JSON-ready description: name, model types, options and summary keys with units."""
+        return {
+            "name": self.name,
+            "model_types": list(self.model_types),
+            "help": self.help,
+            "options": [o.describe() for o in self.options],
+            "outputs": [o.describe() for o in self.outputs],
+        }
+
+
+_REGISTRY: dict[str, Analysis] = {}
+
+
+def register(analysis: Analysis) -> Analysis:
+    """Add an analysis to the registry (its name must be new); returns it."""
+    if analysis.name in _REGISTRY and _REGISTRY[analysis.name] is not analysis:
+        raise ValueError(f"an analysis named {analysis.name!r} is already registered")
+    _REGISTRY[analysis.name] = analysis
+    return analysis
+
+
+def analyses() -> Mapping[str, Analysis]:
+    """Every registered analysis by name, in registration order."""
+    for module in CAPABILITIES:
+        importlib.import_module(module)
+    return dict(_REGISTRY)
+
+
+def get(name: str) -> Analysis:
+    """The analysis called ``name``; an error lists the registered names."""
+    found = analyses()
+    if name not in found:
+        raise MechdynError(f"no analysis named {name!r}; registered: {', '.join(found)}")
+    return found[name]

@@ -1,0 +1,70 @@
+"""The support's analysis in the registry: ``support`` (the machine on its supports)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mechdyn.registry import Analysis, Option, Output, register
+
+__all__: list[str] = []
+
+
+def _support(loaded: Any, cycles: int | None = None) -> Any:
+    from mechdyn.support.result import support_analysis
+
+    spec = loaded.settings
+    s = spec.settings
+    return support_analysis(
+        loaded.model,
+        spec.load,
+        cycles=cycles or s.start_up_cycles,
+        method=s.start_up_method,
+        stiffness_factors=s.stiffness_factors,
+        damping_factors=s.damping_factors,
+    )
+
+
+register(
+    Analysis(
+        "support",
+        ("support",),
+        _support,
+        "a machine on its supports: modes, steady state, start-up, floor forces",
+        options=(
+            Option("cycles", "int", "start-up periods to integrate (default: the file's, else 5)", minimum=1),
+        ),
+        outputs=(
+            Output("inertia_force_max_N", "largest vertical exciting force"),
+            Output("inertia_force_min_N", "smallest vertical exciting force"),
+            Output("inertia_force_range_N", "range of the exciting force"),
+            Output("transmitted_force_max_N", "largest vertical force on the floor"),
+            Output("transmitted_force_min_N", "smallest vertical force on the floor"),
+            Output("transmitted_force_range_N", "range of the force on the floor"),
+            Output("transmitted_to_inertia_force_range", "transmitted over exciting force range", "1"),
+            Output("displacement_max_m", "largest bed displacement"),
+            Output("displacement_min_m", "smallest bed displacement"),
+            Output("floor_force_range_N", "range of the floor force along x, y, z"),
+            Output("mount_force_peak_N", "largest dynamic force through each mount"),
+            Output("dofs", "the machine's kept coordinates", ""),
+            Output("machine_mass_kg", "mass of the machine"),
+            Output("period_s", "period of the load"),
+            Output("natural_frequencies_hz", "natural frequencies on the mounts"),
+            Output("mode_dominant_coordinate", "the coordinate that carries most of each mode", ""),
+            Output("mode_decoupling", "largest kinetic-energy share of each mode (1: decoupled)", "1"),
+            Output("static_deflection_m", "each mount's deflection under the weight"),
+            Output("startup_cycles", "start-up periods integrated", ""),
+            Output("startup_method", "start-up integrator", ""),
+            Output("startup_displacement_max_m", "largest bed displacement during start-up"),
+            Output("startup_displacement_min_m", "smallest bed displacement during start-up"),
+            Output("startup_last_cycle_deviation_relative", "last start-up period off the steady state"),
+            Output("force_balance_residual_N", "largest residual of the machine's force balance"),
+            Output("influence", "steady state for each stiffness and damping factor", ""),
+            Output("elastic_centre_m", "the mounts' elastic centre"),
+            Output("elastic_centre_residual", "coupling left at the elastic centre", "1"),
+        ),
+        examples=(
+            "mechdyn support examples/press_on_support.toml --plots plots",
+            "mechdyn support examples/press_on_mounts.toml --cycles 2 --csv steady.csv",
+        ),
+    )
+)

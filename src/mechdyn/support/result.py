@@ -1,0 +1,242 @@
+"""Everything ``mechdyn support`` reports, as one result: steady state, start-up, modes, influence.
+
+:func:`support_analysis` runs the exact periodic steady state, the start-up from rest, the modes and
+the stiffness/damping influence study on one machine and load, and checks the start-up against the
+steady state; :class:`SupportAnalysis` holds them with the result protocol.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.results import Result, Table
+from mechdyn.support.excitation import PeriodicLoad
+from mechdyn.support.model import MountedMachine
+from mechdyn.support.modes import SupportModes, elastic_centre, modes
+from mechdyn.support.response import SupportResponse, influence, periodic_response, startup_response
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["SupportAnalysis", "support_analysis"]
+
+
+@dataclass(frozen=True)
+class SupportAnalysis(Result):
+    """A machine on its supports under a periodic load: every view of it.
+
+    Attributes
+    ----------
+    steady : SupportResponse
+        Exact periodic steady state (frequency domain), one period.
+    startup : SupportResponse
+        From rest, ``cycles`` periods by time integration.
+    modes : SupportModes
+    influence : list of dict
+        One row per stiffness or damping factor (:func:`mechdyn.support.influence`).
+    method : str
+        The start-up integrator.
+    """
+
+    steady: SupportResponse
+    startup: SupportResponse
+    modes: SupportModes
+    influence: list[dict[str, Any]]
+    method: str
+
+    @property
+    def machine(self) -> MountedMachine:
+        return self.steady.machine
+
+    @property
+    def load(self) -> PeriodicLoad:
+        return self.steady.load
+
+    @cached_property
+    def startup_deviation(self) -> float:
+        """Largest distance of the last start-up period from the steady state, over its range."""
+        s = self.startup
+        last = s.time >= s.time[-1] - self.load.period
+        z_ss = periodic_response(self.machine, self.load, time=s.time[last]).vertical_displacement
+        span = float(np.ptp(self.steady.vertical_displacement)) or 1.0
+        return float(np.abs(s.vertical_displacement[last] - z_ss).max() / span)
+
+    def summary(self) -> dict[str, Any]:
+        """The steady state's figures, the modes, the start-up and its deviation, the influence rows."""
+        machine, md, startup = self.machine, self.modes, self.startup
+        out = self.steady.summary() | {
+            "dofs": list(machine.dofs),
+            "machine_mass_kg": machine.body.mass,
+            "period_s": self.load.period,
+            "natural_frequencies_hz": [float(f) for f in md.natural_frequencies],
+            "mode_dominant_coordinate": md.dominant,
+            "mode_decoupling": [float(v) for v in md.decoupling],
+            "static_deflection_m": {
+                m.name: float(v) for m, v in zip(machine.mounts, machine.static_deflection, strict=True)
+            },
+            "startup_cycles": round(startup.time[-1] / self.load.period),
+            "startup_method": self.method,
+            "startup_displacement_max_m": float(startup.vertical_displacement.max()),
+            "startup_displacement_min_m": float(startup.vertical_displacement.min()),
+            "startup_last_cycle_deviation_relative": self.startup_deviation,
+            "force_balance_residual_N": float(np.abs(self.steady.force_balance_residual).max()),
+            "influence": self.influence,
+        }
+        ec = elastic_centre(machine)
+        if ec is not None:
+            out["elastic_centre_m"] = [float(v) for v in ec[0]]
+            out["elastic_centre_residual"] = ec[1]
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """The steady state over one period (see :meth:`SupportResponse.to_frame`)."""
+        return self.steady.to_frame()
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        return super().arrays() | {
+            "startup_time_s": (self.startup.time, "s"),
+            "startup_z_m": (self.startup.vertical_displacement, "m"),
+        }
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """Steady state, modes, influence and (several mounts) the mounts.
+
+        ``force_unit`` (default ``"tonf"``) and ``length_unit`` (default ``"mm"``) give the display
+        column and the influence table's units.
+        """
+        from mechdyn.units import convert
+
+        fu = display_units.get("force_unit", "tonf")
+        lu = display_units.get("length_unit", "mm")
+        s = self.summary()
+        machine = self.machine
+
+        def row(label: str, key: str, unit: str) -> list[Any]:
+            show = fu if unit == "N" else lu
+            return [label, s[key], unit, convert(s[key], unit, show)]
+
+        steady = Table(
+            "steady state (frequency domain)",
+            ["quantity", "value", "unit", f"{fu} / {lu}"],
+            [
+                row("exciting (inertia) force max", "inertia_force_max_N", "N"),
+                row("exciting (inertia) force min", "inertia_force_min_N", "N"),
+                row("exciting force range", "inertia_force_range_N", "N"),
+                row("transmitted force max", "transmitted_force_max_N", "N"),
+                row("transmitted force min", "transmitted_force_min_N", "N"),
+                row("transmitted force range", "transmitted_force_range_N", "N"),
+                row("bed displacement max", "displacement_max_m", "m"),
+                row("bed displacement min", "displacement_min_m", "m"),
+                [
+                    "start-up: last cycle off the steady state",
+                    s["startup_last_cycle_deviation_relative"],
+                    "of the range",
+                    None,
+                ],
+            ],
+        )
+        modes_table = Table(
+            "modes",
+            ["mode", "f [Hz]", "dominant", *[f"{d} [%]" for d in machine.dofs]],
+            [
+                [r["mode"], r["frequency_hz"], r["dominant"], *[r[f"{d}_percent"] for d in machine.dofs]]
+                for r in self.modes.table()
+            ],
+        )
+        influence_table = Table(
+            "influence of the support (steady state)",
+            [
+                "varied",
+                "factor",
+                f"F_T range [{fu}]",
+                f"F_T max [{fu}]",
+                f"F_T min [{fu}]",
+                f"z max [{lu}]",
+                f"z min [{lu}]",
+                "f1 [Hz]",
+            ],
+            [
+                [
+                    r["parameter"],
+                    r["factor"],
+                    convert(r["transmitted_force_range_N"], "N", fu),
+                    convert(r["transmitted_force_max_N"], "N", fu),
+                    convert(r["transmitted_force_min_N"], "N", fu),
+                    convert(r["displacement_max_m"], "m", lu),
+                    convert(r["displacement_min_m"], "m", lu),
+                    r["first_natural_frequency_hz"],
+                ]
+                for r in self.influence
+            ],
+        )
+        tables = [steady, modes_table, influence_table]
+        if len(machine.mounts) > 1:
+            tables.append(
+                Table(
+                    "mounts",
+                    ["mount", "static force [N]", f"static deflection [{lu}]", "dynamic force peak [N]"],
+                    [
+                        [m.name, float(-f[2]), convert(float(dz), "m", lu), s["mount_force_peak_N"][m.name]]
+                        for m, f, dz in zip(
+                            machine.mounts,
+                            machine.static_mount_forces,
+                            machine.static_deflection,
+                            strict=True,
+                        )
+                    ],
+                )
+            )
+        return tables
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """Bed displacement (start-up and steady state), forces, F_T against F, modes; with several
+        mounts also the mount forces and the mode shapes."""
+        from mechdyn.support import plots as sp
+
+        out = {
+            "displacement.png": lambda: sp.plot_displacement(self.startup, self.steady),
+            "forces.png": lambda: sp.plot_forces(self.steady, force_unit=display_units.get("force_unit")),
+            "transmitted_vs_exciting.png": lambda: sp.plot_transmitted_vs_exciting(self.steady),
+            "modes.png": lambda: sp.plot_modes(self.modes),
+        }
+        if len(self.machine.mounts) > 1:
+            out["mount_forces.png"] = lambda: sp.plot_mount_forces(self.steady)
+            out["mode_shapes.png"] = lambda: sp.plot_mode_shapes(self.modes)
+        return out
+
+
+def support_analysis(
+    machine: MountedMachine,
+    load: PeriodicLoad,
+    *,
+    cycles: int = 5,
+    method: str = "DOP853",
+    stiffness_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
+    damping_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
+) -> SupportAnalysis:
+    """Steady state, start-up from rest, modes and the support's influence, in one result.
+
+    Parameters
+    ----------
+    machine : MountedMachine
+    load : PeriodicLoad
+    cycles : int
+        Start-up periods to integrate.
+    method : str
+        Start-up integrator (:func:`mechdyn.support.startup_response`).
+    stiffness_factors, damping_factors : sequence of float
+        Factors of the influence study (:func:`mechdyn.support.influence`).
+
+    Returns
+    -------
+    SupportAnalysis
+    """
+    steady = periodic_response(machine, load)
+    startup = startup_response(machine, load, cycles, method=method)
+    rows = influence(machine, load, stiffness_factors, damping_factors)
+    return SupportAnalysis(steady, startup, modes(machine), rows, method)
