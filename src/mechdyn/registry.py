@@ -187,7 +187,7 @@ class Analysis:
         unknown = set(kw) - {o.name for o in self.options} - ({"store"} if self.uses_store else set())
         if unknown:
             raise MechdynError(
-                f"analysis {self.name!r} has no option {', '.join(sorted(unknown))}; "
+                f"analysis {self.name!r} has no option {', '.join(repr(u) for u in sorted(unknown))}; "
                 f"its options: {', '.join(o.name for o in self.options) or 'none'}"
             )
         return self.function(model, **kw)

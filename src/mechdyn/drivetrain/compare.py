@@ -122,10 +122,12 @@ class ModeComparison(Result):
         return self.flexible.arrays() | {"mac": (self.mac, "")}
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per flexible mode with its rigid-gear partner (frequencies in Hz)."""
+        """One row per flexible mode with its rigid-gear partner (frequencies in Hz, MAC as a ratio)."""
         import pandas as pd
 
-        return pd.DataFrame(self.rows)
+        frame = pd.DataFrame(self.rows).rename(columns={"mac": "mac_ratio"})
+        frame["rigid_mode"] = frame["rigid_mode"].astype("Int64")  # None where no rigid mode matches
+        return frame
 
 
 def compare_rigid(drivetrain: Drivetrain, *, threshold: float = MAC_THRESHOLD) -> ModeComparison:

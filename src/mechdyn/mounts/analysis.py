@@ -87,13 +87,21 @@ class MountResult(Result):
         return dict(self.data)
 
     def to_frame(self) -> pd.DataFrame:
-        """The FE mesh convergence (one row per refinement), or the scalar figures as one row."""
+        """The FE mesh convergence (one row per refinement), or the figures with a unit as one row."""
         import pandas as pd
 
         if "fe_convergence" in self.data:
             return pd.DataFrame(self.data["fe_convergence"])
+        from mechdyn.units import key_unit
+
         return pd.DataFrame(
-            [{k: v for k, v in self.data.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}]
+            [
+                {
+                    k: v
+                    for k, v in self.data.items()
+                    if isinstance(v, (int, float)) and not isinstance(v, bool) and key_unit(k)
+                }
+            ]
         )
 
     def arrays(self) -> dict[str, tuple[np.ndarray, str]]:

@@ -1,0 +1,230 @@
+"""The spine: every registered analysis follows the result protocol; the command line is built from
+the registry and starts without the numerical libraries."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from conftest import EXAMPLES
+from mechdyn.errors import MechdynError, ModelFileError, ModelWarning
+from mechdyn.io import load_model
+from mechdyn.registry import Analysis, Option, Output, analyses, get
+from mechdyn.results import Result
+from mechdyn.units import convert, key_unit
+
+# one example per model type, the quickest that exercises the analysis' tables and plots
+EXAMPLE_OF = {
+    "drivetrain": "turret_milling.toml",
+    "mechanism": "transplanter_rp1.toml",
+    "support": "press_on_mounts.toml",
+    "gear_pair": "spur_pair.toml",
+    "tooth_pair": "tooth_pair1_published.toml",
+    "mount": "pad_shore60.toml",
+}
+OPTIONS = {
+    "modal": [{}, {"compare_rigid": True}, {"rigid_gears": True}],
+    "frf": [{"points": 40}],
+    "mechanism": [{"angles": 36}],
+    "support": [{"cycles": 2}],
+}
+CASES = [
+    pytest.param(name, mtype, opts, id=f"{name}-{mtype}-{i}")
+    for name, a in analyses().items()
+    for mtype in a.model_types
+    for i, opts in enumerate(OPTIONS.get(name, [{}]))
+]
+
+
+def _loaded(model_type):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        return load_model(EXAMPLES / EXAMPLE_OF[model_type])
+
+
+def test_every_model_type_has_an_example_here():
+    assert {t for a in analyses().values() for t in a.model_types} == set(EXAMPLE_OF)
+
+
+@pytest.mark.parametrize(("name", "model_type", "options"), CASES)
+def test_every_analysis_follows_the_result_protocol(name, model_type, options, tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mechdyn.store import ResultStore
+
+    analysis = get(name)
+    with ResultStore(str(tmp_path / "p.db")) as store:
+        kw = {"store": store} if analysis.uses_store else {}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ModelWarning)
+            result = analysis.run(_loaded(model_type), **kw, **options)
+    assert isinstance(result, Result)
+    with pytest.raises(Exception, match="frozen|cannot assign"):
+        result.__setattr__(next(iter(result.__dataclass_fields__)), None)
+    # summary: JSON-ready, every key documented in the registry with its unit
+    summary = result.summary()
+    assert summary and set(summary) <= set(analysis.output_units), set(summary) - set(analysis.output_units)
+    json.dumps(summary, default=float)
+    # the table: units in every numeric column's name
+    frame = result.to_frame()
+    assert isinstance(frame, pd.DataFrame) and len(frame.columns)
+    for c in frame.columns:
+        if pd.api.types.is_float_dtype(frame[c]):
+            assert key_unit(str(c)) is not None, f"{name}: column {c!r} names no unit"
+    # arrays for the store, with units
+    for key, (arr, unit) in result.arrays().items():
+        assert isinstance(arr, np.ndarray) and isinstance(unit, str), key
+    # tables and plots
+    tables = result.tables()
+    assert tables and all(len(r) == len(t.columns) for t in tables for r in t.rows)
+    plots = result.plots()
+    for file, draw in plots.items():
+        ax = draw()
+        assert ax is not None and file.endswith(".png")
+        fig = ax.figure if hasattr(ax, "figure") else ax
+        assert fig.axes and any(a.has_data() for a in fig.axes), file
+    plt.close("all")
+    assert isinstance(result.warnings, tuple)
+
+
+def test_registered_outputs_have_units_and_descriptions():
+    for a in analyses().values():
+        assert a.help and a.outputs and a.examples, a.name
+        for o in a.outputs:
+            assert o.description and o.unit is not None, (a.name, o.key)
+        for o in a.options:
+            assert o.help and (o.kind != "quantity" or o.unit), (a.name, o.name)
+
+
+def test_a_summary_key_without_a_unit_is_refused_at_registration():
+    with pytest.raises(ValueError, match="no unit suffix"):
+        Output("stiffness", "a stiffness")
+    with pytest.raises(ValueError, match="needs its SI unit"):
+        Option("speed", "quantity", "a speed")
+
+
+def test_an_analysis_refuses_a_model_of_another_type_and_unknown_options():
+    with pytest.raises(ModelFileError, match='this command needs type = "drivetrain"'):
+        get("modal").run(_loaded("mechanism"))
+    with pytest.raises(MechdynError, match="has no option 'nmodes'"):
+        get("modal").run(_loaded("drivetrain"), nmodes=3)
+    with pytest.raises(MechdynError, match="no analysis named 'modes'"):
+        get("modes")
+
+
+def test_a_model_built_in_python_runs_through_the_registry(turret_c):
+    from mechdyn.drivetrain import modal
+
+    by_registry = get("modal").run(turret_c, modes=2)
+    assert by_registry.frequencies_hz == pytest.approx(modal(turret_c, n_modes=2).frequencies_hz, rel=1e-12)
+
+
+def test_a_new_analysis_is_one_function_and_one_registration(monkeypatch, tmp_path, capsys):
+    """Registered at run time, it gets its command, options, table, JSON, CSV and stored run."""
+    from dataclasses import dataclass
+
+    from mechdyn import registry
+    from mechdyn.cli.main import main
+
+    @dataclass(frozen=True)
+    class Total(Result):
+        inertia: float
+
+        def summary(self):
+            return {"total_inertia_kg_m2": self.inertia}
+
+        def to_frame(self):
+            return pd.DataFrame({"total_inertia_kg_m2": [self.inertia]})
+
+    monkeypatch.setattr(registry, "_REGISTRY", dict(registry._REGISTRY))
+    registry.register(
+        Analysis(
+            "total-inertia",
+            ("drivetrain",),
+            lambda loaded, scale=1.0: Total(scale * float(loaded.model.inertias.sum())),
+            "sum of the disk inertias",
+            options=(Option("scale", "float", "a factor"),),
+            outputs=(Output("total_inertia_kg_m2", "sum of the inertias", "kg*m^2"),),
+            examples=("mechdyn total-inertia FILE",),
+        )
+    )
+    db, csv = tmp_path / "x.db", tmp_path / "t.csv"
+    argv = ["total-inertia", str(EXAMPLES / "turret_milling.toml"), "--scale", "2", "--db", str(db)]
+    assert main([*argv, "--json", "--csv", str(csv)]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    J = _loaded("drivetrain").model.inertias.sum()
+    assert doc["total_inertia_kg_m2"] == pytest.approx(2 * J) and doc["parameters"] == {"scale": 2.0}
+    assert csv.read_text().startswith("total_inertia_kg_m2")
+    assert main(argv) == 0 and "total_inertia_kg_m2" in capsys.readouterr().out
+
+
+def test_analyses_command_lists_names_options_and_units(capsys):
+    from mechdyn.cli.main import main
+
+    assert main(["analyses", "--json"]) == 0
+    doc = {a["name"]: a for a in json.loads(capsys.readouterr().out)}
+    assert set(doc) == set(analyses())
+    assert doc["modal"]["model_types"] == ["drivetrain"]
+    assert {"name": "compare_rigid", "flag": "--compare-rigid", "kind": "flag"}.items() <= next(
+        o for o in doc["modal"]["options"] if o["name"] == "compare_rigid"
+    ).items()
+    speed = next(o for o in doc["campbell"]["options"] if o["name"] == "speed_range")
+    assert speed["unit"] == "rad/s" and speed["nargs"] == 2
+    outputs = {o["key"]: o["unit"] for o in doc["mechanism"]["outputs"]}
+    assert outputs["stroke_m"] == "m" and outputs["driving_torque_peak_Nm"] == "N*m"
+    assert main(["analyses"]) == 0
+    assert "modal" in capsys.readouterr().out
+
+
+HEAVY = ("scipy", "sqlalchemy", "numba", "matplotlib", "pandas", "skfem")
+
+
+@pytest.mark.parametrize(
+    ("argv", "allowed"),
+    [(["--help"], ()), (["analyses", "--json"], ()), (["results", "list"], ("sqlalchemy",))],
+    ids=["help", "analyses", "results-list"],
+)
+def test_light_commands_import_no_numerical_library(argv, allowed, tmp_path):
+    code = (
+        "import sys\nfrom mechdyn.cli.main import main\n"
+        f"try:\n    main({argv!r})\nexcept SystemExit:\n    pass\n"
+        f"print(sorted(m for m in {HEAVY!r} if m in sys.modules))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=tmp_path,
+        env={"MECHDYN_DB": str(tmp_path / "x.db"), "PATH": ""},
+    )
+    imported = json.loads(out.stdout.strip().splitlines()[-1].replace("'", '"'))
+    assert set(imported) <= set(allowed), imported
+
+
+def test_every_command_help_ends_with_examples(capsys):
+    from mechdyn.cli.main import main
+
+    for name in [*analyses(), "analyses"]:
+        with pytest.raises(SystemExit):
+            main([name, "--help"])
+        assert "examples:\n  mechdyn " in capsys.readouterr().out, name
+
+
+def test_display_units_come_from_the_one_registry():
+    assert convert(9806.65, "N", "tonf") == pytest.approx(1.0, rel=1e-12)
+    assert convert(1e6, "N/m", "kN/mm") == pytest.approx(1.0, rel=1e-12)
+    assert convert(np.array([1.0, 2.0]), "m", "mm") == pytest.approx([1e3, 2e3])
+    with pytest.raises(ValueError, match="cannot show N in 'mm'"):
+        convert(1.0, "N", "mm")
+    assert key_unit("stroke_m") == "m" and key_unit("mesh_stiffness_mean_N_per_m") == "N/m"
+    assert key_unit("iso_c_prime_N_per_mm_um") == "N/(mm*um)" and key_unit("rigid_body_modes") is None
