@@ -68,7 +68,7 @@ def test_every_analysis_follows_the_result_protocol(name, model_type, options, t
             warnings.simplefilter("ignore", ModelWarning)
             result = analysis.run(_loaded(model_type), **kw, **options)
     assert isinstance(result, Result)
-    with pytest.raises(Exception, match="frozen|cannot assign"):
+    with pytest.raises(Exception, match=r"frozen|cannot assign"):
         result.__setattr__(next(iter(result.__dataclass_fields__)), None)
     # summary: JSON-ready, every key documented in the registry with its unit
     summary = result.summary()

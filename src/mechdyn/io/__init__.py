@@ -10,4 +10,12 @@ from mechdyn.io.modelfile import (
     register_model_type,
 )
 
-__all__ = ["LoadedModel", "ModelSource", "load", "load_model", "load_with_source", "read", "register_model_type"]
+__all__ = [
+    "LoadedModel",
+    "ModelSource",
+    "load",
+    "load_model",
+    "load_with_source",
+    "read",
+    "register_model_type",
+]
