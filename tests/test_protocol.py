@@ -228,3 +228,16 @@ def test_display_units_come_from_the_one_registry():
         convert(1.0, "N", "mm")
     assert key_unit("stroke_m") == "m" and key_unit("mesh_stiffness_mean_N_per_m") == "N/m"
     assert key_unit("iso_c_prime_N_per_mm_um") == "N/(mm*um)" and key_unit("rigid_body_modes") is None
+
+
+def test_the_first_run_says_it_compiles_and_later_runs_load_the_cache(tmp_path):
+    """With an empty numba cache the first run announces the compile; the second run is silent."""
+    code = (
+        "from mechdyn.mechanism import cycle\nimport mechdyn\n"
+        f"m = mechdyn.load({str(EXAMPLES / 'fourbar.toml')!r}).mechanism\ncycle(m, 36)\n"
+    )
+    env = {"NUMBA_CACHE_DIR": str(tmp_path / "cache"), "PATH": ""}
+    first = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert "compiling kernels, first run only" in first.stderr
+    again = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert "compiling" not in again.stderr

@@ -315,9 +315,12 @@ def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
 def _kernel(parallel: bool = True):
     """The compiled kernel: over the variants in parallel threads, or serially (one design: no
     threads to start)."""
+    from mechdyn._compiled import announce
     from mechdyn.mechanism import _dyad_kernel
 
-    return _dyad_kernel.run_parallel if parallel else _dyad_kernel.run_serial
+    kernel = _dyad_kernel.run_parallel if parallel else _dyad_kernel.run_serial
+    announce(kernel)
+    return kernel
 
 
 def cycle(

@@ -55,6 +55,7 @@ def _kernel():
                         s -= a[r, j] * x[k, j]
                     x[k, r] = s / a[r, r] if a[r, r] != 0.0 else np.nan
 
+        announce(run)
         _KERNEL = run
     return _KERNEL
 
