@@ -19,6 +19,8 @@ def _kernel():
     if _KERNEL is None:
         import numba
 
+        from mechdyn._compiled import announce
+
         @numba.njit(cache=True)
         def run(A, b, x, det):
             K, n, _ = A.shape
