@@ -42,6 +42,10 @@ CASES = {
 ATOL = 1e-9
 
 
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
 def _numbers(summary):
     """The summary's numbers: scalars and flat lists of scalars (nested tables are covered by the
     scalars derived from them)."""
@@ -51,7 +55,7 @@ def _numbers(summary):
             continue
         if isinstance(v, (int, float)):
             out[k] = float(v)
-        elif isinstance(v, list) and v and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+        elif isinstance(v, list) and v and all(_is_number(x) for x in v):
             out[k] = [float(x) for x in v]
         elif isinstance(v, dict) and v and all(isinstance(x, (int, float)) for x in v.values()):
             out[k] = {n: float(x) for n, x in v.items()}
@@ -88,7 +92,7 @@ def test_reference_results_match_their_golden_file(case, tmp_path):
     for key, entry in golden["values"].items():
         want, rtol, got = entry["value"], entry["rtol"], now[key]
         if isinstance(want, list):
-            assert len(got) == len(want) and all(_close(g, w, rtol) for g, w in zip(got, want)), key
+            assert len(got) == len(want) and all(_close(g, w, rtol) for g, w in zip(got, want, strict=True)), key
         elif isinstance(want, dict):
             assert set(got) == set(want) and all(_close(got[n], want[n], rtol) for n in want), key
         else:
