@@ -92,7 +92,8 @@ def test_reference_results_match_their_golden_file(case, tmp_path):
     for key, entry in golden["values"].items():
         want, rtol, got = entry["value"], entry["rtol"], now[key]
         if isinstance(want, list):
-            assert len(got) == len(want) and all(_close(g, w, rtol) for g, w in zip(got, want, strict=True)), key
+            assert len(got) == len(want), key
+            assert all(_close(g, w, rtol) for g, w in zip(got, want, strict=True)), key
         elif isinstance(want, dict):
             assert set(got) == set(want) and all(_close(got[n], want[n], rtol) for n in want), key
         else:
