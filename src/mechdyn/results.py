@@ -27,7 +27,7 @@ registered analysis (:mod:`mechdyn.registry`) and checks it.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -106,10 +106,3 @@ class Result:
     def warnings(self) -> tuple[str, ...]:
         """Notes on this result that the user should read (also issued as :class:`ModelWarning`)."""
         return ()
-
-
-def describe(keys: Mapping[str, str]) -> list[dict[str, str]]:
-    """``[{"key", "unit", "description"}]`` for documented summary keys (units read from the keys)."""
-    from mechdyn.units import key_unit
-
-    return [{"key": k, "unit": key_unit(k) or "", "description": d} for k, d in keys.items()]
