@@ -25,8 +25,8 @@ REGENERATE = "python tests/test_golden.py --regenerate"
 # case → (analysis, example file, options, relative tolerance)
 CASES = {
     "A_press_mechanism": ("mechanism", "press_link_drive.toml", {}, 1e-9),
-    "A_press_on_support": ("support", "press_on_support.toml", {}, 1e-6),
-    "A_press_on_mounts": ("support", "press_on_mounts.toml", {}, 1e-6),
+    "A_press_on_support": ("support", "press_on_support.toml", {}, 1e-9),
+    "A_press_on_mounts": ("support", "press_on_mounts.toml", {}, 1e-9),
     "B_turret_indexing": ("modal", "turret_indexing.toml", {"compare_rigid": True}, 1e-9),
     "C_turret_milling": ("modal", "turret_milling.toml", {"compare_rigid": True}, 1e-9),
     "C_turret_milling_gear_data": ("modal", "turret_milling_gear_data.toml", {"compare_rigid": True}, 1e-9),
@@ -35,11 +35,13 @@ CASES = {
     "gear_tooth_pair1_published": ("gear", "tooth_pair1_published.toml", {}, 1e-9),
     "gear_tooth_pair2_published": ("gear", "tooth_pair2_published.toml", {}, 1e-9),
     "mount_pad_shore60": ("mount", "pad_shore60.toml", {}, 1e-9),
-    "mount_anchor_concrete": ("mount", "anchor_concrete.toml", {}, 1e-7),
+    "mount_anchor_concrete": ("mount", "anchor_concrete.toml", {}, 1e-9),
     "mount_wedge": ("mount", "wedge_mount.toml", {}, 1e-9),
 }
 # values this close to zero are compared absolutely, in the key's unit
 ATOL = 1e-9
+# the start-up is integrated with rtol 1e-9 (DOP853): its figures carry the integrator's error
+STARTUP_RTOL = 1e-7
 
 
 def _is_number(x) -> bool:
@@ -106,7 +108,10 @@ def regenerate() -> None:
     GOLDEN.mkdir(exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         for case, (analysis, example, options, rtol) in CASES.items():
-            values = {k: {"value": v, "rtol": rtol} for k, v in _numbers(_compute(case, tmp)).items()}
+            values = {
+                k: {"value": v, "rtol": STARTUP_RTOL if k.startswith("startup_") else rtol}
+                for k, v in _numbers(_compute(case, tmp)).items()
+            }
             doc = {
                 "regenerate": REGENERATE,
                 "analysis": analysis,

@@ -241,3 +241,21 @@ def test_the_first_run_says_it_compiles_and_later_runs_load_the_cache(tmp_path):
     assert "compiling kernels, first run only" in first.stderr
     again = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert "compiling" not in again.stderr
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-0.1", "x"])
+def test_a_numeric_option_refuses_nonsense(value, capsys):
+    from mechdyn.cli.main import main
+
+    with pytest.raises(SystemExit) as info:
+        main(["frf", str(EXAMPLES / "turret_milling.toml"), "--damping", value])
+    assert info.value.code == 2
+    assert f"damping {value!r}: give a number of at least 0.0" in capsys.readouterr().err
+
+
+def test_modal_damping_refuses_a_ratio_that_is_not_finite():
+    from mechdyn.drivetrain import ModalDamping
+
+    for bad in (float("nan"), float("inf"), (0.02, float("nan"))):
+        with pytest.raises(MechdynError, match="must lie in"):
+            ModalDamping(bad)

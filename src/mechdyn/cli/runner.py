@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import warnings
 from pathlib import Path
@@ -42,6 +43,8 @@ def _number(option: Option, cast: type) -> Any:
             value = cast(text)
         except ValueError:
             value = None
+        if value is not None and not math.isfinite(value):
+            value = None  # "nan" and "inf" read as floats but are no setting
         if value is None or (option.minimum is not None and value < option.minimum):
             least = "" if option.minimum is None else f" of at least {cast(option.minimum)}"
             kind = "a whole number" if cast is int else "a number"

@@ -29,7 +29,7 @@ class ModalDamping:
 
     def __post_init__(self) -> None:
         r = np.atleast_1d(np.asarray(self.ratio, dtype=float))
-        if np.any(r < 0) or np.any(r >= 1):
+        if not np.all(np.isfinite(r)) or np.any(r < 0) or np.any(r >= 1):
             raise ModelError(f"modal damping ratio {self.ratio!r} must lie in [0, 1)")
 
 

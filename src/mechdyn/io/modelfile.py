@@ -101,6 +101,16 @@ def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
     return builder(source), source
 
 
+# the field of each builder's record that holds the model itself (a type not named here: the record)
+_MODEL_FIELD = {
+    "mechanism": "mechanism",
+    "support": "machine",
+    "gear_pair": "pair",
+    "tooth_pair": "teeth",
+    "mount": "mount",
+}
+
+
 @dataclass(frozen=True)
 class LoadedModel:
     """A model file as loaded: the model, the file's analysis settings, and the file itself.
@@ -137,9 +147,9 @@ def load_model(path: str | Path) -> LoadedModel:
         from mechdyn.drivetrain.schema import settings
 
         return LoadedModel(kind, built, settings(source, built), source)
-    # the other builders return a record of the model and its settings; name the model in it
-    model_attr = {"mechanism": "mechanism", "support": "machine", "gear_pair": "pair", "tooth_pair": "teeth"}
-    return LoadedModel(kind, getattr(built, model_attr.get(kind, "mount")), built, source)
+    # the other builders return a record of the model and its settings; the model is one field of it
+    field = _MODEL_FIELD.get(kind)
+    return LoadedModel(kind, built if field is None else getattr(built, field), built, source)
 
 
 def load(path: str | Path) -> Any:

@@ -24,11 +24,11 @@ __all__ = [
 
 
 def _force_scale(values: np.ndarray, force_unit: str | None) -> tuple[float, str]:
-    from mechdyn.units import ureg
+    from mechdyn.units import convert
 
     if force_unit is None:
         force_unit = "kN" if np.abs(values).max(initial=0.0) >= 1e3 else "N"
-    return float(ureg.Quantity(1.0, force_unit).m_as("N")), force_unit
+    return float(convert(1.0, force_unit, "N")), force_unit
 
 
 def _abscissa(r: SupportResponse) -> tuple[np.ndarray, str]:
