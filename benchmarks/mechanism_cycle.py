@@ -111,7 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="a batch of 10^3 variants (within a minute)")
     ap.add_argument("--json", action="store_true", help="print one JSON object")
     args = ap.parse_args(argv)
-    mech = mechdyn.load(PRESS).mechanism
+    mech = mechdyn.load(PRESS).model
     n = 360
     variants = 1000 if args.quick else 10_000
     cycle(mech, 8)  # compile the kernel (cached on disk) before timing

@@ -74,7 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     }
     rows = []
     for label, file in CASES.items():
-        spec = mechdyn.load(EXAMPLES / file)
+        spec = mechdyn.load(EXAMPLES / file).settings
         machine, load = spec.machine, spec.load
         t_fd, fd = best_time(lambda m=machine, ld=load: periodic_response(m, ld, n), max_repeats=50)
         t_ivp, (q, periods) = best_time(

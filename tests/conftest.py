@@ -20,7 +20,7 @@ def load_quiet(path: Path):
     """Load a model file, ignoring the ratio warnings that the published turret data raise."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
-        return mechdyn.load(path)
+        return mechdyn.load(path).model
 
 
 @pytest.fixture(scope="session")

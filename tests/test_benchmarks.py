@@ -45,7 +45,7 @@ def test_periodic_response_baseline_reaches_the_frequency_domain_steady_state():
     import mechdyn
     from mechdyn.support import periodic_response
 
-    spec = mechdyn.load(ROOT / "examples" / "press_on_support.toml")
+    spec = mechdyn.load(ROOT / "examples" / "press_on_support.toml").settings
     q, periods = periodic_benchmark.integrate_to_steady_state(spec.machine, spec.load, 90)
     fd = periodic_response(spec.machine, spec.load, 90)
     assert periods > 2

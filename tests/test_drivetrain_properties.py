@@ -160,7 +160,7 @@ def test_frequencies_do_not_depend_on_the_units_in_the_file(tmp_path_factory, ca
         path.write_text(_toml(dt, units))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ModelWarning)
-            loaded = mechdyn.load(path)
+            loaded = mechdyn.load(path).model
         got = modal(loaded).frequencies_hz
         # round-off in the eigenvalue λ = ω² is about ε λ_max, so ω_i moves by ~ ε (ω_max/ω_i)² / 2
         rtol = 1e-13 * (reference.max() / reference) ** 2 + 1e-11 if reference.size else 0.0

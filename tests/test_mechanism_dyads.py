@@ -20,7 +20,7 @@ from test_mechanism_fourbar import crank_rockers, fourbar
 
 @pytest.fixture(scope="module")
 def press():
-    return mechdyn.load(EXAMPLES / "press_link_drive.toml").mechanism
+    return mechdyn.load(EXAMPLES / "press_link_drive.toml").model
 
 
 def test_plans(press):

@@ -109,7 +109,7 @@ def test_the_conjugate_rolls_without_slip():
 
 @pytest.fixture(scope="module")
 def transplanter():
-    return mechdyn.load(EXAMPLES / "transplanter_rp1.toml").mechanism
+    return mechdyn.load(EXAMPLES / "transplanter_rp1.toml").model
 
 
 def test_the_example_file_is_the_published_design(transplanter):

@@ -20,7 +20,7 @@ TONF = 9806.65
 
 @pytest.fixture(scope="module")
 def press():
-    return mechdyn.load(EXAMPLES / "press_link_drive.toml").mechanism
+    return mechdyn.load(EXAMPLES / "press_link_drive.toml").model
 
 
 @pytest.fixture(scope="module")

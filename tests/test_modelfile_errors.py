@@ -77,7 +77,7 @@ def test_the_good_file_loads(tmp_path):
     from mechdyn.io import read
 
     path = _write(tmp_path, GOOD)
-    dt = mechdyn.load(path)
+    dt = mechdyn.load(path).model
     assert dt.disk_names == ("motor", "pinion", "gear")
     assert dt.element("pinion").inertia == pytest.approx(7850 * 0.02 * 3.141592653589793 * 0.04**4 / 32)
     assert dt.element("input").stiffness == pytest.approx(80e9 * 3.141592653589793 * 0.02**4 / (32 * 0.1))
@@ -229,7 +229,7 @@ def test_response_settings_are_checked_against_the_disks(tmp_path):
 
     path = _write(tmp_path, GOOD.replace('excitation = [{ disk = "motor"', 'excitation = [{ disk = "motr"'))
     with pytest.raises(ModelFileError, match=r"\[response\] → excitation #1 → disk: 'motr' is not a disk"):
-        settings(read(path), mechdyn.load(path))
+        settings(read(path), mechdyn.load(path).model)
     path = _write(tmp_path, GOOD.replace("[response.rayleigh]", "modal_damping = 0.02\n[response.rayleigh]"))
     with pytest.raises(ModelFileError, match="give modal_damping or"):
         mechdyn.load(path)
@@ -265,7 +265,7 @@ gear_pair = "P1"
 
 
 def test_mesh_from_a_gear_pair_table(tmp_path):
-    dt = mechdyn.load(_write(tmp_path, GEARED))
+    dt = mechdyn.load(_write(tmp_path, GEARED)).model
     mesh = dt.element("G1")
     assert mesh.teeth == (20, 60) and mesh.stiffness > 1e8
     assert mesh.base_radii[0] == pytest.approx(0.02 * math.cos(math.radians(20)))
@@ -380,7 +380,7 @@ table = [["0 deg", "0 kN"], ["90 deg", "2 kN"], ["180 deg", "0 kN"]]
 """
     )
     spec = mechdyn.load(_write(tmp_path, text))
-    d = inverse_dynamics(spec.mechanism, 8)
+    d = inverse_dynamics(spec.model, 8)
     assert d.applied[2, 6] == pytest.approx(-2000.0)  # at 90°, 2 kN along −x on the slider
     assert np.abs(d.power_balance_residual).max() < 1e-9 * np.abs(d.driving_torque).max() * 100
     bad = text.replace('["90 deg", "2 kN"], ["180 deg"', '["190 deg", "2 kN"], ["180 deg"')
@@ -402,7 +402,7 @@ def test_speed_profile_table(tmp_path):
         )
     )
     spec = mechdyn.load(_write(tmp_path, text))
-    d = inverse_dynamics(spec.mechanism, 72)
+    d = inverse_dynamics(spec.model, 72)
     assert d.crank_speed.min() < 95 and d.crank_speed.max() > 105
     assert np.abs(d.power_balance_residual).max() < 1e-9 * np.abs(d.driving_torque * d.crank_speed).max()
     bad = text.replace('["0 deg", "100 rad/s"], ', "")

@@ -331,3 +331,57 @@ def test_mount_file_errors_name_the_table(tmp_path, body, message):
     with pytest.raises(ModelFileError) as info:
         mechdyn.load(p)
     assert message in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "row, where, what",
+    [
+        (
+            'name = "x"\nkind = "steel"\nyoungs_modulus = 210e9\npoissons_ratio = 0.3\nsource = "s"',
+            "youngs_modulus",
+            "unit",
+        ),
+        (
+            'name = "x"\nkind = "brass"\nyoungs_modulus = "100 GPa"\npoissons_ratio = 0.3\nsource = "s"',
+            "kind",
+            "brass",
+        ),
+        ('name = "x"\nkind = "steel"\nyoungs_modulus = "210 GPa"\npoissons_ratio = 0.3', "source", "missing"),
+        (
+            'name = "x"\nkind = "steel"\nyoungs_modulus = "210 GPa"\npoissons_ratio = 0.7\nsource = "s"',
+            "poissons_ratio",
+            "between",
+        ),
+        (
+            'name = "x"\nkind = "steel"\nyoung_modulus = "210 GPa"\nsource = "s"',
+            "young_modulus",
+            "youngs_modulus",
+        ),
+    ],
+)
+def test_a_materials_file_goes_through_the_model_file_checks(tmp_path, row, where, what):
+    # the same validated loader and the same errors as a model file: file, table, field, value, fix
+    from mechdyn.errors import ModelFileError
+    from mechdyn.mounts import default_materials
+
+    p = tmp_path / "my_materials.toml"
+    p.write_text("[[materials]]\n" + row + "\n")
+    with pytest.raises(ModelFileError) as info:
+        default_materials().with_file(p)
+    text = str(info.value)
+    assert text.startswith(str(p)) and "[[materials]] #1" in text and where in text and what in text
+
+
+def test_a_mount_file_names_the_bad_materials_file(tmp_path):
+    import mechdyn
+    from mechdyn.errors import ModelFileError
+
+    (tmp_path / "mine.toml").write_text("[[materials]]\nname = 1\n")
+    p = tmp_path / "m.toml"
+    p.write_text(
+        '[model]\ntype = "mount"\nname = "m"\n[materials]\nfiles = ["mine.toml"]\n'
+        '[pad]\nshore_a = 60\nthickness = "10 mm"\ndiameter = "50 mm"\n'
+    )
+    with pytest.raises(ModelFileError) as info:
+        mechdyn.load(p)
+    assert str(info.value).startswith(str(tmp_path / "mine.toml"))

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import mechdyn
 from conftest import EXAMPLES
 from mechdyn.errors import MechdynError, ModelFileError, ModelWarning
 from mechdyn.io import load_model
@@ -234,7 +235,7 @@ def test_the_first_run_says_it_compiles_and_later_runs_load_the_cache(tmp_path):
     """With an empty numba cache the first run announces the compile; the second run is silent."""
     code = (
         "from mechdyn.mechanism import cycle\nimport mechdyn\n"
-        f"m = mechdyn.load({str(EXAMPLES / 'fourbar.toml')!r}).mechanism\ncycle(m, 36)\n"
+        f"m = mechdyn.load({str(EXAMPLES / 'fourbar.toml')!r}).model\ncycle(m, 36)\n"
     )
     env = {"NUMBA_CACHE_DIR": str(tmp_path / "cache"), "PATH": ""}
     first = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
@@ -259,3 +260,30 @@ def test_modal_damping_refuses_a_ratio_that_is_not_finite():
     for bad in (float("nan"), float("inf"), (0.02, float("nan"))):
         with pytest.raises(MechdynError, match="must lie in"):
             ModalDamping(bad)
+
+
+@pytest.mark.parametrize("model_type", sorted(EXAMPLE_OF))
+def test_load_returns_one_shape_for_every_model_type(model_type):
+    from mechdyn.io import LoadedModel
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        loaded = mechdyn.load(EXAMPLES / EXAMPLE_OF[model_type])
+    assert isinstance(loaded, LoadedModel) and loaded.type == model_type
+    assert loaded.source is not None and len(loaded.source.sha256) == 64
+    assert loaded.model is not None and loaded.settings is not None and loaded.name
+
+
+def test_loading_a_support_file_runs_no_analysis(monkeypatch):
+    # the load comes from the press mechanism: its inverse dynamics runs when the load is asked for
+    from mechdyn.mechanism import dynamics
+
+    calls = []
+    real = dynamics.inverse_dynamics
+    monkeypatch.setattr(dynamics, "inverse_dynamics", lambda *a, **k: calls.append(a) or real(*a, **k))
+    loaded = mechdyn.load(EXAMPLES / "press_on_support.toml")
+    assert calls == [] and loaded.settings.mechanism_path.endswith("press_link_drive.toml")
+    assert loaded.settings.load.period == pytest.approx(4.0)
+    assert len(calls) == 1
+    loaded.settings.dynamics, loaded.settings.load  # computed once
+    assert len(calls) == 1

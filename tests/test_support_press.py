@@ -30,12 +30,12 @@ TONF = 9806.65
 
 @pytest.fixture(scope="module")
 def on_support():
-    return mechdyn.load(EXAMPLES / "press_on_support.toml")
+    return mechdyn.load(EXAMPLES / "press_on_support.toml").settings
 
 
 @pytest.fixture(scope="module")
 def on_mounts():
-    return mechdyn.load(EXAMPLES / "press_on_mounts.toml")
+    return mechdyn.load(EXAMPLES / "press_on_mounts.toml").settings
 
 
 def test_press_on_its_support_transmits_the_inertia_force_quasi_statically(on_support):
@@ -64,7 +64,7 @@ def test_the_load_of_the_press_is_its_shaking_force_along_the_slide(on_support):
 
 def test_the_mechanism_moment_is_carried_to_the_machine_origin():
     # a slider-crank placed off the origin: the machine moment = r × F + the drawing's moment
-    spec = mechdyn.load(EXAMPLES / "slider_crank.toml")
+    spec = mechdyn.load(EXAMPLES / "slider_crank.toml").settings
     d = inverse_dynamics(spec.mechanism, 72)
     place = Placement((0.5, -0.2, 1.3), (0.0, 0.0, 1.0), (-1.0, 0.0, 0.0))
     load = PeriodicLoad.from_mechanism(d, place)
@@ -224,17 +224,17 @@ def test_a_file_with_samples_and_one_with_harmonics(tmp_path):
     base = '[machine]\nmass = "1 t"\n[support]\nstiffness = "1e6 N/m"\ndamping_ratio = 0.05\n'
     s = mechdyn.load(
         _write(tmp_path, base + '[excitation]\nperiod = "0.5 s"\nforce_z = ["0 N", "1 kN", "0 N", "-1 kN"]\n')
-    )
+    ).settings
     np.testing.assert_allclose(s.load.value(s.load.time(4))[:, 2], [0, 1e3, 0, -1e3], atol=1e-9)
     h = mechdyn.load(
         _write(tmp_path, base + '[excitation]\nperiod = "0.5 s"\nharmonics = [[1, "1 kN", "-90 deg"]]\n')
-    )
+    ).settings
     np.testing.assert_allclose(h.load.value(s.load.time(4))[:, 2], [0, 1e3, 0, -1e3], atol=1e-9)
 
 
 def test_a_crank_with_a_speed_profile_loads_the_machine_at_its_own_times():
     # the samples are equal steps of crank angle, not of time: the load is resampled in time
-    spec = mechdyn.load(EXAMPLES / "slider_crank.toml")
+    spec = mechdyn.load(EXAMPLES / "slider_crank.toml").settings
     w0 = spec.mechanism.driver.speed
 
     def profile(psi):
@@ -255,7 +255,7 @@ def test_a_process_force_stays_inside_the_machine():
     # the slide's forming force comes back through the bed: the machine's load is unchanged
     from mechdyn.mechanism import ProcessForce
 
-    spec = mechdyn.load(EXAMPLES / "slider_crank.toml")
+    spec = mechdyn.load(EXAMPLES / "slider_crank.toml").settings
 
     def forming(angle, position):
         return -2000.0 * (np.sin(angle) > 0.5), 300.0 * np.cos(angle)

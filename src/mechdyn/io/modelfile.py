@@ -29,6 +29,7 @@ __all__ = [
     "load",
     "load_model",
     "load_with_source",
+    "read_toml",
     "register_model_type",
     "validate",
 ]
@@ -65,11 +66,18 @@ class ModelSource:
         return str(self.data["model"]["type"])
 
 
-def read(path: str | Path) -> ModelSource:
-    """Read and parse a TOML model file without building the model."""
+def read_toml(path: str | Path, what: str = "a .toml model file") -> ModelSource:
+    """Read and parse a TOML file; every failure is a ModelFileError naming the file.
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        What the file should be, for the error when it is missing (``"a .toml materials file"``).
+    """
     p = Path(path)
     if not p.is_file():
-        raise ModelFileError(str(p), "", "no such file; give the path of a .toml model file")
+        raise ModelFileError(str(p), "", f"no such file; give the path of {what}")
     raw = p.read_bytes()
     try:
         text = raw.decode("utf-8")
@@ -79,18 +87,26 @@ def read(path: str | Path) -> ModelSource:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelFileError(str(p), "", f"not valid TOML: {exc}") from None
-    model = data.get("model")
+    return ModelSource(str(p), text, hashlib.sha256(raw).hexdigest(), data)
+
+
+def read(path: str | Path) -> ModelSource:
+    """Read and parse a TOML model file without building the model."""
+    source = read_toml(path)
+    model = source.data.get("model")
     if not isinstance(model, dict):
         raise ModelFileError(
-            str(p), "[model]", 'missing; start the file with [model] and its type, e.g. type = "drivetrain"'
+            source.path,
+            "[model]",
+            'missing; start the file with [model] and its type, e.g. type = "drivetrain"',
         )
     kind = model.get("type")
     if kind not in _BUILDERS:
         expected = ", ".join(repr(k) for k in sorted(_BUILDERS))
         raise ModelFileError(
-            str(p), "[model] → type", f"{kind!r} is not a model type; expected one of {expected}", kind
+            source.path, "[model] → type", f"{kind!r} is not a model type; expected one of {expected}", kind
         )
-    return ModelSource(str(p), text, hashlib.sha256(raw).hexdigest(), data)
+    return source
 
 
 def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
@@ -140,7 +156,19 @@ class LoadedModel:
 
 
 def load_model(path: str | Path) -> LoadedModel:
-    """Load a model file into a :class:`LoadedModel` (one shape for every model type)."""
+    """Load a model file into a :class:`LoadedModel` (one shape for every model type).
+
+    The same as :func:`mechdyn.load`.
+
+    Parameters
+    ----------
+    path : str or Path
+        A TOML model file.
+
+    Returns
+    -------
+    LoadedModel
+    """
     built, source = load_with_source(path)
     kind = source.model_type
     if kind == "drivetrain":
@@ -152,8 +180,11 @@ def load_model(path: str | Path) -> LoadedModel:
     return LoadedModel(kind, built if field is None else getattr(built, field), built, source)
 
 
-def load(path: str | Path) -> Any:
-    """Load a model file (TOML with units) and return the immutable model it describes.
+def load(path: str | Path) -> LoadedModel:
+    """Load a model file (TOML with units): the model, its settings and the file, one shape for all.
+
+    Loading validates and builds; it computes no analysis (a support file whose load comes from a
+    mechanism runs that mechanism's inverse dynamics when its load is first asked for).
 
     Parameters
     ----------
@@ -162,15 +193,24 @@ def load(path: str | Path) -> Any:
 
     Returns
     -------
-    object
-        The model, e.g. a :class:`mechdyn.drivetrain.Drivetrain`.
+    LoadedModel
+        ``.model`` is what the analyses run on (a :class:`mechdyn.drivetrain.Drivetrain`, a
+        :class:`mechdyn.mechanism.Mechanism`, a :class:`mechdyn.support.MountedMachine`, ...);
+        ``.settings`` is the rest of the file; ``.source`` the file itself; ``.type`` its type.
 
     Raises
     ------
     ModelFileError
         With the file, the table and field, the bad value and what was expected.
+
+    Examples
+    --------
+    >>> import mechdyn
+    >>> loaded = mechdyn.load("examples/fourbar.toml")  # doctest: +SKIP
+    >>> loaded.type, type(loaded.model).__name__  # doctest: +SKIP
+    ('mechanism', 'Mechanism')
     """
-    return load_with_source(path)[0]
+    return load_model(path)
 
 
 def _describe_location(loc: tuple[Any, ...], data: Mapping[str, Any]) -> str:
@@ -251,7 +291,8 @@ def validate(schema: type[M], source: ModelSource) -> M:
     try:
         return schema.model_validate(source.data)
     except ValidationError as exc:
-        errors = exc.errors()
+        # a misspelt field is reported first: the "missing" error beside it is its consequence
+        errors = sorted(exc.errors(), key=lambda e: e.get("type") != "extra_forbidden")
         first = errors[0]
         location = _describe_location(tuple(first["loc"]), source.data)
         message = _error_message(first, schema)

@@ -8,7 +8,6 @@ with their provenance, and :meth:`MaterialDatabase.from_store` reads them back.
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -138,20 +137,49 @@ class Material:
         )
 
 
-def _read(text: str, origin: str) -> list[Material]:
-    data = tomllib.loads(text)
+def _read(path: str | Path) -> list[Material]:
+    """The materials of a ``[[materials]]`` file, validated like a model file."""
+    from mechdyn.io.modelfile import field_context, read_toml, validate
+
+    source = read_toml(path, "a .toml materials file ([[materials]] rows, as shipped)")
+    f = validate(_materials_schema(), source)
     out = []
-    for i, row in enumerate(data.get("materials", [])):
-        row = dict(row)
-        try:
-            out.append(Material(row.pop("name"), row.pop("kind"), row.pop("youngs_modulus"), **row))
-        except (KeyError, TypeError) as exc:
-            raise ModelError(
-                f"{origin}: [[materials]] #{i + 1}: {exc}; each needs name, kind, youngs_modulus "
-                "and a source",
-                element=str(row.get("name", i + 1)),
-            ) from None
+    for i, row in enumerate(f.materials):
+        with field_context(source, f"[[materials]] #{i + 1} (name = {row.name!r})"):
+            out.append(Material(**row.model_dump()))
     return out
+
+
+def _materials_schema() -> Any:
+    """The schema of a materials file (built on first use: pydantic is not imported before)."""
+    global _SCHEMA
+    if _SCHEMA is None:
+        from typing import Literal
+
+        from pydantic import Field
+
+        from mechdyn.io.fields import Density, Dimensionless, FileModel, Pressure
+
+        class MaterialRow(FileModel):
+            name: str = Field(min_length=1)
+            kind: Literal[KINDS]  # type: ignore[valid-type]
+            youngs_modulus: Pressure
+            poissons_ratio: Dimensionless | None = None
+            shear_modulus: Pressure | None = None
+            bulk_modulus: Pressure | None = None
+            compression_coefficient: Dimensionless = 1.0
+            shore_a: float | None = Field(default=None, ge=0, le=100)
+            density: Density | None = None
+            source: str = Field(min_length=1, description="where the values come from")
+
+        class MaterialsFile(FileModel):
+            materials: list[MaterialRow] = Field(min_length=1)
+
+        _SCHEMA = MaterialsFile
+    return _SCHEMA
+
+
+_SCHEMA: Any = None
 
 
 @dataclass(frozen=True)
@@ -184,8 +212,7 @@ class MaterialDatabase:
 
     def with_file(self, path: str | Path) -> MaterialDatabase:
         """A database with the materials of a TOML file (``[[materials]]`` rows, as shipped) added."""
-        p = Path(path)
-        return self.add(*_read(p.read_text(encoding="utf-8"), str(p)))
+        return self.add(*_read(path))
 
     def rubber(self, shore_a: float) -> Material:
         """Rubber of a Shore A hardness, interpolated linearly between the tabulated hardnesses.
@@ -234,8 +261,8 @@ class MaterialDatabase:
 
 def default_materials() -> MaterialDatabase:
     """The shipped materials."""
-    text = resources.files("mechdyn.mounts").joinpath("data/materials.toml").read_text(encoding="utf-8")
-    return MaterialDatabase({m.name: m for m in _read(text, "mechdyn/mounts/data/materials.toml")})
+    with resources.as_file(resources.files("mechdyn.mounts").joinpath("data/materials.toml")) as path:
+        return MaterialDatabase({m.name: m for m in _read(path)})
 
 
 def save_materials(store: Any, materials: MaterialDatabase, provenance: str) -> list[int]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Literal
 
@@ -34,7 +35,7 @@ from mechdyn.io.modelfile import ModelSource, field_context, load_with_source, v
 from mechdyn.support.excitation import PeriodicLoad, Placement
 from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
 
-__all__ = ["SupportFile", "SupportSpec", "build"]
+__all__ = ["MechanismExcitation", "SupportFile", "SupportSpec", "build"]
 
 Mass = quantity("kg")
 Inertia = quantity("kg*m^2")
@@ -132,16 +133,65 @@ class SupportFile(FileModel):
 
 
 @dataclass(frozen=True)
+class MechanismExcitation:
+    """A mechanism that shakes the machine, read from its own model file; nothing computed yet.
+
+    Attributes
+    ----------
+    mechanism : mechdyn.mechanism.Mechanism
+    angles : int
+        Crank positions over one revolution for its inverse dynamics.
+    placement : Placement
+        Where the mechanism's plane sits in the machine.
+    path : str
+        The mechanism model file.
+    """
+
+    mechanism: Any
+    angles: int
+    placement: Placement
+    path: str
+
+    def dynamics(self) -> Any:
+        """The mechanism's inverse dynamics over one revolution (a ``DynamicsResult``)."""
+        from mechdyn.mechanism.dynamics import inverse_dynamics
+
+        return inverse_dynamics(self.mechanism, self.angles)
+
+
+@dataclass(frozen=True)
 class SupportSpec:
-    """A machine on its supports as read from a file, with its load and analysis settings."""
+    """A machine on its supports as read from a file, with its load and analysis settings.
+
+    Loading the file computes nothing: when the load comes from a mechanism, its inverse dynamics
+    runs the first time :attr:`load` or :attr:`dynamics` is asked for.
+    """
 
     name: str
     machine: MountedMachine
-    load: PeriodicLoad
+    excitation: PeriodicLoad | MechanismExcitation
     settings: AnalysisTable
-    dynamics: Any = None  # the mechanism's DynamicsResult, when the load came from one
-    mechanism_path: str | None = None
     notes: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def mechanism_path(self) -> str | None:
+        """The mechanism model file the load comes from (None for samples or harmonics)."""
+        e = self.excitation
+        return e.path if isinstance(e, MechanismExcitation) else None
+
+    @cached_property
+    def dynamics(self) -> Any:
+        """The mechanism's ``DynamicsResult`` when the load comes from one, else None."""
+        e = self.excitation
+        return e.dynamics() if isinstance(e, MechanismExcitation) else None
+
+    @cached_property
+    def load(self) -> PeriodicLoad:
+        """The periodic load on the machine."""
+        e = self.excitation
+        if isinstance(e, MechanismExcitation):
+            return PeriodicLoad.from_mechanism(self.dynamics, e.placement)
+        return e
 
 
 def _inertia_tensor(t: MachineTable) -> np.ndarray:
@@ -150,10 +200,9 @@ def _inertia_tensor(t: MachineTable) -> np.ndarray:
     return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
 
 
-def _load(f: SupportFile, source: ModelSource) -> tuple[PeriodicLoad, Any, str | None]:
+def _excitation(f: SupportFile, source: ModelSource) -> PeriodicLoad | MechanismExcitation:
     e = f.excitation
     if e.mechanism is not None:
-        from mechdyn.mechanism.dynamics import inverse_dynamics
         from mechdyn.mechanism.schema import MechanismSpec
 
         path = Path(source.path).parent / e.mechanism
@@ -173,31 +222,30 @@ def _load(f: SupportFile, source: ModelSource) -> tuple[PeriodicLoad, Any, str |
                 f"{e.mechanism!r} is a {msource.model_type!r} model; give a mechanism model file",
                 e.mechanism,
             )
-        d = inverse_dynamics(spec.mechanism, e.angles or spec.n_angles)
         with field_context(source, "[excitation]"):
             if e.x_axis is None:
                 place = Placement.output_up(spec.mechanism, e.origin)
             else:
                 place = Placement(e.origin, e.x_axis, e.y_axis)
-        return PeriodicLoad.from_mechanism(d, place), d, str(path)
+        return MechanismExcitation(spec.mechanism, e.angles or spec.n_angles, place, str(path))
     with field_context(source, "[excitation]"):
         if e.force_z is not None:
             samples = np.asarray(e.force_z, dtype=float)
             if samples.size < 2:
                 raise ValueError("force_z needs at least two samples over the period")
-            return PeriodicLoad.from_samples(e.period, samples + e.mean_force_z), None, None
+            return PeriodicLoad.from_samples(e.period, samples + e.mean_force_z)
         amps = {}
         for order, amp, phase in e.harmonics or []:
             if order < 1 or order in amps:
                 raise ValueError(f"harmonic order {order} must be ≥ 1 and appear once")
             amps[order] = amp * complex(math.cos(phase), math.sin(phase))
-        return PeriodicLoad.from_harmonics(e.period, amps, e.mean_force_z), None, None
+        return PeriodicLoad.from_harmonics(e.period, amps, e.mean_force_z)
 
 
 def build(source: ModelSource) -> SupportSpec:
     """Builder for ``[model] type = "support"``."""
     f = validate(SupportFile, source)
-    load, dynamics, mpath = _load(f, source)
+    excitation = _excitation(f, source)
     if f.support is not None:
         with field_context(source, "[support]"):
             machine = MountedMachine.single_dof(
@@ -229,4 +277,4 @@ def build(source: ModelSource) -> SupportSpec:
             raise ValueError(f"stiffness_factors {f.analysis.stiffness_factors} must all be positive")
         if any(v < 0 for v in f.analysis.damping_factors):
             raise ValueError(f"damping_factors {f.analysis.damping_factors} must not be negative")
-    return SupportSpec(f.model.name, machine, load, f.analysis, dynamics, mpath)
+    return SupportSpec(f.model.name, machine, excitation, f.analysis)
