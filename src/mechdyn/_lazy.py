@@ -26,7 +26,9 @@ class _LazyPackage(types.ModuleType):
     def __getattr__(self, name: str) -> Any:
         exports = self.__dict__.get("_lazy_exports", {})
         if name in exports:
-            value = getattr(importlib.import_module(f"{self.__name__}.{exports[name]}"), name)
+            where = exports[name]
+            module = where if where.startswith("mechdyn.") else f"{self.__name__}.{where}"
+            value = getattr(importlib.import_module(module), name)
             self.__dict__[name] = value  # later look-ups find it directly
             return value
         raise AttributeError(f"module {self.__name__!r} has no attribute {name!r}")
@@ -48,7 +50,8 @@ def attach(package: str, exports: Mapping[str, str]) -> list[str]:
     package : str
         The package's ``__name__``.
     exports : mapping of str to str
-        Each public name and the submodule (relative to ``package``) that defines it.
+        Each public name and the submodule (relative to ``package``, or an absolute ``mechdyn.``
+        module for a name re-exported from the shared core) that defines it.
     """
     module = sys.modules[package]
     module.__class__ = _LazyPackage

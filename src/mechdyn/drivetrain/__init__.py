@@ -26,7 +26,7 @@ __all__ = attach(
         "Shaft": "elements",
         "assemble": "assembly",
         "campbell": "campbell",
-        "check_matrices": "assembly",
+        "check_matrices": "mechdyn.vibration.checks",
         "compare_rigid": "compare",
         "frf": "response",
         "mac": "compare",

@@ -9,9 +9,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.drivetrain.assembly import Assembly, assemble
-from mechdyn.drivetrain.eigen import Solver, solve_eigen
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.results import Result, Table
+from mechdyn.vibration.eigen import Solver, solve_eigen
+from mechdyn.vibration.modes import Modes
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -29,7 +30,7 @@ def _unit_shapes(shapes: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class ModalResult(Result):
+class ModalResult(Result, Modes):
     """Undamped modes of a drivetrain.
 
     Attributes
@@ -64,11 +65,6 @@ class ModalResult(Result):
         return self.assembly.drivetrain
 
     @property
-    def frequencies_hz(self) -> np.ndarray:
-        """Natural frequencies of the flexible modes, Hz, ascending."""
-        return self.omega / (2.0 * np.pi)
-
-    @property
     def rigid_body_modes(self) -> int:
         """Number of rigid-body (zero-frequency) modes."""
         return self.rigid_body_shapes.shape[1]
@@ -76,6 +72,15 @@ class ModalResult(Result):
     @property
     def disk_names(self) -> tuple[str, ...]:
         return self.drivetrain.disk_names
+
+    @property
+    def coordinate_names(self) -> tuple[str, ...]:
+        """The disks: :attr:`shapes` has one row per disk."""
+        return self.drivetrain.disk_names
+
+    def coordinate_mass(self) -> np.ndarray:
+        """(n_disks,) the disks' inertias, kg·m² (the mass matrix over all disks is diagonal)."""
+        return self.drivetrain.inertias
 
     @cached_property
     def unit_shapes(self) -> np.ndarray:
@@ -106,13 +111,6 @@ class ModalResult(Result):
         names = [dt.element_blocks[p][0].name for p in np.concatenate(positions)[order]] if positions else []
         total = energy.sum(axis=0)
         return tuple(names), energy / np.where(total == 0, 1.0, total)
-
-    @cached_property
-    def kinetic_energy(self) -> np.ndarray:
-        """(n_disks, n_modes) share of each disk in each mode's kinetic energy (columns sum to 1)."""
-        e = self.drivetrain.inertias[:, None] * self.shapes**2
-        total = e.sum(axis=0)
-        return e / np.where(total == 0, 1.0, total)
 
     def dominant_element(self, mode: int) -> tuple[str, float]:
         """The element holding the largest share of strain energy in flexible mode ``mode`` (0-based)."""
@@ -263,7 +261,7 @@ def modal(
     n_modes : int, optional
         Number of lowest flexible modes; all when None.
     solver : {"auto", "dense", "banded", "sparse"}
-        Eigen solver, see :func:`mechdyn.drivetrain.eigen.solve_eigen`.
+        Eigen solver, see :func:`mechdyn.vibration.solve_eigen`.
     rigid_gears : bool
         Treat every gear mesh as a rigid constraint (:meth:`Drivetrain.with_rigid_gears`).
 

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from mechdyn.drivetrain.assembly import assemble
 from mechdyn.drivetrain.modal import modal
@@ -14,6 +15,7 @@ from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelError
 from mechdyn.results import Result, Table
 from mechdyn.units import to_si
+from mechdyn.vibration.harmonic import harmonic_solve
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -198,9 +200,11 @@ def frf(
 
     Notes
     -----
-    Solves (K + iω C − ω² M) Q = Tᵀ F on the reduced coordinates for each ω and recovers every disk
-    as Θ = T Q. Modal damping adds C_m = M Φ diag(2 ζ_r ω_r) Φᵀ M over the M-normalised flexible
-    modes Φ (e.g. Craig & Kurdila, *Fundamentals of Structural Dynamics*, 2nd ed., 2006).
+    Solves (K + iω C − ω² M) Q = Tᵀ F on the reduced coordinates for each ω
+    (:func:`mechdyn.vibration.harmonic_solve`: one frequency at a time, so memory does not grow with
+    the number of frequencies) and recovers every disk as Θ = T Q. Modal damping adds
+    C_m = M Φ diag(2 ζ_r ω_r) Φᵀ M over the M-normalised flexible modes Φ (e.g. Craig & Kurdila,
+    *Fundamentals of Structural Dynamics*, 2nd ed., 2006).
     """
     damping = ModalDamping() if damping is None else damping
     asm = assemble(drivetrain)
@@ -215,9 +219,8 @@ def frf(
                 f"excitation at disk {disk!r}, which is not defined; defined disks: {', '.join(idx)}"
             )
         force[idx[disk]] += amp if isinstance(amp, complex) else to_si(amp, "N*m", plain_is_si=True)
-    M = np.diag(asm.mass)
-    K = asm.K.toarray()
-    C = asm.C.toarray()
+    M = sp.diags_array(asm.mass)
+    K, C = asm.K, asm.C
     modes = modal(asm)
     Phi_r = modes.reduced_shapes
     if isinstance(damping, RayleighDamping):
@@ -228,14 +231,13 @@ def frf(
             zeta = np.full(modes.omega.size, zeta[0])
         if zeta.size != modes.omega.size:
             raise ModelError(f"{zeta.size} modal damping ratios given for {modes.omega.size} flexible modes")
-        MPhi = M @ Phi_r
-        C = C + MPhi @ np.diag(2 * zeta * modes.omega) @ MPhi.T
+        MPhi = asm.mass[:, None] * Phi_r
+        C = C.toarray() + (MPhi * (2 * zeta * modes.omega)) @ MPhi.T  # full: modal damping couples all
     w = 2 * np.pi * f
-    Z = K[None] + 1j * w[:, None, None] * C[None] - (w**2)[:, None, None] * M[None]
     F = np.asarray(asm.T.T @ force)
     if asm.n_rigid_body and np.any(w == 0):
         raise ModelError("a free drivetrain has no static response at 0 Hz; start the frequencies above 0")
-    Q = np.linalg.solve(Z, np.broadcast_to(F, (w.size, F.size))[..., None])[..., 0]
+    Q = harmonic_solve(K, C, M, F, w)  # frequency by frequency: memory independent of len(f)
     theta = np.asarray((asm.T @ Q.T).T)
     names, units, loads = [], [], []
     for e, b in drivetrain.element_blocks:

@@ -1,85 +1,79 @@
 """Natural frequencies and mode shapes of a machine on its mounts, how coupled they are, and the
 elastic centre.
 
-K φ = ω² M φ over the kept coordinates (undamped), φ mass-normalised. The kinetic energy of mode k
-splits over the coordinates as e_kj = φ_kj (M φ_k)_j (the shares sum to one); a mode with one share
-near 1 is decoupled, which is what a mount layout aims for (e.g. Harris & Piersol, *Shock and
-Vibration Handbook*, ch. 30, "decoupled modes"; the "kinetic energy distribution" tables of mount
-vendors' calculators). The elastic centre is the point where a force produces translation only:
-where the translation–rotation coupling of the stiffness matrix vanishes (in the least-squares sense
-when no such point exists, as for most spatial layouts).
-"""
+K φ = ω² M φ over the kept coordinates (undamped), φ mass-normalised, through the shared linear-vibration
+core (:mod:`mechdyn.vibration`); its kinetic-energy shares say how decoupled each mode is, which is what a
+mount layout aims for. The elastic centre is the point where a force produces translation only: where the
+translation–rotation coupling of the stiffness matrix vanishes (in the least-squares sense when no such
+point exists, as for most spatial layouts)."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from mechdyn.support.model import MountedMachine, _skew
+from mechdyn.vibration.eigen import solve_eigen
+from mechdyn.vibration.modes import Modes
 
 __all__ = ["SupportModes", "elastic_centre", "modes"]
 
 
 @dataclass(frozen=True)
-class SupportModes:
-    """Undamped modes of a machine on its mounts.
+class SupportModes(Modes):
+    """Undamped modes of a machine on its mounts (the shared :class:`~mechdyn.vibration.Modes`).
 
     Attributes
     ----------
     machine : MountedMachine
-    natural_frequencies : ndarray
-        (n,) Hz, ascending.
+    omega : ndarray
+        (n,) natural circular frequencies, rad/s, ascending (``frequencies_hz`` in Hz).
     shapes : ndarray
         (n, n) mass-normalised mode shapes as columns, in the kept coordinates.
     """
 
     machine: MountedMachine
-    natural_frequencies: np.ndarray
+    omega: np.ndarray
     shapes: np.ndarray
 
     @property
-    def energy_share(self) -> np.ndarray:
-        """(modes, coordinates) share of each mode's kinetic energy in each coordinate (rows sum to 1)."""
-        phi = self.shapes
-        return (phi * (self.machine.mass_matrix @ phi)).T
+    def coordinate_names(self) -> tuple[str, ...]:
+        """The machine's kept coordinates (``"x"``, ``"ry"``, …)."""
+        return tuple(self.machine.dofs)
 
-    @property
-    def dominant(self) -> list[str]:
-        """The coordinate that carries most of each mode's kinetic energy."""
-        return [self.machine.dofs[int(np.argmax(e))] for e in self.energy_share]
-
-    @property
-    def decoupling(self) -> np.ndarray:
-        """(modes,) the largest energy share of each mode: 1 for a fully decoupled mode."""
-        return self.energy_share.max(axis=1)
+    def coordinate_mass(self) -> np.ndarray:
+        """The rigid body's mass matrix on the kept coordinates (kg, kg·m, kg·m²)."""
+        return self.machine.mass_matrix
 
     def table(self) -> list[dict[str, object]]:
         """One row per mode: frequency, dominant coordinate and the energy shares in per cent."""
         rows = []
-        for k, f in enumerate(self.natural_frequencies):
+        for k, f in enumerate(self.frequencies_hz):
             row: dict[str, object] = {"mode": k + 1, "frequency_hz": float(f), "dominant": self.dominant[k]}
             # to 1e-4 %: the round-off of an exactly decoupled mode is not news
-            shares = np.round(100 * self.energy_share[k], 4) + 0.0
+            shares = np.round(100 * self.kinetic_energy[:, k], 4) + 0.0
             row |= {f"{d}_percent": float(e) for d, e in zip(self.machine.dofs, shares, strict=True)}
             rows.append(row)
         return rows
 
 
 def modes(machine: MountedMachine) -> SupportModes:
-    """Natural frequencies (Hz) and mass-normalised mode shapes of the machine on its mounts.
+    """Natural frequencies and mass-normalised mode shapes of the machine on its mounts.
 
-    The generalised symmetric eigenproblem K φ = ω² M φ (LAPACK ``sygvd`` through
-    :func:`scipy.linalg.eigh`).
+    The generalised symmetric eigenproblem K φ = ω² M φ, solved by the shared core
+    (:func:`mechdyn.vibration.solve_eigen`; LAPACK ``sygvd`` for the full rigid-body mass matrix).
+
+    Returns
+    -------
+    SupportModes
+        ``omega`` in rad/s, ``frequencies_hz`` in Hz.
     """
-    M, K = machine.mass_matrix, machine.stiffness_matrix
-    w2, phi = scipy.linalg.eigh(K, M)
+    w2, phi, _ = solve_eigen(machine.stiffness_matrix, machine.mass_matrix)
     # sign: the largest component of each shape positive, for stable plots and tables
     big = np.argmax(np.abs(phi), axis=0)
     phi = phi * np.sign(phi[big, np.arange(phi.shape[1])])
-    return SupportModes(machine, np.sqrt(np.clip(w2, 0.0, None)) / (2 * math.pi), phi)
+    return SupportModes(machine, np.sqrt(np.clip(w2, 0.0, None)), phi)
 
 
 def elastic_centre(machine: MountedMachine) -> tuple[np.ndarray, float] | None:

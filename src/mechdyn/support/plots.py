@@ -106,9 +106,9 @@ def plot_mount_forces(r: SupportResponse, ax: Any = None, force_unit: str | None
 def plot_modes(m: SupportModes, ax: Any = None) -> Any:
     """Each mode's kinetic energy shares by coordinate (stacked bars), frequencies on the axis."""
     ax = new_axes(ax, figsize=(7.0, 4.0))
-    shares = 100 * m.energy_share
+    shares = 100 * m.kinetic_energy.T
     bottom = np.zeros(shares.shape[0])
-    labels = [f"{k + 1}\n{f:.3g} Hz" for k, f in enumerate(m.natural_frequencies)]
+    labels = [f"{k + 1}\n{f:.3g} Hz" for k, f in enumerate(m.frequencies_hz)]
     x = np.arange(shares.shape[0])
     for j, d in enumerate(m.machine.dofs):
         ax.bar(x, shares[:, j], bottom=bottom, label=d)
@@ -143,7 +143,7 @@ def plot_mode_shapes(m: SupportModes) -> Any:
     corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
     T = np.array([mach.mount_transform(Mount("c", c, (0.0, 0.0, 0.0))) for c in corners])  # (8, 3, n)
     size = float(np.max(hi - lo))
-    n = len(m.natural_frequencies)
+    n = len(m.frequencies_hz)
     fig, axes = plt.subplots(2, n, figsize=(2.4 * n + 0.6, 5.2), layout="constrained", squeeze=False)
     side = [0, 1, 3, 2, 0]  # corner order around the face y = lo (x, z)
     top = [0, 2, 6, 4, 0]  # around the face z = lo (x, y)
@@ -161,6 +161,6 @@ def plot_mode_shapes(m: SupportModes) -> Any:
             ax.set_yticks([])
             if k == 0:
                 ax.set_ylabel("side (x–z)" if row == 0 else "top (x–y)")
-        axes[0, k].set_title(f"{k + 1}: {m.natural_frequencies[k]:.3g} Hz\n{m.dominant[k]}", fontsize="small")
+        axes[0, k].set_title(f"{k + 1}: {m.frequencies_hz[k]:.3g} Hz\n{m.dominant[k]}", fontsize="small")
     fig.suptitle(f"{mach.name}: mode shapes")
     return axes[0, 0]

@@ -25,6 +25,7 @@ import numpy as np
 from mechdyn.errors import ModelError
 from mechdyn.support.excitation import PeriodicLoad, series, series_on_grid
 from mechdyn.support.model import DOFS, MountedMachine
+from mechdyn.support.modes import modes
 
 __all__ = ["SupportResponse", "harmonic_response", "influence", "periodic_response", "startup_response"]
 
@@ -159,20 +160,18 @@ class SupportResponse:
         return pd.DataFrame(cols)
 
 
-def _dynamic_stiffness(machine: MountedMachine, omega: np.ndarray) -> np.ndarray:
-    M, K, C = machine.mass_matrix, machine.stiffness_matrix, machine.damping_matrix
-    w = np.asarray(omega, dtype=float)[:, None, None]
-    return K[None] - w**2 * M[None] + 1j * w * C[None]
-
-
 def harmonic_response(machine: MountedMachine, load: PeriodicLoad) -> np.ndarray:
     """(H + 1, n) complex response coefficients X_h of the kept coordinates, per harmonic.
 
-    (K − (hΩ)² M + i hΩ C) X_h = B c_h, one small complex solve per harmonic, all at once.
+    (K − (hΩ)² M + i hΩ C) X_h = B c_h, one small complex solve per harmonic
+    (:func:`mechdyn.vibration.harmonic_solve`).
     """
+    from mechdyn.vibration.harmonic import harmonic_solve
+
     omega = 2 * math.pi / load.period * load.orders()
     Q = load.coefficients @ machine.load_matrix().T  # (H + 1, n)
-    return np.linalg.solve(_dynamic_stiffness(machine, omega), Q[..., None])[..., 0]
+    m = machine
+    return harmonic_solve(m.stiffness_matrix, m.damping_matrix, m.mass_matrix, Q, omega)
 
 
 def periodic_response(
@@ -254,7 +253,7 @@ def startup_response(
         raise ModelError(f"cycles = {cycles} must be at least 1", element="start-up", field="cycles")
     M, K, C = machine.mass_matrix, machine.stiffness_matrix, machine.damping_matrix
     n = M.shape[0]
-    f_max = math.sqrt(max(np.linalg.eigvals(np.linalg.solve(M, K)).real.max(), 0.0)) / (2 * math.pi)
+    f_max = float(modes(machine).frequencies_hz.max())
     if steps_per_period is None:
         c = np.abs(load.coefficients).max(axis=1)
         h_top = int(np.nonzero(c >= 1e-6 * c.max())[0].max()) if c.max() > 0 else 1
@@ -314,8 +313,6 @@ def influence(
         ``parameter`` (``"stiffness"`` or ``"damping"``), ``factor``, the transmitted-force range,
         maximum and minimum (N), the displacement extremes (m) and the first natural frequency (Hz).
     """
-    from mechdyn.support.modes import modes
-
     rows = []
     for parameter, factors in (("stiffness", stiffness_factors), ("damping", damping_factors)):
         for f in factors:
@@ -333,7 +330,7 @@ def influence(
                     "transmitted_force_min_N": float(FT.min()),
                     "displacement_max_m": float(z.max()),
                     "displacement_min_m": float(z.min()),
-                    "first_natural_frequency_hz": float(modes(variant).natural_frequencies[0]),
+                    "first_natural_frequency_hz": float(modes(variant).frequencies_hz[0]),
                 }
             )
     return rows

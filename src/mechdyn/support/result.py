@@ -73,7 +73,7 @@ class SupportAnalysis(Result):
             "dofs": list(machine.dofs),
             "machine_mass_kg": machine.body.mass,
             "period_s": self.load.period,
-            "natural_frequencies_hz": [float(f) for f in md.natural_frequencies],
+            "natural_frequencies_hz": [float(f) for f in md.frequencies_hz],
             "mode_dominant_coordinate": md.dominant,
             "mode_decoupling": [float(v) for v in md.decoupling],
             "static_deflection_m": {

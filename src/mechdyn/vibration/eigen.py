@@ -1,9 +1,10 @@
-"""Symmetric eigen solvers for K q = ω² M q with a diagonal M (dense, banded and sparse paths).
+"""Symmetric eigen solvers for K q = ω² M q (dense, banded and sparse paths).
 
-With M diagonal, the problem becomes the standard one A y = λ y with A = M^-½ K M^-½. A chain of
-disks gives a tridiagonal A and a geared tree a narrow band after reverse Cuthill–McKee ordering, so
-the banded path avoids the dense O(n³) reduction (divide and conquer on the tridiagonal); the
-sparse path (shift-invert Lanczos, ARPACK) returns the lowest modes of very large models.
+A full mass matrix (a rigid machine on mounts, its inertia tensor coupling the coordinates) goes to LAPACK's
+generalised solver. With M diagonal (a drivetrain), the problem becomes the standard one A y = λ y with A =
+M^-½ K M^-½. A chain of disks gives a tridiagonal A and a geared tree a narrow band after reverse
+Cuthill–McKee ordering, so the banded path avoids the dense O(n³) reduction (divide and conquer on the
+tridiagonal); the sparse path (shift-invert Lanczos, ARPACK) returns the lowest modes of very large models.
 """
 
 from __future__ import annotations
@@ -36,21 +37,30 @@ def _bandwidth(A: sp.csr_array) -> int:
     return int(np.abs(coo.row - coo.col).max()) if coo.nnz else 0
 
 
+def _dense(A: np.ndarray, k: int, B: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    n = A.shape[0]
+    select = None if k == n else (0, k - 1)
+    if B is None:
+        return sla.eigh(A, subset_by_index=select, driver="evr" if select else "evd")
+    return sla.eigh(A, B, subset_by_index=select, driver="gvx" if select else "gvd")
+
+
 def solve_eigen(
-    K: sp.csr_array,
+    K: sp.csr_array | np.ndarray,
     mass: np.ndarray,
     *,
     n_modes: int | None = None,
     solver: Solver = "auto",
 ) -> tuple[np.ndarray, np.ndarray, str]:
-    """Lowest eigenpairs of K q = λ M q for symmetric semi-definite K and diagonal M.
+    """Lowest eigenpairs of K q = λ M q for symmetric semi-definite K and positive-definite M.
 
     Parameters
     ----------
-    K : sparse array
-        Stiffness, (n, n).
+    K : sparse array or ndarray
+        Stiffness, (n, n), symmetric positive semi-definite.
     mass : ndarray
-        Diagonal of M, (n,), all positive.
+        Diagonal of M, (n,), all positive; or the full (n, n) symmetric positive-definite M, which
+        is solved densely (LAPACK ``sygvd``/``sygvx``).
     n_modes : int, optional
         Number of lowest eigenpairs; all when None.
     solver : {"auto", "dense", "banded", "sparse"}
@@ -70,8 +80,23 @@ def solve_eigen(
     used : str
         The solver that ran.
     """
-    n = mass.size
+    if solver not in SOLVERS:
+        raise ValueError(f"unknown eigen solver {solver!r}; expected one of {', '.join(SOLVERS)}")
+    mass = np.asarray(mass, dtype=float)
+    n = mass.shape[0]
     k = n if n_modes is None else max(1, min(int(n_modes), n))
+    if mass.ndim == 2:
+        if np.count_nonzero(mass - np.diag(np.diagonal(mass))):
+            Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
+            lam, Q = _dense(Kd, k, mass)
+            return np.asarray(lam), Q, "dense"
+        mass = np.diagonal(mass).copy()
+    if n <= _DENSE_LIMIT and solver in ("auto", "dense"):
+        # small models: no sparse round trip (it costs more than the solve below ~50 coordinates)
+        d = 1.0 / np.sqrt(mass)
+        Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
+        lam, Y = _dense(d[:, None] * Kd * d[None, :], k)
+        return np.asarray(lam), d[:, None] * Y, "dense"
     A, d = _standard(sp.csr_array(K), mass)
     perm = None
     if solver == "auto":
@@ -88,8 +113,7 @@ def solve_eigen(
     if solver == "sparse" and k >= n - 1:
         solver = "dense"
     if solver == "dense":
-        select = None if k == n else (0, k - 1)
-        lam, Y = sla.eigh(A.toarray(), subset_by_index=select, driver="evr" if select else "evd")
+        lam, Y = _dense(A.toarray(), k)
     elif solver == "banded":
         if perm is None:
             perm = csgraph.reverse_cuthill_mckee(A, symmetric_mode=True)
@@ -123,6 +147,4 @@ def solve_eigen(
         lam, Y = spla.eigsh(A.tocsc(), k=k, sigma=sigma, which="LM")
         order = np.argsort(lam)
         lam, Y = lam[order], Y[:, order]
-    else:
-        raise ValueError(f"unknown eigen solver {solver!r}; expected one of {', '.join(SOLVERS)}")
     return np.asarray(lam), d[:, None] * Y, solver
