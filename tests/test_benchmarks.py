@@ -50,3 +50,31 @@ def test_periodic_response_baseline_reaches_the_frequency_domain_steady_state():
     fd = periodic_response(spec.machine, spec.load, 90)
     assert periods > 2
     assert np.abs(q - fd.displacement).max() < 1e-6 * np.abs(fd.displacement).max()
+
+
+def test_small_model_baselines_agree_with_mechdyn():
+    import small_model
+
+    m = small_model.modal_case(quick=True)
+    assert m["max_rel_diff_vs_bare"] < 1e-12
+    f = small_model.fourbar_case(quick=True)
+    # the bare loop-equation solution is an independent reference for the four-bar's torque
+    assert f["max_rel_diff_torque_vs_bare"] < 1e-10
+
+
+@pytest.mark.parametrize("name", ["model_loading", "frf_memory"])
+def test_spine_benchmarks_run_quick_and_print_json(name):
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / f"{name}.py"), "--quick", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    )
+    doc = json.loads(out.stdout)
+    assert doc["benchmark"] == name and doc["quick"] is True
+    if name == "frf_memory":
+        # memory grows with the result (frequencies × disks), not with frequencies × disks²
+        assert doc["peak_growth_bytes_per_frequency"] < doc["stacked_growth_bytes_per_frequency"] / 4
+    else:
+        assert doc["disks"] == 2000 and doc["solver"] == "banded"

@@ -13,6 +13,7 @@ not pay for importing pint.
 from __future__ import annotations
 
 import functools
+import re
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -119,6 +120,35 @@ def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
         if not np.isfinite(out):
             raise UnitError(f"{value!r} is not finite")
         return out
+    if isinstance(value, str):
+        # a model file holds thousands of "number unit" texts with a handful of distinct units:
+        # read the number directly and convert with the unit's factor, parsed once by pint
+        m = _NUMBER_UNIT.match(value)
+        if m is not None:
+            factor = _linear_factor(m.group(2), unit)
+            if factor is not None:
+                out = float(m.group(1)) * factor
+                if np.isfinite(out):
+                    return out
+    return _slow_to_si(value, unit)
+
+
+_NUMBER_UNIT = re.compile(r"^\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s+(\S.*?)\s*$")
+
+
+@functools.lru_cache(maxsize=512)
+def _linear_factor(unit_text: str, unit: str) -> float | None:
+    """``unit_text`` in ``unit`` when the conversion is a pure factor (None: offset units, errors)."""
+    try:
+        one, zero = _slow_to_si(f"1 {unit_text}", unit), _slow_to_si(f"0 {unit_text}", unit)
+    except UnitError:
+        return None  # the full path gives the message, naming the user's own text
+    return one if zero == 0.0 else None
+
+
+def _slow_to_si(value: Any, unit: str) -> float:
+    import numpy as np
+
     q = _coerce(value, unit)
     ureg = registry()
     target = ureg.Quantity(1.0, unit)

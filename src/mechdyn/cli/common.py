@@ -33,22 +33,37 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
-def print_table(t: Table, file: Any = None) -> None:
-    """Render a table with rich: its title on a line of its own, then the columns."""
+# a terminal table longer than this shows its head and tail (a 10⁴-disk mode-shape table is 10⁴ rows)
+MAX_ROWS = 40
+_HEAD, _TAIL = 30, 5
+
+
+def print_table(t: Table, file: Any = None, max_rows: int = MAX_ROWS) -> None:
+    """Render a table with rich: its title on a line of its own, then the columns.
+
+    A table of more than ``max_rows`` rows shows its first and last rows and says how many it left
+    out (``--json`` and ``--csv`` keep every value).
+    """
     from rich import box
     from rich.console import Console
     from rich.markup import escape
     from rich.table import Table as RichTable
 
-    cells = [[_fmt(v) for v in r] for r in t.rows]
+    rows = list(t.rows)
+    hidden = len(rows) - _HEAD - _TAIL if len(rows) > max_rows else 0
+    if hidden:
+        rows = [*rows[:_HEAD], ["⋮"] * len(t.columns), *rows[-_TAIL:]]
+    cells = [[_fmt(v) for v in r] for r in rows]
     widths = [max([len(c), *(len(r[i]) for r in cells)]) for i, c in enumerate(t.columns)]
     # as wide as the table needs: a results table is never squeezed into dropping columns
     console = Console(file=file or sys.stdout, width=max(80, sum(widths) + 3 * len(widths)), highlight=False)
     rt = RichTable(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
     for i, c in enumerate(t.columns):
-        numeric = all(_is_number(r[i]) or r[i] is None for r in t.rows)
+        numeric = all(_is_number(r[i]) or r[i] is None or r[i] == "⋮" for r in rows)
         rt.add_column(escape(c), justify="right" if numeric and i else "left", no_wrap=True)
     for r in cells:
         rt.add_row(*(escape(v) for v in r))
     console.print(f"\n[bold]{escape(t.title)}[/bold]")
     console.print(rt)
+    if hidden:
+        console.print(f"({hidden} of {len(t.rows)} rows not shown; --json has every value)")

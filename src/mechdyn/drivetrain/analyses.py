@@ -36,7 +36,25 @@ def _modal(
         raise MechdynError("give --rigid-gears or --compare-rigid, not both")
     if compare_rigid:
         return compare(loaded.model)
+    n = len(loaded.model.disks)
+    if modes is None and n > _ALL_MODES_UP_TO:
+        # all modes of a 10⁴-disk chain are 10⁸ numbers (GBs); nobody reads past the lowest few
+        import warnings
+
+        from mechdyn.errors import ModelWarning
+
+        modes = _DEFAULT_MODES
+        warnings.warn(
+            f"{n} disks: computing the lowest {modes} flexible modes; pass --modes N for another number",
+            ModelWarning,
+            stacklevel=2,
+        )
     return modal(loaded.model, rigid_gears=rigid_gears, n_modes=modes, solver=solver)  # type: ignore[arg-type]
+
+
+# a model with more disks than this gets its lowest _DEFAULT_MODES modes unless --modes says otherwise
+_ALL_MODES_UP_TO = 200
+_DEFAULT_MODES = 20
 
 
 def _where(loaded: Any) -> str:
@@ -108,7 +126,13 @@ register(
                 "flag",
                 "also solve with rigid gears and pair the modes by shape (MAC)",
             ),
-            Option("modes", "int", "number of lowest flexible modes (default: all)", minimum=1),
+            Option(
+                "modes",
+                "int",
+                f"number of lowest flexible modes (default: all up to {_ALL_MODES_UP_TO} disks, else "
+                f"the lowest {_DEFAULT_MODES})",
+                minimum=1,
+            ),
             Option(
                 "solver",
                 "choice",

@@ -144,11 +144,17 @@ def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
     Checks: every element block symmetric and positive semi-definite; the assembled K annihilates
     the exact rigid-body motion of each free branch (so the number of zero modes equals the number
     of free branches). Together they make K symmetric semi-definite with the right null space.
+
+    The checked assembly is built once per model and kept with it (:attr:`Drivetrain.assembly`).
     """
+    return drivetrain.assembly if check else _assemble(drivetrain, check=False)
+
+
+def _assemble(drivetrain: Drivetrain, *, check: bool) -> Assembly:
     T, names = _reduction(drivetrain)
     reduced = T.shape[0] != T.shape[1]
     J = drivetrain.inertias
-    mass = np.asarray(T.multiply(T).T @ J)  # T has one entry per row, so TᵀMT is diagonal
+    mass = np.asarray(T.multiply(T).T @ J) if reduced else J  # one entry per row of T: TᵀMT diagonal
     rigid = drivetrain.free_branches()
     R = np.column_stack(rigid) if rigid else np.zeros((len(J), 0))
     asm = Assembly(

@@ -6,6 +6,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -89,7 +90,7 @@ class Drivetrain:
                     )
 
     # -- naming -------------------------------------------------------------------------------
-    @property
+    @cached_property
     def disk_names(self) -> tuple[str, ...]:
         return tuple(d.name for d in self.disks)
 
@@ -142,9 +143,24 @@ class Drivetrain:
             )
         return out
 
+    @cached_property
+    def assembly(self) -> Any:
+        """The checked :class:`~mechdyn.drivetrain.Assembly` of this model, built once.
+
+        The model is immutable, so its matrices are too: every analysis of the same model shares
+        them (a study's repeated analyses of one variant pay for the assembly once).
+        """
+        from mechdyn.drivetrain.assembly import _assemble
+
+        return _assemble(self, check=True)
+
     # -- variants -----------------------------------------------------------------------------
     def with_rigid_gears(self) -> Drivetrain:
-        """The same drivetrain with every gear mesh a rigid kinematic constraint."""
+        """The same drivetrain with every gear mesh a rigid kinematic constraint (built once)."""
+        return self._rigid_gears
+
+    @cached_property
+    def _rigid_gears(self) -> Drivetrain:
         elements = tuple(e.as_rigid() if isinstance(e, GearMesh) else e for e in self.elements)
         return replace(self, elements=elements, name=self.name)
 

@@ -219,7 +219,7 @@ def _check_names(source: ModelSource, f: DrivetrainFile) -> None:
                     row.name,
                 )
             seen[row.name] = where
-    known = [d.name for d in f.disks]
+    known = {d.name: None for d in f.disks}  # ordered, for the message; a dict for O(1) look-ups
     tables = (
         ("shafts", f.shafts, "disks"),
         ("meshes", f.meshes, "disks"),

@@ -17,7 +17,7 @@ __all__ = ["dynamic_stiffness", "harmonic_solve"]
 
 # below this size a dense LAPACK solve beats building and factorising a sparse matrix
 _DENSE_LIMIT = 200
-_BLOCK_ENTRIES = 1 << 20  # 16 MiB of complex entries
+_BLOCK_ENTRIES = 1 << 18  # 4 MiB of complex entries
 
 
 def dynamic_stiffness(K: Any, C: Any, M: Any, omega: float) -> Any:
