@@ -361,3 +361,24 @@ def test_a_model_without_flexible_modes(db, capsys, tmp_path):
     assert main(["modal", str(path)]) == 0
     out = capsys.readouterr().out
     assert "rigid-body modes (0 Hz)" in out and "mode shapes" not in out
+
+
+def test_a_large_model_gets_its_lowest_modes_and_a_short_table(db, capsys, tmp_path):
+    # all modes of a 10⁴-disk chain are GBs and a 10⁴-row table nobody reads: the CLI computes the
+    # lowest 20 (and says so) and prints the head and tail of long tables; --json keeps every value
+    n = 300
+    rows = ['[model]\ntype = "drivetrain"\nname = "long chain"\n']
+    rows += [f'[[disks]]\nname = "d{i}"\ninertia = "0.01 kg*m^2"\n' for i in range(n)]
+    rows += [
+        f'[[shafts]]\nname = "s{i}"\ndisks = ["d{i}", "d{i + 1}"]\nstiffness = "1e5 N*m/rad"\n'
+        for i in range(n - 1)
+    ]
+    path = tmp_path / "chain.toml"
+    path.write_text("\n".join(rows))
+    assert main(["modal", str(path)]) == 0
+    out, err = capsys.readouterr()
+    assert "300 disks: computing the lowest 20 flexible modes" in err
+    assert f"({n - 35} of {n} rows not shown; --json has every value)" in out
+    assert main(["modal", str(path), "--modes", "3", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert len(doc["frequencies_hz"]) == 3 and len(doc["modes"][0]["shape"]) == n
