@@ -27,6 +27,8 @@ CASES = {
     "A_press_mechanism": ("mechanism", "press_link_drive.toml", {}, 1e-9),
     "A_press_on_support": ("support", "press_on_support.toml", {}, 1e-9),
     "A_press_on_mounts": ("support", "press_on_mounts.toml", {}, 1e-9),
+    "A_press_on_pads": ("support", "press_on_pads.toml", {}, 1e-9),
+    "mount_press_pad": ("mount", "press_pad.toml", {}, 1e-9),
     "B_turret_indexing": ("modal", "turret_indexing.toml", {"compare_rigid": True}, 1e-9),
     "C_turret_milling": ("modal", "turret_milling.toml", {"compare_rigid": True}, 1e-9),
     "C_turret_milling_gear_data": ("modal", "turret_milling_gear_data.toml", {"compare_rigid": True}, 1e-9),

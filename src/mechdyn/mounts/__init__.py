@@ -23,6 +23,7 @@ __all__ = attach(
         "FEResult": "fe",
         "Layer": "bolted",
         "LevellingWedge": "types",
+        "MountEstimate": "types",
         "Material": "materials",
         "MaterialDatabase": "materials",
         "ScrewFoot": "types",

@@ -141,14 +141,6 @@ class MountResult(Result):
         return out
 
 
-def _stiffness(mount: Any) -> float:
-    if isinstance(mount, ElastomerPad):
-        return mount.compression_stiffness
-    if isinstance(mount, BoltedJoint):
-        return mount.joint_stiffness
-    return float(mount.stiffness)
-
-
 def _pad_of(mount: Any) -> ElastomerPad | None:
     if isinstance(mount, ElastomerPad):
         return mount
@@ -221,15 +213,15 @@ def analyse(spec: Any, store: Any = None) -> MountResult:
         if store is None:
             raise ModelError("use_stored needs a results database", element=spec.name, field="calibration")
         stored = load_calibration(store, spec.name)
-        s["stiffness_as_drawn_N_per_m"] = _stiffness(mount)
+        s["stiffness_as_drawn_N_per_m"] = mount.stiffness
         mount = apply(stored, mount)
         s["applied_calibration"] = stored.as_dict() | {"provenance": stored.provenance}
     report = _Draft(s, mount)
-    s["stiffness_N_per_m"] = _stiffness(mount)
+    s["stiffness_N_per_m"] = mount.stiffness
     s["breakdown"] = mount.breakdown()
-    s["adjusts_height"] = bool(getattr(mount, "adjusts_height", False))
-    s["damps"] = bool(getattr(mount, "damps", isinstance(mount, ElastomerPad)))
-    s["loss_factor"] = float(getattr(mount, "loss_factor", 0.1 if isinstance(mount, ElastomerPad) else 0.0))
+    s["adjusts_height"] = bool(mount.adjusts_height)
+    s["damps"] = bool(mount.damps)
+    s["loss_factor"] = float(mount.loss_factor)
     pad = _pad_of(mount)
     if pad is not None:
         s["shape_factor"] = pad.shape_factor
@@ -307,16 +299,14 @@ def analyse(spec: Any, store: Any = None) -> MountResult:
         c = report.calibration
         calibrated = apply(c, mount)
         # the quantity the parameter governs, as before and target: members, or the pad
-        after = (
-            calibrated.member_stiffness() if isinstance(calibrated, BoltedJoint) else _stiffness(calibrated)
-        )
+        after = calibrated.member_stiffness() if isinstance(calibrated, BoltedJoint) else calibrated.stiffness
         s["calibration"] = c.as_dict() | {
             "provenance": c.provenance,
             "value_deg" if c.parameter == "cone_angle" else "value_factor": (
                 math.degrees(c.value) if c.parameter == "cone_angle" else c.value
             ),
             "stiffness_after_N_per_m": after,
-            "mount_stiffness_after_N_per_m": _stiffness(calibrated),
+            "mount_stiffness_after_N_per_m": calibrated.stiffness,
         }
         if store is not None:
             s["calibration"]["record_id"] = c.save(store)

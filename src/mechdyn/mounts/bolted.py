@@ -269,6 +269,17 @@ class BoltedJoint:
         """k_t = k_b + k_m for an external load (bolt and members in parallel), N/m."""
         return self.bolt_stiffness + self.member_stiffness()
 
+    # -- the interface every mount estimate shares (mechdyn.mounts.types.MountEstimate) ----------
+    adjusts_height = False
+    damps = False
+    loss_factor = 0.0
+    lateral_stiffness = None  # friction and dowels: not estimated from the drawing
+
+    @property
+    def stiffness(self) -> float:
+        """Along the bolt's axis: the joint stiffness k_b + k_m, N/m."""
+        return self.joint_stiffness
+
     @property
     def load_factor(self) -> float:
         """C = k_b / (k_b + k_m): the share of an external load the bolt takes."""

@@ -117,6 +117,23 @@ class ElastomerPad:
         """K_c = E_c A / h, N/m."""
         return self.compression_modulus * self.area / self.thickness
 
+    # -- the interface every mount estimate shares (mechdyn.mounts.types.MountEstimate) ----------
+    adjusts_height = False
+    damps = True
+    # filled natural rubber at room temperature: η ≈ 0.05–0.15 (Harris & Piersol, *Shock and
+    # Vibration Handbook*, 5th ed., ch. 32); the middle of that range
+    loss_factor = 0.1
+
+    @property
+    def stiffness(self) -> float:
+        """Along the mount's axis: the compression stiffness K_c, N/m."""
+        return self.compression_stiffness
+
+    @property
+    def lateral_stiffness(self) -> float:
+        """Across the mount's axis: the shear stiffness K_s with bending, N/m."""
+        return self.shear_stiffness
+
     @property
     def ideal_compression_stiffness(self) -> float:
         """K_c with k = 1, the linear-elastic solid's shape-factor law (what an FE model of E and B

@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 from mechdyn.errors import ModelError
 from mechdyn.mounts.materials import Material
 from mechdyn.mounts.pad import ElastomerPad
 from mechdyn.units import si_field
 
-__all__ = ["DampingPad", "LevellingWedge", "ScrewFoot", "SpringIsolator", "isolation"]
+__all__ = ["DampingPad", "LevellingWedge", "MountEstimate", "ScrewFoot", "SpringIsolator", "isolation"]
 
 G0 = 9.80665
 
@@ -37,6 +37,45 @@ def _positive(owner: str, field: str, value: Any, unit: str) -> float:
     if not v > 0:
         raise ModelError(f"{v:g} {unit} must be positive", element=owner, field=field)
     return v
+
+
+@runtime_checkable
+class MountEstimate(Protocol):
+    """What every mount estimate answers, whatever its type (pad, bolted joint or anchor, wedge,
+    screw foot, damping pad, spring isolator): the one interface a support model, the mount
+    analysis and the calibration use.
+
+    Attributes
+    ----------
+    name : str
+    stiffness : float
+        Along the mount's axis (vertical under a machine), N/m.
+    lateral_stiffness : float or None
+        Across the axis, N/m; None where the drawing does not give it (then the support model asks
+        for it).
+    loss_factor : float
+        η of the mount's material (viscous equivalent ζ = η/2 at resonance).
+    damps, adjusts_height : bool
+    """
+
+    name: str
+
+    @property
+    def stiffness(self) -> float: ...
+
+    @property
+    def lateral_stiffness(self) -> float | None: ...
+
+    @property
+    def loss_factor(self) -> float: ...
+
+    @property
+    def damps(self) -> bool: ...
+
+    @property
+    def adjusts_height(self) -> bool: ...
+
+    def breakdown(self) -> dict[str, Any]: ...
 
 
 @dataclass(frozen=True)
@@ -76,6 +115,8 @@ class LevellingWedge:
                 "catalogue_stiffness",
                 _positive(self.name, "catalogue_stiffness", self.catalogue_stiffness, "N/m"),
             )
+
+    lateral_stiffness = None  # the housing's friction: not estimated
 
     @property
     def solid_stiffness(self) -> float:
@@ -126,6 +167,8 @@ class ScrewFoot:
         if self.base is not None and not isinstance(self.base, ElastomerPad):
             object.__setattr__(self, "base", _positive(self.name, "base", self.base, "N/m"))
 
+    lateral_stiffness = None  # the spindle's bending and the base's friction: not estimated
+
     @property
     def spindle_stiffness(self) -> float:
         """A_s E / L, N/m (stress area with P ≈ 0.15 d)."""
@@ -174,7 +217,13 @@ class DampingPad:
 
     @property
     def stiffness(self) -> float:
+        """The pad's compression stiffness, N/m."""
         return self.pad.compression_stiffness
+
+    @property
+    def lateral_stiffness(self) -> float:
+        """The pad's shear stiffness, N/m."""
+        return self.pad.shear_stiffness
 
     def breakdown(self) -> dict[str, Any]:
         return self.pad.breakdown() | {"loss_factor": self.loss_factor}
@@ -222,6 +271,8 @@ class SpringIsolator:
             )
         object.__setattr__(self, "wire_diameter", d)
         object.__setattr__(self, "coil_diameter", D)
+
+    lateral_stiffness = None  # a spring's lateral rate depends on its end fixing: give it
 
     @property
     def stiffness(self) -> float:

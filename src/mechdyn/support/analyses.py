@@ -9,18 +9,30 @@ from mechdyn.registry import Analysis, Option, Output, register
 __all__: list[str] = []
 
 
-def _support(loaded: Any, cycles: int | None = None) -> Any:
-    from mechdyn.support.result import support_analysis
+def _support(loaded: Any, cycles: int | None = None, store: Any = None) -> Any:
+    from mechdyn.errors import MechdynError
+    from mechdyn.support.result import mounts_from_drawing, support_analysis
 
     spec = loaded.settings
+    if spec is None:  # a MountedMachine built in Python: no file settings
+        raise MechdynError("the support analysis runs on a support model file (it holds the load)")
     s = spec.settings
+    machine, applied = loaded.model, {}
+    if any(e.calibrate for e in spec.estimates.values()):
+        if store is None:
+            raise MechdynError(
+                'a mount asks for its stored calibration (calibration = "stored"): run with a results '
+                "database (--db URL, or the default mechdyn.db)"
+            )
+        machine, applied = spec.calibrated(store)
     return support_analysis(
-        loaded.model,
+        machine,
         spec.load,
         cycles=cycles or s.start_up_cycles,
         method=s.start_up_method,
         stiffness_factors=s.stiffness_factors,
         damping_factors=s.damping_factors,
+        mounts=mounts_from_drawing(machine, spec.estimates, applied),
     )
 
 
@@ -30,6 +42,7 @@ register(
         ("support",),
         _support,
         "a machine on its supports: modes, steady state, start-up, floor forces",
+        uses_store=True,
         options=(
             Option("cycles", "int", "start-up periods to integrate (default: the file's, else 5)", minimum=1),
         ),
@@ -61,10 +74,17 @@ register(
             Output("influence", "steady state for each stiffness and damping factor", ""),
             Output("elastic_centre_m", "the mounts' elastic centre"),
             Output("elastic_centre_residual", "coupling left at the elastic centre", "1"),
+            Output(
+                "mounts_from_drawing",
+                "each mount estimated from its drawing: type, source, stiffness along its axes (N/m), "
+                "loss factor, the stored calibration applied",
+                "",
+            ),
         ),
         examples=(
             "mechdyn support examples/press_on_support.toml --plots plots",
             "mechdyn support examples/press_on_mounts.toml --cycles 2 --csv steady.csv",
+            "mechdyn support examples/press_on_pads.toml --plots plots",
         ),
     )
 )

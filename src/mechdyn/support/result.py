@@ -7,8 +7,8 @@ steady state; :class:`SupportAnalysis` holds them with the result protocol.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
@@ -41,6 +41,8 @@ class SupportAnalysis(Result):
         One row per stiffness or damping factor (:func:`mechdyn.support.influence`).
     method : str
         The start-up integrator.
+    mounts : dict
+        The mounts estimated from their drawings (:func:`mounts_from_drawing`).
     """
 
     steady: SupportResponse
@@ -48,6 +50,7 @@ class SupportAnalysis(Result):
     modes: SupportModes
     influence: list[dict[str, Any]]
     method: str
+    mounts: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     @property
     def machine(self) -> MountedMachine:
@@ -87,6 +90,8 @@ class SupportAnalysis(Result):
             "force_balance_residual_N": float(np.abs(self.steady.force_balance_residual).max()),
             "influence": self.influence,
         }
+        if self.mounts:
+            out["mounts_from_drawing"] = self.mounts
         ec = elastic_centre(machine)
         if ec is not None:
             out["elastic_centre_m"] = [float(v) for v in ec[0]]
@@ -218,6 +223,7 @@ def support_analysis(
     method: str = "DOP853",
     stiffness_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
     damping_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
+    mounts: dict[str, dict[str, Any]] | None = None,
 ) -> SupportAnalysis:
     """Steady state, start-up from rest, modes and the support's influence, in one result.
 
@@ -231,6 +237,8 @@ def support_analysis(
         Start-up integrator (:func:`mechdyn.support.startup_response`).
     stiffness_factors, damping_factors : sequence of float
         Factors of the influence study (:func:`mechdyn.support.influence`).
+    mounts : dict, optional
+        What the mounts estimated from their drawings are (:func:`mounts_from_drawing`), reported.
 
     Returns
     -------
@@ -239,4 +247,33 @@ def support_analysis(
     steady = periodic_response(machine, load)
     startup = startup_response(machine, load, cycles, method=method)
     rows = influence(machine, load, stiffness_factors, damping_factors)
-    return SupportAnalysis(steady, startup, modes(machine), rows, method)
+    return SupportAnalysis(steady, startup, modes(machine), rows, method, dict(mounts or {}))
+
+
+def mounts_from_drawing(
+    machine: MountedMachine, estimates: Mapping[str, Any], applied: Mapping[str, Any] | None = None
+) -> dict[str, dict[str, Any]]:
+    """For each mount estimated from its drawing: its type, file, stiffness, loss factor, calibration.
+
+    Parameters
+    ----------
+    machine : MountedMachine
+        The machine as analysed (calibrated where asked).
+    estimates : mapping of mount name → PlacedEstimate
+    applied : mapping of mount name → dict, optional
+        The stored calibrations applied (:meth:`SupportSpec.calibrated`).
+    """
+    out = {}
+    for m in machine.mounts:
+        e = estimates.get(m.name)
+        if e is None:
+            continue
+        out[m.name] = {
+            "estimate": type(e.estimate).__name__,
+            "source": e.source,
+            "stiffness_N_per_m": [float(v) for v in m.stiffness],
+            "damping_N_s_per_m": [float(v) for v in m.damping],
+            "loss_factor": float(e.estimate.loss_factor),
+            "calibration": (applied or {}).get(m.name, "as drawn"),
+        }
+    return out

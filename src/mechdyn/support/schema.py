@@ -35,7 +35,7 @@ from mechdyn.io.modelfile import ModelSource, field_context, load_with_source, v
 from mechdyn.support.excitation import PeriodicLoad, Placement
 from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
 
-__all__ = ["MechanismExcitation", "SupportFile", "SupportSpec", "build"]
+__all__ = ["MechanismExcitation", "PlacedEstimate", "SupportFile", "SupportSpec", "build"]
 
 Mass = quantity("kg")
 Inertia = quantity("kg*m^2")
@@ -69,10 +69,43 @@ class SingleDofTable(FileModel):
 class MountTable(FileModel):
     name: str
     position: tuple[Length, Length, Length]
-    stiffness: tuple[LinearStiffness, LinearStiffness, LinearStiffness]
-    damping: tuple[Damping, Damping, Damping] = (0.0, 0.0, 0.0)
+    stiffness: tuple[LinearStiffness, LinearStiffness, LinearStiffness] | None = Field(
+        default=None, description="along the mount's local axes (shear, shear, compression)"
+    )
+    mount: str | None = Field(
+        default=None, description="a mount model file (relative to this file) whose estimate stands here"
+    )
+    estimate: dict[str, Any] | None = Field(
+        default=None,
+        description="the mount described inline, as in a mount file: {pad = {...}}, {bolted = {...}}, ...",
+    )
+    lateral_stiffness: LinearStiffness | None = Field(
+        default=None, description="across the axis, for an estimate that does not give it"
+    )
+    calibration: Literal["as drawn", "stored"] = Field(
+        default="as drawn",
+        description='"stored": apply the latest calibration of this estimate kept in the results database',
+    )
+    damping: tuple[Damping, Damping, Damping] | None = Field(
+        default=None,
+        description="along the local axes; by default 0, or from an estimate's loss factor",
+    )
     orientation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
     anchored: bool = False
+
+    @model_validator(mode="after")
+    def _one_stiffness(self) -> MountTable:
+        given = [k for k in ("stiffness", "mount", "estimate") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(
+                "give the mount's stiffness as numbers (stiffness = [shear, shear, compression]), "
+                "by its estimate from the drawing (mount = a mount file, or an inline estimate = {pad = "
+                f"{{...}}}}), exactly one of the three; got {given or 'none'}"
+            )
+        estimated_only = self.lateral_stiffness is not None or self.calibration != "as drawn"
+        if self.stiffness is not None and estimated_only:
+            raise ValueError("lateral_stiffness and calibration belong to a mount estimated from its drawing")
+        return self
 
 
 class ExcitationTable(FileModel):
@@ -160,6 +193,37 @@ class MechanismExcitation:
 
 
 @dataclass(frozen=True)
+class PlacedEstimate:
+    """A mount estimated from its drawing, standing under the machine.
+
+    Attributes
+    ----------
+    estimate : MountEstimate
+        The pad, bolted joint, wedge, foot or isolator (:mod:`mechdyn.mounts`).
+    lateral_stiffness : float or None
+        Across the axis, N/m, when the row gives it (else the estimate's own).
+    calibrate : bool
+        Apply the stored calibration of the estimate when the analysis has a results database.
+    damping_from_loss_factor : bool
+        The row gives no damping: it follows from the estimate's loss factor.
+    source : str
+        The mount file, or the support file's row for an inline estimate.
+    """
+
+    estimate: Any
+    lateral_stiffness: float | None
+    calibrate: bool
+    damping_from_loss_factor: bool
+    source: str
+
+    def axes(self, estimate: Any = None) -> np.ndarray:
+        """(shear, shear, compression) stiffness along the mount's local axes, N/m."""
+        e = self.estimate if estimate is None else estimate
+        lat = self.lateral_stiffness if self.lateral_stiffness is not None else e.lateral_stiffness
+        return np.array([lat, lat, e.stiffness], dtype=float)
+
+
+@dataclass(frozen=True)
 class SupportSpec:
     """A machine on its supports as read from a file, with its load and analysis settings.
 
@@ -172,6 +236,45 @@ class SupportSpec:
     excitation: PeriodicLoad | MechanismExcitation
     settings: AnalysisTable
     notes: dict[str, Any] = field(default_factory=dict)
+    estimates: dict[str, PlacedEstimate] = field(default_factory=dict)
+
+    def calibrated(self, store: Any) -> tuple[MountedMachine, dict[str, Any]]:
+        """The machine with the stored calibrations applied to the mounts that ask for them.
+
+        Parameters
+        ----------
+        store : ResultStore
+            Where ``mechdyn mount`` kept the calibrations (by the mount file's name).
+
+        Returns
+        -------
+        machine : MountedMachine
+        applied : dict
+            For each calibrated mount: the calibration, its provenance, the stiffness before and after.
+        """
+        wanted = {n: e for n, e in self.estimates.items() if e.calibrate}
+        if not wanted:
+            return self.machine, {}
+        from mechdyn.mounts.calibration import apply, load_calibration
+
+        mounts, applied = [], {}
+        for m in self.machine.mounts:
+            e = wanted.get(m.name)
+            if e is None:
+                mounts.append(m)
+                continue
+            cal = load_calibration(store, e.estimate.name)
+            new = apply(cal, e.estimate)
+            k = e.axes(new)
+            ratio = np.divide(k, m.stiffness, out=np.ones(3), where=m.stiffness > 0)
+            c = m.damping * ratio if e.damping_from_loss_factor else m.damping
+            mounts.append(replace(m, stiffness=k, damping=c))
+            applied[m.name] = cal.as_dict() | {
+                "provenance": cal.provenance,
+                "stiffness_before_N_per_m": [float(v) for v in m.stiffness],
+                "stiffness_after_N_per_m": [float(v) for v in k],
+            }
+        return replace(self.machine, mounts=tuple(mounts)), applied
 
     @property
     def mechanism_path(self) -> str | None:
@@ -253,28 +356,89 @@ def build(source: ModelSource) -> SupportSpec:
             )
             machine = replace(machine, gravity=f.analysis.gravity)
     else:
-        mounts = []
-        for i, m in enumerate(f.mounts or []):
-            with field_context(source, f"[[mounts]] #{i + 1} (name = {m.name!r})"):
-                mounts.append(
-                    Mount.with_orientation(
-                        m.name, m.position, m.stiffness, m.orientation, damping=m.damping, anchored=m.anchored
+        rows = f.mounts or []
+        where = {m.name: f"[[mounts]] #{i + 1} (name = {m.name!r})" for i, m in enumerate(rows)}
+        estimates = {
+            m.name: _placed(m, source, where[m.name])
+            for m in rows
+            if m.mount is not None or m.estimate is not None
+        }
+
+        stiffness = {m.name: np.asarray(m.stiffness or estimates[m.name].axes(), float) for m in rows}
+        # an estimate's loss factor η becomes the viscous c = η k / ω along each local axis, ω the
+        # machine's translational natural frequency along that axis, √(Σ k / m): ζ = η/2 there
+        omega = np.sqrt(np.clip(sum(stiffness.values()) / f.machine.mass, 0.0, None))
+
+        def mounts() -> tuple[Mount, ...]:
+            out = []
+            for m in rows:
+                e = estimates.get(m.name)
+                k = stiffness[m.name]
+                damping: Any = m.damping
+                if damping is None:
+                    eta = 0.0 if e is None else e.estimate.loss_factor
+                    damping = np.divide(eta * k, omega, out=np.zeros(3), where=omega > 0)
+                with field_context(source, where[m.name]):
+                    out.append(
+                        Mount.with_orientation(
+                            m.name, m.position, k, m.orientation, damping=damping, anchored=m.anchored
+                        )
                     )
-                )
-        tables = {m.name: f"[[mounts]] #{i + 1} (name = {m.name!r})" for i, m in enumerate(f.mounts or [])}
-        tables |= {"machine": "[machine]", f.model.name: "[[mounts]]"}
+            return tuple(out)
+
+        tables = where | {"machine": "[machine]", f.model.name: "[[mounts]]"}
         with field_context(source, "[machine]", tables):
             body = RigidBody(f.machine.mass, f.machine.center_of_mass, _inertia_tensor(f.machine))
-            machine = MountedMachine(
-                body,
-                tuple(mounts),
-                PLANAR if f.analysis.dofs == "planar" else SPATIAL,
-                f.analysis.gravity,
-                f.model.name,
-            )
+            dofs = PLANAR if f.analysis.dofs == "planar" else SPATIAL
+            machine = MountedMachine(body, mounts(), dofs, f.analysis.gravity, f.model.name)
     with field_context(source, "[analysis]"):
         if any(v <= 0 for v in f.analysis.stiffness_factors):
             raise ValueError(f"stiffness_factors {f.analysis.stiffness_factors} must all be positive")
         if any(v < 0 for v in f.analysis.damping_factors):
             raise ValueError(f"damping_factors {f.analysis.damping_factors} must not be negative")
-    return SupportSpec(f.model.name, machine, excitation, f.analysis)
+    return SupportSpec(f.model.name, machine, excitation, f.analysis, estimates=estimates if f.mounts else {})
+
+
+def _placed(row: MountTable, source: ModelSource, where: str) -> PlacedEstimate:
+    """The mount estimate a ``[[mounts]]`` row names (a mount file) or holds (an inline table)."""
+    from mechdyn.mounts.schema import build as build_mount
+
+    if row.mount is not None:
+        path = Path(source.path).parent / row.mount
+        if not path.is_file():
+            raise ModelFileError(
+                source.path,
+                f"{where} → mount",
+                f"{row.mount!r}: no such file next to this model ({path}); give the mount model file's "
+                "path relative to this file",
+                row.mount,
+            )
+        spec, msource = load_with_source(path)
+        if msource.model_type != "mount":
+            raise ModelFileError(
+                source.path,
+                f"{where} → mount",
+                f"{row.mount!r} is a {msource.model_type!r} model; give a mount model file",
+                row.mount,
+            )
+        origin = str(path)
+    else:
+        data = {"model": {"type": "mount", "name": row.name}, **(row.estimate or {})}
+        inline = ModelSource(source.path, source.text, source.sha256, data)
+        try:
+            spec = build_mount(inline)
+        except ModelFileError as exc:
+            at = f"{where} → estimate" + (f" → {exc.location}" if exc.location else "")
+            raise ModelFileError(source.path, at, exc.detail, exc.value) from None
+        origin = f"{source.path}: {where}"
+    estimate = spec.mount
+    if row.lateral_stiffness is None and estimate.lateral_stiffness is None:
+        raise ModelFileError(
+            source.path,
+            f"{where} → lateral_stiffness",
+            f"the {spec.kind} estimate gives no stiffness across its axis; give lateral_stiffness, "
+            'e.g. lateral_stiffness = "2e7 N/m"',
+        )
+    return PlacedEstimate(
+        estimate, row.lateral_stiffness, row.calibration == "stored", row.damping is None, origin
+    )
