@@ -20,7 +20,20 @@ if TYPE_CHECKING:
     import pint
 
 # ``Q_`` and ``ureg`` come from the module ``__getattr__`` below
-__all__ = ["Q_", "UnitError", "convert", "key_unit", "si_field", "to_si", "ureg"]  # noqa: F822
+__all__ = [  # noqa: F822
+    "Q_",
+    "STANDARD_GRAVITY",
+    "UnitError",
+    "convert",
+    "key_unit",
+    "show",
+    "si_field",
+    "to_si",
+    "ureg",
+]
+
+STANDARD_GRAVITY = 9.80665
+"""g_n, m/s²: exact by definition (3rd CGPM, 1901); the default gravity and the mass of a weight."""
 
 
 @functools.cache
@@ -292,3 +305,19 @@ def key_unit(key: str) -> str | None:
     Dimensionless ratios end in ``_relative`` or ``_ratio`` and give ``"1"``.
     """
     return next((u for suffix, u in _KEY_UNITS if key.endswith(suffix)), None)
+
+
+def show(value: float, unit: str, display: str, spec: str = "g") -> str:
+    """An SI value as text in a display unit, for messages and titles: ``show(0.0125, "m", "mm")``
+    gives ``"12.5 mm"``.
+
+    Parameters
+    ----------
+    value : float
+        Magnitude in ``unit``.
+    unit, display : str
+        Its unit and the unit to show it in.
+    spec : str
+        Format specification of the number (``"g"``, ``".3f"``).
+    """
+    return f"{convert(value, unit, display):{spec}} {display}"

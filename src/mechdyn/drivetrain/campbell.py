@@ -81,7 +81,7 @@ class CampbellResult(Result):
                             "kind": line.kind,
                             "mode": m + 1,
                             "frequency_hz": float(f),
-                            "speed_rpm": float(speed * 60.0 / (2.0 * np.pi)),
+                            "speed_rpm": float(convert(speed, "rad/s", "rpm")),
                         }
                     )
         return sorted(out, key=lambda c: c["speed_rpm"])

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.plotting import new_axes
+from mechdyn.units import convert
 
 if TYPE_CHECKING:
     from mechdyn.drivetrain.campbell import CampbellResult
@@ -49,7 +50,7 @@ def plot_campbell(result: CampbellResult, ax: Any = None, max_frequency_hz: floa
     """Excitation lines against reference speed (rpm), natural frequencies as horizontal lines."""
     ax = new_axes(ax, figsize=(9.5, 4.8))
     lo, hi = result.speed_range
-    rpm = np.linspace(lo, hi, 2) * 60 / (2 * np.pi)
+    rpm = convert(np.linspace(lo, hi, 2), "rad/s", "rpm")
     omega = np.linspace(lo, hi, 2)
     freqs = result.modal.frequencies_hz
     # up to the highest excitation, and at least past the lowest natural frequency

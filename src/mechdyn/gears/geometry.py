@@ -25,6 +25,7 @@ import numpy as np
 from mechdyn.errors import ModelError
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.tooth import TruncatedTooth
+from mechdyn.units import show
 from mechdyn.units import si_field as _q
 
 __all__ = ["SpurGear", "inverse_involute", "involute"]
@@ -185,8 +186,8 @@ class SpurGear:
         r = _q(self.name, "load_radius", load_radius, "m")
         if not self.form_radius < r <= self.tip_radius * (1 + 1e-12):
             raise ModelError(
-                f"load radius {r * 1e3:g} mm is off the flank ({self.form_radius * 1e3:g} to "
-                f"{self.tip_radius * 1e3:g} mm)",
+                f"load radius {show(r, 'm', 'mm')} is off the flank ({show(self.form_radius, 'm', 'mm')} to "
+                f"{show(self.tip_radius, 'm', 'mm')})",
                 element=self.name,
                 field="load_radius",
             )

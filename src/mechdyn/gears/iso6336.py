@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from mechdyn.errors import ModelError
 from mechdyn.gears.mesh import GearPair
+from mechdyn.units import convert
 
 __all__ = ["IsoStiffness", "iso_stiffness"]
 
@@ -54,7 +55,7 @@ class IsoStiffness:
 
     def mesh_stiffness(self, face_width: float) -> float:
         """c_γα b in N/m for a face width in m."""
-        return self.c_gamma_alpha * 1e9 * face_width
+        return convert(self.c_gamma_alpha, "N/(mm*um)", "N/m^2") * face_width
 
 
 def iso_stiffness(

@@ -22,6 +22,7 @@ from mechdyn.errors import ModelError
 from mechdyn.gears.geometry import SpurGear, inverse_involute, involute
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.tooth import TruncatedTooth, hertz_compliance
+from mechdyn.units import convert, show
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -60,8 +61,8 @@ class GearPair:
             p.pressure_angle, g.pressure_angle, rel_tol=1e-9
         ):
             raise ModelError(
-                f"pinion (m {p.module * 1e3:g} mm, α {math.degrees(p.pressure_angle):g}°) and gear "
-                f"(m {g.module * 1e3:g} mm, α {math.degrees(g.pressure_angle):g}°) must share module "
+                f"pinion (m {show(p.module, 'm', 'mm')}, α {math.degrees(p.pressure_angle):g}°) and gear "
+                f"(m {show(g.module, 'm', 'mm')}, α {math.degrees(g.pressure_angle):g}°) must share module "
                 "and pressure angle",
                 element=g.name,
                 field="module",
@@ -89,8 +90,8 @@ class GearPair:
             r = math.hypot(gear.base_radius, s)
             if r < gear.form_radius * (1 - 1e-9) or s < 0:
                 raise ModelError(
-                    f"contact reaches radius {r * 1e3:.3f} mm, below the start of the involute "
-                    f"({gear.form_radius * 1e3:.3f} mm): interference; use a profile shift",
+                    f"contact reaches radius {show(r, 'm', 'mm', '.3f')}, below the start of the involute "
+                    f"({show(gear.form_radius, 'm', 'mm', '.3f')}): interference; use a profile shift",
                     element=gear.name,
                     field="profile_shift",
                 )
@@ -252,12 +253,14 @@ class MeshCycle:
 
         ax = new_axes(ax)
         cycle = self.position / self.pair.pinion.base_pitch
-        ax.plot(cycle, self.stiffness / 1e9, label="mesh stiffness")
-        ax.axhline(self.mean / 1e9, color="0.5", ls="--", label=f"mean {self.mean:.4g} N/m")
+        ax.plot(cycle, convert(self.stiffness, "N/m", "N/µm"), label="mesh stiffness")
+        mean = show(self.mean, "N/m", "N/µm", ".4g")
+        ax.axhline(convert(self.mean, "N/m", "N/µm"), color="0.5", ls="--", label=f"mean {mean}")
         ax.set_xlabel("mesh cycle (contact travel / base pitch)")
-        ax.set_ylabel("stiffness along the line of action (10⁹ N/m)")
+        ax.set_ylabel("stiffness along the line of action (N/µm)")
         ax.set_title(
-            f"z {self.pair.pinion.teeth}/{self.pair.gear.teeth}, m {self.pair.pinion.module * 1e3:g} mm, "
+            f"z {self.pair.pinion.teeth}/{self.pair.gear.teeth}, "
+            f"m {show(self.pair.pinion.module, 'm', 'mm')}, "
             f"ε_α = {self.pair.contact_ratio:.3f}"
         )
         ax.legend(fontsize="small")

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.units import si_field
+from mechdyn.units import show, si_field
 
 __all__ = ["GROUND", "Body", "Driver", "GearJoint", "Mechanism", "Prismatic", "ProcessForce", "Revolute"]
 
@@ -416,8 +416,8 @@ class Mechanism:
                 if gap > 1e-4 * float(ref.max()):  # a few µm on gears of centimetres
                     warnings.warn(
                         f"gear {body.name!r} meshes in {ref_name!r} and {name!r}, which give it pitch curves "
-                        f"up to {gap * 1e3:.3g} mm apart: one gear cannot be both; adjust the installation "
-                        "angles (orientation) or the curves",
+                        f"up to {show(gap, 'm', 'mm', '.3g')} apart: one gear cannot be both; adjust the "
+                        "installation angles (orientation) or the curves",
                         ModelWarning,
                         stacklevel=3,
                     )

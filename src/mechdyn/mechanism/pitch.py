@@ -26,6 +26,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from mechdyn.errors import ModelError
+from mechdyn.units import show
 
 __all__ = [
     "PitchCurve",
@@ -236,8 +237,9 @@ def pitch_law(
     k = float(np.mean(h))
     if not curve.circular and abs(k - 1) > closing_tolerance:
         raise ModelError(
-            f"the mate does not close over one turn at centre distance {centre_distance * 1e3:.6g} mm "
-            f"(mean ratio {k:.6g}); it closes at {closing_centre_distance(curve) * 1e3:.6g} mm",
+            "the mate does not close over one turn at centre distance "
+            f"{show(centre_distance, 'm', 'mm', '.6g')} "
+            f"(mean ratio {k:.6g}); it closes at {show(closing_centre_distance(curve), 'm', 'mm', '.6g')}",
             element=curve.name,
             field="centre_distance",
         )

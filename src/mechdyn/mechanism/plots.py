@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.plotting import new_axes
+from mechdyn.units import convert
 
 if TYPE_CHECKING:
     from mechdyn.mechanism.dynamics import DynamicsResult
@@ -44,7 +45,8 @@ def plot_output_motion(result: DynamicsResult, ax: Any = None) -> Any:
         ("displacement (mm)", "velocity (m/s)", "acceleration (m/s²)"),
         strict=True,
     ):
-        y = frame[col].to_numpy() * (1e3 if col == "output_position_m" else 1.0)
+        y = frame[col].to_numpy()
+        y = convert(y, "m", "mm") if col == "output_position_m" else y
         a.plot(frame["angle_deg"], y)
         a.set_ylabel(label)
         a.grid(alpha=0.3)
@@ -62,7 +64,8 @@ def plot_inertia_forces(result: DynamicsResult, ax: Any = None) -> Any:
     u = np.array([np.cos(j.axis), np.sin(j.axis)]) if j is not None else None
     label = "along the output axis" if u is not None else "magnitude"
     total = result.inertia_force @ u if u is not None else np.linalg.norm(result.inertia_force, axis=1)
-    scale, unit = (1e3, "kN") if np.abs(result.inertia_forces).max() >= 1e3 else (1.0, "N")
+    unit = "kN" if np.abs(result.inertia_forces).max() >= 1e3 else "N"
+    scale = 1.0 / convert(1.0, "N", unit)
     for i, b in enumerate(result.mechanism.bodies):
         f = result.inertia_forces[:, i, :]
         ax.plot(deg, (f @ u if u is not None else np.linalg.norm(f, axis=1)) / scale, lw=1, label=b.name)
@@ -181,12 +184,14 @@ def plot_trajectory(
     for p in points:
         body = next(b.name for b in m.bodies if p in b.points)
         xy = k.point(body, p)[0][order]
-        axes[0, 0].plot(1e3 * xy[:, 0], 1e3 * xy[:, 1], label=p)
+        mm = convert(xy, "m", "mm")
+        axes[0, 0].plot(mm[:, 0], mm[:, 1], label=p)
         if field_velocity is not None:
             t = k.time[order] - k.time[order][0]
             v = np.asarray(field_velocity)
             path = np.concatenate([xy + np.outer(t + c * T, v) for c in range(2)])
-            axes[0, 1].plot(1e3 * path[:, 0], 1e3 * path[:, 1], label=p)
+            path = convert(path, "m", "mm")
+            axes[0, 1].plot(path[:, 0], path[:, 1], label=p)
     axes[0, 0].set_title("relative to the machine")
     if field_velocity is not None:
         axes[0, 1].set_title(f"over the field at {np.hypot(*field_velocity):g} m/s")

@@ -30,7 +30,7 @@ from typing import Any
 
 from mechdyn.errors import ModelError
 from mechdyn.mounts.materials import Material
-from mechdyn.units import si_field
+from mechdyn.units import show, si_field
 
 __all__ = ["BoltedJoint", "Layer", "frustum_stiffness", "vdi2230_cone_angle"]
 
@@ -150,8 +150,8 @@ class BoltedJoint:
             v = self._length(f, v)
             if v <= hole:
                 raise ModelError(
-                    f"{v * 1e3:g} mm is not larger than the hole ({hole * 1e3:g} mm): a washer or head "
-                    "must be wider than the bolt to bear on the members",
+                    f"{show(v, 'm', 'mm')} is not larger than the hole ({show(hole, 'm', 'mm')}): a "
+                    "washer or head must be wider than the bolt to bear on the members",
                     element=self.name,
                     field=f,
                 )

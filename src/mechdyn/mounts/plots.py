@@ -9,28 +9,51 @@ from typing import Any
 import numpy as np
 
 from mechdyn.plotting import new_axes
+from mechdyn.units import convert, show
 
 __all__ = ["plot_calibration", "plot_contact_pressure", "plot_convergence", "plot_frf_fit", "plot_pad_curve"]
+
+
+# the display units of these plots, converted by the package's one unit registry
+def mm(v: Any) -> Any:
+    return convert(v, "m", "mm")
+
+
+def kN(v: Any) -> Any:
+    return convert(v, "N", "kN")
+
+
+def kN_per_mm(v: Any) -> Any:
+    return convert(v, "N/m", "kN/mm")
+
+
+def MPa(v: Any) -> Any:
+    return convert(v, "Pa", "MPa")
+
+
+def um_per_N(v: Any) -> Any:
+    return convert(v, "m/N", "µm/N")
 
 
 def plot_pad_curve(pad: Any, ax: Any = None) -> Any:
     """Compressive force against deflection: linear and load-dependent, with the linear limit."""
     ax = new_axes(ax)
     d = np.linspace(0.0, 0.3 * pad.thickness, 100)
-    ax.plot(1e3 * d, 1e-3 * pad.compression_stiffness * d, label="linear K_c")
-    ax.plot(1e3 * d, 1e-3 * pad.compression_force(d), label="load-dependent (neo-Hookean, E_c)")
+    ax.plot(mm(d), kN(pad.compression_stiffness * d), label="linear K_c")
+    ax.plot(mm(d), kN(pad.compression_force(d)), label="load-dependent (neo-Hookean, E_c)")
     lim = 0.10 * pad.thickness
-    ax.axvline(1e3 * lim, color="0.5", ls=":", lw=1)
+    ax.axvline(mm(lim), color="0.5", ls=":", lw=1)
     ax.annotate(
         "linear estimate holds to here (10 % strain)",
-        (1e3 * lim, 0.95),
+        (mm(lim), 0.95),
         xycoords=("data", "axes fraction"),
         fontsize="small",
         ha="right",
     )
     ax.set_xlabel("deflection (mm)")
     ax.set_ylabel("compressive force (kN)")
-    ax.set_title(f"{pad.name}: S = {pad.shape_factor:.2f}, K_c = {pad.compression_stiffness / 1e6:.3g} kN/mm")
+    kc = show(pad.compression_stiffness, "N/m", "kN/mm", ".3g")
+    ax.set_title(f"{pad.name}: S = {pad.shape_factor:.2f}, K_c = {kc}")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return ax
@@ -40,10 +63,10 @@ def plot_convergence(levels: list[Any], estimate: float | None = None, ax: Any =
     """FE stiffness against the number of unknowns (mesh refinement)."""
     ax = new_axes(ax, figsize=(6.0, 4.0))
     n = [r.dofs for r in levels]
-    k = [r.stiffness / 1e6 for r in levels]
+    k = [kN_per_mm(r.stiffness) for r in levels]
     ax.semilogx(n, k, "o-", label="finite elements")
     if estimate is not None:
-        ax.axhline(estimate / 1e6, color="C3", ls="--", label="estimate from the drawing")
+        ax.axhline(kN_per_mm(estimate), color="C3", ls="--", label="estimate from the drawing")
     ax.set_xlabel("unknowns")
     ax.set_ylabel("stiffness (kN/mm)")
     ax.set_title("mesh convergence")
@@ -55,15 +78,16 @@ def plot_convergence(levels: list[Any], estimate: float | None = None, ax: Any =
 def plot_contact_pressure(anchor: Any, preloads: list[float], threshold: float | None, ax: Any = None) -> Any:
     """Contact pressure between base plate and concrete against radius, per preload."""
     ax = new_axes(ax)
-    r = 1e3 * anchor.contact_radius
+    r = mm(anchor.contact_radius)
     for F in preloads:
-        ax.plot(r, anchor.pressure(F) / 1e6, label=f"preload {F / 1e3:g} kN")
+        ax.plot(r, MPa(anchor.pressure(F)), label=f"preload {show(F, 'N', 'kN')}")
     if threshold is not None:
-        ax.axhline(threshold / 1e6, color="k", ls="--", lw=1, label=f"threshold {threshold / 1e6:g} MPa")
-    ax.axvline(1e3 * anchor.lift_off_radius, color="0.5", ls=":", lw=1)
+        label = f"threshold {show(threshold, 'Pa', 'MPa')}"
+        ax.axhline(MPa(threshold), color="k", ls="--", lw=1, label=label)
+    ax.axvline(mm(anchor.lift_off_radius), color="0.5", ls=":", lw=1)
     ax.annotate(
         "plate lifts off",
-        (1e3 * anchor.lift_off_radius, 0.9),
+        (mm(anchor.lift_off_radius), 0.9),
         xycoords=("data", "axes fraction"),
         fontsize="small",
     )
@@ -79,8 +103,8 @@ def plot_calibration(joint: Any, target: float, fitted: float, ax: Any = None) -
     """Member stiffness of the pressure-cone model against the cone half-angle, and the fit."""
     ax = new_axes(ax, figsize=(6.0, 4.0))
     a = np.radians(np.linspace(10, 60, 101))
-    ax.plot(np.degrees(a), [joint.member_stiffness(x) / 1e6 for x in a], label="pressure cones")
-    ax.axhline(target / 1e6, color="k", ls="--", lw=1, label="reference")
+    ax.plot(np.degrees(a), [kN_per_mm(joint.member_stiffness(x)) for x in a], label="pressure cones")
+    ax.axhline(kN_per_mm(target), color="k", ls="--", lw=1, label="reference")
     ax.axvline(math.degrees(fitted), color="C3", ls=":", label=f"fitted α = {math.degrees(fitted):.1f}°")
     ax.set_xlabel("cone half-angle α (deg)")
     ax.set_ylabel("member stiffness (kN/mm)")
@@ -93,12 +117,12 @@ def plot_calibration(joint: Any, target: float, fitted: float, ax: Any = None) -
 def plot_frf_fit(frequency: np.ndarray, measured: np.ndarray, fit: Any, ax: Any = None) -> Any:
     """Measured receptance (m/N) magnitude against the fitted single-degree-of-freedom model."""
     ax = new_axes(ax)
-    ax.semilogy(frequency, np.abs(measured) * 1e6, ".", label="measured")
+    ax.semilogy(frequency, um_per_N(np.abs(measured)), ".", label="measured")
     f = np.linspace(frequency.min(), frequency.max(), 400)
     ax.semilogy(
         f,
-        np.abs(fit.receptance(f)) * 1e6,
-        label=f"fit: k {fit.stiffness / 1e6:.3g} kN/mm, ζ {fit.damping_ratio:.3f}",
+        um_per_N(np.abs(fit.receptance(f))),
+        label=f"fit: k {show(fit.stiffness, 'N/m', 'kN/mm', '.3g')}, ζ {fit.damping_ratio:.3f}",
     )
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("receptance |x/F| (µm/N)")

@@ -111,12 +111,12 @@ class FETable(FileModel):
 
 def _weight(value: Any) -> float:
     """A weight in newtons, or a mass taken under standard gravity."""
-    from mechdyn.units import UnitError, to_si
+    from mechdyn.units import STANDARD_GRAVITY, UnitError, to_si
 
     try:
         return to_si(value, "N")
     except UnitError:
-        return to_si(value, "kg") * 9.80665
+        return to_si(value, "kg") * STANDARD_GRAVITY
 
 
 class LoadTable(FileModel):

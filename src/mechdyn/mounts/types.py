@@ -25,11 +25,11 @@ from typing import Any, Protocol, runtime_checkable
 from mechdyn.errors import ModelError
 from mechdyn.mounts.materials import Material
 from mechdyn.mounts.pad import ElastomerPad
-from mechdyn.units import si_field
+from mechdyn.units import STANDARD_GRAVITY, si_field
 
 __all__ = ["DampingPad", "LevellingWedge", "MountEstimate", "ScrewFoot", "SpringIsolator", "isolation"]
 
-G0 = 9.80665
+G0 = STANDARD_GRAVITY
 
 
 def _positive(owner: str, field: str, value: Any, unit: str) -> float:

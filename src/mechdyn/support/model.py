@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.units import si_field
+from mechdyn.units import STANDARD_GRAVITY, si_field
 
 __all__ = ["DOFS", "PLANAR", "SPATIAL", "Mount", "MountedMachine", "RigidBody"]
 
@@ -201,7 +201,7 @@ class MountedMachine:
     body: RigidBody
     mounts: tuple[Mount, ...]
     dofs: tuple[str, ...] = SPATIAL
-    gravity: float = 9.80665
+    gravity: float = STANDARD_GRAVITY
     name: str = "machine"
 
     def __post_init__(self) -> None:

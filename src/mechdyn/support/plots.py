@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.plotting import new_axes
+from mechdyn.units import convert
 
 if TYPE_CHECKING:
     from mechdyn.support.modes import SupportModes
@@ -24,7 +25,6 @@ __all__ = [
 
 
 def _force_scale(values: np.ndarray, force_unit: str | None) -> tuple[float, str]:
-    from mechdyn.units import convert
 
     if force_unit is None:
         force_unit = "kN" if np.abs(values).max(initial=0.0) >= 1e3 else "N"
@@ -42,12 +42,12 @@ def _abscissa(r: SupportResponse) -> tuple[np.ndarray, str]:
 def plot_displacement(startup: SupportResponse, steady: SupportResponse, ax: Any = None) -> Any:
     """Bed displacement z(t): the start-up from rest and the steady state repeated over it, mm."""
     ax = new_axes(ax, figsize=(8.0, 4.0))
-    ax.plot(startup.time, 1e3 * startup.vertical_displacement, lw=1, label="start-up from rest")
+    ax.plot(startup.time, convert(startup.vertical_displacement, "m", "mm"), lw=1, label="start-up from rest")
     T = steady.load.period
     cycles = round(startup.time[-1] / T)
     t = np.concatenate([steady.time + k * T for k in range(cycles)])
     z = np.tile(steady.vertical_displacement, cycles)
-    ax.plot(t, 1e3 * z, lw=1, ls="--", color="k", label="steady state (frequency domain)")
+    ax.plot(t, convert(z, "m", "mm"), lw=1, ls="--", color="k", label="steady state (frequency domain)")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("bed displacement z (mm)")
     ax.set_title(f"{steady.machine.name}: bed displacement")

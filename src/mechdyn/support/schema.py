@@ -34,6 +34,7 @@ from mechdyn.io.fields import (
 from mechdyn.io.modelfile import ModelSource, field_context, load_with_source, validate
 from mechdyn.support.excitation import PeriodicLoad, Placement
 from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
+from mechdyn.units import STANDARD_GRAVITY
 
 __all__ = ["MechanismExcitation", "PlacedEstimate", "SupportFile", "SupportSpec", "build"]
 
@@ -142,7 +143,7 @@ class AnalysisTable(FileModel):
     start_up_method: Literal["DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "duhamel"] = "DOP853"
     stiffness_factors: tuple[float, ...] = (1.0, 0.9, 0.8, 0.7)
     damping_factors: tuple[float, ...] = (1.0, 0.9, 0.8, 0.7)
-    gravity: quantity("m/s^2") = 9.80665  # type: ignore[valid-type]
+    gravity: quantity("m/s^2") = STANDARD_GRAVITY  # type: ignore[valid-type]
 
 
 class SupportFile(FileModel):
