@@ -312,6 +312,7 @@ def test_readme_documents_every_json_key(db, capsys):
         ["gear", tooth],
         ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "36"],
         ["support", str(EXAMPLES / "press_on_mounts.toml"), "--cycles", "2"],
+        ["support", str(EXAMPLES / "press_on_pads.toml"), "--cycles", "1"],
         *(["mount", str(p)] for p in MOUNT_EXAMPLES),
     ):
         keys = set(run_json(capsys, *argv))

@@ -287,3 +287,33 @@ def test_loading_a_support_file_runs_no_analysis(monkeypatch):
     assert len(calls) == 1
     loaded.settings.dynamics, loaded.settings.load  # computed once
     assert len(calls) == 1
+
+
+def test_the_parts_of_the_support_analysis_and_the_batch_follow_the_protocol():
+    # what the Python API returns outside the registry: support modes and responses, the batch
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mechdyn.mechanism import cycle
+    from mechdyn.support import modes, periodic_response, startup_response
+
+    loaded = _loaded("support")
+    machine, load = loaded.model, loaded.settings.load
+    mech = mechdyn.load(EXAMPLES / "fourbar.toml").model
+    pts = {"B": np.asarray(mech.points["B"]) + np.array([[0.0, 0.0], [0.002, 0.0], [0.0, 0.003]])}
+    batch = cycle(mech, 36, points=pts)
+    for r in (modes(machine), periodic_response(machine, load), startup_response(machine, load, 1), batch):
+        assert isinstance(r, Result)
+        frame = r.to_frame()
+        assert isinstance(frame, pd.DataFrame) and len(frame)
+        assert r.summary()
+        for name, make in r.plots().items():
+            ax = make()
+            assert ax.figure.axes and name.endswith(".png")
+            plt.close("all")
+    # the batch's table: one row per variant, each equal to that variant's own summary
+    frame = batch.to_frame()
+    assert list(frame["variant"]) == [0, 1, 2] and frame["assembled"].all()
+    np.testing.assert_allclose(frame["driving_torque_peak_Nm"], batch.summary()["driving_torque_peak_Nm"])

@@ -28,6 +28,7 @@ import numpy as np
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.kinematics import AssemblyError
 from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Revolute
+from mechdyn.results import Result
 
 __all__ = ["CycleBatch", "NotDecomposable", "cycle", "plan"]
 
@@ -128,7 +129,7 @@ def plan(mechanism: Mechanism) -> list[Step]:
 
 
 @dataclass(frozen=True)
-class CycleBatch:
+class CycleBatch(Result):
     """Kinematics and frame loads of many design variants over one revolution.
 
     Arrays have shape (V, N, ...) for V variants (1 when none were given) and N crank angles.
@@ -210,6 +211,14 @@ class CycleBatch:
         px, py = (float(v) for v in about)
         F = self._force
         return self.frame_moment - (px * F.imag - py * F.real)
+
+    def to_frame(self) -> Any:
+        """One row per variant: whether it assembles and its :meth:`summary` figures (units in the names)."""
+        import pandas as pd
+
+        return pd.DataFrame(
+            {"variant": np.arange(self.angle.shape[0]), "assembled": self.assembled} | self.summary()
+        )
 
     def summary(self) -> dict[str, np.ndarray]:
         """Per-variant stroke, dead centres, inertia-force extremes and torque (arrays over V)."""

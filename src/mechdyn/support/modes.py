@@ -10,9 +10,11 @@ point exists, as for most spatial layouts)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from mechdyn.results import Result
 from mechdyn.support.model import MountedMachine, _skew
 from mechdyn.vibration.eigen import solve_eigen
 from mechdyn.vibration.modes import Modes
@@ -21,7 +23,7 @@ __all__ = ["SupportModes", "elastic_centre", "modes"]
 
 
 @dataclass(frozen=True)
-class SupportModes(Modes):
+class SupportModes(Result, Modes):
     """Undamped modes of a machine on its mounts (the shared :class:`~mechdyn.vibration.Modes`).
 
     Attributes
@@ -45,6 +47,33 @@ class SupportModes(Modes):
     def coordinate_mass(self) -> np.ndarray:
         """The rigid body's mass matrix on the kept coordinates (kg, kg·m, kg·m²)."""
         return self.machine.mass_matrix
+
+    def summary(self) -> dict[str, Any]:
+        """Natural frequencies (Hz), the dominant coordinate and the decoupling of each mode."""
+        return {
+            "natural_frequencies_hz": [float(f) for f in self.frequencies_hz],
+            "mode_dominant_coordinate": self.dominant,
+            "mode_decoupling": [float(v) for v in self.decoupling],
+        }
+
+    def to_frame(self) -> Any:
+        """One row per mode: frequency, dominant coordinate, kinetic-energy shares in per cent."""
+        import pandas as pd
+
+        return pd.DataFrame(self.table())
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        """Frequencies (Hz) and the mass-normalised shapes (m, rad per unit modal amplitude)."""
+        return {"frequencies_hz": (self.frequencies_hz, "Hz"), "mode_shapes": (self.shapes, "m | rad")}
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """Kinetic-energy shares per mode; with several mounts the mode shapes on the machine."""
+        from mechdyn.support import plots as sp
+
+        out = {"modes.png": lambda: sp.plot_modes(self)}
+        if len(self.machine.mounts) > 1:
+            out["mode_shapes.png"] = lambda: sp.plot_mode_shapes(self)
+        return out
 
     def table(self) -> list[dict[str, object]]:
         """One row per mode: frequency, dominant coordinate and the energy shares in per cent."""

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.errors import ModelError
+from mechdyn.results import Result
 from mechdyn.support.excitation import PeriodicLoad, series, series_on_grid
 from mechdyn.support.model import DOFS, MountedMachine
 from mechdyn.support.modes import modes
@@ -31,7 +32,7 @@ __all__ = ["SupportResponse", "harmonic_response", "influence", "periodic_respon
 
 
 @dataclass(frozen=True)
-class SupportResponse:
+class SupportResponse(Result):
     """Motion of the machine and the forces through its mounts, over time.
 
     Attributes
@@ -135,6 +136,19 @@ class SupportResponse:
                 for i, mt in enumerate(self.machine.mounts)
             },
         }
+        return out
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """The exciting and transmitted forces over time, F_T against F, and (mounts) each mount's force."""
+        from mechdyn.support import plots as sp
+
+        fu = display_units.get("force_unit")
+        out = {
+            "forces.png": lambda: sp.plot_forces(self, force_unit=fu),
+            "transmitted_vs_exciting.png": lambda: sp.plot_transmitted_vs_exciting(self, force_unit=fu),
+        }
+        if len(self.machine.mounts) > 1:
+            out["mount_forces.png"] = lambda: sp.plot_mount_forces(self, force_unit=fu)
         return out
 
     def to_frame(self):
