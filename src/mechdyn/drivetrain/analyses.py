@@ -36,20 +36,26 @@ def _modal(
         raise MechdynError("give --rigid-gears or --compare-rigid, not both")
     if compare_rigid:
         return compare(loaded.model)
-    n = len(loaded.model.disks)
-    if modes is None and n > _ALL_MODES_UP_TO:
-        # all modes of a 10⁴-disk chain are 10⁸ numbers (GBs); nobody reads past the lowest few
-        import warnings
-
-        from mechdyn.errors import ModelWarning
-
-        modes = _DEFAULT_MODES
-        warnings.warn(
-            f"{n} disks: computing the lowest {modes} flexible modes; pass --modes N for another number",
-            ModelWarning,
-            stacklevel=2,
-        )
+    modes = _default_modes(loaded.model, modes, "--modes N")
     return modal(loaded.model, rigid_gears=rigid_gears, n_modes=modes, solver=solver)  # type: ignore[arg-type]
+
+
+def _default_modes(model: Any, modes: int | None, how: str) -> int | None:
+    """All modes of a small model; the lowest _DEFAULT_MODES of a large one, said on stderr."""
+    n = len(model.disks)
+    if modes is not None or n <= _ALL_MODES_UP_TO:
+        return modes
+    # all modes of a 10⁴-disk chain are 10⁸ numbers (GBs); nobody reads past the lowest few
+    import warnings
+
+    from mechdyn.errors import ModelWarning
+
+    warnings.warn(
+        f"{n} disks: computing the lowest {_DEFAULT_MODES} flexible modes; {how} for another number",
+        ModelWarning,
+        stacklevel=3,
+    )
+    return _DEFAULT_MODES
 
 
 # a model with more disks than this gets its lowest _DEFAULT_MODES modes unless --modes says otherwise
@@ -84,6 +90,11 @@ def _campbell(
         )
     kw = {"shaft_orders": camp.shaft_orders, "mesh_orders": camp.mesh_orders} if camp else {}
     ref = reference or (camp.reference_disk if camp else None)
+    n_modes = _default_modes(model, None, "call mechdyn.drivetrain.campbell with modes=")
+    if n_modes is not None:
+        from mechdyn.drivetrain.modal import modal
+
+        kw["modes"] = modal(model, n_modes=n_modes, rigid_gears=rigid_gears)
     return campbell(model, speed, reference=ref, rigid_gears=rigid_gears, **kw)
 
 
