@@ -252,6 +252,10 @@ class SupportSpec:
         machine : MountedMachine
         applied : dict
             For each calibrated mount: the calibration, its provenance, the stiffness before and after.
+
+        Notes
+        -----
+        A damping that came from the loss factor scales with the stiffness (c = η k / ω, ω kept).
         """
         wanted = {n: e for n, e in self.estimates.items() if e.calibrate}
         if not wanted:
@@ -350,6 +354,7 @@ def build(source: ModelSource) -> SupportSpec:
     """Builder for ``[model] type = "support"``."""
     f = validate(SupportFile, source)
     excitation = _excitation(f, source)
+    estimates: dict[str, PlacedEstimate] = {}
     if f.support is not None:
         with field_context(source, "[support]"):
             machine = MountedMachine.single_dof(
@@ -357,47 +362,50 @@ def build(source: ModelSource) -> SupportSpec:
             )
             machine = replace(machine, gravity=f.analysis.gravity)
     else:
-        rows = f.mounts or []
-        where = {m.name: f"[[mounts]] #{i + 1} (name = {m.name!r})" for i, m in enumerate(rows)}
-        estimates = {
-            m.name: _placed(m, source, where[m.name])
-            for m in rows
-            if m.mount is not None or m.estimate is not None
-        }
-
-        stiffness = {m.name: np.asarray(m.stiffness or estimates[m.name].axes(), float) for m in rows}
-        # an estimate's loss factor η becomes the viscous c = η k / ω along each local axis, ω the
-        # machine's translational natural frequency along that axis, √(Σ k / m): ζ = η/2 there
-        omega = np.sqrt(np.clip(sum(stiffness.values()) / f.machine.mass, 0.0, None))
-
-        def mounts() -> tuple[Mount, ...]:
-            out = []
-            for m in rows:
-                e = estimates.get(m.name)
-                k = stiffness[m.name]
-                damping: Any = m.damping
-                if damping is None:
-                    eta = 0.0 if e is None else e.estimate.loss_factor
-                    damping = np.divide(eta * k, omega, out=np.zeros(3), where=omega > 0)
-                with field_context(source, where[m.name]):
-                    out.append(
-                        Mount.with_orientation(
-                            m.name, m.position, k, m.orientation, damping=damping, anchored=m.anchored
-                        )
-                    )
-            return tuple(out)
-
-        tables = where | {"machine": "[machine]", f.model.name: "[[mounts]]"}
-        with field_context(source, "[machine]", tables):
-            body = RigidBody(f.machine.mass, f.machine.center_of_mass, _inertia_tensor(f.machine))
-            dofs = PLANAR if f.analysis.dofs == "planar" else SPATIAL
-            machine = MountedMachine(body, mounts(), dofs, f.analysis.gravity, f.model.name)
+        machine, estimates = _on_mounts(f, source)
     with field_context(source, "[analysis]"):
         if any(v <= 0 for v in f.analysis.stiffness_factors):
             raise ValueError(f"stiffness_factors {f.analysis.stiffness_factors} must all be positive")
         if any(v < 0 for v in f.analysis.damping_factors):
             raise ValueError(f"damping_factors {f.analysis.damping_factors} must not be negative")
-    return SupportSpec(f.model.name, machine, excitation, f.analysis, estimates=estimates if f.mounts else {})
+    return SupportSpec(f.model.name, machine, excitation, f.analysis, estimates=estimates)
+
+
+def _on_mounts(f: SupportFile, source: ModelSource) -> tuple[MountedMachine, dict[str, PlacedEstimate]]:
+    """The rigid machine on its ``[[mounts]]``, and the mounts estimated from their drawings.
+
+    A row without ``damping`` whose stiffness comes from an estimate gets c = η k / ω along each
+    local axis, η the estimate's loss factor and ω = √(Σ k / m) the machine's translational natural
+    frequency along that axis (the mounts' local axes summed as if aligned with the machine's): the
+    viscous equivalent ζ = η/2 at that resonance.
+    """
+    rows = f.mounts or []
+    where = {m.name: f"[[mounts]] #{i + 1} (name = {m.name!r})" for i, m in enumerate(rows)}
+    drawn = [m for m in rows if m.mount is not None or m.estimate is not None]
+    estimates = {m.name: _placed(m, source, where[m.name]) for m in drawn}
+    stiffness = {
+        m.name: np.asarray(m.stiffness if m.stiffness is not None else estimates[m.name].axes(), float)
+        for m in rows
+    }
+    omega = np.sqrt(np.clip(sum(stiffness.values()) / f.machine.mass, 0.0, None))
+    mounts = []
+    for m in rows:
+        e, k = estimates.get(m.name), stiffness[m.name]
+        damping: Any = m.damping
+        if damping is None:
+            eta = 0.0 if e is None else e.estimate.loss_factor
+            damping = np.divide(eta * k, omega, out=np.zeros(3), where=omega > 0)
+        with field_context(source, where[m.name]):
+            mount = Mount.with_orientation(
+                m.name, m.position, k, m.orientation, damping=damping, anchored=m.anchored
+            )
+        mounts.append(mount)
+    tables = where | {"machine": "[machine]", f.model.name: "[[mounts]]"}
+    with field_context(source, "[machine]", tables):
+        body = RigidBody(f.machine.mass, f.machine.center_of_mass, _inertia_tensor(f.machine))
+        dofs = PLANAR if f.analysis.dofs == "planar" else SPATIAL
+        machine = MountedMachine(body, tuple(mounts), dofs, f.analysis.gravity, f.model.name)
+    return machine, estimates
 
 
 def _placed(row: MountTable, source: ModelSource, where: str) -> PlacedEstimate:
