@@ -212,7 +212,15 @@ def _gear(j: JointTable, points: dict[str, tuple[float, float]]) -> GearJoint:
             raise ValueError("pitch: samples need radii over one turn")
         curve = pitch.sampled(t.radii, j.name)
     return GearJoint(
-        j.name, j.bodies, j.points, curve, j.carrier, j.orientation, j.pressure_angle, j.internal
+        j.name,
+        j.bodies,
+        j.points,
+        curve,
+        carrier=j.carrier,
+        orientation=j.orientation,
+        pressure_angle=j.pressure_angle,
+        internal=j.internal,
+        flank=j.flank,
     )
 
 
