@@ -201,3 +201,26 @@ def replace_driver(m, profile):
 
     d = m.driver
     return replace(m, driver=replace(d, profile=profile))
+
+
+def test_a_speed_profile_in_python_is_checked_or_derived():
+    # the file route derives θ̈ = |θ̇| dθ̇/dψ from its table; a profile given in Python is held to
+    # the same law, or derived from the speed alone
+    from mechdyn.errors import ModelError
+    from mechdyn.mechanism.model import Driver
+
+    def speed(psi):
+        return W * (1 + 0.3 * np.cos(2 * psi))
+
+    exact = replace_driver(slider_crank(), lambda psi: (speed(psi), speed(psi) * W * -0.6 * np.sin(2 * psi)))
+    derived = replace_driver(slider_crank(), speed)
+    a, b = inverse_dynamics(exact, 120), inverse_dynamics(derived, 120)
+    np.testing.assert_allclose(b.driving_torque, a.driving_torque, atol=1e-6 * np.abs(a.driving_torque).max())
+    assert np.abs(b.power_balance_residual).max() < 1e-9 * np.abs(b.driving_torque * b.crank_speed).max()
+    # an acceleration that forgot the chain rule (dθ̇/dψ instead of θ̇ dθ̇/dψ) is refused with its size
+    with pytest.raises(ModelError, match=r"does not follow from its speed.* mismatch \((0\.9|1)"):
+        Driver("crank", "O", "A", W, lambda psi: (speed(psi), W * -0.6 * np.sin(2 * psi)))
+    with pytest.raises(ModelError, match="not periodic"):
+        Driver("crank", "O", "A", W, lambda psi: W * (1 + 0.01 * psi))
+    # clockwise: θ̈ = |θ̇| dθ̇/dψ with θ̇ < 0
+    Driver("crank", "O", "A", -W, lambda psi: (-speed(psi), speed(psi) * W * 0.6 * np.sin(2 * psi)))

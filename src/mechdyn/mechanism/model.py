@@ -184,22 +184,32 @@ class Driver:
         θ̇, rad/s (e.g. ``"15 rpm"``); positive counter-clockwise. With a profile, its sign gives
         the direction of rotation.
     profile : callable, optional
-        ``profile(angle) -> (speed, acceleration)`` for arrays of crank angle turned from the
-        drawing (rad, in the direction of rotation): θ̇ (rad/s, same sign as ``speed``, never zero)
-        and θ̈ (rad/s²). None means constant speed.
+        ``profile(angle)`` for arrays of crank angle ψ turned from the drawing (rad, in the direction
+        of rotation, periodic over 2π): either ``(speed, acceleration)``, θ̇ (rad/s, the sign of
+        ``speed``, never zero) and θ̈ (rad/s²), which must agree with θ̈ = |θ̇| dθ̇/dψ; or the speed
+        alone, and the acceleration is derived from it (a periodic cubic spline through 1024 samples).
+        None means constant speed.
+
+    Raises
+    ------
+    ModelError
+        When the profile's acceleration does not follow from its speed (naming the largest mismatch
+        and where), or the profile is not periodic.
     """
 
     body: str
     pivot: str
     tip: str
     speed: Any
-    profile: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None = None
+    profile: Callable[[np.ndarray], Any] | None = None
 
     def __post_init__(self) -> None:
         v = si_field("driver", "speed", self.speed, "rad/s")
         if v == 0:
             raise ModelError("the crank speed must not be zero", element="driver", field="speed")
         object.__setattr__(self, "speed", v)
+        if self.profile is not None:
+            object.__setattr__(self, "profile", _checked_profile(self.profile, v))
 
     def rates(self, turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """θ̇ (rad/s) and θ̈ (rad/s²) at crank angles turned from the drawing (rad)."""
@@ -226,6 +236,64 @@ class Driver:
         w, _ = self.rates(np.abs(fine))
         t = np.concatenate([[0.0], np.cumsum(0.5 * (1 / w[1:] + 1 / w[:-1]) * np.diff(fine))])
         return np.interp(np.abs(turned), np.abs(fine), t)
+
+
+# samples of a speed profile over one turn for its check, and the mismatch it may show: a profile
+# whose acceleration is exact shows the O(h²) error of the differences, h = 2π/_PROFILE_SAMPLES
+_PROFILE_SAMPLES = 1024
+_PROFILE_RTOL = 1e-4
+
+
+def _checked_profile(profile: Callable[[np.ndarray], Any], speed: float) -> Callable[[np.ndarray], Any]:
+    """The profile as (θ̇, θ̈); θ̈ derived when only θ̇ is given, checked against |θ̇| dθ̇/dψ when given.
+
+    The derivative dθ̇/dψ is taken from a periodic cubic spline through the samples, whose error on
+    a smooth profile is O(h⁴) (de Boor, *A Practical Guide to Splines*, ch. V).
+    """
+    from scipy.interpolate import CubicSpline
+
+    psi = np.linspace(0.0, 2 * math.pi, _PROFILE_SAMPLES + 1)
+    out = profile(psi)
+    given = isinstance(out, tuple) and len(out) == 2
+    w = np.broadcast_to(np.asarray(out[0] if given else out, dtype=float), psi.shape)
+    if not np.all(np.isfinite(w)) or np.any(w == 0) or np.any(np.sign(w) != np.sign(speed)):
+        raise ModelError(
+            "the speed profile must keep the sign of the speed and never stop the crank",
+            element="driver",
+            field="profile",
+        )
+    if abs(w[-1] - w[0]) > 1e-6 * np.abs(w).max():
+        raise ModelError(
+            f"the speed profile is not periodic: θ̇ = {w[0]:.6g} rad/s at 0° and {w[-1]:.6g} rad/s after "
+            "one turn; the crank must come back to the same speed",
+            element="driver",
+            field="profile",
+        )
+    spline = CubicSpline(psi, np.append(w[:-1], w[0]), bc_type="periodic")
+    slope = spline.derivative()
+    if not given:
+
+        def derived(turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            t = np.mod(turned, 2 * math.pi)
+            omega = spline(t)
+            return omega, np.abs(omega) * slope(t)
+
+        return derived
+    a = np.broadcast_to(np.asarray(out[1], dtype=float), psi.shape)
+    expected = np.abs(w) * slope(psi)
+    scale = max(float(np.abs(expected).max()), float(np.abs(a).max()), 1e-12 * speed**2)
+    mismatch = np.abs(a - expected)
+    k = int(np.argmax(mismatch))
+    if mismatch[k] > _PROFILE_RTOL * scale:
+        raise ModelError(
+            f"the speed profile's acceleration does not follow from its speed: θ̈ = {a[k]:.6g} rad/s² at "
+            f"{math.degrees(psi[k]):.4g}° where |θ̇| dθ̇/dψ = {expected[k]:.6g} rad/s² (mismatch "
+            f"{mismatch[k] / scale:.3g} of the largest acceleration); return θ̈ = |θ̇| dθ̇/dψ, or the "
+            "speed alone and let it be derived",
+            element="driver",
+            field="profile",
+        )
+    return profile
 
 
 @dataclass(frozen=True)
