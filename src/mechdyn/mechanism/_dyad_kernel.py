@@ -98,6 +98,8 @@ def variant(
                 det = a1.real * a2.imag - a1.imag * a2.real
                 if dyad_meas.shape[0] > 0:  # sine of the transmission angle, signed
                     dyad_meas[v, k, ops[o, 5]] = det / (abs(a1) * abs(a2))
+                if det == 0.0:  # the links in line: velocities undefined (complex division would raise)
+                    det = np.nan
                 b1 = a1.real * vel[k1].real + a1.imag * vel[k1].imag
                 b2 = a2.real * vel[k2].real + a2.imag * vel[k2].imag
                 vv = ((b1 * a2.imag - b2 * a1.imag) + 1j * (a1.real * b2 - a2.real * b1)) / det
@@ -123,6 +125,8 @@ def variant(
                 den = rel.real * u.real + rel.imag * u.imag
                 if dyad_meas.shape[0] > 0:
                     dyad_meas[v, k, ops[o, 5]] = den / abs(rel)
+                if den == 0.0:
+                    den = np.nan
                 sd = (rel.real * vel[k1].real + rel.imag * vel[k1].imag) / den
                 vv = sd * u
                 e = vv - vel[k1]

@@ -26,8 +26,9 @@ from typing import Any
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.mechanism.kinematics import AssemblyError
+from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError
 from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Revolute
+from mechdyn.mechanism.screening import SCREEN, Finding, screen
 from mechdyn.results import Result
 
 __all__ = ["CycleBatch", "NotDecomposable", "cycle", "plan"]
@@ -340,7 +341,6 @@ def cycle(
     *,
     store_points: bool = True,
     errors: str = "raise",
-    _explain: bool = True,
 ) -> CycleBatch:
     """Kinematics, driving torque and frame loads of a mechanism and its variants, in one call.
 
@@ -421,7 +421,7 @@ def cycle(
     turn = np.exp(1j * step * np.arange(N))  # the crank's rotation from the drawing, the same for all
     omega_k, alpha_k = m.driver.rates(abs(step) * np.arange(N))
     n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
-    dyad_meas = np.empty((V, N, n_dyads) if store_points else (0, 0, 0))
+    dyad_meas = np.empty((V, N, n_dyads))  # every variant's, for the screening below
     _kernel(parallel=V > 8)(
         dz,
         ops,
@@ -449,11 +449,26 @@ def cycle(
     )
     if errors not in ("raise", "nan"):
         raise ModelError(f"errors={errors!r} must be 'raise' or 'nan'")
-    if errors == "raise" and not np.isfinite(torque).all():
-        v = int(np.argwhere(~np.isfinite(torque).all(axis=1))[0, 0])
-        k = int(np.argwhere(~np.isfinite(torque[v]))[0, 0])
-        if _explain:
-            _explain_failure(m, steps, {n: a[v : v + 1] for n, a in draw.items()}, v, k, n_angles, V > 1)
+    # the positions the samples may have stepped over, refined between them (mechanism.screening)
+    failures: dict[int, str] = {}
+    suspect = np.isnan(dyad_meas).any(axis=(1, 2)) | (np.abs(dyad_meas) < SCREEN).any(axis=(1, 2))
+    for v in np.flatnonzero(suspect):
+        measure = _measure(
+            m, steps, {n: a[v : v + 1] for n, a in draw.items()}, mass[v : v + 1], inertia[v : v + 1]
+        )
+        finding = screen(measure, dyad_meas[v], abs(step))
+        if finding is None:
+            continue
+        failures[int(v)] = _message(
+            m, steps, finding, float(theta_draw[v]), math.copysign(1.0, omega), v if V > 1 else None
+        )
+        if errors == "raise":
+            cls = SingularPositionError if finding.kind == "singular" else AssemblyError
+            raise cls(failures[int(v)])
+        for arr in (torque, moment, force, inertia_force, pos, vel, acc):
+            arr[v] = np.nan
+        if s_out.size:
+            s_out[v] = np.nan
     z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(wanted)}
     if j is None:
         s_out = None
@@ -486,25 +501,78 @@ def cycle(
     )
 
 
-def _explain_failure(
-    m: Mechanism, steps: list[Step], draw, v: int, k: int, n_angles: int, batch: bool
-) -> None:
-    """Name the crank angle and the dyad whose loop does not close, for one variant."""
-    points = {n: np.stack([a.real, a.imag], axis=-1) for n, a in draw.items()}
-    one = cycle(m, n_angles, points, store_points=True, _explain=False)
-    step = 360.0 / n_angles * math.copysign(1.0, m.driver.speed)
-    for st in steps:
-        if st.kind in ("rrr", "rrp") and not np.isfinite(one._z[st.target][0][0, k]):  # type: ignore[index]
-            joint = next(
-                (j.name for j in m.joints if j.point == st.target and isinstance(j, Revolute)), st.target
-            )
-            which = f"variant {v} " if batch else ""
-            raise AssemblyError(
-                f"cannot assemble {which}at crank angle {step * k:.6g}° from the drawing: the loop through "
-                f"joint {joint!r} does not close ({st.kind.upper()} dyad at point {st.target!r}); a link is "
-                "too short to reach"
-            )
-    raise AssemblyError(f"cannot assemble variant {v} at crank angle {step * k:.6g}° from the drawing")
+def _measure(m: Mechanism, steps: list[Step], draw, mass: np.ndarray, inertia: np.ndarray):
+    """``measure(turned) -> (M, dyads)``: one variant's dyad measures at any crank angles turned
+    from the drawing (rad), by the same compiled kernel."""
+    _, dz, ops, fdata, grounded = _encode(m, steps, draw)
+    n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
+    sign = math.copysign(1.0, m.driver.speed)
+    empty = np.empty((1, 0, 0), dtype=complex)
+    kernel = _kernel(parallel=False)
+
+    def measure(turned: np.ndarray) -> np.ndarray:
+        M = turned.size
+        omega_k, alpha_k = m.driver.rates(np.mod(turned, 2 * math.pi))
+        out = np.empty((1, M, n_dyads))
+        kernel(
+            dz,
+            ops,
+            fdata,
+            grounded,
+            np.exp(1j * sign * turned),
+            omega_k,
+            alpha_k,
+            mass,
+            inertia,
+            complex(*m.gravity),
+            np.empty(0, dtype=np.int64),
+            -1,
+            0j,
+            np.empty((1, M, 0), dtype=complex) if M else empty,
+            np.empty((1, M, 0), dtype=complex),
+            np.empty((1, M, 0), dtype=complex),
+            np.empty((0, 0, 0, 0)),
+            np.empty((1, M), dtype=complex),
+            np.empty((1, M), dtype=complex),
+            np.empty((1, M)),
+            np.empty((1, M)),
+            np.empty((0, 0)),
+            out,
+        )
+        return out[0]
+
+    return measure
+
+
+def _message(m: Mechanism, steps: list[Step], f: Finding, theta_draw: float, sign: float, variant) -> str:
+    """The error of a screening finding: the angle (to 0.01°), the dyad's loop and its joint."""
+    dyad = [st for st in steps if st.kind in ("rrr", "rrp")][f.dyad]
+    p = dyad.target
+    joint = next(
+        (j for j in m.joints if isinstance(j, Revolute) and j.point == p and GROUND not in j.bodies), None
+    )
+    links = " and ".join(f"{b!r}" for b in joint.bodies) if joint is not None else repr(dyad.body)
+    name = joint.name if joint is not None else p
+    theta = math.degrees(theta_draw + sign * f.turned) % 360
+    where = f"crank angle {theta:.2f}° ({math.degrees(f.turned):.2f}° turned from the drawing)"
+    which = f"variant {variant}: " if variant is not None else ""
+    if f.kind == "singular":
+        return (
+            f"{which}singular (toggle or dead-centre) position at {where}: the links {links} of the {dyad.kind.upper()} dyad at "
+            f"point {p!r} (joint {name!r}) fall in line, so the loop through joint {name!r} locks or changes "
+            "branch there and velocities and forces are unbounded; change the link lengths"
+        )
+    span = (
+        f", over {math.degrees(f.until - f.turned):.2f}° of the turn (it closes again at "
+        f"{math.degrees(f.until):.2f}°)"
+        if f.until is not None
+        else ""
+    )
+    return (
+        f"{which}cannot assemble at {where}{span}: the loop through joint {name!r} "
+        f"({dyad.kind.upper()} dyad at point {p!r}, links {links}) does not close; a link is too "
+        "short to reach"
+    )
 
 
 def _com(body, draw: Mapping[str, np.ndarray]) -> np.ndarray | complex:
