@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -160,6 +160,8 @@ class CycleBatch(Result):
     _dyad_measure: np.ndarray  # (V, N, dyads) sine of each dyad's transmission angle (kept motions only)
     _steps: list[Step]
     _raw: tuple[np.ndarray, ...]  # (pos, vel, acc, rates) as the kernel wrote them
+    failures: dict[int, str] = field(default_factory=dict)
+    """Variant → why it was not computed (``errors="nan"``): the angle, the loop and the joint."""
 
     @property
     def shaking_force(self) -> np.ndarray:
@@ -498,6 +500,7 @@ def cycle(
         dyad_meas,
         steps,
         (pos, vel, acc, rates),
+        failures,
     )
 
 
@@ -558,8 +561,8 @@ def _message(m: Mechanism, steps: list[Step], f: Finding, theta_draw: float, sig
     which = f"variant {variant}: " if variant is not None else ""
     if f.kind == "singular":
         return (
-            f"{which}singular (toggle or dead-centre) position at {where}: the links {links} of the {dyad.kind.upper()} dyad at "
-            f"point {p!r} (joint {name!r}) fall in line, so the loop through joint {name!r} locks or changes "
+            f"{which}singular (toggle or dead-centre) position at {where}: the links {links} of the "
+            f"{dyad.kind.upper()} dyad at point {p!r} (joint {name!r}) fall in line, so the loop through joint {name!r} locks or changes "
             "branch there and velocities and forces are unbounded; change the link lengths"
         )
     span = (

@@ -202,14 +202,7 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
             ddq = (A[k - 1] - dq * ak[k - 1]) / wk[k - 1] ** 2
             q, it = _newton(cs, Q[k - 1] + dq * step + 0.5 * ddq * step**2, th, scale)
             if it < 0:
-                ev = cs.evaluate(q, np.asarray(th))
-                row = int(np.argmax(np.abs(ev.residual)))
-                joint, eq = cs.rows[row]
-                raise AssemblyError(
-                    f"cannot assemble at crank angle {math.degrees(th - theta_draw):.6g}° from the drawing "
-                    f"(θ = {math.degrees(th):.6g}°): the loop through joint {joint!r} does not close "
-                    f"({eq} residual {ev.residual[row]:.3g}); a link is too short to reach"
-                )
+                _raise_lost(cs, mechanism, Q[k - 1], V[k - 1], A[k - 1], thetas[k - 1], th, scale)
         ev = cs.evaluate(q, np.asarray(th))
         Q[k] = q
         rhs_v = np.zeros(cs.m)
@@ -238,8 +231,126 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
         V[order],
         A[order],
     )
-    _check_conditioning(result.evaluation.jacobian, angle[order], closes)
+    try:
+        _check_conditioning(result.evaluation.jacobian, angle[order], closes)
+    except SingularPositionError:
+        _raise_singular(cs, mechanism, Q, V, A, thetas, scale)
+        raise
     return result
+
+
+def _advance(
+    cs: ConstraintSet,
+    mechanism: Mechanism,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    th0: float,
+    th: float,
+    scale: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Position, velocity and acceleration at θ from a solution at θ₀ (second-order predictor and
+    Newton); None where the loops do not close."""
+    turned = np.array([abs(th0 - mechanism.drawing_crank_angle), abs(th - mechanism.drawing_crank_angle)])
+    w, a = mechanism.driver.rates(turned)
+    h = th - th0
+    dq = qd / w[0]
+    ddq = (qdd - dq * a[0]) / w[0] ** 2
+    q1, it = _newton(cs, q + dq * h + 0.5 * ddq * h**2, th, scale)
+    if it < 0 or np.abs(q1 - q).max() > 0.5 * scale:  # not converged, or jumped to another branch
+        return None
+    ev = cs.evaluate(q1, np.asarray(th))
+    rhs = np.zeros(cs.m)
+    rhs[-1] = w[1]
+    v1 = _solve(ev.jacobian, rhs)
+    ev = cs.evaluate(q1, np.asarray(th), v1)
+    ev.gamma[-1] = a[1]
+    return q1, v1, _solve(ev.jacobian, ev.gamma)
+
+
+def _where(mechanism: Mechanism, th: float) -> str:
+    turned = math.degrees(abs(th - mechanism.drawing_crank_angle))
+    return f"crank angle {math.degrees(th) % 360:.2f}° ({turned:.2f}° turned from the drawing)"
+
+
+def _raise_lost(
+    cs: ConstraintSet,
+    mechanism: Mechanism,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    lo: float,
+    hi: float,
+    scale: float,
+) -> None:
+    """The loops stop closing between θ = lo (solved) and hi: bisect to ANGLE_TOL and name the joint."""
+    from mechdyn.mechanism.screening import ANGLE_TOL
+
+    state = (q, qd, qdd)
+    while abs(hi - lo) > ANGLE_TOL:
+        mid = 0.5 * (lo + hi)
+        nxt = _advance(cs, mechanism, *state, lo, mid, scale)
+        if nxt is None:
+            hi = mid
+        else:
+            lo, state = mid, nxt
+    q_try, _ = _newton(cs, state[0], hi, scale)
+    ev = cs.evaluate(q_try, np.asarray(hi))
+    row = int(np.argmax(np.abs(ev.residual)))
+    joint, _ = cs.rows[row]
+    raise AssemblyError(
+        f"cannot assemble at {_where(mechanism, hi)}: the loop through joint {joint!r} does not close; "
+        "a link is too short to reach"
+    )
+
+
+def _raise_singular(
+    cs: ConstraintSet,
+    mechanism: Mechanism,
+    Q: np.ndarray,
+    V: np.ndarray,
+    A: np.ndarray,
+    thetas: np.ndarray,
+    scale: float,
+) -> None:
+    """Locate a singular position (det Φ_q changes sign, or the branch is lost) between the samples
+    to ANGLE_TOL and raise naming it and the joints whose constraints become dependent there.
+    Returns when no sign change is found (the caller then raises its sampled report)."""
+    from mechdyn.mechanism.screening import ANGLE_TOL
+
+    n = thetas.size
+    det = solve_with_det(cs.evaluate(Q, thetas).jacobian, np.zeros((n, cs.m)))[1]
+    for k in range(n):
+        k1 = (k + 1) % n
+        if k1 == 0:
+            break  # the last step's partner is the start of the next turn, checked by the closing
+        if np.sign(det[k]) == np.sign(det[k1]) and det[k] != 0:
+            continue
+        lo, hi, state, d_lo = thetas[k], thetas[k1], (Q[k], V[k], A[k]), det[k]
+        while abs(hi - lo) > ANGLE_TOL:
+            mid = 0.5 * (lo + hi)
+            nxt = _advance(cs, mechanism, *state, lo, mid, scale)
+            if nxt is None:  # the loops stop closing inside: a jam, not a toggle
+                _raise_lost(cs, mechanism, *state, lo, mid, scale)
+            d_mid = solve_with_det(cs.evaluate(nxt[0], np.asarray(mid)).jacobian[None], np.zeros((1, cs.m)))[
+                1
+            ][0]
+            if np.sign(d_mid) == np.sign(d_lo) and d_mid != 0:
+                lo, state, d_lo = mid, nxt, d_mid
+            else:
+                hi = mid
+        J = cs.evaluate(state[0], np.asarray(lo)).jacobian
+        u = np.linalg.svd(J)[0][:, -1]  # the rows that become dependent
+        weight: dict[str, float] = {}
+        for r, (joint, _) in enumerate(cs.rows):
+            weight[joint] = max(weight.get(joint, 0.0), abs(u[r]))
+        top = max(weight.values())
+        names = [j for j, w in weight.items() if w > 0.3 * top and j != "driver"]
+        raise SingularPositionError(
+            f"singular (toggle or dead-centre) position at {_where(mechanism, lo)}: the constraints of "
+            f"joint(s) {', '.join(map(repr, names))} become dependent (the loop through them locks or "
+            "changes branch), so velocities and forces are unbounded; change the link lengths"
+        )
 
 
 def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
