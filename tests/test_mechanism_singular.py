@@ -94,7 +94,7 @@ def test_a_jam_between_two_samples_is_found_with_its_joint(method, window, frame
 def test_a_batch_keeps_the_variants_that_pass_and_marks_the_one_that_jams():
     base = jam(0.3, 0.5)
     # variant 1 moves B up 2 mm: a longer coupler and rocker that reach across all the way round
-    points = {"B": np.array([base.points["B"], np.asarray(base.points["B"]) + (0.0, 0.002)])}
+    points = {"B": np.array([base.points["B"], np.asarray(base.points["B"]) + np.array([0.0, 0.002])])}
     with pytest.raises(AssemblyError, match=r"variant 0: cannot assemble at crank angle"):
         cycle(base, 360, points=points)
     batch = cycle(base, 360, points=points, errors="nan")

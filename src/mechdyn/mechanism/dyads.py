@@ -562,8 +562,9 @@ def _message(m: Mechanism, steps: list[Step], f: Finding, theta_draw: float, sig
     if f.kind == "singular":
         return (
             f"{which}singular (toggle or dead-centre) position at {where}: the links {links} of the "
-            f"{dyad.kind.upper()} dyad at point {p!r} (joint {name!r}) fall in line, so the loop through joint {name!r} locks or changes "
-            "branch there and velocities and forces are unbounded; change the link lengths"
+            f"{dyad.kind.upper()} dyad at point {p!r} (joint {name!r}) fall in line, so the loop "
+            f"through joint {name!r} locks or changes branch there and velocities and forces are "
+            "unbounded; change the link lengths"
         )
     span = (
         f", over {math.degrees(f.until - f.turned):.2f}° of the turn (it closes again at "
