@@ -70,3 +70,23 @@ def test_synthesis_runs_in_its_short_form(capsys):
     assert press_synthesis.main(["--quick", "--seed", "3"]) == 0
     out = capsys.readouterr().out
     assert "stroke (mm)" in out and "slide mass" in out
+
+
+def test_dead_centres_and_force_extremes_are_located_between_samples(press):
+    # the top dead centre lies at 128.92°, between the samples 128° and 129°; coarser sampling finds
+    # the same angles, and the batch gives each variant the single design's figures
+    from mechdyn.mechanism import cycle
+
+    fine = inverse_dynamics(press, 3600).summary()
+    for n, tol, stroke_tol in ((360, 0.001, 1e-8), (72, 0.02, 1e-5)):  # 1° and 5° between samples
+        s = inverse_dynamics(press, n).summary()
+        assert s["bdc_deg"] == 0.0
+        for key in ("tdc_deg", "inertia_force_max_deg", "inertia_force_min_deg"):
+            assert s[key] == pytest.approx(fine[key], abs=tol), (n, key)
+        assert s["stroke_m"] == pytest.approx(fine["stroke_m"], rel=stroke_tol)
+    assert fine["tdc_deg"] == pytest.approx(128.92, abs=0.005)
+    batch = cycle(press, 360).summary()
+    single = inverse_dynamics(press, 360).summary()
+    for key, v in batch.items():
+        if key in single:
+            assert v[0] == pytest.approx(single[key], rel=1e-12, abs=1e-9), key

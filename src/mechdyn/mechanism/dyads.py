@@ -235,17 +235,10 @@ class CycleBatch(Result):
         s = self.output_position
         j = self.mechanism.output_joint()
         if s is not None and j is not None:
+            from mechdyn.mechanism.extrema import output_figures
+
             f = _dot(self._inertia, complex(math.cos(j.axis), math.sin(j.axis)))
-            rows = np.arange(s.shape[0])
-            out.update(
-                stroke_m=np.ptp(s, axis=1),
-                bdc_deg=deg[rows, np.argmin(s, axis=1)],
-                tdc_deg=deg[rows, np.argmax(s, axis=1)],
-                inertia_force_max_N=f.max(axis=1),
-                inertia_force_max_deg=deg[rows, np.argmax(f, axis=1)],
-                inertia_force_min_N=f.min(axis=1),
-                inertia_force_min_deg=deg[rows, np.argmin(f, axis=1)],
-            )
+            out.update(output_figures(deg, s, f, self.mechanism.angle_datum == "bdc"))
         return out
 
 

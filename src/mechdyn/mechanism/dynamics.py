@@ -163,22 +163,11 @@ class DynamicsResult(Result):
         s = self.output_position
         j = self.mechanism.output_joint()
         if s is not None and j is not None:
+            from mechdyn.mechanism.extrema import output_figures
+
             u = np.array([math.cos(j.axis), math.sin(j.axis)])
-            f = self.inertia_force @ u
-            ib, it = int(np.argmin(s)), int(np.argmax(s))  # the axis points up, from BDC toward TDC
-            ret = (deg[it] - deg[ib]) % 360.0
-            out.update(
-                stroke_m=float(s.max() - s.min()),
-                bdc_deg=float(deg[ib]),
-                tdc_deg=float(deg[it]),
-                return_stroke_deg=float(ret),
-                working_stroke_deg=float(360.0 - ret),
-                inertia_force_max_N=float(f.max()),
-                inertia_force_max_deg=float(deg[int(np.argmax(f))]),
-                inertia_force_min_N=float(f.min()),
-                inertia_force_min_deg=float(deg[int(np.argmin(f))]),
-                inertia_force_fluctuation_N=float(f.max() - f.min()),
-            )
+            figures = output_figures(deg, s, self.inertia_force @ u, self.mechanism.angle_datum == "bdc")
+            out.update({key: float(v) for key, v in figures.items()})
         moment = self.shaking_moment()
         F = self.shaking_force
         out["shaking_moment_range_Nm"] = float(moment.max() - moment.min())

@@ -1,0 +1,104 @@
+"""Extremes over the crank cycle located between the samples: dead centres and force peaks.
+
+The largest (or smallest) sample and its two neighbours on each side determine the quartic through
+five equally spaced samples; its stationary point next to the sample is the extreme, to O(h⁴) in the
+sample spacing h (with 360 samples, 1e-7 rad on press A's top dead centre; with 72, a few
+thousandths of a degree). Vectorised over leading axes (design variants), so that one design and
+each variant of a batch get the same figures from the same function.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["output_figures", "peak"]
+
+# the quartic through (−2, y₋₂) … (2, y₂): coefficients c₀…c₄ of Σ c_i tⁱ = V⁻¹ y
+_VINV = np.linalg.inv(np.vander(np.arange(-2.0, 3.0), 5, increasing=True))
+
+
+def peak(y: np.ndarray, sense: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where ``sense · y`` is largest over the last axis, between samples.
+
+    Parameters
+    ----------
+    y : ndarray
+        (..., N) values over one periodic cycle of equally spaced samples.
+    sense : {1, -1}
+        Maximum or minimum.
+
+    Returns
+    -------
+    index : ndarray
+        (...) position in samples (fractional; k + t with |t| ≤ 1 from the extreme sample k).
+    value : ndarray
+        (...) the extreme value.
+    """
+    y = np.asarray(y, dtype=float)
+    N = y.shape[-1]
+    k = np.argmax(np.where(np.isfinite(y), sense * y, -np.inf), axis=-1)
+    idx = (k[..., None] + np.arange(-2, 3)) % N
+    five = np.take_along_axis(y, idx, axis=-1)
+    c = five @ _VINV.T  # (..., 5): c0 + c1 t + c2 t² + c3 t³ + c4 t⁴
+    t = np.zeros(k.shape)
+    for _ in range(30):  # Newton on the derivative, from the sample
+        d1 = c[..., 1] + 2 * c[..., 2] * t + 3 * c[..., 3] * t**2 + 4 * c[..., 4] * t**3
+        d2 = 2 * c[..., 2] + 6 * c[..., 3] * t + 12 * c[..., 4] * t**2
+        t = np.clip(t - np.divide(d1, d2, out=np.zeros_like(t), where=d2 != 0), -1.0, 1.0)
+    value = c[..., 0] + c[..., 1] * t + c[..., 2] * t**2 + c[..., 3] * t**3 + c[..., 4] * t**4
+    # a flat or ragged neighbourhood: keep the sample
+    keep = ~np.isfinite(value) | (sense * value < sense * np.take_along_axis(y, k[..., None], -1)[..., 0])
+    t = np.where(keep, 0.0, t)
+    value = np.where(keep, np.take_along_axis(y, k[..., None], -1)[..., 0], value)
+    return k + t, value
+
+
+def output_figures(deg: np.ndarray, s: np.ndarray, f: np.ndarray, bdc_datum: bool) -> dict[str, np.ndarray]:
+    """Stroke, dead centres and inertia-force extremes of a prismatic output, between samples.
+
+    Parameters
+    ----------
+    deg : ndarray
+        (..., N) crank angle from the datum at each sample, degrees, equally spaced in cycle order.
+    s : ndarray
+        (..., N) output position along its upward axis, m.
+    f : ndarray
+        (..., N) total inertia force along the output axis, N.
+    bdc_datum : bool
+        The datum is bottom dead centre: angles are then counted from the located BDC (0 exactly).
+
+    Returns
+    -------
+    dict
+        ``stroke_m``, ``bdc_deg``, ``tdc_deg``, ``return_stroke_deg``, ``working_stroke_deg``,
+        ``inertia_force_max_N``, ``inertia_force_max_deg``, ``inertia_force_min_N``,
+        ``inertia_force_min_deg``, ``inertia_force_fluctuation_N``, each (...).
+    """
+    N = deg.shape[-1]
+    step = (deg[..., 1] - deg[..., 0] + 180.0) % 360.0 - 180.0  # signed spacing, degrees
+
+    def angle(pos: np.ndarray) -> np.ndarray:
+        k = np.floor(pos).astype(int) % N
+        return (np.take_along_axis(deg, k[..., None], -1)[..., 0] + (pos - np.floor(pos)) * step) % 360.0
+
+    ib, s_min = peak(s, -1.0)
+    it, s_max = peak(s, 1.0)
+    fa, f_max = peak(f, 1.0)
+    fb, f_min = peak(f, -1.0)
+    bdc, tdc, at_max, at_min = angle(ib), angle(it), angle(fa), angle(fb)
+    if bdc_datum:
+        tdc, at_max, at_min = ((a - bdc) % 360.0 for a in (tdc, at_max, at_min))
+        bdc = np.zeros_like(bdc)
+    ret = (tdc - bdc) % 360.0
+    return {
+        "stroke_m": s_max - s_min,
+        "bdc_deg": bdc,
+        "tdc_deg": tdc,
+        "return_stroke_deg": ret,
+        "working_stroke_deg": 360.0 - ret,
+        "inertia_force_max_N": f_max,
+        "inertia_force_max_deg": at_max,
+        "inertia_force_min_N": f_min,
+        "inertia_force_min_deg": at_min,
+        "inertia_force_fluctuation_N": f_max - f_min,
+    }
