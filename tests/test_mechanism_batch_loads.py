@@ -1,0 +1,67 @@
+"""Every load of the batched evaluation equals the single-design engine's, variant by variant.
+
+The batch (:func:`mechdyn.mechanism.cycle` with point arrays) computes each variant's driving
+torque, frame force and moment, inertia force and output motion in one compiled pass; here each
+variant is rebuilt as its own model and run through the general Newton engine
+(:func:`inverse_dynamics` with ``method="newton"``), which shares none of that code, and every load
+must agree at every angle: press A with its pivots moved, and random crank-rockers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import mechdyn
+from conftest import EXAMPLES
+from mechdyn.mechanism import cycle, inverse_dynamics
+from test_mechanism_fourbar import crank_rockers
+
+
+def _compare(mech, points, n=72):
+    batch = cycle(mech, n, points=points)
+    V = batch.angle.shape[0]
+    assert batch.assembled.all()
+    for v in range(V):
+        variant = replace(mech, points={**mech.points, **{k: tuple(a[v]) for k, a in points.items()}})
+        d = inverse_dynamics(variant, n, method="newton")
+        # the single design's arrays are ordered by angle from the datum; the batch's by crank step
+        order = np.argsort(batch.angle[v])
+        np.testing.assert_allclose(batch.angle[v][order], d.angle, atol=1e-9)
+        scale_t = np.abs(d.driving_torque).max()
+        scale_f = np.abs(d.shaking_force).max()
+        scale_m = np.abs(d.shaking_moment()).max() + scale_f
+        np.testing.assert_allclose(batch.driving_torque[v][order], d.driving_torque, atol=1e-9 * scale_t)
+        np.testing.assert_allclose(batch.shaking_force[v][order], d.shaking_force, atol=1e-9 * scale_f)
+        np.testing.assert_allclose(batch.shaking_moment()[v][order], d.shaking_moment(), atol=1e-9 * scale_m)
+        scale_i = np.abs(d.inertia_force).max()
+        np.testing.assert_allclose(batch.inertia_force[v][order], d.inertia_force, atol=1e-9 * scale_i)
+        if d.output_position is not None:
+            np.testing.assert_allclose(batch.output_position[v][order], d.output_position, atol=1e-12)
+        # and the per-variant figures are the single design's
+        single = d.summary()
+        for key, values in batch.summary().items():
+            assert values[v] == pytest.approx(single[key], rel=1e-9, abs=1e-9 * scale_f), (v, key)
+
+
+def test_press_variants_load_for_load():
+    press = mechdyn.load(EXAMPLES / "press_link_drive.toml").model
+    rng = np.random.default_rng(7)
+    points = {k: np.asarray(press.points[k]) + rng.normal(scale=0.02, size=(4, 2)) for k in ("C", "D")}
+    _compare(press, points)
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(crank_rockers(), st.floats(-0.01, 0.01), st.floats(-0.01, 0.01))
+def test_random_fourbar_variants_load_for_load(m, dx, dy):
+    # three variants: the design, its rocker pivot moved, and its coupler point moved
+    O4, C = np.asarray(m.points["O4"]), np.asarray(m.points["C"])
+    points = {
+        "O4": np.array([O4, O4 + np.array([dx, dy]), O4]),
+        "C": np.array([C, C, C + np.array([dy, dx])]),
+    }
+    _compare(m, points, n=48)
