@@ -42,10 +42,20 @@ def _compare(mech, points, n=72):
         np.testing.assert_allclose(batch.inertia_force[v][order], d.inertia_force, atol=1e-9 * scale_i)
         if d.output_position is not None:
             np.testing.assert_allclose(batch.output_position[v][order], d.output_position, atol=1e-12)
+        for j in mech.joints:  # every joint's force on its second body
+            expected = d.joint_load(j.name, j.bodies[1])[:, :2]
+            got = batch.joint_force(j.name)[v][order]
+            np.testing.assert_allclose(
+                got, expected, atol=1e-9 * np.abs(expected).max() + 1e-12, err_msg=j.name
+            )
         # and the per-variant figures are the single design's
         single = d.summary()
         for key, values in batch.summary().items():
-            assert values[v] == pytest.approx(single[key], rel=1e-9, abs=1e-9 * scale_f), (v, key)
+            if isinstance(values, dict):
+                for name, peaks in values.items():
+                    assert peaks[v] == pytest.approx(single[key][name], rel=1e-9), (v, key, name)
+            else:
+                assert values[v] == pytest.approx(single[key], rel=1e-9, abs=1e-9 * scale_f), (v, key)
 
 
 def test_press_variants_load_for_load():

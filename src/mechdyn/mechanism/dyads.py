@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -160,6 +161,8 @@ class CycleBatch(Result):
     _dyad_measure: np.ndarray  # (V, N, dyads) sine of each dyad's transmission angle (kept motions only)
     _steps: list[Step]
     _raw: tuple[np.ndarray, ...]  # (pos, vel, acc, rates) as the kernel wrote them
+    _body_mass: np.ndarray  # (V, bodies) kg
+    _body_inertia: np.ndarray  # (V, bodies) kg·m²
     failures: dict[int, str] = field(default_factory=dict)
     """Variant → why it was not computed (``errors="nan"``): the angle, the loop and the joint."""
 
@@ -204,6 +207,60 @@ class CycleBatch(Result):
         """(V, N, n) body coordinates (see :meth:`coordinates`)."""
         return self.coordinates()[0]
 
+    @cached_property
+    def applied(self) -> np.ndarray:
+        """(V, N, n) generalised applied forces Q in body coordinates: gravity and process forces."""
+        m = self.mechanism
+        self._stored(f"__com__{m.bodies[0].name}")
+        V, N = self.angle.shape
+        nb = len(m.bodies)
+        Q = np.zeros((V, N, nb, 3))
+        g = np.asarray(m.gravity, dtype=float)
+        Q[..., :2] = self._body_mass[:, None, :, None] * g
+        s = self.output_position
+        for pf in m.process_forces:
+            i = m.body_index[pf.body]
+            fx, fy = pf.force(self.angle, s if s is not None else np.zeros((V, N)))
+            F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
+            arm = self._z[pf.point][0] - self._z[f"__com__{pf.body}"][0]
+            Q[..., i, 0] += F.real
+            Q[..., i, 1] += F.imag
+            Q[..., i, 2] += _cross(arm, F)
+        return Q.reshape(V, N, 3 * nb)
+
+    @cached_property
+    def multipliers(self) -> np.ndarray:
+        """(V, N, m) the constraint multipliers λ of every variant, by dyad kinetostatics
+        (:func:`mechdyn.mechanism.kinetostatics.multipliers`); the same as one design's."""
+        from mechdyn.mechanism.kinetostatics import multipliers
+
+        with np.errstate(invalid="ignore", divide="ignore"):  # a failed variant's rows are NaN
+            return multipliers(self, self.applied)
+
+    def joint_force(self, joint: str) -> np.ndarray:
+        """(V, N, 2) force that ``joint`` puts on its second body, N (as
+        :meth:`DynamicsResult.joint_load` gives it, without the moment)."""
+        m = self.mechanism
+        names = [j.name for j in m.joints]
+        if joint not in names:
+            raise KeyError(joint)
+        k = names.index(joint)
+        j = m.joints[k]
+        rows = self.multipliers[..., m.joint_rows[k]]
+        if isinstance(j, Revolute):
+            return rows
+        # a slider on a frame guide: the normal force λ₂ n on the guide (−λ₂ n on the slider)
+        n = np.array([-math.sin(j.axis), math.cos(j.axis)])
+        return rows[..., 1:2] * n
+
+    @cached_property
+    def joint_force_peaks(self) -> dict[str, np.ndarray]:
+        """Joint → (V,) largest force magnitude over the cycle on its second body, N."""
+        return {
+            j.name: np.linalg.norm(self.joint_force(j.name), axis=-1).max(axis=1)
+            for j in self.mechanism.joints
+        }
+
     @property
     def assembled(self) -> np.ndarray:
         """(V,) True for the variants that assemble over the whole cycle."""
@@ -219,26 +276,29 @@ class CycleBatch(Result):
         """One row per variant: whether it assembles and its :meth:`summary` figures (units in the names)."""
         import pandas as pd
 
-        return pd.DataFrame(
-            {"variant": np.arange(self.angle.shape[0]), "assembled": self.assembled} | self.summary()
-        )
+        cols: dict[str, Any] = {"variant": np.arange(self.angle.shape[0]), "assembled": self.assembled}
+        for key, value in self.summary().items():
+            if isinstance(value, dict):  # joint → peak: one column per joint
+                cols |= {f"joint_{name}_force_peak_N": v for name, v in value.items()}
+            else:
+                cols[key] = value
+        return pd.DataFrame(cols)
 
-    def summary(self) -> dict[str, np.ndarray]:
-        """Per-variant stroke, dead centres, inertia-force extremes and torque (arrays over V)."""
+    def summary(self) -> dict[str, Any]:
+        """Per variant (arrays over V): the torque and frame-load figures, the output's stroke, dead
+        centres and inertia-force extremes, and (motions kept) each joint's force peak; the same
+        functions as one design's :meth:`DynamicsResult.summary`."""
+        from mechdyn.mechanism.extrema import load_figures, output_figures
+
         deg = np.degrees(self.angle)
-        T = self.driving_torque
-        out: dict[str, np.ndarray] = {
-            "driving_torque_peak_Nm": np.abs(T).max(axis=1),
-            "driving_torque_rms_Nm": np.sqrt(np.mean(T**2, axis=1)),
-            "shaking_force_max_N": np.abs(self._force).max(axis=1),
-        }
+        out: dict[str, Any] = load_figures(self.driving_torque, self.shaking_force, self.shaking_moment())
         s = self.output_position
         j = self.mechanism.output_joint()
         if s is not None and j is not None:
-            from mechdyn.mechanism.extrema import output_figures
-
             f = _dot(self._inertia, complex(math.cos(j.axis), math.sin(j.axis)))
             out.update(output_figures(deg, s, f, self.mechanism.angle_datum == "bdc"))
+        if self._rates:  # the motions were kept: the joint forces follow
+            out["joint_force_peak_N"] = self.joint_force_peaks
         return out
 
 
@@ -493,6 +553,8 @@ def cycle(
         dyad_meas,
         steps,
         (pos, vel, acc, rates),
+        mass,
+        inertia,
         failures,
     )
 

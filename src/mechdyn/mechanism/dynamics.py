@@ -147,32 +147,23 @@ class DynamicsResult(Result):
 
     def summary(self) -> dict[str, Any]:
         """Stroke, dead centres, inertia-force extremes, torque, power balance (SI, angles in degrees)."""
+        from mechdyn.mechanism.extrema import load_figures, output_figures
+
         deg = np.degrees(self.angle)
         T = self.driving_torque
         power = np.abs(T * self.crank_speed).max()
         out: dict[str, Any] = {
-            "driving_torque_max_Nm": float(T.max()),
-            "driving_torque_min_Nm": float(T.min()),
-            "driving_torque_peak_Nm": float(np.abs(T).max()),
-            "driving_torque_rms_Nm": float(np.sqrt(np.mean(T**2))),
-            "shaking_force_max_N": float(np.linalg.norm(self.shaking_force, axis=1).max()),
-            "power_balance_residual_relative": float(
-                np.abs(self.power_balance_residual).max() / max(power, 1e-300)
-            ),
+            key: float(v) for key, v in load_figures(T, self.shaking_force, self.shaking_moment()).items()
         }
+        out["power_balance_residual_relative"] = float(
+            np.abs(self.power_balance_residual).max() / max(power, 1e-300)
+        )
         s = self.output_position
         j = self.mechanism.output_joint()
         if s is not None and j is not None:
-            from mechdyn.mechanism.extrema import output_figures
-
             u = np.array([math.cos(j.axis), math.sin(j.axis)])
             figures = output_figures(deg, s, self.inertia_force @ u, self.mechanism.angle_datum == "bdc")
             out.update({key: float(v) for key, v in figures.items()})
-        moment = self.shaking_moment()
-        F = self.shaking_force
-        out["shaking_moment_range_Nm"] = float(moment.max() - moment.min())
-        out["shaking_force_x_range_N"] = float(np.ptp(F[:, 0]))
-        out["shaking_force_y_range_N"] = float(np.ptp(F[:, 1]))
         peaks = self.joint_force_peaks
         out["joint_force_peak_N"] = peaks
         gears = self.gear_pairs
@@ -360,7 +351,7 @@ def inverse_dynamics(
         order = np.argsort(k.dyads.angle[0])
         inverse = np.empty_like(order)
         inverse[order] = np.arange(order.size)
-        lam = multipliers(k.dyads, Q[inverse])[order]
+        lam = multipliers(k.dyads, Q[inverse][None])[0][order]
         return DynamicsResult(k, lam, Q)
     rhs = Q - mass.ravel() * k.qdd
     J, Jg = k.evaluation.load_jacobian

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["output_figures", "peak"]
+__all__ = ["load_figures", "output_figures", "peak"]
 
 # the quartic through (−2, y₋₂) … (2, y₂): coefficients c₀…c₄ of Σ c_i tⁱ = V⁻¹ y
 _VINV = np.linalg.inv(np.vander(np.arange(-2.0, 3.0), 5, increasing=True))
@@ -101,4 +101,36 @@ def output_figures(deg: np.ndarray, s: np.ndarray, f: np.ndarray, bdc_datum: boo
         "inertia_force_min_N": f_min,
         "inertia_force_min_deg": at_min,
         "inertia_force_fluctuation_N": f_max - f_min,
+    }
+
+
+def load_figures(torque: np.ndarray, force: np.ndarray, moment: np.ndarray) -> dict[str, np.ndarray]:
+    """The driving-torque and frame-load figures of a cycle (over the last axis; leading axes are
+    design variants).
+
+    Parameters
+    ----------
+    torque : ndarray
+        (..., N) driving torque, N·m.
+    force : ndarray
+        (..., N, 2) force on the frame, N.
+    moment : ndarray
+        (..., N) moment on the frame about the origin, N·m.
+
+    Returns
+    -------
+    dict
+        ``driving_torque_max_Nm``, ``driving_torque_min_Nm``, ``driving_torque_peak_Nm``,
+        ``driving_torque_rms_Nm``, ``shaking_force_max_N``, ``shaking_moment_range_Nm``,
+        ``shaking_force_x_range_N``, ``shaking_force_y_range_N``, each (...).
+    """
+    return {
+        "driving_torque_max_Nm": torque.max(axis=-1),
+        "driving_torque_min_Nm": torque.min(axis=-1),
+        "driving_torque_peak_Nm": np.abs(torque).max(axis=-1),
+        "driving_torque_rms_Nm": np.sqrt(np.mean(torque**2, axis=-1)),
+        "shaking_force_max_N": np.linalg.norm(force, axis=-1).max(axis=-1),
+        "shaking_moment_range_Nm": np.ptp(moment, axis=-1),
+        "shaking_force_x_range_N": np.ptp(force[..., 0], axis=-1),
+        "shaking_force_y_range_N": np.ptp(force[..., 1], axis=-1),
     }

@@ -25,34 +25,34 @@ __all__ = ["multipliers"]
 
 
 def multipliers(c, applied: np.ndarray) -> np.ndarray:
-    """Lagrange multipliers (N, m) of a one-variant dyad solution, by kinetostatics.
+    """Lagrange multipliers (V, N, m) of a dyad solution, by kinetostatics, for every variant at once.
 
     Parameters
     ----------
     c : CycleBatch
-        With its motions kept (``store_points=True``), one variant.
+        With its motions kept (``store_points=True``).
     applied : ndarray
-        (N, n) generalised applied forces (gravity and process forces) in body coordinates,
+        (V, N, n) generalised applied forces (gravity and process forces) in body coordinates,
         ordered by crank step as in ``c``.
     """
     m: Mechanism = c.mechanism
-    N = c.angle.shape[1]
+    V, N = c.angle.shape
     idx = m.body_index
 
     def pos(name):
-        return c._z[name][0][0]
+        return c._z[name][0]
 
     G = {b.name: pos(f"__com__{b.name}") for b in m.bodies}
-    a = {b.name: c._z[f"__com__{b.name}"][2][0] for b in m.bodies}
-    alpha = {b.name: c._rates[b.name][2][0] for b in m.bodies}
+    a = {b.name: c._z[f"__com__{b.name}"][2] for b in m.bodies}
+    alpha = {b.name: c._rates[b.name][2] for b in m.bodies}
     # what the joints must supply to each body: Σ joint forces = m a − Q, Σ joint moments = I α − Q_φ
     need_f = {}
     need_m = {}
     for i, b in enumerate(m.bodies):
-        qf = applied[:, 3 * i] + 1j * applied[:, 3 * i + 1]
-        need_f[b.name] = b.mass * a[b.name] - qf
-        need_m[b.name] = b.inertia * alpha[b.name] - applied[:, 3 * i + 2]
-    lam = np.zeros((N, m.n_constraints))
+        qf = applied[..., 3 * i] + 1j * applied[..., 3 * i + 1]
+        need_f[b.name] = c._body_mass[:, i, None] * a[b.name] - qf
+        need_m[b.name] = c._body_inertia[:, i, None] * alpha[b.name] - applied[..., 3 * i + 2]
+    lam = np.zeros((V, N, m.n_constraints))
     joints = list(m.joints)
 
     def joint_at(point: str, body: str, other: str | None = None) -> tuple[int, str]:
@@ -66,8 +66,8 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
     def record(k: int, on: str, force: np.ndarray, point: str) -> None:
         """Force on body ``on`` from revolute joint k; the other body takes the reaction as a known load."""
         j = joints[k]
-        lam[:, 2 * k] = (force if on == j.bodies[1] else -force).real
-        lam[:, 2 * k + 1] = (force if on == j.bodies[1] else -force).imag
+        lam[..., 2 * k] = (force if on == j.bodies[1] else -force).real
+        lam[..., 2 * k + 1] = (force if on == j.bodies[1] else -force).imag
         other = j.bodies[0] if on == j.bodies[1] else j.bodies[1]
         if other != GROUND:
             need_f[other] = need_f[other] + force  # −(−force): a known load reduces what is needed
@@ -102,8 +102,8 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
             record(j1, b1, F1, k1)
             record(j2, b2, F2, k2)
             kpb = joints[kp]
-            lam[:, 2 * kp] = (Fp if kpb.bodies[1] == b2 else -Fp).real
-            lam[:, 2 * kp + 1] = (Fp if kpb.bodies[1] == b2 else -Fp).imag
+            lam[..., 2 * kp] = (Fp if kpb.bodies[1] == b2 else -Fp).real
+            lam[..., 2 * kp + 1] = (Fp if kpb.bodies[1] == b2 else -Fp).imag
         elif st.kind == "rrp":
             p = st.target
             (k1,) = st.known
@@ -126,19 +126,19 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
             moment = need_m[s] - _cross(P - G[s], need_f[s])
             record(j1, b1, F1, k1)
             jp = joints[kp]
-            lam[:, 2 * kp] = (Fp if jp.bodies[1] == s else -Fp).real
-            lam[:, 2 * kp + 1] = (Fp if jp.bodies[1] == s else -Fp).imag
-            lam[:, 2 * kg + 1] = -normal  # the guide: force −λ₂ n and moment −λ₁ on the slider
-            lam[:, 2 * kg] = -moment
+            lam[..., 2 * kp] = (Fp if jp.bodies[1] == s else -Fp).real
+            lam[..., 2 * kp + 1] = (Fp if jp.bodies[1] == s else -Fp).imag
+            lam[..., 2 * kg + 1] = -normal  # the guide: force −λ₂ n and moment −λ₁ on the slider
+            lam[..., 2 * kg] = -moment
     # the crank: its frame pivot and the motor
     crank = m.driver.body
     k0, _ = joint_at(m.driver.pivot, crank)
     F0 = need_f[crank]
     T = need_m[crank] - _cross(pos(m.driver.pivot) - G[crank], F0)
     j0 = joints[k0]
-    lam[:, 2 * k0] = (F0 if j0.bodies[1] == crank else -F0).real
-    lam[:, 2 * k0 + 1] = (F0 if j0.bodies[1] == crank else -F0).imag
-    lam[:, -1] = -T
+    lam[..., 2 * k0] = (F0 if j0.bodies[1] == crank else -F0).real
+    lam[..., 2 * k0 + 1] = (F0 if j0.bodies[1] == crank else -F0).imag
+    lam[..., -1] = -T
     return lam
 
 
