@@ -75,3 +75,36 @@ def test_random_fourbar_variants_load_for_load(m, dx, dy):
         "C": np.array([C, C, C + np.array([dy, dx])]),
     }
     _compare(m, points, n=48)
+
+
+def test_a_sequence_of_variant_models_is_one_batch_with_a_status_per_variant():
+    from mechdyn.errors import ModelError
+    from mechdyn.mechanism import Body, variants
+
+    press = mechdyn.load(EXAMPLES / "press_link_drive.toml").model
+    C = np.asarray(press.points["C"])
+    heavier = replace(
+        press, bodies=tuple(replace(b, mass=1.2 * b.mass, inertia=1.5 * b.inertia) for b in press.bodies)
+    )
+    moved = replace(
+        press, points={**press.points, "D": tuple(np.asarray(press.points["D"]) + np.array([0.03, 0.01]))}
+    )
+    jammed = replace(press, points={**press.points, "D": (C[0] + 0.05, C[1])})  # a 50 mm rocker
+    models = [press, heavier, jammed, moved]
+    batch = variants(models, 72)
+    assert batch.status[2].startswith("variant 2: cannot assemble at crank angle") and "joint 'C'" in batch.status[2]
+    assert [s == "ok" for s in batch.status] == [True, True, False, True]
+    summary = batch.summary()
+    for v in (0, 1, 3):  # variant i is the single-design result of model i
+        single = inverse_dynamics(models[v], 72, method="newton").summary()
+        for key, values in summary.items():
+            if isinstance(values, dict):
+                for name, peaks in values.items():
+                    assert peaks[v] == pytest.approx(single[key][name], rel=1e-9), (v, key, name)
+            else:
+                assert values[v] == pytest.approx(single[key], rel=1e-9, abs=1e-6), (v, key)
+    # a model of another topology is refused by name
+    other = replace(press, bodies=(*press.bodies[:-1], replace(press.bodies[-1], center_of_mass=(0.0, 0.0))))
+    with pytest.raises(ModelError, match=r"variant 1 differs from variant 0 in its body"):
+        variants([press, other], 72)
+    assert Body  # the public names are importable

@@ -19,7 +19,7 @@ refused here and run on the general engine.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -32,7 +32,7 @@ from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Rev
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 from mechdyn.results import Result
 
-__all__ = ["CycleBatch", "NotDecomposable", "cycle", "plan"]
+__all__ = ["CycleBatch", "NotDecomposable", "cycle", "plan", "variants"]
 
 
 class NotDecomposable(ModelError):
@@ -262,6 +262,11 @@ class CycleBatch(Result):
         }
 
     @property
+    def status(self) -> tuple[str, ...]:
+        """Per variant: ``"ok"``, or why it was not computed (the angle, the loop and the joint)."""
+        return tuple(self.failures.get(v, "ok") for v in range(self.angle.shape[0]))
+
+    @property
     def assembled(self) -> np.ndarray:
         """(V,) True for the variants that assemble over the whole cycle."""
         return np.isfinite(self.driving_torque).all(axis=1)
@@ -394,6 +399,7 @@ def cycle(
     points: Mapping[str, Any] | None = None,
     masses: Mapping[str, Any] | None = None,
     *,
+    inertias: Mapping[str, Any] | None = None,
     store_points: bool = True,
     errors: str = "raise",
 ) -> CycleBatch:
@@ -409,7 +415,10 @@ def cycle(
         Drawing coordinates (m) that differ between variants; the others keep their nominal
         values. Each variant's drawing fixes its own link lengths and assembly branch.
     masses : mapping of body name → array (V,), optional
-        Body masses (kg) that differ between variants (inertias scale with them).
+        Body masses (kg) that differ between variants (inertias scale with them unless
+        ``inertias`` gives them).
+    inertias : mapping of body name → array (V,), optional
+        Moments of inertia about the centre of mass (kg·m²) that differ between variants.
     store_points : bool
         Keep every point's and body's motion (for :meth:`CycleBatch.point` and ``q``); off, only
         the loads, the output and the points that carry process forces are kept, which a large
@@ -436,7 +445,13 @@ def cycle(
         if name not in m.points:
             raise ModelError(f"point {name!r} is not in the drawing", element="points")
         given[name] = _z(np.asarray(arr, dtype=float).reshape(-1, 2))
-    V = max([1, *(a.size for a in given.values()), *(np.asarray(a).size for a in (masses or {}).values())])
+    V = max(
+        [
+            1,
+            *(a.size for a in given.values()),
+            *(np.asarray(a).size for a in (*(masses or {}).values(), *(inertias or {}).values())),
+        ]
+    )
     draw = {
         k: np.broadcast_to(given[k], (V,)).copy() if k in given else np.full(V, complex(*v))
         for k, v in m.points.items()
@@ -450,6 +465,8 @@ def cycle(
         ratio = np.divide(new, mass[:, i], out=np.zeros(V), where=mass[:, i] > 0)
         inertia[:, i] *= ratio
         mass[:, i] = new
+    for name, arr in (inertias or {}).items():
+        inertia[:, m.body_index[name]] = np.broadcast_to(np.asarray(arr, dtype=float).reshape(-1), (V,))
     slot, dz, ops, fdata, grounded = _encode(m, steps, draw)
     j = m.output_joint()
     wanted = (
@@ -663,3 +680,79 @@ def _angles(m: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | N
     else:
         offset = (theta_draw - float(m.angle_datum))[:, None]
     return np.mod(step * k + offset + 1e-12, 2 * math.pi) - 1e-12
+
+
+def variants(models: Sequence[Mechanism], n_angles: int = 360, *, store_points: bool = True) -> CycleBatch:
+    """Many variant models of one mechanism in one batched evaluation; variant i of the result is
+    the single-design result of ``models[i]``.
+
+    Parameters
+    ----------
+    models : sequence of Mechanism
+        Variants of one topology: they may differ in their drawing's point coordinates, their bodies'
+        masses and inertias (and their names), nothing else.
+    n_angles : int
+        Crank angles per revolution.
+    store_points : bool
+        Keep the motions (and with them every joint force); see :func:`cycle`.
+
+    Returns
+    -------
+    CycleBatch
+        One variant per model, in order; a variant that does not assemble or passes a singular
+        position keeps NaN rows and its message in :attr:`CycleBatch.status`, the others are computed.
+
+    Raises
+    ------
+    ModelError
+        When a model differs from the first in more than points, masses and inertias (naming the
+        variant and what differs).
+    NotDecomposable
+        When the mechanism is not a crank with RRR/RRP dyads.
+    """
+    if not models:
+        raise ModelError("give at least one model", element="variants")
+    base = models[0]
+    for i, m in enumerate(models[1:], start=1):
+        _same_topology(base, m, i)
+    changed = [p for p in base.points if any(m.points[p] != base.points[p] for m in models)]
+    points = {p: np.array([m.points[p] for m in models]) for p in changed}
+    masses, inertias = {}, {}
+    for k, b in enumerate(base.bodies):
+        if any(m.bodies[k].mass != b.mass for m in models):
+            masses[b.name] = np.array([m.bodies[k].mass for m in models])
+        if any(m.bodies[k].inertia != b.inertia for m in models):
+            inertias[b.name] = np.array([m.bodies[k].inertia for m in models])
+    if len(models) > 1 and not (points or masses or inertias):  # identical variants: still one each
+        points = {p: np.array([base.points[p]] * len(models)) for p in list(base.points)[:1]}
+    return cycle(
+        base,
+        n_angles,
+        points,
+        masses,
+        inertias=inertias,
+        store_points=store_points,
+        errors="nan",
+    )
+
+
+def _same_topology(base: Mechanism, m: Mechanism, i: int) -> None:
+    """Refuse a variant that differs from the first in more than points, masses and inertias."""
+
+    def differs(what: str) -> None:
+        raise ModelError(
+            f"variant {i} differs from variant 0 in its {what}; a batch holds variants of one "
+            "topology that differ in points, masses and inertias; run the others one by one",
+            element="variants",
+        )
+
+    if set(m.points) != set(base.points):
+        differs("point names")
+    if len(m.bodies) != len(base.bodies):
+        differs("bodies")
+    for a, b in zip(m.bodies, base.bodies, strict=True):
+        if (a.name, a.points, a.center_of_mass) != (b.name, b.points, b.center_of_mass):
+            differs(f"body {b.name!r} (its name, points or centre of mass)")
+    for what in ("joints", "driver", "gravity", "process_forces", "output", "angle_datum"):
+        if getattr(m, what) != getattr(base, what):
+            differs(what.replace("_", " "))
