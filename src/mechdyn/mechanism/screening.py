@@ -82,34 +82,32 @@ def screen(measure: Any, meas: np.ndarray, step: float) -> Finding | None:
     return min(found, key=lambda f: f.turned % (2 * math.pi))
 
 
-def _loss(measure: Any, lo: float, hi: float, step: float) -> Finding:
-    """Bisect the first angle in (lo, hi] where a loop stops closing; and where it closes again."""
+def _edge(jammed: Any, lo: float, hi: float, closing: bool) -> float:
+    """Bisect to ANGLE_TOL where ``jammed`` changes between lo and hi; the angle on the jammed side
+    when the loop stops closing, on the closing side when it closes again."""
     while hi - lo > ANGLE_TOL:
         mid = 0.5 * (lo + hi)
-        if np.isnan(measure(np.array([mid]))[0]).any():
+        if jammed(mid) != closing:  # stopping: (lo closes, hi jams); closing again: the reverse
             hi = mid
         else:
             lo = mid
-    row = measure(np.array([hi]))[0]
-    dyad = int(np.argmax(np.isnan(row)))
+    return hi
+
+
+def _loss(measure: Any, lo: float, hi: float, step: float) -> Finding:
+    """The first angle in (lo, hi] where a loop stops closing, its dyad, and where it closes again."""
+
+    def jammed(t: float) -> bool:
+        return bool(np.isnan(measure(np.array([t]))[0]).any())
+
+    start = _edge(jammed, lo, hi, closing=False)
+    dyad = int(np.argmax(np.isnan(measure(np.array([start]))[0])))
     # the end of the jam: the first sample after it that closes, then bisection back
-    until = None
-    start = hi
-    for j in range(1, 2 * math.ceil(2 * math.pi / step) + 1):
+    for j in range(1, math.ceil(2 * math.pi / step) + 1):
         t = start + j * step
-        if t - start > 2 * math.pi:
-            break
-        if not np.isnan(measure(np.array([t]))[0]).any():
-            a, b = t - step, t
-            while b - a > ANGLE_TOL:
-                mid = 0.5 * (a + b)
-                if np.isnan(measure(np.array([mid]))[0]).any():
-                    a = mid
-                else:
-                    b = mid
-            until = b
-            break
-    return Finding("assembly", hi, dyad, until)
+        if not jammed(t):
+            return Finding("assembly", start, dyad, _edge(jammed, t - step, t, closing=True))
+    return Finding("assembly", start, dyad, None)
 
 
 def _minimum(measure: Any, centre: float, step: float, d: int) -> Finding | None:
