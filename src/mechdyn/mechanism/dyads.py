@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError
+from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, crank_angles
 from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Revolute
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 from mechdyn.results import Result
@@ -544,7 +544,7 @@ def cycle(
     z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(wanted)}
     if j is None:
         s_out = None
-    angle = _angles(m, theta_draw, step, s_out, N)
+    angle = crank_angles(m, theta_draw, step, s_out, N)
     for pf in m.process_forces:
         fx, fy = pf.force(angle, s_out if s_out is not None else np.zeros((V, N)))
         F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
@@ -659,27 +659,6 @@ def _com(body, draw: Mapping[str, np.ndarray]) -> np.ndarray | complex:
     if isinstance(c, str):
         return draw[c]
     return complex(c[0], c[1])
-
-
-def _output(m: Mechanism, draw, pos) -> np.ndarray | None:
-    j = m.output_joint()
-    if j is None:
-        return None
-    u = complex(math.cos(j.axis), math.sin(j.axis))
-    return _dot(pos[j.point] - draw[j.point][:, None], u)
-
-
-def _angles(m: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | None, n: int) -> np.ndarray:
-    """Crank angle from each variant's datum over the cycle, rad, in [0, 2π)."""
-    k = np.arange(n)[None, :]
-    if m.angle_datum == "bdc":
-        if s is None:
-            raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
-        filled = np.where(np.isfinite(s), s, np.inf)
-        offset = -step * np.argmin(filled, axis=1)[:, None]
-    else:
-        offset = (theta_draw - float(m.angle_datum))[:, None]
-    return np.mod(step * k + offset + 1e-12, 2 * math.pi) - 1e-12
 
 
 def variants(models: Sequence[Mechanism], n_angles: int = 360, *, store_points: bool = True) -> CycleBatch:

@@ -20,7 +20,7 @@ from mechdyn.mechanism.constraints import ConstraintSet
 from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
 
-__all__ = ["AssemblyError", "KinematicsResult", "SingularPositionError", "kinematics"]
+__all__ = ["AssemblyError", "KinematicsResult", "SingularPositionError", "crank_angles", "kinematics"]
 
 TOL = 1e-11  # residual tolerance relative to the mechanism's size
 MAX_ITER = 30
@@ -219,8 +219,10 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
     closes = it >= 0 and _same_pose(mechanism, q_end, Q[0], scale)
     if not closes and it >= 0:
         _check_gear_period(mechanism, q_end, Q[0], scale)
-    datum = _datum(mechanism, Q, thetas)
-    angle = np.mod(thetas - datum + 1e-12, 2 * math.pi) - 1e-12
+    s_out = output_position(mechanism, Q)
+    angle = crank_angles(
+        mechanism, np.array([theta_draw]), step, None if s_out is None else s_out[None], n_angles
+    )[0]
     order = np.argsort(angle)
     result = KinematicsResult(
         mechanism,
@@ -428,11 +430,30 @@ def output_position(mechanism: Mechanism, q: np.ndarray) -> np.ndarray | None:
     return (p - np.asarray(mechanism.points[j.point])) @ u
 
 
-def _datum(mechanism: Mechanism, Q: np.ndarray, thetas: np.ndarray) -> float:
-    d = mechanism.angle_datum
-    if d != "bdc":
-        return float(d)
-    s = output_position(mechanism, Q)
-    if s is None:
-        raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
-    return float(thetas[int(np.argmin(s))])  # BDC: lowest along the upward output axis
+def crank_angles(
+    mechanism: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | None, n: int
+) -> np.ndarray:
+    """Crank angle from the datum at every step of each variant's cycle, rad, in [0, 2π).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        Its ``angle_datum``: a fixed crank angle, or ``"bdc"`` (the lowest sampled output position).
+    theta_draw : ndarray
+        (V,) each variant's drawing crank angle, rad.
+    step : float
+        Signed crank step, rad.
+    s : ndarray or None
+        (V, n) output positions in cycle order (for ``"bdc"``).
+    n : int
+        Steps per revolution.
+    """
+    k = np.arange(n)[None, :]
+    if mechanism.angle_datum == "bdc":
+        if s is None:
+            raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
+        filled = np.where(np.isfinite(s), s, np.inf)
+        offset = -step * np.argmin(filled, axis=1)[:, None]  # BDC: lowest along the upward axis
+    else:
+        offset = (np.asarray(theta_draw, dtype=float) - float(mechanism.angle_datum))[:, None]
+    return np.mod(step * k + offset + 1e-12, 2 * math.pi) - 1e-12
