@@ -92,7 +92,10 @@ def test_a_sequence_of_variant_models_is_one_batch_with_a_status_per_variant():
     jammed = replace(press, points={**press.points, "D": (C[0] + 0.05, C[1])})  # a 50 mm rocker
     models = [press, heavier, jammed, moved]
     batch = variants(models, 72)
-    assert batch.status[2].startswith("variant 2: cannot assemble at crank angle") and "joint 'C'" in batch.status[2]
+    assert (
+        batch.status[2].startswith("variant 2: cannot assemble at crank angle")
+        and "joint 'C'" in batch.status[2]
+    )
     assert [s == "ok" for s in batch.status] == [True, True, False, True]
     summary = batch.summary()
     for v in (0, 1, 3):  # variant i is the single-design result of model i
@@ -108,3 +111,19 @@ def test_a_sequence_of_variant_models_is_one_batch_with_a_status_per_variant():
     with pytest.raises(ModelError, match=r"variant 1 differs from variant 0 in its body"):
         variants([press, other], 72)
     assert Body  # the public names are importable
+
+
+def test_variants_of_a_geared_mechanism_run_design_by_design_with_their_status():
+    # RP-1's gears do not decompose into dyads: the batch runs each design on the general engine
+    from mechdyn.mechanism import DesignBatch, variants
+
+    rp1 = mechdyn.load(EXAMPLES / "transplanter_rp1.toml").model
+    heavier = replace(rp1, bodies=tuple(replace(b, mass=1.1 * b.mass) for b in rp1.bodies))
+    batch = variants([rp1, heavier], 36)
+    assert isinstance(batch, DesignBatch) and batch.status == ("ok", "ok")
+    single = inverse_dynamics(heavier, 36).summary()
+    s = batch.summary()
+    assert s["driving_torque_peak_Nm"][1] == pytest.approx(single["driving_torque_peak_Nm"], rel=1e-12)
+    assert s["joint_force_peak_N"]["O"][1] == pytest.approx(single["joint_force_peak_N"]["O"], rel=1e-12)
+    assert s["driving_torque_peak_Nm"][1] > s["driving_torque_peak_Nm"][0]
+    assert list(batch.to_frame()["status"]) == ["ok", "ok"]

@@ -304,7 +304,18 @@ def test_the_parts_of_the_support_analysis_and_the_batch_follow_the_protocol():
     mech = mechdyn.load(EXAMPLES / "fourbar.toml").model
     pts = {"B": np.asarray(mech.points["B"]) + np.array([[0.0, 0.0], [0.002, 0.0], [0.0, 0.003]])}
     batch = cycle(mech, 36, points=pts)
-    for r in (modes(machine), periodic_response(machine, load), startup_response(machine, load, 1), batch):
+    from mechdyn.mechanism import variants
+
+    rp1 = mechdyn.load(EXAMPLES / "transplanter_rp1.toml").model
+    designs = variants([rp1, rp1], 24)  # gears: design by design
+    parts = (
+        modes(machine),
+        periodic_response(machine, load),
+        startup_response(machine, load, 1),
+        batch,
+        designs,
+    )
+    for r in parts:
         assert isinstance(r, Result)
         frame = r.to_frame()
         assert isinstance(frame, pd.DataFrame) and len(frame)

@@ -17,6 +17,7 @@ __all__ = attach(
         "AssemblyError": "kinematics",
         "Body": "model",
         "CycleBatch": "dyads",
+        "DesignBatch": "dyads",
         "Driver": "model",
         "DynamicsResult": "dynamics",
         "GROUND": "model",

@@ -32,7 +32,7 @@ from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Rev
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 from mechdyn.results import Result
 
-__all__ = ["CycleBatch", "NotDecomposable", "cycle", "plan", "variants"]
+__all__ = ["CycleBatch", "DesignBatch", "NotDecomposable", "cycle", "plan", "variants"]
 
 
 class NotDecomposable(ModelError):
@@ -677,23 +677,28 @@ def variants(models: Sequence[Mechanism], n_angles: int = 360, *, store_points: 
 
     Returns
     -------
-    CycleBatch
-        One variant per model, in order; a variant that does not assemble or passes a singular
-        position keeps NaN rows and its message in :attr:`CycleBatch.status`, the others are computed.
+    CycleBatch or DesignBatch
+        One variant per model, in order, each with its ``status`` (``"ok"`` or why it was not
+        computed: the angle, the loop and the joint); the others are computed. A crank with RRR/RRP
+        dyads runs as one compiled batch (:class:`CycleBatch`); any other mechanism (gear trains,
+        sliders on moving guides) runs design by design on the general engine
+        (:class:`DesignBatch`, with the same summary keys).
 
     Raises
     ------
     ModelError
         When a model differs from the first in more than points, masses and inertias (naming the
         variant and what differs).
-    NotDecomposable
-        When the mechanism is not a crank with RRR/RRP dyads.
     """
     if not models:
         raise ModelError("give at least one model", element="variants")
     base = models[0]
     for i, m in enumerate(models[1:], start=1):
         _same_topology(base, m, i)
+    try:
+        plan(base)
+    except NotDecomposable:
+        return DesignBatch.run(models, n_angles)
     changed = [p for p in base.points if any(m.points[p] != base.points[p] for m in models)]
     points = {p: np.array([m.points[p] for m in models]) for p in changed}
     masses, inertias = {}, {}
@@ -735,3 +740,69 @@ def _same_topology(base: Mechanism, m: Mechanism, i: int) -> None:
     for what in ("joints", "driver", "gravity", "process_forces", "output", "angle_datum"):
         if getattr(m, what) != getattr(base, what):
             differs(what.replace("_", " "))
+
+
+@dataclass(frozen=True)
+class DesignBatch(Result):
+    """Variants run design by design on the general engine: one result per variant, with its status.
+
+    Attributes
+    ----------
+    results : tuple of DynamicsResult or None
+        None for a variant that could not be computed.
+    status : tuple of str
+        ``"ok"``, or the error that stopped the variant.
+    """
+
+    results: tuple[Any, ...]
+    status: tuple[str, ...]
+
+    @classmethod
+    def run(cls, models: Sequence[Mechanism], n_angles: int) -> DesignBatch:
+        """Each model's :func:`~mechdyn.mechanism.inverse_dynamics`; an error is kept, not raised."""
+        from mechdyn.mechanism.dynamics import inverse_dynamics
+
+        results, status = [], []
+        for i, m in enumerate(models):
+            try:
+                results.append(inverse_dynamics(m, n_angles))
+                status.append("ok")
+            except ModelError as exc:
+                results.append(None)
+                status.append(f"variant {i}: {exc.detail}")
+        return cls(tuple(results), tuple(status))
+
+    @property
+    def assembled(self) -> np.ndarray:
+        """(V,) True for the variants that were computed."""
+        return np.array([r is not None for r in self.results])
+
+    def summary(self) -> dict[str, Any]:
+        """Per variant (arrays over V, NaN for a failed one): the scalar figures of each design's
+        :meth:`DynamicsResult.summary`, and the joint-force peaks."""
+        done = [r.summary() for r in self.results if r is not None]
+        if not done:
+            return {}
+        keys = [k for k, v in done[0].items() if isinstance(v, (int, float)) and not isinstance(v, bool)]
+        rows = [r.summary() if r is not None else None for r in self.results]
+        out: dict[str, Any] = {
+            k: np.array([row[k] if row is not None else np.nan for row in rows], dtype=float) for k in keys
+        }
+        joints = list(done[0]["joint_force_peak_N"])
+        out["joint_force_peak_N"] = {
+            j: np.array([row["joint_force_peak_N"][j] if row is not None else np.nan for row in rows])
+            for j in joints
+        }
+        return out
+
+    def to_frame(self) -> Any:
+        """One row per variant: its status and its figures."""
+        import pandas as pd
+
+        cols: dict[str, Any] = {"variant": np.arange(len(self.results)), "status": list(self.status)}
+        for key, value in self.summary().items():
+            if isinstance(value, dict):
+                cols |= {f"joint_{name}_force_peak_N": v for name, v in value.items()}
+            else:
+                cols[key] = value
+        return pd.DataFrame(cols)
