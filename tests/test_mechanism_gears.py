@@ -305,7 +305,7 @@ def test_the_teeth_push_apart_on_whichever_flank_is_loaded(transplanter):
     d = inverse_dynamics(m, 72)
     fixed = inverse_dynamics(_published_law(m), 72)
     k = d.kinematics
-    rows = k.constraints.gear_rows
+    rows = k.constraints.load_dependent_rows
     flipped = d.multipliers[:, rows] < 0
     assert flipped.any() and not flipped.all()  # the tangential force reverses during a turn
     for j in (g for g in m.joints if isinstance(g, GearJoint)):

@@ -357,18 +357,17 @@ def inverse_dynamics(
     J, Jg = k.evaluation.load_jacobian
     lam, _ = solve_with_det(np.swapaxes(J, -1, -2), rhs)
     cs = k.constraints
-    if cs.gear_flank_follows_load.any():
-        # the teeth push apart on whichever flank the tangential force loads: choose the flank by
-        # the sign of F_t and solve again until the choice holds (it settles in a pass or two)
+    rows = cs.load_dependent_rows
+    if rows.size:
+        # a joint whose force law depends on the sign of its own multiplier (gear teeth push apart
+        # on whichever flank the tangential force loads): choose the side by the sign and solve
+        # again until the choice holds (it settles in a pass or two)
         for _ in range(8):
-            flank = np.where(cs.gear_flank_follows_load, np.where(lam[:, cs.gear_rows] < 0, -1.0, 1.0), 1.0)
+            flank = np.where(lam[:, rows] < 0, -1.0, 1.0)
             ev = cs.evaluate(k.q, k.crank_angle, forces=True, flank=flank)
             J, Jg = ev.load_jacobian
             lam, _ = solve_with_det(np.swapaxes(J, -1, -2), rhs)
-            if np.array_equal(
-                np.where(lam[:, cs.gear_rows] < 0, -1.0, 1.0)[:, cs.gear_flank_follows_load],
-                flank[:, cs.gear_flank_follows_load],
-            ):
+            if np.array_equal(np.where(lam[:, rows] < 0, -1.0, 1.0), flank):
                 break
         return DynamicsResult(k, lam, Q, (J, Jg))
     return DynamicsResult(k, lam, Q)

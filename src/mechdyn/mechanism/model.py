@@ -15,7 +15,7 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -85,6 +85,15 @@ class Revolute:
     bodies: tuple[str, str]
     point: str
 
+    n_rows: ClassVar[int] = 2
+
+    def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
+        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.RevoluteTerms`)."""
+        from mechdyn.mechanism.constraints import RevoluteTerms
+
+        a, b = self.bodies
+        return RevoluteTerms(slot(a), slot(b), mechanism.local(a, self.point), mechanism.local(b, self.point))
+
 
 @dataclass(frozen=True)
 class Prismatic:
@@ -99,8 +108,19 @@ class Prismatic:
     point: str
     axis: Any = 0.0
 
+    n_rows: ClassVar[int] = 2
+
     def __post_init__(self) -> None:
         object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
+
+    def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
+        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.PrismaticTerms`)."""
+        from mechdyn.mechanism.constraints import PrismaticTerms
+
+        a, b = self.bodies
+        normal = np.array([-math.sin(self.axis), math.cos(self.axis)])
+        sa, sb = mechanism.local(a, self.point), mechanism.local(b, self.point)
+        return PrismaticTerms(slot(a), slot(b), sa, sb, normal)
 
 
 @dataclass(frozen=True)
@@ -165,10 +185,21 @@ class GearJoint:
                 f"{self.points!r} must be two different points", element=self.name, field="points"
             )
 
+    n_rows: ClassVar[int] = 1
+
     @property
     def point(self) -> str:
         """Gear 1's pivot (where the joint is drawn)."""
         return self.points[0]
+
+    def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
+        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.GearTerms`)."""
+        from mechdyn.mechanism.constraints import GearTerms
+
+        c1, c2 = (mechanism.local(self.carrier, p) for p in self.points)
+        g1, g2 = (slot(b) for b in self.bodies)
+        law = mechanism.gear_laws[self.name]
+        return GearTerms(g1, g2, slot(self.carrier), c1, c2, law, self.pressure_angle, self.flank)
 
 
 @dataclass(frozen=True)
@@ -495,9 +526,8 @@ class Mechanism:
         """The constraint rows of each joint (two for revolute and prismatic, one for a gear pair)."""
         out, r = [], 0
         for j in self.joints:
-            n = 1 if isinstance(j, GearJoint) else 2
-            out.append(slice(r, r + n))
-            r += n
+            out.append(slice(r, r + j.n_rows))
+            r += j.n_rows
         return out
 
     # -- structure ---------------------------------------------------------------------------
@@ -511,7 +541,7 @@ class Mechanism:
 
     @property
     def n_constraints(self) -> int:
-        return sum(1 if isinstance(j, GearJoint) else 2 for j in self.joints) + 1
+        return sum(j.n_rows for j in self.joints) + 1
 
     def _check_count(self) -> None:
         n, m = self.n_coordinates, self.n_constraints
