@@ -10,6 +10,7 @@ from hypothesis import HealthCheck, given, settings
 
 import mechdyn
 from conftest import EXAMPLES
+from mechdyn.errors import ModelError
 from mechdyn.mechanism.dyads import NotDecomposable, cycle, plan
 from mechdyn.mechanism.dynamics import inverse_dynamics
 from mechdyn.mechanism.kinematics import AssemblyError
@@ -134,3 +135,24 @@ def test_kinetostatics_with_process_forces_equal_the_jacobian_solve(press):
     for j in m.joints:  # Newton's third law from the kinetostatic forces
         fa, fb = a.joint_load(j.name, j.bodies[0]), a.joint_load(j.name, j.bodies[1])
         np.testing.assert_allclose(fa[:, :2], -fb[:, :2], atol=1e-9 * np.abs(fa).max())
+
+
+def test_the_motion_solver_is_a_callable_and_the_loads_follow_from_any_of_them(press):
+    # motion from interchangeable solvers; the loads are computed downstream, from whichever motion
+    from mechdyn.mechanism import dyad_motion, kinematics, newton_motion
+
+    calls = []
+
+    def my_solver(mech, n):
+        calls.append(n)
+        return newton_motion(mech, n)
+
+    a = inverse_dynamics(press, 36, method=dyad_motion)
+    b = inverse_dynamics(press, 36, method=my_solver)
+    assert calls == [36]
+    np.testing.assert_allclose(b.driving_torque, a.driving_torque, atol=1e-9 * np.abs(a.driving_torque).max())
+    for j in press.joints:
+        fa, fb = a.joint_load(j.name, j.bodies[1]), b.joint_load(j.name, j.bodies[1])
+        np.testing.assert_allclose(fb, fa, atol=1e-9 * np.abs(fa).max())
+    with pytest.raises(ModelError, match="must be 'auto', 'dyads', 'newton' or a callable"):
+        kinematics(press, 36, method="euler")

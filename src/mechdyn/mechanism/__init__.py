@@ -31,7 +31,9 @@ __all__ = attach(
         "SingularPositionError": "kinematics",
         "cycle": "dyads",
         "inverse_dynamics": "dynamics",
+        "dyad_motion": "kinematics",
         "kinematics": "kinematics",
+        "newton_motion": "kinematics",
         "variants": "dyads",
     },
 )

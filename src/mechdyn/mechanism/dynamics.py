@@ -322,7 +322,7 @@ def _applied(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:
 
 
 def inverse_dynamics(
-    mechanism: Mechanism | KinematicsResult, n_angles: int = 360, method: str = "auto"
+    mechanism: Mechanism | KinematicsResult, n_angles: int = 360, method: Any = "auto"
 ) -> DynamicsResult:
     """Joint reactions, driving torque and frame loads over one crank revolution.
 
@@ -332,8 +332,9 @@ def inverse_dynamics(
         A kinematics result is reused as it is.
     n_angles : int
         Crank angles per revolution (when a Mechanism is given).
-    method : {"auto", "dyads", "newton"}
-        How positions are found, see :func:`~mechdyn.mechanism.kinematics.kinematics`.
+    method : {"auto", "dyads", "newton"} or callable
+        The motion solver, see :func:`~mechdyn.mechanism.kinematics.kinematics`; the loads follow
+        from whichever motion it gives, here.
 
     Returns
     -------

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -20,7 +21,16 @@ from mechdyn.mechanism.constraints import ConstraintSet
 from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
 
-__all__ = ["AssemblyError", "KinematicsResult", "SingularPositionError", "crank_angles", "kinematics"]
+__all__ = [
+    "MOTION_SOLVERS",
+    "AssemblyError",
+    "KinematicsResult",
+    "SingularPositionError",
+    "crank_angles",
+    "dyad_motion",
+    "kinematics",
+    "newton_motion",
+]
 
 TOL = 1e-11  # residual tolerance relative to the mechanism's size
 MAX_ITER = 30
@@ -137,7 +147,7 @@ def _check_conditioning(J: np.ndarray, angle: np.ndarray, closes: bool) -> None:
         )
 
 
-def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") -> KinematicsResult:
+def kinematics(mechanism: Mechanism, n_angles: int = 360, method: Any = "auto") -> KinematicsResult:
     """Positions, velocities and accelerations over one crank revolution.
 
     Parameters
@@ -145,11 +155,13 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
     mechanism : Mechanism
     n_angles : int
         Crank angles per revolution, equally spaced from the datum.
-    method : {"auto", "dyads", "newton"}
-        ``newton``: Newton–Raphson continuation on the assembled constraints (any mechanism).
-        ``dyads``: closed-form dyads (:mod:`mechdyn.mechanism.dyads`) for a crank with RRR/RRP
-        dyads. ``auto``: dyads where the mechanism decomposes, else Newton. Both take velocities
-        and accelerations from the differentiated constraints and agree to round-off.
+    method : {"auto", "dyads", "newton"} or callable
+        The motion solver: ``newton`` (:func:`newton_motion`, Newton–Raphson continuation on the
+        assembled constraints, any mechanism), ``dyads`` (:func:`dyad_motion`, closed-form dyads for
+        a crank with RRR/RRP dyads), ``auto`` (dyads where the mechanism decomposes, else Newton), or
+        any callable ``(mechanism, n_angles) -> KinematicsResult``. Both built-in solvers take
+        velocities and accelerations from the differentiated constraints and agree to round-off;
+        the loads follow from the motion in one place (:func:`~mechdyn.mechanism.inverse_dynamics`).
 
     Returns
     -------
@@ -164,18 +176,38 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: str = "auto") 
     """
     if n_angles < 4:
         raise ModelError(f"{n_angles} crank angles are too few; give at least 4")
-    if method not in ("auto", "dyads", "newton"):
-        raise ModelError(f"method {method!r} must be 'auto', 'dyads' or 'newton'")
-    if method != "newton":
-        from mechdyn.mechanism.dyads import NotDecomposable, cycle
+    if callable(method):
+        return method(mechanism, n_angles)
+    if method not in MOTION_SOLVERS and method != "auto":
+        raise ModelError(
+            f"method {method!r} must be 'auto', {', '.join(map(repr, MOTION_SOLVERS))} or a callable "
+            "(mechanism, n_angles) -> KinematicsResult"
+        )
+    if method != "auto":
+        return MOTION_SOLVERS[method](mechanism, n_angles)
+    from mechdyn.mechanism.dyads import NotDecomposable
 
-        try:
-            c = cycle(mechanism, n_angles)
-        except NotDecomposable:
-            if method == "dyads":
-                raise
-        else:
-            return _from_cycle(mechanism, c)
+    try:
+        return dyad_motion(mechanism, n_angles)
+    except NotDecomposable:
+        return newton_motion(mechanism, n_angles)
+
+
+def dyad_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
+    """The motion by closed-form dyads (the compiled kernel of :mod:`mechdyn.mechanism.dyads`).
+
+    Raises
+    ------
+    NotDecomposable
+        When the mechanism is not a crank with RRR/RRP dyads.
+    """
+    from mechdyn.mechanism.dyads import cycle
+
+    return _from_cycle(mechanism, cycle(mechanism, n_angles))
+
+
+def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
+    """The motion by Newton continuation on the assembled constraints (any mechanism)."""
     cs = ConstraintSet(mechanism)
     scale = _scale(mechanism)
     omega = mechanism.driver.speed
@@ -457,3 +489,7 @@ def crank_angles(
     else:
         offset = (np.asarray(theta_draw, dtype=float) - float(mechanism.angle_datum))[:, None]
     return np.mod(step * k + offset + 1e-12, 2 * math.pi) - 1e-12
+
+
+MOTION_SOLVERS = {"dyads": dyad_motion, "newton": newton_motion}
+"""The built-in motion solvers by name; :func:`kinematics` also takes any callable of this form."""
