@@ -18,7 +18,7 @@ import numpy as np
 
 from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
 from mechdyn.mechanism.linalg import solve_with_det
-from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
+from mechdyn.mechanism.model import GROUND, Mechanism
 from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
@@ -188,11 +188,8 @@ class DynamicsResult(Result):
         from mechdyn.mechanism.pitch import report
 
         m = self.mechanism
-        return {
-            j.name: report(m.gear_laws[j.name], j.pressure_angle)
-            for j in m.joints
-            if isinstance(j, GearJoint)
-        }
+        joints = {j.name: j for j in m.joints}
+        return {name: report(law, joints[name].pressure_angle) for name, law in m.gear_laws.items()}
 
     @property
     def warnings(self) -> tuple[str, ...]:

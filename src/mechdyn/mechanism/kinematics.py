@@ -19,7 +19,7 @@ import numpy as np
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.constraints import ConstraintSet
 from mechdyn.mechanism.linalg import solve_with_det
-from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
+from mechdyn.mechanism.model import GROUND, Mechanism
 
 __all__ = [
     "MOTION_SOLVERS",
@@ -430,7 +430,8 @@ def _same_pose(mechanism: Mechanism, a: np.ndarray, b: np.ndarray, scale: float)
 
 def _check_gear_period(mechanism: Mechanism, a: np.ndarray, b: np.ndarray, scale: float) -> None:
     """A gear that has not come back after one crank turn: the train's period is several turns."""
-    geared = {g for j in mechanism.joints if isinstance(j, GearJoint) for g in j.bodies}
+    joints = {j.name: j for j in mechanism.joints}
+    geared = {g for name in mechanism.gear_laws for g in joints[name].bodies}
     for i, body in enumerate(mechanism.bodies):
         if body.name not in geared:
             continue

@@ -77,6 +77,19 @@ class Body:
             )
 
 
+def _check_point_joint(j: Any, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
+    """A revolute or prismatic joint: its point in the drawing and on both its bodies."""
+    if j.point not in points:
+        raise ModelError(f"point {j.point!r} is not in the drawing", element=j.name, field="point")
+    for b in j.bodies:
+        if b != GROUND and b not in bodies:
+            raise ModelError(
+                f"body {b!r} is not defined; bodies: {', '.join(bodies)}", element=j.name, field="bodies"
+            )
+        if b != GROUND and j.point not in bodies[b].points:
+            raise ModelError(f"point {j.point!r} is not on body {b!r}", element=j.name, field="point")
+
+
 @dataclass(frozen=True)
 class Revolute:
     """A pin joint at a drawing point between two bodies (or a body and ``"ground"``)."""
@@ -86,6 +99,15 @@ class Revolute:
     point: str
 
     n_rows: ClassVar[int] = 2
+    slides: ClassVar[bool] = False
+
+    def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
+        """Refuse a point or body the mechanism does not have."""
+        _check_point_joint(self, points, bodies)
+
+    def law(self, points: Mapping[str, Any]) -> Any:
+        """A pin imposes no motion law of its own."""
+        return None
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
         """Its constraint terms (:class:`~mechdyn.mechanism.constraints.RevoluteTerms`)."""
@@ -109,9 +131,18 @@ class Prismatic:
     axis: Any = 0.0
 
     n_rows: ClassVar[int] = 2
+    slides: ClassVar[bool] = True  # its motion along the axis can be the stroke
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
+
+    def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
+        """Refuse a point or body the mechanism does not have."""
+        _check_point_joint(self, points, bodies)
+
+    def law(self, points: Mapping[str, Any]) -> Any:
+        """A slider imposes no motion law of its own."""
+        return None
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
         """Its constraint terms (:class:`~mechdyn.mechanism.constraints.PrismaticTerms`)."""
@@ -186,6 +217,40 @@ class GearJoint:
             )
 
     n_rows: ClassVar[int] = 1
+    slides: ClassVar[bool] = False
+
+    def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
+        """Refuse a gear, carrier or pivot the mechanism does not have."""
+        for b in (*self.bodies, self.carrier):
+            if b != GROUND and b not in bodies:
+                raise ModelError(
+                    f"body {b!r} is not defined; bodies: {', '.join(bodies)}",
+                    element=self.name,
+                    field="bodies",
+                )
+        if self.carrier in self.bodies:
+            raise ModelError("a gear cannot be its own carrier", element=self.name, field="carrier")
+        for b, p in zip(self.bodies, self.points, strict=True):
+            if p not in points:
+                raise ModelError(f"point {p!r} is not in the drawing", element=self.name, field="points")
+            for owner in (b, self.carrier):
+                if owner != GROUND and p not in bodies[owner].points:
+                    raise ModelError(
+                        f"point {p!r} is not on body {owner!r}", element=self.name, field="points"
+                    )
+
+    def law(self, points: Mapping[str, Any]) -> Any:
+        """The rolling law ψ₂ = g(ψ₁) (:class:`~mechdyn.mechanism.pitch.PitchLaw`) at the drawing's
+        centre distance."""
+        from mechdyn.mechanism.pitch import pitch_law
+
+        c1, c2 = (np.asarray(points[p], dtype=float) for p in self.points)
+        a = float(np.hypot(*(c2 - c1)))
+        beta = math.atan2(c2[1] - c1[1], c2[0] - c1[0])
+        try:
+            return pitch_law(self.curve, a, beta - self.orientation, self.internal)
+        except ModelError as exc:
+            raise ModelError(exc.detail, element=self.name, field=exc.field) from None
 
     @property
     def point(self) -> str:
@@ -419,20 +484,7 @@ class Mechanism:
                 raise ModelError(
                     f"{j.bodies!r} must name two different bodies", element=j.name, field="bodies"
                 )
-            if isinstance(j, GearJoint):
-                self._check_gear(j, pts, names)
-                continue
-            if j.point not in pts:
-                raise ModelError(f"point {j.point!r} is not in the drawing", element=j.name, field="point")
-            for b in j.bodies:
-                if b != GROUND and b not in names:
-                    raise ModelError(
-                        f"body {b!r} is not defined; bodies: {', '.join(names)}",
-                        element=j.name,
-                        field="bodies",
-                    )
-                if b != GROUND and j.point not in self.bodies[names[b]].points:
-                    raise ModelError(f"point {j.point!r} is not on body {b!r}", element=j.name, field="point")
+            j.check(pts, {b.name: b for b in self.bodies})
         d = self.driver
         if d.body not in names:
             raise ModelError(f"body {d.body!r} is not defined", element="driver", field="body")
@@ -451,38 +503,12 @@ class Mechanism:
         self.gear_laws  # noqa: B018 - a gear pair that cannot close is refused here
         self._check_gear_bodies()
 
-    def _check_gear(self, j: GearJoint, pts: dict[str, Any], names: dict[str, int]) -> None:
-        for b in (*j.bodies, j.carrier):
-            if b != GROUND and b not in names:
-                raise ModelError(
-                    f"body {b!r} is not defined; bodies: {', '.join(names)}", element=j.name, field="bodies"
-                )
-        if j.carrier in j.bodies:
-            raise ModelError("a gear cannot be its own carrier", element=j.name, field="carrier")
-        for b, p in zip(j.bodies, j.points, strict=True):
-            if p not in pts:
-                raise ModelError(f"point {p!r} is not in the drawing", element=j.name, field="points")
-            for owner in (b, j.carrier):
-                if owner != GROUND and p not in self.bodies[names[owner]].points:
-                    raise ModelError(f"point {p!r} is not on body {owner!r}", element=j.name, field="points")
-
     @cached_property
     def gear_laws(self) -> dict[str, Any]:
         """The motion law of every gear joint (:class:`~mechdyn.mechanism.pitch.PitchLaw`), from the
         drawing's centre distances."""
-        from mechdyn.mechanism.pitch import pitch_law
-
-        out = {}
-        for j in self.joints:
-            if isinstance(j, GearJoint):
-                c1, c2 = (np.asarray(self.points[p], dtype=float) for p in j.points)
-                a = float(np.hypot(*(c2 - c1)))
-                beta = math.atan2(c2[1] - c1[1], c2[0] - c1[0])
-                try:
-                    out[j.name] = pitch_law(j.curve, a, beta - j.orientation, j.internal)
-                except ModelError as exc:
-                    raise ModelError(exc.detail, element=j.name, field=exc.field) from None
-        return out
+        laws = {j.name: j.law(self.points) for j in self.joints}
+        return {name: law for name, law in laws.items() if law is not None}
 
     def _check_gear_bodies(self) -> None:
         """A gear that meshes twice (an idler) is one gear: the pitch curves its meshes give it,
@@ -493,7 +519,7 @@ class Mechanism:
 
         grid = 2 * np.pi * np.arange(720) / 720
         for body in self.bodies:
-            meshes = [j for j in self.joints if isinstance(j, GearJoint) and body.name in j.bodies]
+            meshes = [j for j in self.joints if j.name in self.gear_laws and body.name in j.bodies]
             if len(meshes) < 2:
                 continue
             curves = []
@@ -597,7 +623,7 @@ class Mechanism:
 
     def output_joint(self) -> Prismatic | None:
         """The prismatic joint whose motion is the stroke."""
-        prismatic = [j for j in self.joints if isinstance(j, Prismatic)]
+        prismatic = [j for j in self.joints if j.slides]
         if self.output is None:
             return prismatic[0] if prismatic else None
         for j in prismatic:
