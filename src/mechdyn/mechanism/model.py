@@ -77,21 +77,37 @@ class Body:
             )
 
 
-def _check_point_joint(j: Any, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
-    """A revolute or prismatic joint: its point in the drawing and on both its bodies."""
-    if j.point not in points:
-        raise ModelError(f"point {j.point!r} is not in the drawing", element=j.name, field="point")
-    for b in j.bodies:
-        if b != GROUND and b not in bodies:
-            raise ModelError(
-                f"body {b!r} is not defined; bodies: {', '.join(bodies)}", element=j.name, field="bodies"
-            )
-        if b != GROUND and j.point not in bodies[b].points:
-            raise ModelError(f"point {j.point!r} is not on body {b!r}", element=j.name, field="point")
+class _AtAPoint:
+    """What the joints acting at one drawing point share: their reference checks, and no motion
+    law of their own."""
+
+    name: str
+    bodies: tuple[str, str]
+    point: str
+
+    def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
+        """Refuse a point or body the mechanism does not have: the point in the drawing and on
+        both bodies."""
+        if self.point not in points:
+            raise ModelError(f"point {self.point!r} is not in the drawing", element=self.name, field="point")
+        for b in self.bodies:
+            if b != GROUND and b not in bodies:
+                known = ", ".join(bodies)
+                raise ModelError(
+                    f"body {b!r} is not defined; bodies: {known}", element=self.name, field="bodies"
+                )
+            if b != GROUND and self.point not in bodies[b].points:
+                raise ModelError(
+                    f"point {self.point!r} is not on body {b!r}", element=self.name, field="point"
+                )
+
+    def law(self, points: Mapping[str, Any]) -> Any:
+        """None: such a joint imposes no motion law of its own (a gear pair does)."""
+        return None
 
 
 @dataclass(frozen=True)
-class Revolute:
+class Revolute(_AtAPoint):
     """A pin joint at a drawing point between two bodies (or a body and ``"ground"``)."""
 
     name: str
@@ -100,14 +116,6 @@ class Revolute:
 
     n_rows: ClassVar[int] = 2
     slides: ClassVar[bool] = False
-
-    def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
-        """Refuse a point or body the mechanism does not have."""
-        _check_point_joint(self, points, bodies)
-
-    def law(self, points: Mapping[str, Any]) -> Any:
-        """A pin imposes no motion law of its own."""
-        return None
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
         """Its constraint terms (:class:`~mechdyn.mechanism.constraints.RevoluteTerms`)."""
@@ -118,7 +126,7 @@ class Revolute:
 
 
 @dataclass(frozen=True)
-class Prismatic:
+class Prismatic(_AtAPoint):
     """A slider: a point of body ``bodies[0]`` moves along a line fixed in ``bodies[1]``.
 
     The line passes through the point's drawing position with direction ``axis`` (angle from +x in
@@ -135,14 +143,6 @@ class Prismatic:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
-
-    def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
-        """Refuse a point or body the mechanism does not have."""
-        _check_point_joint(self, points, bodies)
-
-    def law(self, points: Mapping[str, Any]) -> Any:
-        """A slider imposes no motion law of its own."""
-        return None
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
         """Its constraint terms (:class:`~mechdyn.mechanism.constraints.PrismaticTerms`)."""
