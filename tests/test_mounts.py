@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from conftest import EXAMPLES
 from mechdyn.errors import ModelError
 from mechdyn.mounts import (
     BoltedJoint,
@@ -385,3 +386,42 @@ def test_a_mount_file_names_the_bad_materials_file(tmp_path):
     with pytest.raises(ModelFileError) as info:
         mechdyn.load(p)
     assert str(info.value).startswith(str(tmp_path / "mine.toml"))
+
+
+def test_richardson_recovers_a_known_limit_and_order():
+    from mechdyn.mounts.fe import richardson
+
+    # f_h = f + C h^p on meshes halved each time: the limit and the order come back exactly
+    ex = richardson([2.5 + 0.7 * h**1.7 for h in (0.4, 0.2, 0.1, 0.05)])
+    assert ex.value == pytest.approx(2.5, rel=1e-12) and ex.order == pytest.approx(1.7, rel=1e-12)
+    assert ex.error == pytest.approx(0.7 * 0.05**1.7 / 2.5, rel=1e-9)
+    # an oscillating sequence has no order: the error is the last change
+    osc = richardson([1.0, 1.1, 1.05])
+    assert osc.order is None and osc.value == 1.05 and osc.error == pytest.approx(0.05 / 1.05)
+
+
+def test_the_anchor_fe_reference_refines_until_converged_and_the_calibration_uses_it(tmp_path):
+    # 4, 8, 16 elements leave a 2.1 % error (404.7 MN/m); the reference refines to 64 and extrapolates
+    # to 397.7 MN/m, within 0.5 % of an independent axisymmetric FE's 396 MN/m (issue 14)
+    import mechdyn
+    from mechdyn.mounts.analysis import analyse
+
+    result = analyse(mechdyn.load(EXAMPLES / "anchor_concrete.toml").settings)
+    s = result.summary()
+    assert [r["elements_through_thickness"] for r in s["fe_convergence"]] == [4, 8, 16, 32, 64]
+    assert s["fe_discretisation_error_relative"] <= 0.005 and not result.warnings
+    assert s["fe_stiffness_N_per_m"] == pytest.approx(396e6, rel=0.006)
+    assert s["fe_finest_mesh_N_per_m"] > s["fe_stiffness_N_per_m"]  # converging from above
+    assert s["calibration"]["target_N_per_m"] == pytest.approx(s["fe_stiffness_N_per_m"], rel=1e-12)
+    # a tolerance the allowed meshes cannot reach is said, not hidden
+    text = (
+        (EXAMPLES / "anchor_concrete.toml")
+        .read_text()
+        .replace(
+            "refinements = [4, 8, 16]", "refinements = [4, 8, 16]\ntolerance = 0.001\nmax_refinement = 16"
+        )
+    )
+    path = tmp_path / "anchor.toml"
+    path.write_text(text)
+    rough = analyse(mechdyn.load(path).settings)
+    assert any("did not converge to 0.1 %" in w for w in rough.warnings)

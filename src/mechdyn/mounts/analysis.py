@@ -22,7 +22,7 @@ from mechdyn.mounts.calibration import (
     load_calibration,
     read_frf_csv,
 )
-from mechdyn.mounts.fe import AnchorFE, FEResult, anchor_members, pad_compression
+from mechdyn.mounts.fe import AnchorFE, FEResult, anchor_members, pad_compression, richardson
 from mechdyn.mounts.pad import ElastomerPad
 from mechdyn.mounts.types import DampingPad, isolation
 from mechdyn.results import Result, Table
@@ -40,6 +40,7 @@ class _Draft:
     summary: dict[str, Any]
     mount: Any
     fe_levels: list[FEResult] = field(default_factory=list)
+    refinements: list[int] = field(default_factory=list)
     anchor: AnchorFE | None = None
     calibration: Calibration | None = None
     frf: tuple[np.ndarray, np.ndarray, SdofFit] | None = None
@@ -85,6 +86,27 @@ class MountResult(Result):
     def summary(self) -> dict[str, Any]:
         """Stiffness along the main axis (N/m) with its breakdown, and what else the file asked for."""
         return dict(self.data)
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """An FE reference that did not reach its tolerance, or did not converge monotonically."""
+        d = self.data
+        if "fe_discretisation_error_relative" not in d:
+            return ()
+        err, tol = d["fe_discretisation_error_relative"], d["fe_tolerance_relative"]
+        finest = d["fe_convergence"][-1]["elements_through_thickness"]
+        out = []
+        if err > tol:
+            out.append(
+                f"the FE reference did not converge to {100 * tol:.2g} %: at {finest} elements through the "
+                f"thickness it errs by about {100 * err:.2g} % (Richardson); raise [fe] max_refinement"
+            )
+        if d["fe_convergence_order"] is None:
+            out.append(
+                "the FE stiffness does not converge monotonically over the last three meshes; its error "
+                "is estimated from the last change only"
+            )
+        return tuple(out)
 
     def to_frame(self) -> pd.DataFrame:
         """The FE mesh convergence (one row per refinement), or the figures with a unit as one row."""
@@ -160,10 +182,10 @@ def _fe(spec: Any, mount: Any, report: _Draft) -> float | None:
                 "the FE reference is axisymmetric: give the pad a diameter", element=spec.name, field="fe"
             )
         m = pad.material
-        report.fe_levels = [
-            pad_compression(pad.diameter, pad.thickness, m.youngs_modulus, m.poissons_ratio, n=n)
-            for n in fe.refinements
-        ]
+        report.fe_levels, report.refinements = _converged(
+            lambda n: pad_compression(pad.diameter, pad.thickness, m.youngs_modulus, m.poissons_ratio, n=n),
+            fe,
+        )
         return report.fe_levels[-1].stiffness
     joint: BoltedJoint = mount
     if len(joint.layers) != 2:
@@ -186,10 +208,23 @@ def _fe(spec: Any, mount: Any, report: _Draft) -> float | None:
         concrete_E=conc.material.youngs_modulus,
         concrete_nu=conc.material.poissons_ratio,
     )
-    runs = [anchor_members(**kw, n=n) for n in fe.refinements]
+    runs, report.refinements = _converged(lambda n: anchor_members(**kw, n=n), fe)
     report.fe_levels = [r.result for r in runs]
     report.anchor = runs[-1]
     return runs[-1].stiffness
+
+
+def _converged(run: Any, fe: Any) -> tuple[list[Any], list[int]]:
+    """The FE runs over ``fe.refinements``, refined by 2 from the last until Richardson's estimate of
+    the finest mesh's error is below ``fe.tolerance`` (or ``fe.max_refinement`` is reached)."""
+    levels = list(fe.refinements)
+    runs = [run(n) for n in levels]
+    while True:
+        k = [r.stiffness for r in runs]
+        if richardson(k).error <= fe.tolerance or 2 * levels[-1] > fe.max_refinement:
+            return runs, levels
+        levels.append(2 * levels[-1])
+        runs.append(run(levels[-1]))
 
 
 def analyse(spec: Any, store: Any = None) -> MountResult:
@@ -232,9 +267,16 @@ def analyse(spec: Any, store: Any = None) -> MountResult:
         s["member_stiffness_N_per_m"] = mount.member_stiffness()
         s["load_factor"] = mount.load_factor
         s["cone_half_angle_deg"] = math.degrees(mount.cone_angle)
-    fe_k = _fe(spec, mount, report)
-    if fe_k is not None:
+    fe_finest = _fe(spec, mount, report)
+    fe_k = None
+    if fe_finest is not None:
+        ex = richardson([r.stiffness for r in report.fe_levels])
+        fe_k = ex.value  # the reference: extrapolated to the converged mesh
         s["fe_stiffness_N_per_m"] = fe_k
+        s["fe_finest_mesh_N_per_m"] = fe_finest
+        s["fe_discretisation_error_relative"] = ex.error
+        s["fe_convergence_order"] = ex.order
+        s["fe_tolerance_relative"] = spec.fe.tolerance
         s["fe_convergence"] = [
             {
                 "elements_through_thickness": n,
@@ -242,7 +284,7 @@ def analyse(spec: Any, store: Any = None) -> MountResult:
                 "dofs": r.dofs,
                 "stiffness_N_per_m": r.stiffness,
             }
-            for n, r in zip(spec.fe.refinements, report.fe_levels, strict=True)
+            for n, r in zip(report.refinements, report.fe_levels, strict=True)
         ]
         estimate = mount.member_stiffness() if isinstance(mount, BoltedJoint) else pad.compression_stiffness
         s["estimate_to_fe"] = estimate / fe_k

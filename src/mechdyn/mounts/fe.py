@@ -28,7 +28,14 @@ import scipy.sparse.linalg as spla
 
 from mechdyn.errors import ModelError
 
-__all__ = ["AnchorFE", "FEResult", "anchor_members", "pad_compression"]
+__all__ = [
+    "AnchorFE",
+    "Extrapolation",
+    "FEResult",
+    "anchor_members",
+    "pad_compression",
+    "richardson",
+]
 
 
 def _lame(E: float, nu: float) -> tuple[float, float]:
@@ -356,3 +363,51 @@ def anchor_members(
     )
     head = 1.0 / (math.pi * (rw**2 - rh**2))
     return AnchorFE(1.0 / compliance, pr, pressure, head, lift, res)
+
+
+@dataclass(frozen=True)
+class Extrapolation:
+    """A mesh-converged value from a sequence of refinements by a constant ratio.
+
+    Attributes
+    ----------
+    value : float
+        The extrapolated (converged) value.
+    order : float or None
+        The observed order of convergence p (None when the last three levels do not converge
+        monotonically).
+    error : float
+        Estimated relative discretisation error of the finest mesh, |finest − value| / |value|.
+    """
+
+    value: float
+    order: float | None
+    error: float
+
+
+def richardson(values: Any, ratio: float = 2.0) -> Extrapolation:
+    """Richardson extrapolation of the last three values of a refinement sequence.
+
+    With f_h = f + C h^p and the mesh refined by ``ratio`` between levels, the observed order is
+    p = ln((f₁ − f₂)/(f₂ − f₃)) / ln r and the converged value f = f₃ + (f₃ − f₂)/(r^p − 1)
+    (Roache, *Verification and Validation in Computational Science and Engineering*, 1998, §5.4;
+    the grid convergence index of ASME V&V 20). With fewer than three levels, or a sequence that
+    does not converge monotonically, the value is the finest one and the error the last change.
+
+    Parameters
+    ----------
+    values : sequence of float
+        The quantity on meshes refined by ``ratio`` each time, coarsest first.
+    ratio : float
+        Refinement ratio between levels.
+    """
+    f = [float(v) for v in values]
+    if len(f) < 2:
+        return Extrapolation(f[-1], None, math.inf)
+    if len(f) >= 3:
+        d1, d2 = f[-3] - f[-2], f[-2] - f[-1]
+        if d1 * d2 > 0 and abs(d2) < abs(d1):
+            p = math.log(d1 / d2) / math.log(ratio)
+            value = f[-1] + (f[-1] - f[-2]) / (ratio**p - 1.0)
+            return Extrapolation(value, p, abs(f[-1] - value) / abs(value))
+    return Extrapolation(f[-1], None, abs(f[-1] - f[-2]) / abs(f[-1]))

@@ -102,7 +102,16 @@ class SpringTable(FileModel):
 
 
 class FETable(FileModel):
-    refinements: list[int] = Field(default=[4, 8, 16], min_length=1)
+    refinements: list[int] = Field(
+        default=[4, 8, 16],
+        min_length=1,
+        description="the first meshes (elements through the thickness); refined by 2 from the last until "
+        "converged",
+    )
+    tolerance: float = Field(
+        default=0.005, gt=0, lt=1, description="largest relative discretisation error of the reference"
+    )
+    max_refinement: int = Field(default=64, ge=1, le=1024, description="finest mesh it may refine to")
     preloads: list[Force] = Field(default_factory=list)
     pressure_threshold: Pressure | None = None
     plate_radius: Length | None = None
