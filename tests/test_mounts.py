@@ -425,3 +425,54 @@ def test_the_anchor_fe_reference_refines_until_converged_and_the_calibration_use
     path.write_text(text)
     rough = analyse(mechdyn.load(path).settings)
     assert any("did not converge to 0.1 %" in w for w in rough.warnings)
+
+
+@pytest.mark.parametrize(("d_mm", "As_mm2"), [(6, 20.1), (12, 84.3), (20, 245.0), (36, 817.0)])
+def test_the_stress_area_takes_the_iso_coarse_pitch(d_mm, As_mm2):
+    # ISO 898-1 Table 4: tensile stress areas of coarse threads (M12: 84.3 mm², M20: 245 mm²)
+    steel = DB["bolt steel"]
+    j = BoltedJoint("b", f"{d_mm} mm", [Layer("20 mm", steel)], steel, f"{1.8 * d_mm} mm")
+    assert j.stress_area * 1e6 == pytest.approx(As_mm2, rel=2e-3)
+    with pytest.raises(ModelError, match=r"13 mm is not an ISO metric coarse-thread size .*give pitch"):
+        BoltedJoint("b", "13 mm", [Layer("20 mm", steel)], steel, "24 mm")
+    assert BoltedJoint("b", "13 mm", [Layer("20 mm", steel)], steel, "24 mm", pitch="1.5 mm").pitch == 0.0015
+
+
+def _vdi_members(E, dh, dW, DA, lK, phi):
+    """VDI 2230 Part 1 (2015) §5.1.2.2, through-bolted joint (w = 1): the members' resilience for a
+    cone (D_A ≥ D_A,Gr), a cone and a sleeve (d_W < D_A < D_A,Gr) or a sleeve (D_A ≤ d_W)."""
+    t = math.tan(phi)
+    DAGr = dW + lK * t
+    if DA >= DAGr:
+        delta = (
+            2
+            * math.log((dW + dh) * (dW + lK * t - dh) / ((dW - dh) * (dW + lK * t + dh)))
+            / (E * math.pi * dh * t)
+        )
+    elif DA > dW:
+        cone = 2 / (dh * t) * math.log((dW + dh) * (DA - dh) / ((dW - dh) * (DA + dh)))
+        sleeve = 4 / (DA**2 - dh**2) * (lK - (DA - dW) / t)
+        delta = (cone + sleeve) / (E * math.pi)
+    else:
+        delta = 4 * lK / (E * math.pi * (DA**2 - dh**2))
+    return 1 / delta
+
+
+@pytest.mark.parametrize("DA_mm", [60.0, 24.0, 20.0, 16.0])
+def test_members_switch_to_cone_and_sleeve_where_the_parts_are_narrow(DA_mm):
+    # M12 through 40 mm of steel, d_W = 18 mm, d_h = 13 mm, φ = 30°: D_A,Gr = 41.1 mm
+    steel = Material("steel 210", "steel", "210 GPa", 0.3)
+    j = BoltedJoint(
+        "j",
+        "12 mm",
+        [Layer("40 mm", steel)],
+        steel,
+        "18 mm",
+        hole_diameter="13 mm",
+        outer_diameter=f"{DA_mm} mm",
+    )
+    expected = _vdi_members(210e9, 0.013, 0.018, DA_mm / 1e3, 0.040, math.radians(30))
+    assert j.member_stiffness() == pytest.approx(expected, rel=1e-12)
+    if DA_mm < 41.0:  # the full cone of before overestimates narrow parts
+        full = _vdi_members(210e9, 0.013, 0.018, 1.0, 0.040, math.radians(30))
+        assert full > expected

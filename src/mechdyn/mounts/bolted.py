@@ -30,9 +30,43 @@ from typing import Any
 
 from mechdyn.errors import ModelError
 from mechdyn.mounts.materials import Material
-from mechdyn.units import show, si_field
+from mechdyn.units import convert, show, si_field
 
-__all__ = ["BoltedJoint", "Layer", "frustum_stiffness", "vdi2230_cone_angle"]
+__all__ = [
+    "ISO_COARSE_PITCH",
+    "BoltedJoint",
+    "Layer",
+    "coarse_pitch",
+    "frustum_stiffness",
+    "vdi2230_cone_angle",
+]
+
+ISO_COARSE_PITCH = {
+    3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25, 10: 1.5, 12: 1.75, 14: 2.0, 16: 2.0, 18: 2.5, 20: 2.5,
+    22: 2.5, 24: 3.0, 27: 3.0, 30: 3.5, 33: 3.5, 36: 4.0, 39: 4.0, 42: 4.5, 45: 4.5, 48: 5.0, 52: 5.0,
+    56: 5.5, 60: 5.5, 64: 6.0,
+}  # fmt: skip
+"""Nominal diameter (mm) → coarse thread pitch (mm), ISO 261 / ISO 262 (M3 to M64)."""
+
+
+def coarse_pitch(owner: str, diameter: float) -> float:
+    """The ISO metric coarse pitch of a nominal diameter, m.
+
+    Raises
+    ------
+    ModelError
+        When the diameter is not an ISO metric size (then the pitch must be given).
+    """
+    mm = float(convert(diameter, "m", "mm"))
+    size = round(mm)
+    if abs(mm - size) > 1e-6 or size not in ISO_COARSE_PITCH:
+        sizes = ", ".join(f"M{k}" for k in ISO_COARSE_PITCH)
+        raise ModelError(
+            f"{show(diameter, 'm', 'mm')} is not an ISO metric coarse-thread size ({sizes}); give pitch",
+            element=owner,
+            field="pitch",
+        )
+    return float(convert(ISO_COARSE_PITCH[size], "mm", "m"))
 
 
 def frustum_stiffness(E: float, d: float, D: float, t: float, alpha: float) -> float:
@@ -109,15 +143,18 @@ class BoltedJoint:
     hole_diameter : float or quantity, optional
         m; by default d.
     stress_area : float or quantity, optional
-        A_s, m²; by default the ISO metric coarse-thread value π/4 (d − 0.9382 P)² with
-        P ≈ 0.15 d.
+        A_s, m²; by default the ISO metric value π/4 (d − 0.9382 P)² (ISO 898-1).
     nut : {"nut", "tapped", "anchor"}
         What holds the lower end (VDI 2230 nut resilience 0.4 d, or 0.33 d).
     cone_angle : float or quantity or "vdi2230"
         Half-angle α of the pressure cones, rad or quantity; ``"vdi2230"`` takes it from the joint's
         geometry.
     outer_diameter : float or quantity, optional
-        Diameter of the clamped parts (for the VDI cone angle), m; by default 3 d_W.
+        Diameter D_A of the clamped parts, m; by default 3 d_W. A pressure cone that reaches it goes
+        on as a sleeve of that diameter (VDI 2230 Part 1, 2015, §5.1.2.2: cone and sleeve where
+        D_A < D_A,Gr = d_W + w l_K tan φ).
+    pitch : float or quantity, optional
+        Thread pitch P, m; by default the ISO 261 coarse pitch of the nominal diameter.
     """
 
     name: str
@@ -131,6 +168,7 @@ class BoltedJoint:
     nut: str = "nut"
     cone_angle: Any = "30 deg"
     outer_diameter: Any = None
+    pitch: Any = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "layers", tuple(self.layers))
@@ -156,8 +194,10 @@ class BoltedJoint:
                     field=f,
                 )
             object.__setattr__(self, f, v)
+        P = coarse_pitch(self.name, d) if self.pitch is None else self._length("pitch", self.pitch)
+        object.__setattr__(self, "pitch", P)
         if self.stress_area is None:
-            object.__setattr__(self, "stress_area", math.pi / 4 * (d - 0.9382 * 0.15 * d) ** 2)
+            object.__setattr__(self, "stress_area", math.pi / 4 * (d - 0.9382 * P) ** 2)
         else:
             a = si_field(self.name, "stress_area", self.stress_area, "m^2")
             if not 0 < a <= math.pi / 4 * d**2:
@@ -201,7 +241,9 @@ class BoltedJoint:
         """The cone frusta of the member stack, each with its layer, thickness, D, E and stiffness.
 
         A cone grows from the head down and one from the lower bearing face up; they meet at
-        mid-grip. Each cone is cut wherever it crosses a layer boundary.
+        mid-grip. Each cone is cut wherever it crosses a layer boundary, and where it reaches the
+        parts' outer diameter D_A it goes on as a sleeve, k = E π (D_A² − d_h²)/(4 t) (the
+        cone-and-sleeve body of VDI 2230 Part 1, 2015, Eq. 5.1/23; ``"sleeve": True``).
         """
         a = self.cone_angle if alpha is None else alpha
         half = self.grip / 2
@@ -220,18 +262,20 @@ class BoltedJoint:
                 t = abs(z1 - z0)
                 mid = 0.5 * (z0 + z1)
                 i = next(k for k in range(len(self.layers)) if bounds[k] <= mid <= bounds[k + 1])
-                D = D0 + 2 * abs(z0 - start) * math.tan(a)
+                D = min(D0 + 2 * abs(z0 - start) * math.tan(a), self.outer_diameter)
                 E = self.layers[i].material.youngs_modulus
-                out.append(
-                    {
-                        "layer": i,
-                        "material": self.layers[i].material.name,
-                        "thickness_m": t,
-                        "diameter_m": D,
-                        "youngs_modulus_Pa": E,
-                        "stiffness_N_per_m": frustum_stiffness(E, self.hole_diameter, D, t, a),
-                    }
-                )
+                # the cone reaches the parts' outer diameter after t_cone; beyond, a sleeve of D_A
+                t_cone = min(t, (self.outer_diameter - D) / (2 * math.tan(a)))
+                row = {"layer": i, "material": self.layers[i].material.name, "youngs_modulus_Pa": E}
+                if t_cone > 0:
+                    k = frustum_stiffness(E, self.hole_diameter, D, t_cone, a)
+                    out.append(row | {"thickness_m": t_cone, "diameter_m": D, "stiffness_N_per_m": k})
+                if t - t_cone > 0:
+                    DA, dh, ts = self.outer_diameter, self.hole_diameter, t - t_cone
+                    k = E * math.pi * (DA**2 - dh**2) / (4 * ts)
+                    out.append(
+                        row | {"thickness_m": ts, "diameter_m": DA, "stiffness_N_per_m": k, "sleeve": True}
+                    )
         return out
 
     def member_stiffness(self, alpha: float | None = None) -> float:
@@ -255,7 +299,7 @@ class BoltedJoint:
         """
         d, E = self.diameter, self.bolt_material.youngs_modulus
         A_N = math.pi / 4 * d**2
-        d3 = d - 1.2269 * 0.15 * d  # ISO 68-1 minor diameter with P ≈ 0.15 d
+        d3 = d - 1.2269 * self.pitch  # ISO 68-1 minor diameter of the external thread
         A_d3 = math.pi / 4 * d3**2
         ls = max(self.grip - d, 0.0) if shank_length is None else min(shank_length, self.grip)
         lt = self.grip - ls

@@ -171,8 +171,11 @@ class ScrewFoot:
 
     @property
     def spindle_stiffness(self) -> float:
-        """A_s E / L, N/m (stress area with P ≈ 0.15 d)."""
-        a_s = math.pi / 4 * (self.diameter - 0.9382 * 0.15 * self.diameter) ** 2
+        """A_s E / L, N/m (stress area π/4 (d − 0.9382 P)² with the ISO 261 coarse pitch P)."""
+        from mechdyn.mounts.bolted import coarse_pitch
+
+        P = coarse_pitch(self.name, self.diameter)
+        a_s = math.pi / 4 * (self.diameter - 0.9382 * P) ** 2
         return a_s * self.material.youngs_modulus / self.free_length
 
     @property
