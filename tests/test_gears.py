@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from conftest import EXAMPLES
 from mechdyn.errors import ModelError, ModelWarning
 from mechdyn.gears import GearPair, SpurGear, TruncatedTooth, hertz_compliance, iso_stiffness, pair_compliance
 
@@ -339,3 +340,25 @@ def test_single_tooth_loaded_at_a_radius():
     assert sum(g.tooth_compliances(0.0215).values()) > sum(direct.values())
     with pytest.raises(ModelError, match="field 'load_radius': load radius 23 mm is off the flank"):
         g.tooth_compliances("23 mm")
+
+
+def test_iso_validity_is_checked_and_rim_and_web_come_from_a_file(tmp_path):
+    # ISO 6336-1's q′ regression holds for x1 ≥ x2: outside it the result says so; a rim-and-web
+    # blank given in the file (m 2 mm, b 20 mm: s_R/m_n = 3, b_s/b = 0.4) sets
+    # C_R = 1 + ln(b_s/b) / (5 e^(s_R/(5 m_n)))
+    import mechdyn
+    from mechdyn.registry import get
+
+    text = (EXAMPLES / "spur_pair.toml").read_text()
+    path = tmp_path / "pair.toml"
+    path.write_text(text.replace("[gear]", '[gear]\nrim_thickness = "6 mm"\nweb_width = "8 mm"', 1))
+    r = get("gear").run(mechdyn.load(path))
+    assert r.iso.C_R == pytest.approx(1 + math.log(0.4) / (5 * math.exp(3 / 5)), rel=1e-12)
+    plain = get("gear").run(mechdyn.load(EXAMPLES / "spur_pair.toml"))
+    assert r.iso.c_prime == pytest.approx(plain.iso.c_prime * r.iso.C_R, rel=1e-12) and not r.warnings
+    path.write_text(text.replace("[pinion]", "[pinion]\nprofile_shift = -0.2", 1))
+    shifted = get("gear").run(mechdyn.load(path))
+    assert any("x1 = -0.2 is below the gear's x2 = 0" in w for w in shifted.warnings)
+    with pytest.raises(mechdyn.ModelFileError, match="give both rim_thickness and web_width"):
+        path.write_text(text.replace("[gear]", '[gear]\nrim_thickness = "6 mm"', 1))
+        mechdyn.load(path)

@@ -72,6 +72,9 @@ class SpurGear:
     bore_diameter : float or quantity, optional
         Diameter of the bore, m; with it the tooth foundation is elastic (Sainsot et al. 2004),
         without it rigid.
+    rim_thickness, web_width : float or quantity, optional
+        s_R and b_s of a rim-and-web gear blank, m (ISO 6336-1 gear blank factor C_R); None for a
+        solid blank.
     name : str
     """
 
@@ -86,6 +89,8 @@ class SpurGear:
     poisson_ratio: float = 0.3
     bore_diameter: float | None = None
     name: str = "gear"
+    rim_thickness: float | None = None
+    web_width: float | None = None
 
     def __post_init__(self) -> None:
         n = self.name
@@ -118,6 +123,18 @@ class SpurGear:
                     element=n,
                     field="bore_diameter",
                 )
+        for f in ("rim_thickness", "web_width"):
+            if getattr(self, f) is not None:
+                v = _q(n, f, getattr(self, f), "m")
+                if not v > 0:
+                    raise ModelError(f"{v:g} m must be positive", element=n, field=f)
+                object.__setattr__(self, f, v)
+        if (self.rim_thickness is None) != (self.web_width is None):
+            raise ModelError(
+                "give both rim_thickness and web_width of a rim-and-web blank, or neither (solid)",
+                element=n,
+                field="rim_thickness",
+            )
         if self.thickness(self.tip_radius) <= 0:
             raise ModelError(
                 "the teeth are pointed (no thickness at the tip circle); "

@@ -41,6 +41,8 @@ class IsoStiffness:
         Single stiffness c′.
     c_gamma_alpha : float
         Mesh stiffness c_γα = c′ (0.75 ε_α + 0.25), × 0.9 when ε_α < 1.2.
+    notes : tuple of str
+        Where the input lies outside the regression's range of validity, and what was taken.
     """
 
     q_prime: float
@@ -52,6 +54,7 @@ class IsoStiffness:
     material_factor: float
     c_prime: float
     c_gamma_alpha: float
+    notes: tuple[str, ...] = ()
 
     def mesh_stiffness(self, face_width: float) -> float:
         """c_γα b in N/m for a face width in m."""
@@ -73,7 +76,8 @@ def iso_stiffness(
     specific_load : float
         F_t K_A / b, N/mm; below 100 N/mm the stiffness falls as (load/100)^0.25.
     rim_thickness_ratio : float, optional
-        s_R / m_n of a rim-and-web gear; None for solid gears (C_R = 1).
+        s_R / m_n of a rim-and-web gear; None takes each gear's own ``rim_thickness`` and
+        ``web_width`` (solid gears: C_R = 1).
     web_width_ratio : float
         b_s / b of a webbed gear (0.2 … 1.2).
 
@@ -106,16 +110,33 @@ def iso_stiffness(
             element=g.name,
             field="profile_shift",
         )
+    notes: list[str] = []
+    if x1 < x2:
+        notes.append(
+            f"ISO 6336-1: the pinion's profile shift x1 = {x1:g} is below the gear's x2 = {x2:g}, outside "
+            "the range of the regression for q′ (x1 ≥ x2); c′ and c_γα are extrapolated"
+        )
     C1, C2, C3, C4, C5, C6, C7, C8, C9 = _C
     q = C1 + C2 / z1 + C3 / z2 + C4 * x1 + C5 * x1 / z1 + C6 * x2 + C7 * x2 / z2 + C8 * x1**2 + C9 * x2**2
     c_th = 1.0 / q
     C_M = 0.8
-    if rim_thickness_ratio is None:
-        C_R = 1.0
+    blanks = []
+    if rim_thickness_ratio is not None:
+        blanks.append(("the blank", rim_thickness_ratio, web_width_ratio))
     else:
-        bs = min(max(web_width_ratio, 0.2), 1.2)
-        sr = max(rim_thickness_ratio, 1.0)
-        C_R = 1.0 + math.log(bs) / (5.0 * math.exp(sr / 5.0))
+        for gear in (p, g):
+            if gear.rim_thickness is not None:
+                face = gear.face_width
+                blanks.append((gear.name, gear.rim_thickness / gear.module, gear.web_width / face))
+    C_R = 1.0
+    for name, sr, bs in blanks:
+        if not 0.2 <= bs <= 1.2:
+            notes.append(f"ISO 6336-1: {name}'s b_s/b = {bs:.3g} is outside 0.2 … 1.2; C_R takes the limit")
+        if sr < 1.0:
+            notes.append(f"ISO 6336-1: {name}'s s_R/m_n = {sr:.3g} is below 1; C_R takes 1")
+        bs_c, sr_c = min(max(bs, 0.2), 1.2), max(sr, 1.0)
+        # one C_R per pair in ISO 6336-1; with two webbed blanks the more flexible governs here
+        C_R = min(C_R, 1.0 + math.log(bs_c) / (5.0 * math.exp(sr_c / 5.0)))
 
     def rack(gear):
         return (1.0 + 0.5 * (1.2 - gear.dedendum)) * (1.0 - 0.02 * (20.0 - math.degrees(gear.pressure_angle)))
@@ -129,4 +150,4 @@ def iso_stiffness(
     c_prime = c_th * C_M * C_R * C_B * load * mat
     eps = pair.contact_ratio
     c_gamma = c_prime * (0.75 * eps + 0.25) * (0.9 if eps < 1.2 else 1.0)
-    return IsoStiffness(q, c_th, C_M, C_R, C_B, load, mat, c_prime, c_gamma)
+    return IsoStiffness(q, c_th, C_M, C_R, C_B, load, mat, c_prime, c_gamma, tuple(notes))

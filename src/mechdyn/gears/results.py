@@ -72,6 +72,11 @@ class GearPairResult(Result):
         return min(self.pair.pinion.face_width, self.pair.gear.face_width)
 
     @property
+    def warnings(self) -> tuple[str, ...]:
+        """ISO 6336-1 inputs outside the regression's range of validity."""
+        return self.iso.notes
+
+    @property
     def other_model(self) -> str:
         return "involute" if self.pair.tooth_model == "truncated" else "truncated"
 

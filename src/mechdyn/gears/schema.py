@@ -45,6 +45,8 @@ class GearTable(FileModel):
     addendum: float = 1.0
     dedendum: float = 1.25
     bore_diameter: Length | None = None
+    rim_thickness: Length | None = Field(default=None, description="s_R of a rim-and-web blank")
+    web_width: Length | None = Field(default=None, description="b_s of a rim-and-web blank")
     youngs_modulus: Pressure | None = None
     poisson_ratio: float | None = Field(default=None, gt=-1.0, lt=0.5)
 
@@ -63,6 +65,8 @@ class GearTable(FileModel):
             poisson_ratio=self.poisson_ratio if self.poisson_ratio is not None else material.poisson_ratio,
             bore_diameter=self.bore_diameter,
             name=name,
+            rim_thickness=self.rim_thickness,
+            web_width=self.web_width,
         )
 
 
