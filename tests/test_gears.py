@@ -362,3 +362,26 @@ def test_iso_validity_is_checked_and_rim_and_web_come_from_a_file(tmp_path):
     with pytest.raises(mechdyn.ModelFileError, match="give both rim_thickness and web_width"):
         path.write_text(text.replace("[gear]", '[gear]\nrim_thickness = "6 mm"', 1))
         mechdyn.load(path)
+
+
+def test_without_a_bore_the_foundation_is_not_rigid_and_the_guess_is_said():
+    # a standard pair (m 2, z 20/40, b 20 mm) with no bores was 2.6× stiffer than with them (a rigid
+    # foundation, silently); now it takes half the root diameter, close to the bored pair and ISO
+    from dataclasses import replace
+
+    import mechdyn
+    from mechdyn.gears.results import gear_pair_stiffness
+
+    pair = mechdyn.load(EXAMPLES / "spur_pair.toml").model
+    bored = gear_pair_stiffness(pair)
+    solid = gear_pair_stiffness(
+        replace(
+            pair, pinion=replace(pair.pinion, bore_diameter=None), gear=replace(pair.gear, bore_diameter=None)
+        )
+    )
+    iso = bored.iso.c_gamma_alpha  # N/(mm·µm)
+    per_face = solid.cycle.mean / bored.face_width / 1e9
+    assert per_face == pytest.approx(bored.cycle.mean / bored.face_width / 1e9, rel=0.05)
+    assert 0.9 < per_face / iso < 1.3
+    assert len(solid.warnings) == 2 and all("no bore_diameter" in w for w in solid.warnings)
+    assert not bored.warnings

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mechdyn
-from mechdyn.errors import ModelFileError
+from mechdyn.errors import ModelFileError, ModelWarning
 
 GOOD = """
 [model]
@@ -253,8 +253,8 @@ stiffness = "1.5e9 N/m"
 """,
     """[[gear_pairs]]
 name = "P1"
-pinion = { teeth = 20, module = "2 mm", face_width = "20 mm" }
-gear = { teeth = 60, module = "2 mm", face_width = "20 mm" }
+pinion = { teeth = 20, module = "2 mm", face_width = "20 mm", bore_diameter = "15 mm" }
+gear = { teeth = 60, module = "2 mm", face_width = "20 mm", bore_diameter = "40 mm" }
 
 [[meshes]]
 name = "G1"
@@ -269,6 +269,10 @@ def test_mesh_from_a_gear_pair_table(tmp_path):
     mesh = dt.element("G1")
     assert mesh.teeth == (20, 60) and mesh.stiffness > 1e8
     assert mesh.base_radii[0] == pytest.approx(0.02 * math.cos(math.radians(20)))
+    # without a bore the foundation takes half the root diameter, and the file's location says so
+    no_bore = GEARED.replace(', bore_diameter = "15 mm"', "")
+    with pytest.warns(ModelWarning, match=r"\[\[gear_pairs\]\] #1 \(name = 'P1'\): pinion: no bore_diameter"):
+        mechdyn.load(_write(tmp_path, no_bore))
 
 
 @pytest.mark.parametrize(

@@ -8,6 +8,7 @@ tables for those analyses. Every dimensional value carries its unit. See ``examp
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Literal
 
@@ -16,7 +17,7 @@ from pydantic import Field, model_validator
 from mechdyn.drivetrain.elements import Disk, GearMesh, GroundDamper, GroundSpring, Shaft
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
-from mechdyn.errors import ModelFileError
+from mechdyn.errors import ModelFileError, ModelWarning
 from mechdyn.gears.schema import GearTable, pair_from_tables
 from mechdyn.gears.schema import MaterialTable as GearMaterialTable
 from mechdyn.io.fields import (
@@ -285,9 +286,12 @@ def build(source: ModelSource) -> Drivetrain:
                 )
     pairs = {}
     for i, gp in enumerate(f.gear_pairs):
-        pairs[gp.name] = pair_from_tables(
-            source, _where("gear_pairs", i, gp.name), gp.pinion, gp.gear, f.gear_material, gp.center_distance
-        )
+        where = _where("gear_pairs", i, gp.name)
+        pair = pair_from_tables(source, where, gp.pinion, gp.gear, f.gear_material, gp.center_distance)
+        pairs[gp.name] = pair
+        with field_context(source, where):  # a mesh stiffness from guessed inputs says so
+            for note in (*pair.pinion.guesses, *pair.gear.guesses):
+                warnings.warn(note, ModelWarning, stacklevel=2)
     for i, m in enumerate(f.meshes):
         where = _where("meshes", i, m.name)
         if m.gear_pair is not None and m.gear_pair not in pairs:

@@ -10,11 +10,16 @@ __all__: list[str] = []
 
 
 def _gear(loaded: Any) -> Any:
+    from mechdyn.errors import MechdynError
     from mechdyn.gears.results import gear_pair_stiffness, tooth_pair_stiffness
 
     spec = loaded.settings
     if loaded.type == "gear_pair":
+        if spec is None:  # a GearPair built in Python: the file's defaults
+            return gear_pair_stiffness(loaded.model)
         return gear_pair_stiffness(loaded.model, spec.points, spec.specific_load)
+    if spec is None:
+        raise MechdynError("a tooth pair runs from its file (it gives the load heights and angle)")
     return tooth_pair_stiffness(loaded.model, spec.load_heights, spec.load_angle, spec.published_stiffness)
 
 

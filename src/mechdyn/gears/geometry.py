@@ -70,8 +70,9 @@ class SpurGear:
         E, Pa (steel 206 GPa by default, the ISO 6336 reference).
     poisson_ratio : float
     bore_diameter : float or quantity, optional
-        Diameter of the bore, m; with it the tooth foundation is elastic (Sainsot et al. 2004),
-        without it rigid.
+        Diameter of the bore, m, for the elastic tooth foundation (Sainsot et al. 2004). The body of
+        a gear yields under its teeth whether or not a bore is given: without one the foundation
+        takes a bore of half the root diameter (a hub on its shaft), and :attr:`guesses` says so.
     rim_thickness, web_width : float or quantity, optional
         s_R and b_s of a rim-and-web gear blank, m (ISO 6336-1 gear blank factor C_R); None for a
         solid blank.
@@ -242,12 +243,25 @@ class SpurGear:
             name=f"{self.name} involute tooth",
         )
 
+    @property
+    def bore_radius(self) -> float:
+        """Radius of the bore the foundation takes, m: the given one, else half the root radius."""
+        return self.bore_diameter / 2.0 if self.bore_diameter is not None else self.root_radius / 2.0
+
+    @property
+    def guesses(self) -> tuple[str, ...]:
+        """The inputs this gear's stiffness takes by default, each with what was taken."""
+        if self.bore_diameter is not None:
+            return ()
+        return (
+            f"{self.name}: no bore_diameter: the tooth foundation takes a bore of half the root diameter "
+            f"({show(self.root_radius, 'm', 'mm', '.4g')}); give bore_diameter",
+        )
+
     def tooth(self) -> TruncatedTooth:
         """The truncated-triangle tooth of this gear, heights from the root circle."""
         r0 = self.form_radius
-        foundation = {}
-        if self.bore_diameter is not None:
-            foundation = {"root_radius": r0, "bore_radius": self.bore_diameter / 2.0}
+        foundation = {"root_radius": r0, "bore_radius": self.bore_radius}
         return TruncatedTooth(
             tip_height=self.tip_radius - self.root_radius,
             root_height=r0 - self.root_radius,

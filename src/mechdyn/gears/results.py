@@ -73,8 +73,8 @@ class GearPairResult(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """ISO 6336-1 inputs outside the regression's range of validity."""
-        return self.iso.notes
+        """Inputs taken by default (a bore) and ISO 6336-1 inputs outside its range of validity."""
+        return (*self.pair.pinion.guesses, *self.pair.gear.guesses, *self.iso.notes)
 
     @property
     def other_model(self) -> str:
