@@ -28,7 +28,7 @@ import numpy as np
 
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, crank_angles
-from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, Prismatic, Revolute
+from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 from mechdyn.results import Result
 
@@ -54,16 +54,19 @@ def plan(mechanism: Mechanism) -> list[Step]:
     """The order in which the points become known; :class:`NotDecomposable` if there is none."""
     m = mechanism
     for j in m.joints:
-        if isinstance(j, GearJoint):
-            raise NotDecomposable(f"gear pair {j.name!r} runs on the general engine", element=j.name)
+        if not (j.pins or j.slides):
+            raise NotDecomposable(
+                f"joint {j.name!r} is neither a pin nor a slider; it runs on the general engine",
+                element=j.name,
+            )
     pts_of = {b.name: set(b.points) for b in m.bodies}
-    grounded = {j.point for j in m.joints if isinstance(j, Revolute) and GROUND in j.bodies}
+    grounded = {j.point for j in m.joints if j.pins and GROUND in j.bodies}
     for j in m.joints:
-        if isinstance(j, Prismatic) and j.bodies[0] == GROUND:
+        if j.slides and j.bodies[0] == GROUND:
             raise NotDecomposable(
                 "the frame cannot slide on a body here; swap the joint's bodies", element=j.name
             )
-        if isinstance(j, Prismatic) and j.bodies[1] != GROUND:
+        if j.slides and j.bodies[1] != GROUND:
             raise NotDecomposable(
                 f"slider {j.name!r} runs on a moving guide; use the general engine", element=j.name
             )
@@ -74,8 +77,8 @@ def plan(mechanism: Mechanism) -> list[Step]:
     steps = [Step("crank", tuple(sorted(pts_of[d.body] - {d.pivot})), (d.pivot,), d.body)]
     known |= pts_of[d.body]
     done_bodies = {d.body}
-    sliders = {j.bodies[0]: j for j in m.joints if isinstance(j, Prismatic)}
-    revolutes = [j for j in m.joints if isinstance(j, Revolute)]
+    sliders = {j.bodies[0]: j for j in m.joints if j.slides}
+    revolutes = [j for j in m.joints if j.pins]
     while len(done_bodies) < len(m.bodies):
         progress = False
         for b in m.bodies:  # rigid: two known points fix the rest
@@ -247,7 +250,7 @@ class CycleBatch(Result):
         k = names.index(joint)
         j = m.joints[k]
         rows = self.multipliers[..., m.joint_rows[k]]
-        if isinstance(j, Revolute):
+        if j.pins:
             return rows
         # a slider on a frame guide: the normal force λ₂ n on the guide (−λ₂ n on the slider)
         n = np.array([-math.sin(j.axis), math.cos(j.axis)])
@@ -343,7 +346,7 @@ def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
     n_ops = sum(1 if st.kind in ("rrr", "rrp") else 1 + len(st.target) + 1 for st in steps)
     ops = np.full((n_ops, 6), -1, dtype=np.int64)  # kind, target, k1, k2, body, dyad number
     fdata = np.zeros((V, n_ops, 4))  # per-operation per-variant float data
-    grounded = sorted({slot[j.point] for j in m.joints if isinstance(j, Revolute) and GROUND in j.bodies})
+    grounded = sorted({slot[j.point] for j in m.joints if j.pins and GROUND in j.bodies})
     o = 0
     dyad = 0
     for st in steps:
@@ -623,9 +626,7 @@ def _message(m: Mechanism, steps: list[Step], f: Finding, theta_draw: float, sig
     """The error of a screening finding: the angle (to 0.01°), the dyad's loop and its joint."""
     dyad = [st for st in steps if st.kind in ("rrr", "rrp")][f.dyad]
     p = dyad.target
-    joint = next(
-        (j for j in m.joints if isinstance(j, Revolute) and j.point == p and GROUND not in j.bodies), None
-    )
+    joint = next((j for j in m.joints if j.pins and j.point == p and GROUND not in j.bodies), None)
     links = " and ".join(f"{b!r}" for b in joint.bodies) if joint is not None else repr(dyad.body)
     name = joint.name if joint is not None else p
     theta = math.degrees(theta_draw + sign * f.turned) % 360

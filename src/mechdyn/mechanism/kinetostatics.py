@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic, Revolute
+from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic
 
 __all__ = ["multipliers"]
 
@@ -57,7 +57,7 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
 
     def joint_at(point: str, body: str, other: str | None = None) -> tuple[int, str]:
         for k, j in enumerate(joints):
-            if isinstance(j, Revolute) and j.point == point and body in j.bodies:
+            if j.pins and j.point == point and body in j.bodies:
                 o = j.bodies[1] if j.bodies[0] == body else j.bodies[0]
                 if other is None or o != other:
                     return k, o
@@ -77,11 +77,7 @@ def multipliers(c, applied: np.ndarray) -> np.ndarray:
         if st.kind == "rrr":
             p = st.target
             k1, k2 = st.known
-            kp = next(
-                k
-                for k, j in enumerate(joints)
-                if isinstance(j, Revolute) and j.point == p and GROUND not in j.bodies
-            )
+            kp = next(k for k, j in enumerate(joints) if j.pins and j.point == p and GROUND not in j.bodies)
             jb = joints[kp].bodies
             b1 = jb[0] if k1 in m.bodies[idx[jb[0]]].points else jb[1]
             b2 = jb[1] if b1 == jb[0] else jb[0]

@@ -115,6 +115,7 @@ class Revolute(_AtAPoint):
     point: str
 
     n_rows: ClassVar[int] = 2
+    pins: ClassVar[bool] = True  # its two bodies share the point and turn about it
     slides: ClassVar[bool] = False
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
@@ -139,7 +140,8 @@ class Prismatic(_AtAPoint):
     axis: Any = 0.0
 
     n_rows: ClassVar[int] = 2
-    slides: ClassVar[bool] = True  # its motion along the axis can be the stroke
+    pins: ClassVar[bool] = False
+    slides: ClassVar[bool] = True  # a point of one body on a line of the other; it can be the stroke
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
@@ -217,6 +219,7 @@ class GearJoint:
             )
 
     n_rows: ClassVar[int] = 1
+    pins: ClassVar[bool] = False
     slides: ClassVar[bool] = False
 
     def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
