@@ -79,8 +79,23 @@ class Calibration:
 
 
 def load_calibration(store: Any, name: str) -> Calibration:
-    """The latest calibration of ``name`` in a results store."""
-    rec = store.latest_record("calibration", name)
+    """The latest calibration of ``name`` in a results store.
+
+    Raises
+    ------
+    StoreError
+        When there is none, saying how to make one.
+    """
+    from mechdyn.store.store import StoreError
+
+    try:
+        rec = store.latest_record("calibration", name)
+    except StoreError:
+        raise StoreError(
+            f"no calibration of mount {name!r} in the results database; calibrate it first: "
+            'give its mount file a [calibration] table (reference = "fe", "measured" or "frf") and '
+            "run `mechdyn mount FILE` with the same database"
+        ) from None
     d = rec.data
     return Calibration(
         d["name"], d["parameter"], d["value"], d["target_N_per_m"], d["before_N_per_m"], rec.provenance
