@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -87,16 +88,45 @@ class JointTerms:
         """Write the joint's force rows where they differ from its Jacobian rows; False if none."""
         return False
 
+    @classmethod
+    def stack(cls, members: list[tuple[int, JointTerms]]) -> list[Any]:
+        """Evaluators for several joints of this kind, each ``evaluate(body, rate, res, jac, gam)``;
+        by default one per joint (a kind may evaluate all its joints at once)."""
+        return [_One(r0, t) for r0, t in members]
+
+
+class _One:
+    """One joint's terms at its rows."""
+
+    def __init__(self, r0: int, terms: JointTerms):
+        self.r0, self.terms = r0, terms
+
+    def evaluate(self, body, rate, res, jac, gam) -> None:
+        self.terms.evaluate(body, rate, res, jac, gam, self.r0)
+
 
 class RevoluteTerms(JointTerms):
-    """A pin: the point of body a and the point of body b coincide (two rows: x, y)."""
+    """A pin: the point of body a and the point of body b coincide (two rows: x, y). All pins of a
+    mechanism evaluate at once (:meth:`stack`)."""
 
     equations = ("x", "y")
 
-    def __init__(self, ia: int, ib: int, sa: np.ndarray, sb: np.ndarray):
+    def __init__(self, ia: Any, ib: Any, sa: np.ndarray, sb: np.ndarray):
         self.ia, self.ib, self.sa, self.sb = ia, ib, sa, sb
 
-    def evaluate(self, body, rate, res, jac, gam, r0: int) -> None:
+    @classmethod
+    def stack(cls, members: list[tuple[int, JointTerms]]) -> list[Any]:
+        rows = np.array([r0 for r0, _ in members], dtype=int)
+        ts: list[RevoluteTerms] = [t for _, t in members]  # type: ignore[misc]
+        group = cls(
+            np.array([t.ia for t in ts], dtype=int),
+            np.array([t.ib for t in ts], dtype=int),
+            np.array([t.sa for t in ts]).reshape(-1, 2),
+            np.array([t.sb for t in ts]).reshape(-1, 2),
+        )
+        return [_One(rows, group)]  # rows as an array: every pin's two rows at once
+
+    def evaluate(self, body, rate, res, jac, gam, r0: Any) -> None:
         ia, ib = self.ia, self.ib
         Asa, Asb = _rotate(body[..., ia, 2], self.sa), _rotate(body[..., ib, 2], self.sb)
         d = body[..., ia, :2] + Asa - body[..., ib, :2] - Asb
@@ -216,10 +246,13 @@ class ConstraintSet:
 
         self._terms: list[tuple[int, JointTerms]] = []
         self.rows: list[tuple[str, str]] = []  # (element name, equation) per row, for messages
+        kinds: dict[type, list[tuple[int, JointTerms]]] = {}
         for j, rows in zip(mechanism.joints, mechanism.joint_rows, strict=True):
             t = j.terms(mechanism, slot)
             self._terms.append((rows.start, t))
+            kinds.setdefault(type(t), []).append((rows.start, t))
             self.rows += [(j.name, eq) for eq in t.equations]
+        self._evaluators = [e for kind, members in kinds.items() for e in kind.stack(members)]
         self.crank = idx[mechanism.driver.body]
         self.rows.append(("driver", "crank angle"))
         # rows whose force law depends on their own multiplier's sign (a gear's loaded flank)
@@ -255,8 +288,8 @@ class ConstraintSet:
         res = np.zeros((*lead, m))
         jac = np.zeros((*lead, m, 3 * (nb + 1)))
         gam = np.zeros((*lead, m)) if qd is not None else None
-        for r0, t in self._terms:
-            t.evaluate(body, rate, res, jac, gam, r0)
+        for e in self._evaluators:
+            e.evaluate(body, rate, res, jac, gam)
         # driver: φ_crank − φ_frame − (θ − θ_drawing) = 0
         jac[..., -1, 3 * self.crank + 2], jac[..., -1, 3 * nb + 2] = 1.0, -1.0
         res[..., -1] = q[..., 3 * self.crank + 2] - (crank_angle - self.mechanism.drawing_crank_angle)
