@@ -11,7 +11,12 @@ import numpy as np
 __all__ = ["run_parallel", "run_serial"]
 
 
-@numba.njit(cache=True, error_model="numpy", inline="always")
+@numba.njit(cache=True, error_model="numpy")
+def _cross(a, b):
+    return a.real * b.imag - a.imag * b.real
+
+
+@numba.njit(cache=True, error_model="numpy")
 def variant(
     v,
     dz,
@@ -37,6 +42,15 @@ def variant(
     torque,
     s_out,
     dyad_meas,
+    kops,
+    kf,
+    gops,
+    gf,
+    jkind,
+    n_lam,
+    applied,
+    lam_out,
+    peak_out,
 ):
     N = force.shape[1]
     S = dz.shape[1]
@@ -53,6 +67,13 @@ def variant(
     w = np.zeros(nb)
     al = np.zeros(nb)
     ph = np.zeros(nb)
+    loads = kops.shape[0] > 0
+    need_f = np.zeros(nb, dtype=np.complex128)
+    need_m = np.zeros(nb)
+    lam = np.zeros(n_lam)
+    if loads:
+        for q in range(jkind.shape[0]):
+            peak_out[v, q] = 0.0
     for k in range(N):
         for g in grounded:
             pos[g] = dz[v, g]
@@ -136,29 +157,99 @@ def variant(
                 pos[t] = pp
                 vel[t] = vv
                 acc[t] = sdd * u
-        # loads from the power and momentum balances of the whole mechanism
+        # the inertia force −Σ m a_G (a kinematic quantity, not a load)
         f = 0.0 + 0.0j
-        mo = 0.0
-        pw = 0.0
         for i in range(nb):
-            c = P + i
-            net = mass[v, i] * (grav - acc[c])
-            f += net
-            mo += pos[c].real * net.imag - pos[c].imag * net.real - inertia[v, i] * al[i]
-            pw += (
-                mass[v, i]
-                * (
-                    vel[c].real * acc[c].real
-                    + vel[c].imag * acc[c].imag
-                    - grav.real * vel[c].real
-                    - grav.imag * vel[c].imag
-                )
-                + inertia[v, i] * w[i] * al[i]
-            )
-        force[v, k] = f
+            f += mass[v, i] * (grav - acc[P + i])
         inertia_force[v, k] = f - grav * msum
-        moment[v, k] = mo
-        torque[v, k] = pw / omega[k]
+        if loads:
+            # every load from the multipliers λ, solved dyad by dyad from the output back to the
+            # crank (Assur groups: each dyad's Newton–Euler equations are a 2×2 system by moments
+            # about its inner pin, Cramer's rule), then the frame's share from its joints
+            for i in range(nb):
+                need_f[i] = mass[v, i] * (acc[P + i] - grav)
+                need_m[i] = inertia[v, i] * al[i]
+                if applied.shape[0] > 0:
+                    need_f[i] -= applied[v, k, i, 0] + 1j * applied[v, k, i, 1]
+                    need_m[i] -= applied[v, k, i, 2]
+            for q in range(lam.shape[0]):
+                lam[q] = 0.0
+            for o in range(kops.shape[0]):
+                op = kops[o]
+                kind = op[0]
+                if kind == 0:  # RRR: P, K1, K2, b1, b2, j1, s1, o1, j2, s2, o2, kp, sp
+                    Pp = pos[op[1]]
+                    a1 = pos[op[2]] - Pp
+                    a2 = pos[op[3]] - Pp
+                    b1, b2 = op[4], op[5]
+                    f1, f2 = need_f[b1], need_f[b2]
+                    m1 = need_m[b1] - _cross(Pp - pos[P + b1], f1)
+                    m2 = _cross(a2, f1 + f2) - need_m[b2] + _cross(Pp - pos[P + b2], f2)
+                    det = _cross(a1, a2)
+                    F1 = (a2 * m1 - a1 * m2) / det
+                    F2 = f1 + f2 - F1
+                    Fp = F1 - f1
+                    for side in range(2):
+                        jj, sg, ot = op[6 + 3 * side], op[7 + 3 * side], op[8 + 3 * side]
+                        F = F1 if side == 0 else F2
+                        pt = op[2 + side]
+                        lam[2 * jj] = sg * F.real
+                        lam[2 * jj + 1] = sg * F.imag
+                        if ot >= 0:
+                            need_f[ot] += F
+                            need_m[ot] += _cross(pos[pt] - pos[P + ot], F)
+                    lam[2 * op[12]] = op[13] * Fp.real
+                    lam[2 * op[12] + 1] = op[13] * Fp.imag
+                elif kind == 1:  # RRP: P, K1, -, b1, slider, j1, s1, o1, kp, sp, kg
+                    Pp = pos[op[1]]
+                    a1 = pos[op[2]] - Pp
+                    b1, sl = op[4], op[5]
+                    n = kf[o, 0] + 1j * kf[o, 1]
+                    m1 = need_m[b1] - _cross(Pp - pos[P + b1], need_f[b1])
+                    total = need_f[b1] + need_f[sl]
+                    normal = (_cross(a1, total) - m1) / _cross(a1, n)
+                    Fp = need_f[sl] - normal * n
+                    F1 = need_f[b1] + Fp
+                    mom = need_m[sl] - _cross(Pp - pos[P + sl], need_f[sl])
+                    jj, sg, ot = op[6], op[7], op[8]
+                    lam[2 * jj] = sg * F1.real
+                    lam[2 * jj + 1] = sg * F1.imag
+                    if ot >= 0:
+                        need_f[ot] += F1
+                        need_m[ot] += _cross(pos[op[2]] - pos[P + ot], F1)
+                    lam[2 * op[9]] = op[10] * Fp.real
+                    lam[2 * op[9] + 1] = op[10] * Fp.imag
+                    lam[2 * op[11] + 1] = -normal  # the guide: force −λ₂ n and moment −λ₁ on the slider
+                    lam[2 * op[11]] = -mom
+                else:  # the crank: pivot, -, -, crank, -, j0, s0
+                    cr = op[4]
+                    F0 = need_f[cr]
+                    T = need_m[cr] - _cross(pos[op[1]] - pos[P + cr], F0)
+                    lam[2 * op[6]] = op[7] * F0.real
+                    lam[2 * op[6] + 1] = op[7] * F0.imag
+                    lam[lam.shape[0] - 1] = -T
+            # the frame's share: its joints' reactions and the motor's (−T)
+            ff = 0.0 + 0.0j
+            fm = lam[lam.shape[0] - 1]
+            for g in range(gops.shape[0]):
+                jj, sg, pt = gops[g, 1], gops[g, 2], gops[g, 3]
+                if gops[g, 0] == 0:  # a pin to the frame
+                    F = sg * (lam[2 * jj] + 1j * lam[2 * jj + 1])
+                else:  # a frame guide: λ₂ n at the slider point, and the couple λ₁
+                    F = lam[2 * jj + 1] * (gf[g, 0] + 1j * gf[g, 1])
+                    fm += lam[2 * jj]
+                ff += F
+                fm += _cross(pos[pt], F)
+            force[v, k] = ff
+            moment[v, k] = fm
+            torque[v, k] = -lam[lam.shape[0] - 1]
+            for q in range(jkind.shape[0]):  # each joint's largest force over the cycle
+                mag = abs(lam[2 * q] + 1j * lam[2 * q + 1]) if jkind[q] == 0 else abs(lam[2 * q + 1])
+                if mag > peak_out[v, q]:
+                    peak_out[v, q] = mag
+            if lam_out.shape[0] > 0:
+                for q in range(lam.shape[0]):
+                    lam_out[v, k, q] = lam[q]
         if out_slot >= 0:
             d = pos[out_slot] - dz[v, out_slot]
             s_out[v, k] = d.real * u_out.real + d.imag * u_out.imag
@@ -198,6 +289,15 @@ def run_parallel(
     torque,
     s_out,
     dyad_meas,
+    kops,
+    kf,
+    gops,
+    gf,
+    jkind,
+    n_lam,
+    applied,
+    lam_out,
+    peak_out,
 ):
     for v in numba.prange(force.shape[0]):
         variant(
@@ -225,6 +325,15 @@ def run_parallel(
             torque,
             s_out,
             dyad_meas,
+            kops,
+            kf,
+            gops,
+            gf,
+            jkind,
+            n_lam,
+            applied,
+            lam_out,
+            peak_out,
         )
 
 
@@ -253,6 +362,15 @@ def run_serial(
     torque,
     s_out,
     dyad_meas,
+    kops,
+    kf,
+    gops,
+    gf,
+    jkind,
+    n_lam,
+    applied,
+    lam_out,
+    peak_out,
 ):
     for v in range(force.shape[0]):
         variant(
@@ -280,4 +398,13 @@ def run_serial(
             torque,
             s_out,
             dyad_meas,
+            kops,
+            kf,
+            gops,
+            gf,
+            jkind,
+            n_lam,
+            applied,
+            lam_out,
+            peak_out,
         )

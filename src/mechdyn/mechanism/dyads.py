@@ -9,9 +9,13 @@ solved in closed form: the constraint Jacobian is block-triangular in this order
 *Design of Machinery*, ch. 4–7; Hansen's Assur-group method.) No Newton iterations, no loops over
 angles or variants: the whole study is a few array expressions.
 
-The driving torque follows from the power balance and the frame loads (shaking force and moment,
-the motor's reaction included) from the momentum balances of the whole mechanism, so they too are
-elementwise; joint reactions need the general solver (:func:`mechdyn.mechanism.inverse_dynamics`).
+Every load follows, in the same compiled pass, from the constraint multipliers λ, solved group by
+group from the output back to the crank (Assur groups are statically determinate: each dyad's six
+Newton–Euler equations reduce, by moments about its inner pin, to a 2×2 system solved by Cramer's
+rule; e.g. Norton, *Design of Machinery*, ch. 11; Uicker, Pennock & Shigley, ch. 14): the joint
+forces, the driving torque −λ_last, and the frame's share (its joints' reactions and the motor's).
+They are the multipliers of the general engine's equations Φ_qᵀ λ = Q − M q̈, solved here in their
+block-triangular order; the tests compare every load with the general engine's dense solve.
 Mechanisms that do not decompose (closed loops of higher class, sliders on moving guides) are
 refused here and run on the general engine.
 """
@@ -21,7 +25,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -166,6 +169,8 @@ class CycleBatch(Result):
     _raw: tuple[np.ndarray, ...]  # (pos, vel, acc, rates) as the kernel wrote them
     _body_mass: np.ndarray  # (V, bodies) kg
     _body_inertia: np.ndarray  # (V, bodies) kg·m²
+    _lam: np.ndarray | None  # (V, N, m) the multipliers, with the motions kept
+    _peaks: np.ndarray  # (V, joints) each joint's largest force, N
     failures: dict[int, str] = field(default_factory=dict)
     """Variant → why it was not computed (``errors="nan"``): the angle, the loop and the joint."""
 
@@ -210,35 +215,16 @@ class CycleBatch(Result):
         """(V, N, n) body coordinates (see :meth:`coordinates`)."""
         return self.coordinates()[0]
 
-    @cached_property
-    def applied(self) -> np.ndarray:
-        """(V, N, n) generalised applied forces Q in body coordinates: gravity and process forces."""
-        m = self.mechanism
-        self._stored(f"__com__{m.bodies[0].name}")
-        V, N = self.angle.shape
-        nb = len(m.bodies)
-        Q = np.zeros((V, N, nb, 3))
-        g = np.asarray(m.gravity, dtype=float)
-        Q[..., :2] = self._body_mass[:, None, :, None] * g
-        s = self.output_position
-        for pf in m.process_forces:
-            i = m.body_index[pf.body]
-            fx, fy = pf.force(self.angle, s if s is not None else np.zeros((V, N)))
-            F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
-            arm = self._z[pf.point][0] - self._z[f"__com__{pf.body}"][0]
-            Q[..., i, 0] += F.real
-            Q[..., i, 1] += F.imag
-            Q[..., i, 2] += _cross(arm, F)
-        return Q.reshape(V, N, 3 * nb)
-
-    @cached_property
+    @property
     def multipliers(self) -> np.ndarray:
-        """(V, N, m) the constraint multipliers λ of every variant, by dyad kinetostatics
-        (:func:`mechdyn.mechanism.kinetostatics.multipliers`); the same as one design's."""
-        from mechdyn.mechanism.kinetostatics import multipliers
-
-        with np.errstate(invalid="ignore", divide="ignore"):  # a failed variant's rows are NaN
-            return multipliers(self, self.applied)
+        """(V, N, m) the constraint multipliers λ of every variant: every load comes from them (the
+        driving torque −λ_last, the joint forces, the frame's share); kept with the motions."""
+        if self._lam is None:
+            raise ModelError(
+                "the multipliers are kept with the motions; run cycle(..., store_points=True)",
+                element="cycle",
+            )
+        return self._lam
 
     def joint_force(self, joint: str) -> np.ndarray:
         """(V, N, 2) force that ``joint`` puts on its second body, N (as
@@ -256,13 +242,10 @@ class CycleBatch(Result):
         n = np.array([-math.sin(j.axis), math.cos(j.axis)])
         return rows[..., 1:2] * n
 
-    @cached_property
+    @property
     def joint_force_peaks(self) -> dict[str, np.ndarray]:
         """Joint → (V,) largest force magnitude over the cycle on its second body, N."""
-        return {
-            j.name: np.linalg.norm(self.joint_force(j.name), axis=-1).max(axis=1)
-            for j in self.mechanism.joints
-        }
+        return {j.name: self._peaks[:, k] for k, j in enumerate(self.mechanism.joints)}
 
     @property
     def status(self) -> tuple[str, ...]:
@@ -305,8 +288,7 @@ class CycleBatch(Result):
         if s is not None and j is not None:
             f = _dot(self._inertia, complex(math.cos(j.axis), math.sin(j.axis)))
             out.update(output_figures(deg, s, f, self.mechanism.angle_datum == "bdc"))
-        if self._rates:  # the motions were kept: the joint forces follow
-            out["joint_force_peak_N"] = self.joint_force_peaks
+        out["joint_force_peak_N"] = self.joint_force_peaks
         return out
 
 
@@ -475,7 +457,7 @@ def cycle(
     wanted = (
         list(m.points) + [f"__com__{b.name}" for b in m.bodies]
         if store_points
-        else sorted({pf.point for pf in m.process_forces})
+        else sorted({pf.point for pf in m.process_forces} | {f"__com__{pf.body}" for pf in m.process_forces})
     )
     keep = np.array([slot[n] for n in wanted], dtype=np.int64)
     N = n_angles
@@ -497,31 +479,26 @@ def cycle(
     omega_k, alpha_k = m.driver.rates(abs(step) * np.arange(N))
     n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
     dyad_meas = np.empty((V, N, n_dyads))  # every variant's, for the screening below
-    _kernel(parallel=V > 8)(
-        dz,
-        ops,
-        fdata,
-        grounded,
-        turn,
-        omega_k,
-        alpha_k,
-        mass,
-        inertia,
-        complex(*m.gravity),
-        keep,
-        out_slot,
-        u_out,
-        pos,
-        vel,
-        acc,
-        rates,
-        force,
-        inertia_force,
-        moment,
-        torque,
-        s_out,
-        dyad_meas,
-    )
+    kops, kf, gops, gf, jkind = _encode_loads(m, steps, slot)
+    n_lam = m.n_constraints
+    lam_out = np.empty((V, N, n_lam) if store_points else (0, 0, 0))
+    peaks = np.empty((V, len(m.joints)))
+
+    def run(loads: np.ndarray, applied: np.ndarray) -> None:
+        _kernel(parallel=V > 8)(
+            dz, ops, fdata, grounded, turn, omega_k, alpha_k, mass, inertia, complex(*m.gravity), keep,
+            out_slot, u_out, pos, vel, acc, rates, force, inertia_force, moment, torque, s_out, dyad_meas,
+            loads, kf, gops, gf, jkind, n_lam, applied, lam_out, peaks,
+        )  # fmt: skip
+
+    no_applied = np.zeros((0, 0, 0, 0))
+    if m.process_forces:  # the motion first, then the loads with the process forces applied
+        run(np.zeros((0, 16), dtype=np.int64), no_applied)
+        z0 = {n: pos[..., i] for i, n in enumerate(wanted)}
+        angle0 = crank_angles(m, theta_draw, step, s_out if j is not None else None, N)
+        run(kops, _process_loads(m, angle0, s_out if j is not None else None, z0, V, N))
+    else:
+        run(kops, no_applied)
     if errors not in ("raise", "nan"):
         raise ModelError(f"errors={errors!r} must be 'raise' or 'nan'")
     # the positions the samples may have stepped over, refined between them (mechanism.screening)
@@ -540,21 +517,16 @@ def cycle(
         if errors == "raise":
             cls = SingularPositionError if finding.kind == "singular" else AssemblyError
             raise cls(failures[int(v)])
-        for arr in (torque, moment, force, inertia_force, pos, vel, acc):
+        for arr in (torque, moment, force, inertia_force, pos, vel, acc, peaks):
             arr[v] = np.nan
+        if lam_out.size:
+            lam_out[v] = np.nan
         if s_out.size:
             s_out[v] = np.nan
     z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(wanted)}
     if j is None:
         s_out = None
     angle = crank_angles(m, theta_draw, step, s_out, N)
-    for pf in m.process_forces:
-        fx, fy = pf.force(angle, s_out if s_out is not None else np.zeros((V, N)))
-        F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
-        p, pv, _ = z[pf.point]
-        force = force + F
-        moment = moment + _cross(p, F)
-        torque = torque - _dot(F, pv) / omega_k
     body_rates = (
         {b.name: (rates[..., i, 0], rates[..., i, 1], rates[..., i, 2]) for i, b in enumerate(m.bodies)}
         if store_points
@@ -575,8 +547,24 @@ def cycle(
         (pos, vel, acc, rates),
         mass,
         inertia,
+        lam_out if store_points else None,
+        peaks,
         failures,
     )
+
+
+# the kernel's load arguments when only the motion is wanted
+_NO_LOADS = (
+    np.zeros((0, 16), dtype=np.int64),
+    np.zeros((0, 2)),
+    np.zeros((0, 4), dtype=np.int64),
+    np.zeros((0, 2)),
+    np.zeros(0, dtype=np.int64),
+    0,
+    np.zeros((0, 0, 0, 0)),
+    np.zeros((0, 0, 0)),
+    np.zeros((1, 0)),
+)
 
 
 def _measure(m: Mechanism, steps: list[Step], draw, mass: np.ndarray, inertia: np.ndarray):
@@ -616,6 +604,7 @@ def _measure(m: Mechanism, steps: list[Step], draw, mass: np.ndarray, inertia: n
             np.empty((1, M)),
             np.empty((0, 0)),
             out,
+            *_NO_LOADS,
         )
         return out[0]
 
@@ -807,3 +796,106 @@ class DesignBatch(Result):
             else:
                 cols[key] = value
         return pd.DataFrame(cols)
+
+
+def _encode_loads(m: Mechanism, steps: list[Step], slot: dict[str, int]):
+    """The loads' program for the kernel: the dyads from the output back to the crank, the frame's
+    joints, and each joint's kind (pin or slider) for its force peak."""
+    joints = list(m.joints)
+    idx = m.body_index
+
+    def body(name: str) -> int:
+        return -1 if name == GROUND else idx[name]
+
+    def joint_at(point: str, on: str, other: str | None = None) -> int:
+        for k, jt in enumerate(joints):
+            if jt.pins and jt.point == point and on in jt.bodies:
+                o = jt.bodies[1] if jt.bodies[0] == on else jt.bodies[0]
+                if other is None or o != other:
+                    return k
+        raise KeyError((point, on))
+
+    def record(k: int, on: str) -> list[int]:
+        """[joint, sign of λ for a force on ``on``, the other body that takes its reaction]."""
+        jt = joints[k]
+        other = jt.bodies[0] if on == jt.bodies[1] else jt.bodies[1]
+        return [k, 1 if on == jt.bodies[1] else -1, body(other)]
+
+    kops, kf = [], []
+    for st in reversed(steps):
+        row = [0] * 16
+        if st.kind == "rrr":
+            p = st.target
+            k1, k2 = st.known
+            kp = next(
+                k for k, jt in enumerate(joints) if jt.pins and jt.point == p and GROUND not in jt.bodies
+            )
+            jb = joints[kp].bodies
+            b1 = jb[0] if k1 in m.bodies[idx[jb[0]]].points else jb[1]
+            b2 = jb[1] if b1 == jb[0] else jb[0]
+            row[:6] = [0, slot[p], slot[k1], slot[k2], idx[b1], idx[b2]]
+            row[6:9] = record(joint_at(k1, b1, b2), b1)
+            row[9:12] = record(joint_at(k2, b2, b1), b2)
+            row[12:14] = [kp, 1 if joints[kp].bodies[1] == b2 else -1]
+            kf.append((0.0, 0.0))
+        elif st.kind == "rrp":
+            p, (k1,), sl = st.target, st.known, st.body
+            kg = joints.index(st.guide)
+            kp = joint_at(p, sl)
+            b1 = joints[kp].bodies[0] if joints[kp].bodies[1] == sl else joints[kp].bodies[1]
+            row[:6] = [1, slot[p], slot[k1], -1, idx[b1], idx[sl]]
+            row[6:9] = record(joint_at(k1, b1, sl), b1)
+            row[9:12] = [kp, 1 if joints[kp].bodies[1] == sl else -1, kg]
+            kf.append((-math.sin(st.guide.axis), math.cos(st.guide.axis)))
+        else:
+            continue
+        kops.append(row)
+    crank = m.driver.body
+    k0 = joint_at(m.driver.pivot, crank)
+    row = [0] * 16
+    row[:8] = [
+        2,
+        slot[m.driver.pivot],
+        -1,
+        -1,
+        idx[crank],
+        -1,
+        k0,
+        1 if joints[k0].bodies[1] == crank else -1,
+    ]
+    kops.append(row)
+    kf.append((0.0, 0.0))
+    gops, gf = [], []
+    for k, jt in enumerate(joints):
+        if GROUND not in jt.bodies:
+            continue
+        if jt.pins:
+            gops.append((0, k, 1 if jt.bodies[1] == GROUND else -1, slot[jt.point]))
+            gf.append((0.0, 0.0))
+        else:  # a slider on a frame guide (the planner allows no other)
+            gops.append((1, k, 0, slot[jt.point]))
+            gf.append((-math.sin(jt.axis), math.cos(jt.axis)))
+    return (
+        np.array(kops, dtype=np.int64).reshape(-1, 16),
+        np.array(kf, dtype=float).reshape(-1, 2),
+        np.array(gops, dtype=np.int64).reshape(-1, 4),
+        np.array(gf, dtype=float).reshape(-1, 2),
+        np.array([0 if jt.pins else 1 for jt in joints], dtype=np.int64),
+    )
+
+
+def _process_loads(
+    m: Mechanism, angle: np.ndarray, s: np.ndarray | None, pos: dict, V: int, N: int
+) -> np.ndarray:
+    """(V, N, bodies, 3) the process forces as generalised loads on the bodies (force, moment about
+    the centre of mass)."""
+    Q = np.zeros((V, N, len(m.bodies), 3))
+    for pf in m.process_forces:
+        i = m.body_index[pf.body]
+        fx, fy = pf.force(angle, s if s is not None else np.zeros((V, N)))
+        F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
+        arm = pos[pf.point] - pos[f"__com__{pf.body}"]
+        Q[..., i, 0] += F.real
+        Q[..., i, 1] += F.imag
+        Q[..., i, 2] += _cross(arm, F)
+    return Q

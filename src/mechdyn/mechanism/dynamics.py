@@ -344,13 +344,8 @@ def inverse_dynamics(
     mass[:, 2] = mech.inertias
     Q = _applied(mech, k)
     if k.dyads is not None:  # joint forces group by group, without the full Jacobian
-        from mechdyn.mechanism.kinetostatics import multipliers
-
         order = np.argsort(k.dyads.angle[0])
-        inverse = np.empty_like(order)
-        inverse[order] = np.arange(order.size)
-        lam = multipliers(k.dyads, Q[inverse][None])[0][order]
-        return DynamicsResult(k, lam, Q)
+        return DynamicsResult(k, k.dyads.multipliers[0][order], Q)
     rhs = Q - mass.ravel() * k.qdd
     J, Jg = k.evaluation.load_jacobian
     lam, _ = solve_with_det(np.swapaxes(J, -1, -2), rhs)

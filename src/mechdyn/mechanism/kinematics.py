@@ -64,7 +64,7 @@ class KinematicsResult:
         Assembled on first use (the dyad path needs none).
     dyads : CycleBatch or None
         The closed-form dyad solution it came from, if any (its joint forces follow by dyad
-        kinetostatics, without the full Jacobian).
+        kinetostatics in the compiled kernel, without the full Jacobian).
     """
 
     @cached_property
