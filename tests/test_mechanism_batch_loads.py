@@ -127,3 +127,18 @@ def test_variants_of_a_geared_mechanism_run_design_by_design_with_their_status()
     assert s["joint_force_peak_N"]["O"][1] == pytest.approx(single["joint_force_peak_N"]["O"], rel=1e-12)
     assert s["driving_torque_peak_Nm"][1] > s["driving_torque_peak_Nm"][0]
     assert list(batch.to_frame()["status"]) == ["ok", "ok"]
+
+
+def test_a_batch_takes_its_motion_solver_as_one_design_does():
+    from mechdyn.mechanism import DesignBatch, newton_motion, variants
+
+    press = mechdyn.load(EXAMPLES / "press_link_drive.toml").model
+    moved = replace(
+        press, points={**press.points, "C": tuple(np.asarray(press.points["C"]) + np.array([0.01, 0.0]))}
+    )
+    compiled = variants([press, moved], 36)
+    general = variants([press, moved], 36, method=newton_motion)
+    assert isinstance(general, DesignBatch) and general.status == ("ok", "ok")
+    a, b = compiled.summary(), general.summary()
+    for key in ("driving_torque_peak_Nm", "stroke_m", "tdc_deg", "shaking_moment_range_Nm"):
+        np.testing.assert_allclose(b[key], a[key], rtol=1e-9, err_msg=key)

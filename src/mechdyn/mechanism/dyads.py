@@ -651,7 +651,9 @@ def _com(body, draw: Mapping[str, np.ndarray]) -> np.ndarray | complex:
     return complex(c[0], c[1])
 
 
-def variants(models: Sequence[Mechanism], n_angles: int = 360, *, store_points: bool = True) -> CycleBatch:
+def variants(
+    models: Sequence[Mechanism], n_angles: int = 360, *, store_points: bool = True, method: Any = "auto"
+) -> CycleBatch | DesignBatch:
     """Many variant models of one mechanism in one batched evaluation; variant i of the result is
     the single-design result of ``models[i]``.
 
@@ -664,6 +666,10 @@ def variants(models: Sequence[Mechanism], n_angles: int = 360, *, store_points: 
         Crank angles per revolution.
     store_points : bool
         Keep the motions (and with them every joint force); see :func:`cycle`.
+    method : {"auto", "dyads", "newton"} or callable
+        The motion solver, as for :func:`~mechdyn.mechanism.kinematics`: ``"auto"`` and ``"dyads"``
+        run one compiled batch where the mechanism decomposes; ``"newton"`` or a callable
+        ``(mechanism, n_angles) -> KinematicsResult`` run design by design.
 
     Returns
     -------
@@ -685,9 +691,13 @@ def variants(models: Sequence[Mechanism], n_angles: int = 360, *, store_points: 
     base = models[0]
     for i, m in enumerate(models[1:], start=1):
         _same_topology(base, m, i)
+    if method not in ("auto", "dyads"):
+        return DesignBatch.run(models, n_angles, method)
     try:
         plan(base)
     except NotDecomposable:
+        if method == "dyads":
+            raise
         return DesignBatch.run(models, n_angles)
     changed = [p for p in base.points if any(m.points[p] != base.points[p] for m in models)]
     points = {p: np.array([m.points[p] for m in models]) for p in changed}
@@ -748,14 +758,15 @@ class DesignBatch(Result):
     status: tuple[str, ...]
 
     @classmethod
-    def run(cls, models: Sequence[Mechanism], n_angles: int) -> DesignBatch:
-        """Each model's :func:`~mechdyn.mechanism.inverse_dynamics`; an error is kept, not raised."""
+    def run(cls, models: Sequence[Mechanism], n_angles: int, method: Any = "auto") -> DesignBatch:
+        """Each model's :func:`~mechdyn.mechanism.inverse_dynamics` with the motion solver
+        ``method``; an error is kept, not raised."""
         from mechdyn.mechanism.dynamics import inverse_dynamics
 
         results, status = [], []
         for i, m in enumerate(models):
             try:
-                results.append(inverse_dynamics(m, n_angles))
+                results.append(inverse_dynamics(m, n_angles, method))
                 status.append("ok")
             except ModelError as exc:
                 results.append(None)
