@@ -476,3 +476,25 @@ def test_members_switch_to_cone_and_sleeve_where_the_parts_are_narrow(DA_mm):
     if DA_mm < 41.0:  # the full cone of before overestimates narrow parts
         full = _vdi_members(210e9, 0.013, 0.018, 1.0, 0.040, math.radians(30))
         assert full > expected
+
+
+def test_pitch_and_outer_diameter_reach_the_bolted_joint_from_a_file(tmp_path):
+    # a 13 mm bolt is not an ISO size: the file gives its pitch; D_A from the file limits the cones
+    import mechdyn
+
+    text = (EXAMPLES / "anchor_concrete.toml").read_text()
+    text = text.replace(
+        'diameter = "12 mm"', 'diameter = "13 mm"\npitch = "1.5 mm"\nouter_diameter = "30 mm"', 1
+    )
+    text = text.replace('hole_diameter = "13 mm"', 'hole_diameter = "14 mm"').replace("[fe]", "[fe_off]")
+    text = text.split("[fe_off]")[0]
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    j = mechdyn.load(path).model
+    assert j.pitch == pytest.approx(0.0015) and j.outer_diameter == pytest.approx(0.030)
+    assert any(f.get("sleeve") for f in j.frusta())
+    foot = tmp_path / "foot.toml"
+    foot.write_text(
+        '[model]\ntype = "mount"\n[screw_foot]\ndiameter = "13 mm"\nfree_length = "40 mm"\npitch = "1.5 mm"\n'
+    )
+    assert mechdyn.load(foot).model.stiffness > 0

@@ -781,11 +781,11 @@ class DesignBatch(Result):
     def summary(self) -> dict[str, Any]:
         """Per variant (arrays over V, NaN for a failed one): the scalar figures of each design's
         :meth:`DynamicsResult.summary`, and the joint-force peaks."""
-        done = [r.summary() for r in self.results if r is not None]
+        rows = [r.summary() if r is not None else None for r in self.results]
+        done = [row for row in rows if row is not None]
         if not done:
             return {}
         keys = [k for k, v in done[0].items() if isinstance(v, (int, float)) and not isinstance(v, bool)]
-        rows = [r.summary() if r is not None else None for r in self.results]
         out: dict[str, Any] = {
             k: np.array([row[k] if row is not None else np.nan for row in rows], dtype=float) for k in keys
         }

@@ -73,6 +73,10 @@ class BoltedTable(FileModel):
     stress_area: Area | None = None
     nut: Literal["nut", "tapped", "anchor"] = "nut"
     cone_angle: Angle | Literal["vdi2230"] = 0.5235987755982988
+    outer_diameter: Length | None = Field(
+        default=None, description="D_A of the clamped parts (a cone that reaches it goes on as a sleeve)"
+    )
+    pitch: Length | None = Field(default=None, description="thread pitch; by default the ISO 261 coarse one")
 
 
 class WedgeTable(FileModel):
@@ -87,6 +91,7 @@ class ScrewFootTable(FileModel):
     free_length: Length
     material: str = "steel"
     base_stiffness: LinearStiffness | None = None
+    pitch: Length | None = Field(default=None, description="spindle thread pitch; by default ISO 261 coarse")
 
 
 class DampingPadTable(PadTable):
@@ -236,6 +241,8 @@ def build(source: ModelSource) -> MountSpec:
                 b.stress_area,
                 b.nut,
                 b.cone_angle,
+                b.outer_diameter,
+                b.pitch,
             )
         elif kind == "wedge":
             w = f.wedge
@@ -246,7 +253,9 @@ def build(source: ModelSource) -> MountSpec:
         elif kind == "screw_foot":
             s = f.screw_foot
             assert s is not None
-            mount = ScrewFoot(name, s.diameter, s.free_length, _material(db, s.material), s.base_stiffness)
+            mount = ScrewFoot(
+                name, s.diameter, s.free_length, _material(db, s.material), s.base_stiffness, pitch=s.pitch
+            )
         elif kind == "damping_pad":
             dp = f.damping_pad
             assert dp is not None

@@ -152,6 +152,8 @@ class ScrewFoot:
     material : Material
     base : ElastomerPad or float or quantity, optional
         An elastomer base pad, or the base's stiffness (N/m); none means a rigid steel base.
+    pitch : float or quantity, optional
+        Spindle thread pitch, m; by default the ISO 261 coarse pitch of its diameter.
     """
 
     name: str
@@ -160,6 +162,7 @@ class ScrewFoot:
     material: Material
     base: Any = None
     adjusts_height: bool = True
+    pitch: Any = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "diameter", _positive(self.name, "diameter", self.diameter, "m"))
@@ -174,7 +177,10 @@ class ScrewFoot:
         """A_s E / L, N/m (stress area π/4 (d − 0.9382 P)² with the ISO 261 coarse pitch P)."""
         from mechdyn.mounts.bolted import coarse_pitch
 
-        P = coarse_pitch(self.name, self.diameter)
+        if self.pitch is None:
+            P = coarse_pitch(self.name, self.diameter)
+        else:
+            P = _positive(self.name, "pitch", self.pitch, "m")
         a_s = math.pi / 4 * (self.diameter - 0.9382 * P) ** 2
         return a_s * self.material.youngs_modulus / self.free_length
 
