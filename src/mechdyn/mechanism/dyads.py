@@ -375,7 +375,11 @@ def _kernel(parallel: bool = True):
 
     kernel = _dyad_kernel.run_parallel if parallel else _dyad_kernel.run_serial
     announce(kernel)
-    return kernel
+
+    def run(*args: Any) -> None:  # the kernel takes its arguments as one tuple (see _dyad_kernel)
+        kernel(args)
+
+    return run
 
 
 def cycle(

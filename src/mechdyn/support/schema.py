@@ -236,7 +236,6 @@ class SupportSpec:
     machine: MountedMachine
     excitation: PeriodicLoad | MechanismExcitation
     settings: AnalysisTable
-    notes: dict[str, Any] = field(default_factory=dict)
     estimates: dict[str, PlacedEstimate] = field(default_factory=dict)
 
     def calibrated(self, store: Any) -> tuple[MountedMachine, dict[str, Any]]:
