@@ -106,50 +106,22 @@ def test_the_command_line_exits_2_and_names_the_angle(tmp_path, capsys, monkeypa
     from mechdyn.cli.main import main
 
     m = jam(0.3, 0.5)
-    pts = "\n".join(f'{k} = ["{x * 1e3:.9f} mm", "{y * 1e3:.9f} mm"]' for k, (x, y) in m.points.items())
-    text = f"""[model]
-type = "mechanism"
-name = "jamming four-bar"
-[points]
-{pts}
-[[bodies]]
-name = "crank"
-points = ["O2", "A"]
-mass = "0.3 kg"
-[[bodies]]
-name = "coupler"
-points = ["A", "B"]
-mass = "1.2 kg"
-[[bodies]]
-name = "rocker"
-points = ["B", "O4"]
-mass = "0.9 kg"
-[[joints]]
-name = "O2"
-type = "revolute"
-bodies = ["ground", "crank"]
-point = "O2"
-[[joints]]
-name = "A"
-type = "revolute"
-bodies = ["crank", "coupler"]
-point = "A"
-[[joints]]
-name = "B"
-type = "revolute"
-bodies = ["coupler", "rocker"]
-point = "B"
-[[joints]]
-name = "O4"
-type = "revolute"
-bodies = ["rocker", "ground"]
-point = "O4"
-[driver]
-body = "crank"
-pivot = "O2"
-tip = "A"
-speed = "12 rad/s"
-"""
+    # the same linkage as a model file, written from the model (every joint a pin)
+    lines = ['[model]\ntype = "mechanism"\nname = "jamming four-bar"\n[points]']
+    lines += [f'{k} = ["{x * 1e3:.9f} mm", "{y * 1e3:.9f} mm"]' for k, (x, y) in m.points.items()]
+    for b in m.bodies:
+        lines.append(
+            f'[[bodies]]\nname = "{b.name}"\npoints = {list(b.points)!r}\nmass = "{b.mass} kg"'.replace(
+                "'", '"'
+            )
+        )
+    for jt in m.joints:
+        bodies = '["' + '", "'.join(jt.bodies) + '"]'
+        lines.append(
+            f'[[joints]]\nname = "{jt.name}"\ntype = "revolute"\nbodies = {bodies}\npoint = "{jt.point}"'
+        )
+    lines.append('[driver]\nbody = "crank"\npivot = "O2"\ntip = "A"\nspeed = "12 rad/s"\n')
+    text = "\n".join(lines)
     path = tmp_path / "jam.toml"
     path.write_text(text)
     monkeypatch.setenv("MECHDYN_DB", str(tmp_path / "db.sqlite"))
