@@ -328,3 +328,16 @@ def test_the_parts_of_the_support_analysis_and_the_batch_follow_the_protocol():
     frame = batch.to_frame()
     assert list(frame["variant"]) == [0, 1, 2] and frame["assembled"].all()
     np.testing.assert_allclose(frame["driving_torque_peak_Nm"], batch.summary()["driving_torque_peak_Nm"])
+
+
+def test_tables_take_display_units_as_keywords():
+    # the press on its support in tonnes-force and metres; the pad in kN/mm: the same SI figures
+    support = get("support").run(_loaded("support"), cycles=1)
+    s = support.summary()
+    rows = {r[0]: r for r in support.tables(force_unit="kN", length_unit="m")[0].rows}
+    assert rows["transmitted force range"][3] == pytest.approx(s["transmitted_force_range_N"] / 1e3)
+    assert rows["bed displacement max"][3] == pytest.approx(s["displacement_max_m"])
+    mount = get("mount").run(_loaded("mount"))
+    first = mount.tables(stiffness_unit="kN/mm")[0]
+    label, value = first.rows[0]
+    assert label.endswith("[kN/mm]") and value == pytest.approx(mount.summary()["stiffness_N_per_m"] / 1e6)

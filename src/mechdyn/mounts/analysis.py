@@ -131,11 +131,15 @@ class MountResult(Result):
 
     def tables(self, **display_units: str) -> list[Table]:
         """The estimate, the frusta, the FE convergence, the contact pressure, calibration, FRF fit,
-        isolation. ``length_unit`` (default ``"mm"``) and ``pressure_unit`` (default ``"MPa"``)."""
+        isolation. ``length_unit`` (default ``"mm"``), ``pressure_unit`` (``"MPa"``) and
+        ``stiffness_unit`` (``"N/m"``)."""
         from mechdyn.mounts.tables import mount_tables
 
         return mount_tables(
-            self, display_units.get("length_unit", "mm"), display_units.get("pressure_unit", "MPa")
+            self,
+            display_units.get("length_unit", "mm"),
+            display_units.get("pressure_unit", "MPa"),
+            display_units.get("stiffness_unit", "N/m"),
         )
 
     def plots(self, **display_units: str) -> dict[str, Any]:

@@ -22,9 +22,15 @@ def _rows(d: dict[str, Any], prefix: str = "") -> list[list[Any]]:
     ]
 
 
-def mount_tables(result: MountResult, length_unit: str = "mm", pressure_unit: str = "MPa") -> list[Table]:
-    """The estimate, frusta, FE convergence, contact pressure, calibration, FRF fit and isolation."""
+def mount_tables(
+    result: MountResult, length_unit: str = "mm", pressure_unit: str = "MPa", stiffness_unit: str = "N/m"
+) -> list[Table]:
+    """The estimate, frusta, FE convergence, contact pressure, calibration, FRF fit and isolation,
+    lengths, pressures and stiffnesses in the given display units."""
     s = result.data
+
+    def K(v: float) -> float:
+        return float(convert(v, "N/m", stiffness_unit))
 
     def L(v: float | None) -> float | None:
         return None if v is None else float(convert(v, "m", length_unit))
@@ -37,7 +43,7 @@ def mount_tables(result: MountResult, length_unit: str = "mm", pressure_unit: st
             f"{result.name} ({result.kind})",
             ["quantity", "value"],
             [
-                ["stiffness along the main axis [N/m]", s["stiffness_N_per_m"]],
+                [f"stiffness along the main axis [{stiffness_unit}]", K(s["stiffness_N_per_m"])],
                 ["adjusts height", s["adjusts_height"]],
                 ["damps", s["damps"]],
                 *_rows(s["breakdown"]),
@@ -49,14 +55,14 @@ def mount_tables(result: MountResult, length_unit: str = "mm", pressure_unit: st
         tables.append(
             Table(
                 "pressure-cone frusta (in series)",
-                ["layer", "material", f"t [{length_unit}]", f"D [{length_unit}]", "k [N/m]"],
+                ["layer", "material", f"t [{length_unit}]", f"D [{length_unit}]", f"k [{stiffness_unit}]"],
                 [
                     [
                         f["layer"] + 1,
                         f["material"],
                         L(f["thickness_m"]),
                         L(f["diameter_m"]),
-                        f["stiffness_N_per_m"],
+                        K(f["stiffness_N_per_m"]),
                     ]
                     for f in frusta
                 ],
@@ -66,9 +72,9 @@ def mount_tables(result: MountResult, length_unit: str = "mm", pressure_unit: st
         tables.append(
             Table(
                 "finite-element reference (mesh convergence)",
-                ["elements through thickness", "elements", "unknowns", "stiffness [N/m]"],
+                ["elements through thickness", "elements", "unknowns", f"stiffness [{stiffness_unit}]"],
                 [
-                    [r["elements_through_thickness"], r["elements"], r["dofs"], r["stiffness_N_per_m"]]
+                    [r["elements_through_thickness"], r["elements"], r["dofs"], K(r["stiffness_N_per_m"])]
                     for r in s["fe_convergence"]
                 ],
             )
