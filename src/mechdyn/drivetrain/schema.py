@@ -12,7 +12,7 @@ import warnings
 from dataclasses import dataclass
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import ConfigDict, Field, model_validator
 
 from mechdyn.drivetrain.elements import Disk, GearMesh, GroundDamper, GroundSpring, Shaft
 from mechdyn.drivetrain.model import Drivetrain
@@ -195,6 +195,15 @@ class DrivetrainFile(FileModel):
     response: ResponseTable | None = None
 
 
+class _AnalysisTables(FileModel):
+    """The analysis tables of a drivetrain file alone (the rest was validated by :func:`build`)."""
+
+    model_config = ConfigDict(extra="ignore", frozen=True)
+
+    campbell: CampbellTable | None = None
+    response: ResponseTable | None = None
+
+
 def _where(table: str, i: int, name: str) -> str:
     return f"[[{table}]] #{i + 1} (name = {name!r})"
 
@@ -246,9 +255,11 @@ def build(source: ModelSource) -> Drivetrain:
     _check_names(source, f)
     mat = f.material
     disks: list[Disk] = []
-    for i, d in enumerate(f.disks):
-        where = _where("disks", i, d.name)
-        with field_context(source, where):
+    # one context per table, not per row (it costs a warnings filter each): errors name their row
+    rows = {d.name: _where("disks", i, d.name) for i, d in enumerate(f.disks)}
+    with field_context(source, "[[disks]]", rows):
+        for d in f.disks:
+            where = rows[d.name]
             if d.inertia is not None:
                 disks.append(Disk(d.name, d.inertia))
             else:
@@ -265,9 +276,10 @@ def build(source: ModelSource) -> Drivetrain:
                     )
                 )
     elements = []
-    for i, s in enumerate(f.shafts):
-        where = _where("shafts", i, s.name)
-        with field_context(source, where):
+    rows = {s.name: _where("shafts", i, s.name) for i, s in enumerate(f.shafts)}
+    with field_context(source, "[[shafts]]", rows):
+        for s in f.shafts:
+            where = rows[s.name]
             if s.stiffness is not None:
                 elements.append(Shaft(s.name, s.disks, s.stiffness, s.damping))
             else:
@@ -362,7 +374,7 @@ def settings(
     """Read the optional analysis tables of a drivetrain file, checking disk names."""
     import cmath
 
-    f = validate(DrivetrainFile, source)
+    f = validate(_AnalysisTables, source)
     known = drivetrain.disk_names
 
     def check(where: str, disk: str | None) -> None:
