@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import uuid
+from contextlib import contextmanager
 import warnings
 from pathlib import Path
 
@@ -44,18 +45,33 @@ def _postgres_url() -> str:
     pytest.skip("no PostgreSQL server: run the tests through scripts/with-postgres")
 
 
-@pytest.fixture(params=["sqlite", "postgresql"])
-def store_url(request, tmp_path):
-    """A fresh, empty results database of each backend."""
-    if request.param == "sqlite":
-        yield str(tmp_path / "results.db")
-        return
+@contextmanager
+def _fresh_postgres_database():
     import psycopg
 
     base = _postgres_url()
     name = f"mechdyn_test_{uuid.uuid4().hex[:12]}"
     with psycopg.connect(base, autocommit=True) as conn:
         conn.execute(f'CREATE DATABASE "{name}"')
-    yield base.rsplit("/", 1)[0] + "/" + name
-    with psycopg.connect(base, autocommit=True) as conn:
-        conn.execute(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)')
+    try:
+        yield base.rsplit("/", 1)[0] + "/" + name
+    finally:
+        with psycopg.connect(base, autocommit=True) as conn:
+            conn.execute(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)')
+
+
+@pytest.fixture(params=["sqlite", "postgresql"])
+def store_url(request, tmp_path):
+    """A fresh, empty results database of each backend."""
+    if request.param == "sqlite":
+        yield str(tmp_path / "results.db")
+        return
+    with _fresh_postgres_database() as url:
+        yield url
+
+
+@pytest.fixture
+def postgres_url():
+    """A fresh, empty database on the PostgreSQL server of the test command."""
+    with _fresh_postgres_database() as url:
+        yield url

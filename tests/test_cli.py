@@ -143,7 +143,7 @@ def test_every_support_example_runs(example, db, capsys, tmp_path):
     # quasi-static: the transmitted force follows the inertia force (published: 86 against 83 tonf)
     assert 1.0 < doc["transmitted_force_range_N"] / doc["inertia_force_range_N"] < 1.05
     assert doc["startup_last_cycle_deviation_relative"] < 1e-5
-    assert len(doc["influence"]) == 8 and doc["force_balance_residual_N"] < 1e-3
+    assert doc["force_balance_residual_N"] < 1e-3
     header = csv.read_text().splitlines()[0].split(",")
     assert {"time_s", "crank_angle_deg", "z_m", "exciting_force_z_N", "floor_force_z_N"} <= set(header)
     names = ["displacement.png", "forces.png", "transmitted_vs_exciting.png", "modes.png"]
@@ -154,7 +154,7 @@ def test_every_support_example_runs(example, db, capsys, tmp_path):
         assert (plots / name).stat().st_size > 10_000
     assert main(["support", str(example)]) == 0
     out = capsys.readouterr().out
-    assert "influence of the support" in out and "transmitted force range" in out
+    assert "transmitted force range" in out
 
 
 def test_there_are_the_mount_examples():

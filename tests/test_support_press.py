@@ -19,7 +19,6 @@ from mechdyn.support import (
     PeriodicLoad,
     Placement,
     RigidBody,
-    influence,
     modes,
     periodic_response,
     startup_response,
@@ -110,14 +109,6 @@ def test_start_up_of_the_press_reaches_the_steady_state(on_mounts):
         np.abs(start.displacement[last] - steady.displacement).max()
         < 1e-6 * np.abs(steady.displacement).max()
     )
-
-
-def test_softer_mounts_transmit_a_little_more_and_damping_hardly_matters(on_support):
-    rows = influence(on_support.machine, on_support.load)
-    k = [r["transmitted_force_range_N"] for r in rows if r["parameter"] == "stiffness"]
-    c = [r["transmitted_force_range_N"] for r in rows if r["parameter"] == "damping"]
-    assert k == sorted(k) and k[-1] / k[0] - 1 < 0.02  # −30 % stiffness: under 2 % more force
-    assert max(c) / min(c) - 1 < 1e-3
 
 
 # -- bad input --------------------------------------------------------------------------------

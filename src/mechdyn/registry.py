@@ -20,7 +20,7 @@ from typing import Any, Literal
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["Analysis", "Option", "Output", "analyses", "get", "register"]
+__all__ = ["Analysis", "NotBatchable", "Option", "Output", "analyses", "get", "register"]
 
 # The modules in which the capabilities register their analyses, imported on first look-up.
 CAPABILITIES = (
@@ -30,6 +30,12 @@ CAPABILITIES = (
     "mechdyn.gears.analyses",
     "mechdyn.mounts.analyses",
 )
+
+
+class NotBatchable(MechdynError):
+    """An analysis' batch evaluation cannot take these variants (a design study then evaluates
+    them one by one, with the same results)."""
+
 
 OptionKind = Literal["flag", "int", "float", "quantity", "choice", "text", "names"]
 
@@ -142,6 +148,14 @@ class Analysis:
         The function takes ``store=`` (the results database), e.g. to read or keep a calibration.
     model_noun : str
         What its models are called in messages (default: the first model type).
+    batch : callable, optional
+        ``batch(loaded, columns, keys, **options) -> (outputs, errors)``: many variants of one model
+        at once, for design studies. ``columns`` maps ``(files, keys)`` of a model value
+        (:class:`mechdyn.studies.paths.Location` without its path) to its SI values over V
+        variants; ``outputs`` maps each wanted summary key (nested with dots) to V values (NaN for
+        a failed variant); ``errors`` holds each variant's error message or None. It raises
+        :class:`NotBatchable` for a value or output it does not handle; it must give what
+        :meth:`run` would give variant by variant.
     """
 
     name: str
@@ -153,6 +167,7 @@ class Analysis:
     examples: tuple[str, ...] = ()
     uses_store: bool = False
     model_noun: str = ""
+    batch: Callable[..., Any] | None = None
 
     @property
     def output_units(self) -> dict[str, str]:

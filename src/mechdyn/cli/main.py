@@ -18,7 +18,7 @@ __all__ = ["build_parser", "main"]
 
 def build_parser() -> argparse.ArgumentParser:
     from mechdyn import __version__
-    from mechdyn.cli import analyses_command, results
+    from mechdyn.cli import analyses_command, results, study
     from mechdyn.cli.runner import add_analysis_parser
     from mechdyn.registry import analyses
 
@@ -29,6 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n"
         "  mechdyn modal examples/turret_indexing.toml --compare-rigid --plots plots\n"
         "  mechdyn mechanism examples/press_link_drive.toml --csv press.csv\n"
+        "  mechdyn study examples/studies/press_support_influence.toml\n"
         "  mechdyn analyses --json",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -37,6 +38,7 @@ def build_parser() -> argparse.ArgumentParser:
     for analysis in analyses().values():
         add_analysis_parser(sub, analysis)
     analyses_command.register(sub)
+    study.register(sub)
     results.register(sub)
     return p
 

@@ -1,4 +1,5 @@
-"""``mechdyn results``: list and show the runs kept in the results database."""
+"""``mechdyn results``: list and show the runs and study variants kept in the results database,
+compare variants, export a study."""
 
 from __future__ import annotations
 
@@ -14,6 +15,8 @@ def _list(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
 
+    if args.study:
+        return _list_study(args)
     with ResultStore(args.db) as store:
         runs = store.runs(analysis=args.analysis, limit=args.limit)
     if args.json:
@@ -85,20 +88,164 @@ def _show(args: argparse.Namespace) -> int:
     return 0
 
 
+def _list_study(args: argparse.Namespace) -> int:
+    from mechdyn.store import ResultStore
+    from mechdyn.store.store import jsonable
+    from mechdyn.store.studies import StudyStore
+
+    with ResultStore(args.db) as store:
+        studies = StudyStore(store)
+        st = studies.study(args.study)
+        variants = studies.variants(args.study, limit=args.limit)
+    if args.json:
+        print(json.dumps([jsonable(v.describe()) for v in variants], indent=2))
+        return 0
+    names = list(variants[0].parameters) if variants else []
+    outs = list(variants[0].outputs) if variants else []
+    rows = [
+        [v.id, v.status, *(v.given.get(n) for n in names), *(v.outputs.get(o) for o in outs), v.error or ""]
+        for v in variants
+    ]
+    print_table(
+        Table(
+            f"study {st.name!r} ({st.kind} of {st.analysis}, {len(variants)} variants; outputs in SI)",
+            ["id", "status", *names, *outs, "error"],
+            rows,
+        )
+    )
+    return 0
+
+
+def _compare(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from mechdyn.store import ResultStore
+    from mechdyn.store.store import jsonable
+    from mechdyn.store.studies import StudyStore
+    from mechdyn.units import key_unit
+
+    with ResultStore(args.db) as store:
+        variants = [StudyStore(store).variant(i) for i in args.ids]
+    keys = list(dict.fromkeys(k for v in variants for k in (*v.parameters, *v.outputs)))
+    if args.json:
+        print(json.dumps([jsonable(v.describe()) for v in variants], indent=2))
+        return 0
+    rows = []
+    for k in keys:
+        unit = key_unit(k.split(".")[-1]) or ""
+        vals = [v.given.get(k) if k in v.given else v.outputs.get(k) for v in variants]
+        rows.append([k, unit if k not in variants[0].given else "", *vals])
+    print_table(Table("variants side by side", ["", "unit", *(f"variant {v.id}" for v in variants)], rows))
+    curves = sorted(set.intersection(*(set(v.curves) for v in variants))) if variants else []
+    if args.plots and curves:
+        from mechdyn.plotting import save_figure
+        from mechdyn.studies.plots import curves as plot_curves
+
+        x = next((c for c in curves if c.startswith(("crank_angle", "time"))), None)
+        for name in args.curve or [c for c in curves if c != x][:4]:
+            if name not in curves:
+                raise_unknown(name, curves)
+            ax = plot_curves(variants, name, x)
+            print(f"plot: {save_figure(ax, Path(args.plots) / f'compare_{name}.png')}")
+    elif args.plots:
+        print("no curve is kept for all of these variants (a study keeps them up to [study] curves variants)")
+    return 0
+
+
+def raise_unknown(name: str, curves: list[str]) -> None:
+    from mechdyn.errors import MechdynError
+
+    raise MechdynError(f"no curve {name!r} kept for these variants; kept: {', '.join(curves)}")
+
+
+def _export(args: argparse.Namespace) -> int:
+    import pandas as pd
+
+    from mechdyn.store import ResultStore
+    from mechdyn.store.studies import StudyStore
+
+    if not (args.csv or args.parquet):
+        from mechdyn.errors import MechdynError
+
+        raise MechdynError("give --csv FILE or --parquet FILE (or both)")
+    with ResultStore(args.db) as store:
+        variants = StudyStore(store).variants(args.study)
+    rows = []
+    for v in variants:
+        row = {"variant": v.id, "status": v.status, "error": v.error}
+        row |= {f"parameter:{k}": x for k, x in v.parameters.items()}
+        row |= {f"output:{k}": x for k, x in v.outputs.items()}
+        rows.append(row)
+    frame = pd.DataFrame(rows)
+    if args.csv:
+        frame.to_csv(args.csv, index=False, float_format="%.10g")
+        print(f"wrote {args.csv} ({len(frame)} variants)")
+    if args.parquet:
+        frame.to_parquet(args.parquet, index=False)
+        print(f"wrote {args.parquet} ({len(frame)} variants)")
+    return 0
+
+
+def _delete(args: argparse.Namespace) -> int:
+    from mechdyn.store import ResultStore
+    from mechdyn.store.studies import StudyStore
+
+    with ResultStore(args.db) as store:
+        n = StudyStore(store).delete(args.study)
+    print(f"deleted study {args.study!r} and its {n} variants")
+    return 0
+
+
+_EXAMPLES = {
+    "list": "  mechdyn results list --limit 10\n"
+    "  mechdyn results list --study press-support-influence --json",
+    "show": "  mechdyn results show 3 --model",
+    "compare": "  mechdyn results compare 4 7 --plots plots",
+    "export": "  mechdyn results export --study press-sobol --parquet sobol.parquet",
+    "delete": "  mechdyn results delete --study press-sobol",
+}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("results", help="list and show stored runs")
-    rs = p.add_subparsers(dest="results_command", required=True, metavar="{list,show}")
+    p = sub.add_parser(
+        "results",
+        help="list and show stored runs and study variants, compare variants, export a study",
+        epilog="examples:\n" + "\n".join(_EXAMPLES.values()),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    rs = p.add_subparsers(dest="results_command", required=True, metavar="{list,show,compare,export,delete}")
     for name, func, hlp in (
-        ("list", _list, "list stored runs, newest first"),
+        ("list", _list, "list stored runs, newest first, or a study's variants (--study)"),
         ("show", _show, "show one stored run"),
+        ("compare", _compare, "study variants side by side, with their curves overlaid"),
+        ("export", _export, "a study's variants as CSV or Parquet (one row per variant)"),
+        ("delete", _delete, "remove a study and its variants"),
     ):
-        q = rs.add_parser(name, help=hlp)
+        q = rs.add_parser(
+            name,
+            help=hlp,
+            epilog="examples:\n" + _EXAMPLES[name],
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
         q.add_argument("--db", metavar="URL", help="results database (default: $MECHDYN_DB, else mechdyn.db)")
-        q.add_argument("--json", action="store_true", help="machine-readable output")
         q.set_defaults(func=func)
+        if name in ("list", "show", "compare"):
+            q.add_argument("--json", action="store_true", help="machine-readable output")
         if name == "list":
             q.add_argument("--analysis", help="only runs of this analysis")
-            q.add_argument("--limit", type=int, help="at most this many runs")
-        else:
+            q.add_argument("--study", help="the variants of this study instead of runs")
+            q.add_argument("--limit", type=int, help="at most this many rows")
+        elif name == "show":
             q.add_argument("id", type=int, help="run id (see `mechdyn results list`)")
             q.add_argument("--model", action="store_true", help="also print the stored model file")
+        elif name == "compare":
+            q.add_argument(
+                "ids", type=int, nargs="+", metavar="ID", help="variant ids (`results list --study`)"
+            )
+            q.add_argument("--plots", metavar="DIR", help="write the overlaid curves here")
+            q.add_argument("--curve", action="append", help="which stored curve to overlay (repeatable)")
+        else:
+            q.add_argument("--study", required=True, help="the study's name")
+            if name == "export":
+                q.add_argument("--csv", metavar="FILE")
+                q.add_argument("--parquet", metavar="FILE")

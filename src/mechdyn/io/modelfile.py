@@ -14,7 +14,7 @@ import tomllib
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -28,8 +28,10 @@ __all__ = [
     "field_context",
     "load",
     "load_model",
+    "load_source",
     "load_with_source",
     "read_toml",
+    "referenced",
     "register_model_type",
     "validate",
 ]
@@ -54,12 +56,25 @@ def register_model_type(name: str, builder: str) -> None:
 
 @dataclass(frozen=True)
 class ModelSource:
-    """The file a model was read from: its path, exact text and SHA-256 of that text."""
+    """The file a model was read from: its path, exact text and SHA-256 of that text.
+
+    Attributes
+    ----------
+    path, text, sha256 : str
+        The file, its text and the SHA-256 of its bytes.
+    data : mapping
+        The parsed TOML.
+    includes : mapping of str → ModelSource
+        Files this one refers to (a support's mechanism, a mount file), by resolved path, given in
+        memory instead of read from disk: a design study's variant changes values in them without
+        writing files (:func:`referenced`).
+    """
 
     path: str
     text: str
     sha256: str
     data: Mapping[str, Any]
+    includes: Mapping[str, ModelSource] = field(default_factory=dict)
 
     @property
     def model_type(self) -> str:
@@ -92,7 +107,11 @@ def read_toml(path: str | Path, what: str = "a .toml model file") -> ModelSource
 
 def read(path: str | Path) -> ModelSource:
     """Read and parse a TOML model file without building the model."""
-    source = read_toml(path)
+    return read_check(read_toml(path))
+
+
+def read_check(source: ModelSource) -> ModelSource:
+    """Check that parsed TOML is a model file of a known type (its ``[model] type``)."""
     model = source.data.get("model")
     if not isinstance(model, dict):
         raise ModelFileError(
@@ -109,12 +128,32 @@ def read(path: str | Path) -> ModelSource:
     return source
 
 
+def reference_path(source: ModelSource, relative: str) -> str:
+    """The path of a file that ``source`` names relative to itself."""
+    return str(Path(source.path).parent / relative)
+
+
+def referenced(source: ModelSource, relative: str) -> ModelSource | None:
+    """The model file that ``source`` names (relative to itself): from ``source.includes`` when
+    given there, else read from disk; None when there is no such file."""
+    path = reference_path(source, relative)
+    if path in source.includes:
+        return source.includes[path]
+    return read(path) if Path(path).is_file() else None
+
+
+def build_source(source: ModelSource) -> Any:
+    """Build the model of a parsed model file (its type's builder's record)."""
+    read_check(source)
+    module, _, func = _BUILDERS[source.model_type].partition(":")
+    builder: Callable[[ModelSource], Any] = getattr(importlib.import_module(module), func)
+    return builder(source)
+
+
 def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
     """Load a model file and return the model with the :class:`ModelSource` it came from."""
     source = read(path)
-    module, _, func = _BUILDERS[source.model_type].partition(":")
-    builder: Callable[[ModelSource], Any] = getattr(importlib.import_module(module), func)
-    return builder(source), source
+    return build_source(source), source
 
 
 # the field of each builder's record that holds the model itself (a type not named here: the record)
@@ -169,15 +208,20 @@ def load_model(path: str | Path) -> LoadedModel:
     -------
     LoadedModel
     """
-    built, source = load_with_source(path)
+    return load_source(read(path))
+
+
+def load_source(source: ModelSource) -> LoadedModel:
+    """A :class:`LoadedModel` from a parsed model file (e.g. a study's variant, built in memory)."""
+    built = build_source(source)
     kind = source.model_type
     if kind == "drivetrain":
         from mechdyn.drivetrain.schema import settings
 
         return LoadedModel(kind, built, settings(source, built), source)
     # the other builders return a record of the model and its settings; the model is one field of it
-    field = _MODEL_FIELD.get(kind)
-    return LoadedModel(kind, built if field is None else getattr(built, field), built, source)
+    attr = _MODEL_FIELD.get(kind)
+    return LoadedModel(kind, built if attr is None else getattr(built, attr), built, source)
 
 
 def load(path: str | Path) -> LoadedModel:

@@ -23,12 +23,32 @@ def _mechanism(loaded: Any, angles: int | None = None) -> Any:
     return result
 
 
+def _mechanism_batch(loaded: Any, columns: Any, keys: Any, angles: int | None = None) -> Any:
+    """Many variants in one compiled batch (:mod:`mechdyn.mechanism.batch`)."""
+    from mechdyn.mechanism.batch import cycle_columns, summary_columns
+
+    spec = loaded.settings
+    n = angles or (spec.n_angles if spec is not None else 360)
+    own = {}
+    for (files, keys_), values in columns.items():
+        if files:  # a value in another file: not the mechanism's
+            from mechdyn.registry import NotBatchable
+
+            raise NotBatchable("a value outside the mechanism file")
+        own[keys_] = values
+    batch = cycle_columns(loaded.model, own, n)
+    V = batch.angle.shape[0]
+    errors = [batch.failures.get(v) for v in range(V)]
+    return summary_columns(batch.summary(), keys, V), errors
+
+
 register(
     Analysis(
         "mechanism",
         ("mechanism",),
         _mechanism,
         "kinematics and inverse dynamics of a planar mechanism",
+        batch=_mechanism_batch,
         options=(
             Option("angles", "int", "crank angles per revolution (default: the file's, else 360)", minimum=3),
         ),

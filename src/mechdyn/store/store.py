@@ -10,7 +10,8 @@ from __future__ import annotations
 import io
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -27,6 +28,7 @@ from sqlalchemy import (
     Text,
     create_engine,
     select,
+    text,
 )
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import ArgumentError, OperationalError
@@ -37,6 +39,7 @@ from mechdyn.errors import MechdynError
 __all__ = ["DEFAULT_DB", "ENV_VAR", "ResultStore", "StoredRecord", "StoredRun", "resolve_url"]
 
 ENV_VAR = "MECHDYN_DB"
+_SCHEMA_LOCK = 0x6D656368  # "mech": the advisory lock held while tables are created
 DEFAULT_DB = "mechdyn.db"
 
 
@@ -175,9 +178,12 @@ class ResultStore:
 
     def __init__(self, url: str | os.PathLike[str] | None = None):
         self.url = resolve_url(url)
+        import mechdyn.store.studies  # noqa: F401  (its tables live in the same database)
+
         try:
             self._engine = create_engine(self.url)
-            _Base.metadata.create_all(self._engine)
+            with self.schema_lock():
+                _Base.metadata.create_all(self._engine)
         except (OperationalError, ArgumentError) as exc:
             shown = make_url(self.url).render_as_string(hide_password=True)
             raise StoreError(
@@ -187,6 +193,21 @@ class ResultStore:
             raise StoreError(
                 f"the database driver for {self.url.split(':')[0]} is not installed ({exc})"
             ) from None
+
+    @contextmanager
+    def schema_lock(self) -> Iterator[None]:
+        """Hold the database's schema lock (PostgreSQL: an advisory lock) while tables are created,
+        so that processes starting together on one server do not create them twice."""
+        if self._engine.dialect.name != "postgresql":
+            yield
+            return
+        with self._engine.connect() as conn:
+            conn.execute(text("SELECT pg_advisory_lock(:k)"), {"k": _SCHEMA_LOCK})
+            try:
+                yield
+            finally:
+                conn.execute(text("SELECT pg_advisory_unlock(:k)"), {"k": _SCHEMA_LOCK})
+                conn.commit()
 
     def close(self) -> None:
         self._engine.dispose()

@@ -26,7 +26,6 @@ __all__ = attach(
         "SupportResponse": "response",
         "elastic_centre": "modes",
         "harmonic_response": "response",
-        "influence": "response",
         "modes": "modes",
         "periodic_response": "response",
         "startup_response": "response",

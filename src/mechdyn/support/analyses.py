@@ -30,10 +30,15 @@ def _support(loaded: Any, cycles: int | None = None, store: Any = None) -> Any:
         spec.load,
         cycles=cycles or s.start_up_cycles,
         method=s.start_up_method,
-        stiffness_factors=s.stiffness_factors,
-        damping_factors=s.damping_factors,
         mounts=mounts_from_drawing(machine, spec.estimates, applied),
+        excitation=spec.dynamics.summary() if spec.dynamics is not None else None,
     )
+
+
+def _support_batch(loaded: Any, columns: Any, keys: Any, **options: Any) -> Any:
+    from mechdyn.support.batch import support_batch
+
+    return support_batch(loaded, columns, keys, **options)
 
 
 register(
@@ -43,6 +48,7 @@ register(
         _support,
         "a machine on its supports: modes, steady state, start-up, floor forces",
         uses_store=True,
+        batch=_support_batch,
         options=(
             Option("cycles", "int", "start-up periods to integrate (default: the file's, else 5)", minimum=1),
         ),
@@ -71,9 +77,13 @@ register(
             Output("startup_displacement_min_m", "smallest bed displacement during start-up"),
             Output("startup_last_cycle_deviation_relative", "last start-up period off the steady state"),
             Output("force_balance_residual_N", "largest residual of the machine's force balance"),
-            Output("influence", "steady state for each stiffness and damping factor", ""),
             Output("elastic_centre_m", "the mounts' elastic centre"),
             Output("elastic_centre_residual", "coupling left at the elastic centre", "1"),
+            Output(
+                "excitation",
+                "the summary of the mechanism whose shaking is the load (its stroke_m, ...), when it is one",
+                "",
+            ),
             Output(
                 "mounts_from_drawing",
                 "each mount estimated from its drawing: type, source, stiffness along its axes (N/m), "

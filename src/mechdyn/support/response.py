@@ -15,7 +15,6 @@ so the mount forces sum to the applied force minus m a_G at every instant.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -28,7 +27,7 @@ from mechdyn.support.excitation import PeriodicLoad, series, series_on_grid
 from mechdyn.support.model import DOFS, MountedMachine
 from mechdyn.support.modes import modes
 
-__all__ = ["SupportResponse", "harmonic_response", "influence", "periodic_response", "startup_response"]
+__all__ = ["SupportResponse", "harmonic_response", "periodic_response", "startup_response"]
 
 
 @dataclass(frozen=True)
@@ -308,43 +307,3 @@ def startup_response(
     q, qd = x[:, :n], x[:, n:]
     qdd = (load.value(t) @ B.T - qd @ C.T - q @ K.T) @ np.linalg.inv(M).T
     return SupportResponse(machine, load, t, q, qd, qdd, "start-up")
-
-
-def influence(
-    machine: MountedMachine,
-    load: PeriodicLoad,
-    stiffness_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
-    damping_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
-) -> list[dict[str, Any]]:
-    """How the support's stiffness and damping change the steady state: one row per variant.
-
-    Each factor multiplies every mount's stiffness (the damping kept), then every mount's damping
-    (the stiffness kept); the published study for press A reduced each by 0–30 % in 10 % steps.
-
-    Returns
-    -------
-    list of dict
-        ``parameter`` (``"stiffness"`` or ``"damping"``), ``factor``, the transmitted-force range,
-        maximum and minimum (N), the displacement extremes (m) and the first natural frequency (Hz).
-    """
-    rows = []
-    for parameter, factors in (("stiffness", stiffness_factors), ("damping", damping_factors)):
-        for f in factors:
-            if f < 0 or (parameter == "stiffness" and f == 0):
-                raise ModelError(f"factor {f:g} must be positive", element="influence", field=parameter)
-            variant = machine.scaled(**{parameter: f})
-            r = periodic_response(variant, load)
-            FT, z = r.transmitted_force, r.vertical_displacement
-            rows.append(
-                {
-                    "parameter": parameter,
-                    "factor": float(f),
-                    "transmitted_force_range_N": float(np.ptp(FT)),
-                    "transmitted_force_max_N": float(FT.max()),
-                    "transmitted_force_min_N": float(FT.min()),
-                    "displacement_max_m": float(z.max()),
-                    "displacement_min_m": float(z.min()),
-                    "first_natural_frequency_hz": float(modes(variant).frequencies_hz[0]),
-                }
-            )
-    return rows

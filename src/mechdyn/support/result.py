@@ -1,4 +1,4 @@
-"""Everything ``mechdyn support`` reports, as one result: steady state, start-up, modes, influence.
+"""Everything ``mechdyn support`` reports, as one result: steady state, start-up, modes.
 
 :func:`support_analysis` runs the exact periodic steady state, the start-up from rest, the modes and
 the stiffness/damping influence study on one machine and load, and checks the start-up against the
@@ -7,7 +7,7 @@ steady state; :class:`SupportAnalysis` holds them with the result protocol.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -18,7 +18,7 @@ from mechdyn.results import Result, Table
 from mechdyn.support.excitation import PeriodicLoad
 from mechdyn.support.model import MountedMachine
 from mechdyn.support.modes import SupportModes, elastic_centre, modes
-from mechdyn.support.response import SupportResponse, influence, periodic_response, startup_response
+from mechdyn.support.response import SupportResponse, periodic_response, startup_response
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -37,20 +37,21 @@ class SupportAnalysis(Result):
     startup : SupportResponse
         From rest, ``cycles`` periods by time integration.
     modes : SupportModes
-    influence : list of dict
-        One row per stiffness or damping factor (:func:`mechdyn.support.influence`).
     method : str
         The start-up integrator.
     mounts : dict
         The mounts estimated from their drawings (:func:`mounts_from_drawing`).
+    excitation : dict
+        The summary of the mechanism whose shaking is the load, when it is one (its stroke, its
+        inertia-force extremes...), so that a study can hold the mechanism to them.
     """
 
     steady: SupportResponse
     startup: SupportResponse
     modes: SupportModes
-    influence: list[dict[str, Any]]
     method: str
     mounts: dict[str, dict[str, Any]] = field(default_factory=dict)
+    excitation: dict[str, Any] = field(default_factory=dict)
 
     @property
     def machine(self) -> MountedMachine:
@@ -70,7 +71,7 @@ class SupportAnalysis(Result):
         return float(np.abs(s.vertical_displacement[last] - z_ss).max() / span)
 
     def summary(self) -> dict[str, Any]:
-        """The steady state's figures, the modes, the start-up and its deviation, the influence rows."""
+        """The steady state's figures, the modes, the start-up and its deviation."""
         machine, md, startup = self.machine, self.modes, self.startup
         out = self.steady.summary() | {
             "dofs": list(machine.dofs),
@@ -88,10 +89,11 @@ class SupportAnalysis(Result):
             "startup_displacement_min_m": float(startup.vertical_displacement.min()),
             "startup_last_cycle_deviation_relative": self.startup_deviation,
             "force_balance_residual_N": float(np.abs(self.steady.force_balance_residual).max()),
-            "influence": self.influence,
         }
         if self.mounts:
             out["mounts_from_drawing"] = self.mounts
+        if self.excitation:
+            out["excitation"] = self.excitation
         ec = elastic_centre(machine)
         if ec is not None:
             out["elastic_centre_m"] = [float(v) for v in ec[0]]
@@ -109,10 +111,10 @@ class SupportAnalysis(Result):
         }
 
     def tables(self, **display_units: str) -> list[Table]:
-        """Steady state, modes, influence and (several mounts) the mounts.
+        """Steady state, modes and (several mounts) the mounts.
 
         ``force_unit`` (default ``"tonf"``) and ``length_unit`` (default ``"mm"``) give the display
-        column and the influence table's units.
+        column's units.
         """
         from mechdyn.units import convert
 
@@ -153,33 +155,7 @@ class SupportAnalysis(Result):
                 for r in self.modes.table()
             ],
         )
-        influence_table = Table(
-            "influence of the support (steady state)",
-            [
-                "varied",
-                "factor",
-                f"F_T range [{fu}]",
-                f"F_T max [{fu}]",
-                f"F_T min [{fu}]",
-                f"z max [{lu}]",
-                f"z min [{lu}]",
-                "f1 [Hz]",
-            ],
-            [
-                [
-                    r["parameter"],
-                    r["factor"],
-                    convert(r["transmitted_force_range_N"], "N", fu),
-                    convert(r["transmitted_force_max_N"], "N", fu),
-                    convert(r["transmitted_force_min_N"], "N", fu),
-                    convert(r["displacement_max_m"], "m", lu),
-                    convert(r["displacement_min_m"], "m", lu),
-                    r["first_natural_frequency_hz"],
-                ]
-                for r in self.influence
-            ],
-        )
-        tables = [steady, modes_table, influence_table]
+        tables = [steady, modes_table]
         if len(machine.mounts) > 1:
             tables.append(
                 Table(
@@ -221,9 +197,8 @@ def support_analysis(
     *,
     cycles: int = 5,
     method: str = "DOP853",
-    stiffness_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
-    damping_factors: Sequence[float] = (1.0, 0.9, 0.8, 0.7),
     mounts: dict[str, dict[str, Any]] | None = None,
+    excitation: dict[str, Any] | None = None,
 ) -> SupportAnalysis:
     """Steady state, start-up from rest, modes and the support's influence, in one result.
 
@@ -235,10 +210,10 @@ def support_analysis(
         Start-up periods to integrate.
     method : str
         Start-up integrator (:func:`mechdyn.support.startup_response`).
-    stiffness_factors, damping_factors : sequence of float
-        Factors of the influence study (:func:`mechdyn.support.influence`).
     mounts : dict, optional
         What the mounts estimated from their drawings are (:func:`mounts_from_drawing`), reported.
+    excitation : dict, optional
+        The summary of the mechanism that makes the load, reported.
 
     Returns
     -------
@@ -246,8 +221,9 @@ def support_analysis(
     """
     steady = periodic_response(machine, load)
     startup = startup_response(machine, load, cycles, method=method)
-    rows = influence(machine, load, stiffness_factors, damping_factors)
-    return SupportAnalysis(steady, startup, modes(machine), rows, method, dict(mounts or {}))
+    return SupportAnalysis(
+        steady, startup, modes(machine), method, dict(mounts or {}), dict(excitation or {})
+    )
 
 
 def mounts_from_drawing(

@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
@@ -31,7 +30,14 @@ from mechdyn.io.fields import (
     ModelTableBase,
     quantity,
 )
-from mechdyn.io.modelfile import ModelSource, field_context, load_with_source, validate
+from mechdyn.io.modelfile import (
+    ModelSource,
+    build_source,
+    field_context,
+    reference_path,
+    referenced,
+    validate,
+)
 from mechdyn.support.excitation import PeriodicLoad, Placement
 from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
 from mechdyn.units import STANDARD_GRAVITY
@@ -141,9 +147,19 @@ class AnalysisTable(FileModel):
     dofs: Literal["planar", "spatial"] = "spatial"
     start_up_cycles: int = Field(default=5, ge=1, le=1000)
     start_up_method: Literal["DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "duhamel"] = "DOP853"
-    stiffness_factors: tuple[float, ...] = (1.0, 0.9, 0.8, 0.7)
-    damping_factors: tuple[float, ...] = (1.0, 0.9, 0.8, 0.7)
     gravity: quantity("m/s^2") = STANDARD_GRAVITY  # type: ignore[valid-type]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _moved(cls, data: Any) -> Any:
+        moved = [k for k in ("stiffness_factors", "damping_factors") if isinstance(data, dict) and k in data]
+        if moved:
+            raise ValueError(
+                f"{' and '.join(moved)}: the influence of the support is a design study now; remove "
+                "them and run `mechdyn study examples/studies/press_support_influence.toml` (any "
+                "value of the file can be varied there)"
+            )
+        return data
 
 
 class SupportFile(FileModel):
@@ -312,16 +328,17 @@ def _excitation(f: SupportFile, source: ModelSource) -> PeriodicLoad | Mechanism
     if e.mechanism is not None:
         from mechdyn.mechanism.schema import MechanismSpec
 
-        path = Path(source.path).parent / e.mechanism
-        if not path.is_file():
+        msource = referenced(source, e.mechanism)
+        if msource is None:
             raise ModelFileError(
                 source.path,
                 "[excitation] → mechanism",
-                f"{e.mechanism!r}: no such file next to this model ({path}); give the mechanism "
-                "model file's path relative to this file",
+                f"{e.mechanism!r}: no such file next to this model ({reference_path(source, e.mechanism)}); "
+                "give the mechanism model file's path relative to this file",
                 e.mechanism,
             )
-        spec, msource = load_with_source(path)
+        spec = build_source(msource)
+        path = msource.path
         if not isinstance(spec, MechanismSpec):
             raise ModelFileError(
                 source.path,
@@ -362,11 +379,6 @@ def build(source: ModelSource) -> SupportSpec:
             machine = replace(machine, gravity=f.analysis.gravity)
     else:
         machine, estimates = _on_mounts(f, source)
-    with field_context(source, "[analysis]"):
-        if any(v <= 0 for v in f.analysis.stiffness_factors):
-            raise ValueError(f"stiffness_factors {f.analysis.stiffness_factors} must all be positive")
-        if any(v < 0 for v in f.analysis.damping_factors):
-            raise ValueError(f"damping_factors {f.analysis.damping_factors} must not be negative")
     return SupportSpec(f.model.name, machine, excitation, f.analysis, estimates=estimates)
 
 
@@ -412,16 +424,17 @@ def _placed(row: MountTable, source: ModelSource, where: str) -> PlacedEstimate:
     from mechdyn.mounts.schema import build as build_mount
 
     if row.mount is not None:
-        path = Path(source.path).parent / row.mount
-        if not path.is_file():
+        msource = referenced(source, row.mount)
+        if msource is None:
             raise ModelFileError(
                 source.path,
                 f"{where} → mount",
-                f"{row.mount!r}: no such file next to this model ({path}); give the mount model file's "
-                "path relative to this file",
+                f"{row.mount!r}: no such file next to this model ({reference_path(source, row.mount)}); "
+                "give the mount model file's path relative to this file",
                 row.mount,
             )
-        spec, msource = load_with_source(path)
+        spec = build_source(msource)
+        path = msource.path
         if msource.model_type != "mount":
             raise ModelFileError(
                 source.path,

@@ -1,0 +1,105 @@
+"""Design studies' batch evaluation of a mechanism: variants given as columns of model-file values.
+
+A design study names model values by their place in the file (:mod:`mechdyn.studies.paths`); those
+that the batched engine varies directly — a point's coordinates (``points.C``), a body's mass or
+inertia (``bodies.slide.mass``) — go into one :func:`mechdyn.mechanism.cycle` call for all variants.
+Any other value (a driver speed, a centre of mass written as coordinates) is not batched:
+:class:`~mechdyn.registry.NotBatchable` sends the study to the one-by-one path, which gives the same
+numbers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from mechdyn.registry import NotBatchable
+
+__all__ = ["cycle_columns", "summary_columns"]
+
+
+def cycle_columns(
+    mechanism: Any,
+    columns: Mapping[tuple[str | int, ...], np.ndarray],
+    n_angles: int,
+    n_variants: int | None = None,
+) -> Any:
+    """One :func:`~mechdyn.mechanism.cycle` over the variants that ``columns`` describe.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The base model (as its file builds it).
+    columns : mapping of keys → ndarray (V,)
+        Keys into the mechanism file (``("points", "C", 0)``, ``("bodies", 4, "mass")``) and the
+        SI value of each variant.
+    n_angles : int
+        Crank angles per revolution.
+    n_variants : int, optional
+        V (default: the length of the columns); the base design V times when no column is given.
+
+    Returns
+    -------
+    CycleBatch
+        Motions not kept (``store_points=False``); a variant that cannot be assembled is NaN with
+        its reason in ``failures``.
+
+    Raises
+    ------
+    NotBatchable
+        For a value the batch does not vary, or a mechanism the compiled batch does not run.
+    """
+    from mechdyn.mechanism.dyads import NotDecomposable, cycle, plan
+
+    try:
+        plan(mechanism)
+    except NotDecomposable as exc:
+        raise NotBatchable(str(exc)) from None
+    V = n_variants or max((np.asarray(v).size for v in columns.values()), default=1)
+    points: dict[str, np.ndarray] = {}
+    masses: dict[str, np.ndarray] = {}
+    inertias: dict[str, np.ndarray] = {}
+    bodies = mechanism.bodies
+    for keys, values in columns.items():
+        v = np.broadcast_to(np.asarray(values, dtype=float), (V,))
+        match keys:
+            case ("points", str(name), int(i)) if name in mechanism.points and i in (0, 1):
+                xy = points.setdefault(name, np.tile(np.asarray(mechanism.points[name], float), (V, 1)))
+                xy[:, i] = v
+            case ("bodies", int(k), "mass") if 0 <= k < len(bodies):
+                masses[bodies[k].name] = v
+            case ("bodies", int(k), "inertia") if 0 <= k < len(bodies):
+                inertias[bodies[k].name] = v
+            case _:
+                raise NotBatchable(f"the batch does not vary {'.'.join(map(str, keys))}")
+    for name in masses:  # a mass given alone scales the inertia in cycle(); the file keeps it
+        k = mechanism.body_index[name]
+        inertias.setdefault(name, np.full(V, bodies[k].inertia))
+    if not (points or masses or inertias):
+        first = next(iter(mechanism.points))
+        points[first] = np.tile(np.asarray(mechanism.points[first], float), (V, 1))
+    return cycle(mechanism, n_angles, points, masses, inertias=inertias, store_points=False, errors="nan")
+
+
+def summary_columns(summary: Mapping[str, Any], keys: Sequence[str], V: int) -> dict[str, np.ndarray]:
+    """The wanted keys (nested with dots) of a batch summary, each (V,).
+
+    Raises
+    ------
+    NotBatchable
+        For a key the batch summary does not hold.
+    """
+    out = {}
+    for key in keys:
+        node: Any = summary
+        for part in key.split("."):
+            if not isinstance(node, Mapping) or part not in node:
+                raise NotBatchable(f"the batch does not compute {key}")
+            node = node[part]
+        arr = np.asarray(node, dtype=float)
+        if arr.shape != (V,):
+            raise NotBatchable(f"{key} is not one number per variant")
+        out[key] = arr
+    return out

@@ -1,0 +1,428 @@
+"""Design studies in the results database: each study, every variant it evaluated, their curves.
+
+A variant is stored once: its key (a hash of its parameter values, or an optimizer's trial number)
+is unique within its study, and a block of variants is written in one transaction, so a study
+killed at any moment keeps every block it finished and a second run reuses them. The same tables
+live in SQLite and PostgreSQL.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from typing import Any
+
+import numpy as np
+from sqlalchemy import (
+    JSON,
+    DateTime,
+    Float,
+    ForeignKey,
+    Integer,
+    LargeBinary,
+    String,
+    Text,
+    UniqueConstraint,
+    select,
+)
+from sqlalchemy.dialects.postgresql import insert as pg_insert
+from sqlalchemy.dialects.sqlite import insert as sqlite_insert
+from sqlalchemy.orm import Mapped, Session, mapped_column
+
+from mechdyn.store.store import ResultStore, StoreError, _Base, _pack, _unpack, jsonable
+
+__all__ = ["StoredStudy", "StoredVariant", "StudyStore", "variant_key"]
+
+
+class _Study(_Base):
+    __tablename__ = "mechdyn_studies"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    name: Mapped[str] = mapped_column(String(256), unique=True)
+    kind: Mapped[str] = mapped_column(String(32))
+    analysis: Mapped[str] = mapped_column(String(64))
+    definition: Mapped[dict[str, Any]] = mapped_column(JSON)
+    definition_sha256: Mapped[str] = mapped_column(String(64))
+    model_path: Mapped[str] = mapped_column(Text)
+    model_sha256: Mapped[str] = mapped_column(String(64))
+    model_files: Mapped[dict[str, Any]] = mapped_column(JSON)
+    package_version: Mapped[str] = mapped_column(String(64))
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+
+
+class _Variant(_Base):
+    __tablename__ = "mechdyn_variants"
+    __table_args__ = (UniqueConstraint("study_id", "key", name="uq_mechdyn_variant_key"),)
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    study_id: Mapped[int] = mapped_column(ForeignKey("mechdyn_studies.id", ondelete="CASCADE"), index=True)
+    key: Mapped[str] = mapped_column(String(64))
+    position: Mapped[int] = mapped_column(Integer)
+    parameters: Mapped[dict[str, Any]] = mapped_column(JSON)
+    given: Mapped[dict[str, Any]] = mapped_column(JSON)
+    outputs: Mapped[dict[str, Any]] = mapped_column(JSON)
+    status: Mapped[str] = mapped_column(String(16), index=True)
+    error: Mapped[str | None] = mapped_column(Text, nullable=True)
+    objective: Mapped[float | None] = mapped_column(Float, nullable=True)
+    model_sha256: Mapped[str] = mapped_column(String(64))
+    package_version: Mapped[str] = mapped_column(String(64))
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+
+
+class _Curve(_Base):
+    __tablename__ = "mechdyn_variant_curves"
+    __table_args__ = (UniqueConstraint("variant_id", "name", name="uq_mechdyn_curve_name"),)
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    variant_id: Mapped[int] = mapped_column(ForeignKey("mechdyn_variants.id", ondelete="CASCADE"), index=True)
+    name: Mapped[str] = mapped_column(String(256))
+    unit: Mapped[str] = mapped_column(String(64))
+    data: Mapped[bytes] = mapped_column(LargeBinary)
+
+
+def variant_key(values: Sequence[float]) -> str:
+    """The key of a variant: a hash of its parameter values (SI, exactly as evaluated)."""
+    return hashlib.sha256(json.dumps([float(v).hex() for v in values]).encode()).hexdigest()[:40]
+
+
+@dataclass(frozen=True)
+class StoredStudy:
+    """A study as stored: its definition and the model it varies."""
+
+    id: int
+    name: str
+    kind: str
+    analysis: str
+    definition: dict[str, Any]
+    model_path: str
+    model_sha256: str
+    model_files: dict[str, str]
+    package_version: str
+    created_at: datetime
+
+
+@dataclass(frozen=True)
+class StoredVariant:
+    """A variant as stored: parameters (SI and as given), outputs (SI), status and error."""
+
+    id: int
+    study: str
+    key: str
+    position: int
+    parameters: dict[str, float]
+    given: dict[str, str]
+    outputs: dict[str, float | None]
+    status: str
+    error: str | None
+    objective: float | None
+    model_sha256: str
+    package_version: str
+    created_at: datetime
+    curves: dict[str, tuple[np.ndarray, str]] = field(default_factory=dict)
+
+    def describe(self) -> dict[str, Any]:
+        """JSON-ready: ``id``, ``status``, ``parameters`` in SI, ``outputs`` in SI, and the rest."""
+        return {
+            "id": self.id,
+            "study": self.study,
+            "position": self.position,
+            "status": self.status,
+            "error": self.error,
+            "parameters": self.parameters,
+            "given": self.given,
+            "outputs": self.outputs,
+            "objective": self.objective,
+            "model_sha256": self.model_sha256,
+            "package_version": self.package_version,
+            "created_at": self.created_at.isoformat(),
+            "curves": sorted(self.curves),
+        }
+
+
+def _utc(t: datetime) -> datetime:
+    return t if t.tzinfo else t.replace(tzinfo=UTC)
+
+
+class StudyStore:
+    """The studies of a results database.
+
+    Parameters
+    ----------
+    store : ResultStore
+        The database (SQLite file or server URL).
+    """
+
+    def __init__(self, store: ResultStore):
+        self.store = store
+        self._engine = store._engine
+
+    # -- studies ------------------------------------------------------------------------------
+    def open(
+        self,
+        name: str,
+        *,
+        kind: str,
+        analysis: str,
+        definition: Mapping[str, Any],
+        model_path: str,
+        model_sha256: str,
+        model_files: Mapping[str, str],
+    ) -> tuple[StoredStudy, bool]:
+        """The study called ``name``: created, or found (then its definition and model must match).
+
+        Returns
+        -------
+        (StoredStudy, bool)
+            The study and whether it already existed (a resumed study).
+
+        Raises
+        ------
+        StoreError
+            When a study of that name exists with another definition or model.
+        """
+        from mechdyn import __version__
+
+        plain = jsonable(dict(definition))
+        digest = hashlib.sha256(json.dumps(plain, sort_keys=True).encode()).hexdigest()
+        with Session(self._engine) as s, s.begin():
+            row = s.scalars(select(_Study).where(_Study.name == name)).first()
+            if row is None:
+                row = _Study(
+                    name=name,
+                    kind=kind,
+                    analysis=analysis,
+                    definition=plain,
+                    definition_sha256=digest,
+                    model_path=model_path,
+                    model_sha256=model_sha256,
+                    model_files=dict(model_files),
+                    package_version=__version__,
+                    created_at=datetime.now(UTC),
+                )
+                s.add(row)
+                s.flush()
+                existed = False
+            else:
+                existed = True
+                if row.definition_sha256 != digest or row.model_sha256 != model_sha256:
+                    what = "definition" if row.definition_sha256 != digest else "model files"
+                    raise StoreError(
+                        f"a study named {name!r} is already stored with other {what} "
+                        f"({self.where}); give this one another name ([study] name), or remove the "
+                        f"old one with `mechdyn results delete --study {name}`"
+                    )
+            return self._study(row), existed
+
+    def study(self, name: str) -> StoredStudy:
+        with Session(self._engine) as s:
+            row = s.scalars(select(_Study).where(_Study.name == name)).first()
+            if row is None:
+                known = [r for (r,) in s.execute(select(_Study.name).order_by(_Study.id))]
+                raise StoreError(
+                    f"no study named {name!r} in {self.where}; stored: {', '.join(known) or 'none'}"
+                )
+            return self._study(row)
+
+    def studies(self) -> list[StoredStudy]:
+        with Session(self._engine) as s:
+            return [self._study(r) for r in s.scalars(select(_Study).order_by(_Study.id))]
+
+    def delete(self, name: str) -> int:
+        """Remove a study with its variants and curves; returns how many variants went."""
+        study = self.study(name)
+        with Session(self._engine) as s, s.begin():
+            ids = [v for (v,) in s.execute(select(_Variant.id).where(_Variant.study_id == study.id))]
+            if ids:
+                s.execute(_Curve.__table__.delete().where(_Curve.variant_id.in_(ids)))
+            s.execute(_Variant.__table__.delete().where(_Variant.study_id == study.id))
+            s.execute(_Study.__table__.delete().where(_Study.id == study.id))
+        return len(ids)
+
+    @property
+    def where(self) -> str:
+        from sqlalchemy.engine import make_url
+
+        return make_url(self.store.url).render_as_string(hide_password=True)
+
+    @staticmethod
+    def _study(r: _Study) -> StoredStudy:
+        return StoredStudy(
+            r.id,
+            r.name,
+            r.kind,
+            r.analysis,
+            dict(r.definition),
+            r.model_path,
+            r.model_sha256,
+            dict(r.model_files),
+            r.package_version,
+            _utc(r.created_at),
+        )
+
+    # -- variants -----------------------------------------------------------------------------
+    def stored(self, study_id: int) -> dict[str, StoredVariant]:
+        """Every stored variant of a study by key (without curves)."""
+        with Session(self._engine) as s:
+            rows = s.scalars(select(_Variant).where(_Variant.study_id == study_id).order_by(_Variant.id))
+            name = self._name(s, study_id)
+            return {r.key: self._variant(r, name) for r in rows}
+
+    def by_keys(self, study_id: int, keys: Sequence[str]) -> dict[str, StoredVariant]:
+        """The stored variants of a study with these keys (without curves)."""
+        out: dict[str, StoredVariant] = {}
+        with Session(self._engine) as s:
+            name = self._name(s, study_id)
+            for i in range(0, len(keys), 500):
+                q = select(_Variant).where(_Variant.study_id == study_id, _Variant.key.in_(keys[i : i + 500]))
+                out.update({r.key: self._variant(r, name) for r in s.scalars(q)})
+        return out
+
+    def by_ids(self, ids: Sequence[int]) -> list[StoredVariant]:
+        """Stored variants by id, in the order given (without curves)."""
+        found: dict[int, StoredVariant] = {}
+        with Session(self._engine) as s:
+            for i in range(0, len(ids), 500):
+                for r in s.scalars(select(_Variant).where(_Variant.id.in_(ids[i : i + 500]))):
+                    found[r.id] = self._variant(r, self._name(s, r.study_id))
+        return [found[i] for i in ids if i in found]
+
+    def add(self, study_id: int, rows: Iterable[Mapping[str, Any]]) -> int:
+        """Store a block of variants in one transaction; a key already stored is left as it is.
+
+        Each row holds ``key``, ``position``, ``parameters``, ``given``, ``outputs``, ``status``,
+        ``error``, ``objective``, ``model_sha256`` and optionally ``curves`` (name → (array, unit)).
+        Returns how many were new.
+        """
+        from mechdyn import __version__
+
+        now = datetime.now(UTC)
+        rows = list(rows)
+        if not rows:
+            return 0
+        values = [
+            {
+                "study_id": study_id,
+                "key": r["key"],
+                "position": int(r["position"]),
+                "parameters": jsonable(r["parameters"]),
+                "given": jsonable(r.get("given", {})),
+                "outputs": jsonable(r["outputs"]),
+                "status": r["status"],
+                "error": r.get("error"),
+                "objective": jsonable(r.get("objective")),
+                "model_sha256": r["model_sha256"],
+                "package_version": __version__,
+                "created_at": now,
+            }
+            for r in rows
+        ]
+        stmt = self._insert(_Variant.__table__).on_conflict_do_nothing(index_elements=["study_id", "key"])
+        with Session(self._engine) as s, s.begin():
+            before = s.scalar(select(_count()).where(_Variant.study_id == study_id)) or 0
+            s.execute(stmt, values)
+            after = s.scalar(select(_count()).where(_Variant.study_id == study_id)) or 0
+            with_curves = [r for r in rows if r.get("curves")]
+            if with_curves:
+                keys = [r["key"] for r in with_curves]
+                ids = dict(
+                    s.execute(
+                        select(_Variant.key, _Variant.id).where(
+                            _Variant.study_id == study_id, _Variant.key.in_(keys)
+                        )
+                    ).all()
+                )
+                self._put_curves(s, [(ids[r["key"]], r["curves"]) for r in with_curves])
+        return int(after - before)
+
+    def with_curves(self, study_id: int) -> set[int]:
+        """Ids of the study's variants that have curves kept."""
+        q = (
+            select(_Curve.variant_id)
+            .join(_Variant, _Variant.id == _Curve.variant_id)
+            .where(_Variant.study_id == study_id)
+            .distinct()
+        )
+        with Session(self._engine) as s:
+            return {i for (i,) in s.execute(q)}
+
+    def add_curves(self, variant_id: int, curves: Mapping[str, tuple[np.ndarray, str]]) -> None:
+        """Keep a stored variant's curves (those it already has are left)."""
+        with Session(self._engine) as s, s.begin():
+            self._put_curves(s, [(variant_id, curves)])
+
+    def _insert(self, table: Any) -> Any:
+        """INSERT that leaves a row whose unique key is already stored (SQLite and PostgreSQL)."""
+        insert = pg_insert if self._engine.dialect.name == "postgresql" else sqlite_insert
+        return insert(table)
+
+    def _put_curves(
+        self, s: Session, items: Sequence[tuple[int, Mapping[str, tuple[np.ndarray, str]]]]
+    ) -> None:
+        rows = [
+            {"variant_id": vid, "name": name, "unit": unit, "data": _pack(np.asarray(arr))}
+            for vid, curves in items
+            for name, (arr, unit) in curves.items()
+        ]
+        if rows:
+            stmt = self._insert(_Curve.__table__).on_conflict_do_nothing(
+                index_elements=["variant_id", "name"]
+            )
+            s.execute(stmt, rows)
+
+    def variants(
+        self, study: str, *, status: str | None = None, limit: int | None = None, curves: bool = False
+    ) -> list[StoredVariant]:
+        """A study's variants in the order they were stored."""
+        st = self.study(study)
+        q = select(_Variant).where(_Variant.study_id == st.id).order_by(_Variant.id)
+        if status:
+            q = q.where(_Variant.status == status)
+        if limit:
+            q = q.limit(limit)
+        with Session(self._engine) as s:
+            out = [self._variant(r, st.name) for r in s.scalars(q)]
+        return [self.variant(v.id) for v in out] if curves else out
+
+    def variant(self, variant_id: int) -> StoredVariant:
+        """One variant with its curves."""
+        with Session(self._engine) as s:
+            r = s.get(_Variant, variant_id)
+            if r is None:
+                raise StoreError(
+                    f"no variant with id {variant_id} in {self.where}; `mechdyn results list --study NAME` "
+                    "shows the ids"
+                )
+            v = self._variant(r, self._name(s, r.study_id))
+            curves = {
+                c.name: (_unpack(c.data), c.unit)
+                for c in s.scalars(select(_Curve).where(_Curve.variant_id == variant_id))
+            }
+        return StoredVariant(**{**v.__dict__, "curves": curves})
+
+    @staticmethod
+    def _name(s: Session, study_id: int) -> str:
+        return str(s.scalar(select(_Study.name).where(_Study.id == study_id)))
+
+    @staticmethod
+    def _variant(r: _Variant, study: str) -> StoredVariant:
+        return StoredVariant(
+            r.id,
+            study,
+            r.key,
+            r.position,
+            dict(r.parameters or {}),
+            dict(r.given or {}),
+            dict(r.outputs or {}),
+            r.status,
+            r.error,
+            r.objective,
+            r.model_sha256,
+            r.package_version,
+            _utc(r.created_at),
+        )
+
+
+def _count() -> Any:
+    from sqlalchemy import func
+
+    return func.count(_Variant.id)

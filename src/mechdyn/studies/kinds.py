@@ -1,0 +1,397 @@
+"""The design and the findings of each study kind (see :mod:`mechdyn.studies.run`).
+
+Each kind is a function ``kind(runner) -> (findings, variants, best)``: ``findings`` is JSON-ready
+(SI), ``variants`` the stored variants of the study in design order, ``best`` the ids of the
+variants whose curves are always kept.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from mechdyn.store.studies import StoredVariant
+from mechdyn.studies.spec import StudyError
+
+__all__ = ["KIND_RUNNERS"]
+
+HEARTBEAT, HEARTBEAT_GRACE = 2, 20  # s: an optimization trial's heartbeat, and how long it may miss it
+Findings = tuple[dict[str, Any], list[StoredVariant], set[int] | None]
+
+
+def _value(v: StoredVariant, key: str) -> float:
+    x = v.outputs.get(key)
+    return float(x) if x is not None and v.status == "ok" else math.nan
+
+
+def oat(runner: Any) -> Findings:
+    """The base, then each parameter at each level with the others at base."""
+    st = runner.study
+    base = runner.base_row()
+    rows, labels = [base], [None]
+    for j, p in enumerate(st.parameters):
+        for level in p.levels or (p.low, p.high):
+            r = base.copy()
+            r[j] = level
+            rows.append(r)
+            labels.append((j, level))
+    variants = runner.evaluate(np.array(rows))
+    b = variants[0]
+    table = []
+    for lab, v in zip(labels[1:], variants[1:], strict=True):
+        j, level = lab
+        p = st.parameters[j]
+        rel = p.relative(level)
+        effects = {}
+        for w in st.watched:
+            y0, y = _value(b, w.key), _value(v, w.key)
+            effects[w.key] = {
+                "value": None if math.isnan(y) else y,
+                "change_percent": None if math.isnan(y) or not y0 else 100.0 * (y - y0) / abs(y0),
+            }
+        table.append(
+            {
+                "parameter": p.name,
+                "level": p.shown(level),
+                "level_percent": None if rel is None else 100.0 * rel,
+                "variant": v.id,
+                "status": v.status,
+                "error": v.error,
+                "outputs": effects,
+            }
+        )
+    base_out = {w.key: (None if math.isnan(_value(b, w.key)) else _value(b, w.key)) for w in st.watched}
+    return {"base": base_out, "base_variant": b.id, "effects": table}, variants, None
+
+
+def factorial(runner: Any) -> Findings:
+    """Every combination of levels."""
+    from mechdyn.studies.run import grid
+
+    st = runner.study
+    levels = [p.levels or (p.low, p.high) for p in st.parameters]
+    variants = runner.evaluate(np.vstack([runner.base_row(), grid(levels)]))
+    return _sweep(st, variants)
+
+
+def lhs(runner: Any) -> Findings:
+    """A Latin hypercube over the ranges."""
+    from scipy.stats import qmc
+
+    st = runner.study
+    n = st.samples or 10 * len(st.parameters)
+    u = qmc.LatinHypercube(d=len(st.parameters), seed=st.seed).random(n)
+    lo = np.array([p.low for p in st.parameters])
+    hi = np.array([p.high for p in st.parameters])
+    variants = runner.evaluate(np.vstack([runner.base_row(), lo + u * (hi - lo)]))
+    return _sweep(st, variants)
+
+
+def _sweep(st: Any, variants: list[StoredVariant]) -> Findings:
+    """Ranges of the outputs over the variants, each parameter's rank correlation with each output,
+    and (with an objective) the best feasible variant."""
+    from scipy.stats import spearmanr
+
+    ok = [v for v in variants if v.status == "ok"]
+    X = np.array([[v.parameters[p.name] for p in st.parameters] for v in ok]) if ok else np.zeros((0, 0))
+    spread, corr = {}, {}
+    for w in st.watched:
+        y = np.array([_value(v, w.key) for v in ok])
+        good = np.isfinite(y)
+        spread[w.key] = {
+            "min": float(y[good].min()) if good.any() else None,
+            "max": float(y[good].max()) if good.any() else None,
+        }
+        corr[w.key] = {}
+        for j, p in enumerate(st.parameters):
+            if good.sum() > 2 and np.ptp(X[good, j]) > 0 and np.ptp(y[good]) > 0:
+                corr[w.key][p.name] = float(spearmanr(X[good, j], y[good]).statistic)
+            else:
+                corr[w.key][p.name] = None
+    findings: dict[str, Any] = {"output_ranges": spread, "rank_correlation": corr}
+    best = _best(st, variants)
+    if best is not None:
+        findings["best"] = _describe(st, best)
+    return findings, variants, {best.id} if best is not None else None
+
+
+def _feasible(st: Any, v: StoredVariant) -> bool:
+    return v.status == "ok" and all(c.violation(v.outputs.get(c.output.key)) <= 0 for c in st.constraints)
+
+
+def _best(st: Any, variants: list[StoredVariant]) -> StoredVariant | None:
+    if not st.objectives:
+        return None
+    o = st.objectives[0]
+    cands = [v for v in variants if _feasible(st, v) and math.isfinite(_value(v, o.output.key))]
+    return min(cands, key=lambda v: o.sign * _value(v, o.output.key)) if cands else None
+
+
+def _describe(st: Any, v: StoredVariant) -> dict[str, Any]:
+    return {
+        "variant": v.id,
+        "parameters": v.parameters,
+        "given": v.given,
+        "outputs": v.outputs,
+        "constraints": [
+            {
+                "constraint": c.describe(),
+                "value": v.outputs.get(c.output.key),
+                "holds": c.violation(v.outputs.get(c.output.key)) <= 0,
+            }
+            for c in st.constraints
+        ],
+    }
+
+
+def sobol(runner: Any) -> Findings:
+    """First- and total-order indices with confidence intervals (SALib)."""
+    from SALib.analyze import sobol as analyze
+    from SALib.sample import sobol as sample
+
+    st = runner.study
+    problem = {
+        "num_vars": len(st.parameters),
+        "names": [p.name for p in st.parameters],
+        "bounds": [[p.low, p.high] for p in st.parameters],
+    }
+    n = st.samples or 256
+    if n & (n - 1):
+        raise StudyError(
+            f"{st.path or st.name}: [study] samples = {n}: Sobol sampling needs a power of 2 (e.g. 256)"
+        )
+    X = sample.sample(problem, n, calc_second_order=False, seed=st.seed)
+    variants = runner.evaluate(X)
+    failed = [v for v in variants if v.status != "ok"]
+    indices: dict[str, Any] = {}
+    for w in st.watched:
+        Y = np.array([_value(v, w.key) for v in variants])
+        if not np.isfinite(Y).all():
+            indices[w.key] = {
+                "error": f"{int((~np.isfinite(Y)).sum())} of {Y.size} variants have no value (failed: "
+                f"{len(failed)}); narrow the ranges so that every variant can be evaluated"
+            }
+            continue
+        if np.ptp(Y) == 0:
+            indices[w.key] = {"error": "the output does not change over the ranges"}
+            continue
+        r = analyze.analyze(problem, Y, calc_second_order=False, conf_level=0.95, seed=st.seed)
+        indices[w.key] = {
+            p.name: {
+                "S1": float(r["S1"][j]),
+                "S1_conf": float(r["S1_conf"][j]),
+                "ST": float(r["ST"][j]),
+                "ST_conf": float(r["ST_conf"][j]),
+            }
+            for j, p in enumerate(st.parameters)
+        }
+    return {"base_samples": n, "indices": indices}, variants, None
+
+
+def optimize(runner: Any) -> Findings:
+    """Optuna: one objective (TPE) or several (NSGA-II, the Pareto front), in batches of trials."""
+    import optuna
+
+    st = runner.study
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    multi = len(st.objectives) > 1
+
+    sampler = (
+        optuna.samplers.NSGAIISampler(seed=st.seed) if multi else optuna.samplers.TPESampler(seed=st.seed)
+    )
+    with runner.store.store.schema_lock(), warnings.catch_warnings():  # Optuna's tables, once
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        # a trial whose process died (kill -9) has no heartbeat after HEARTBEAT_GRACE s: failed then
+        storage = optuna.storages.RDBStorage(
+            runner.store.store.url, heartbeat_interval=HEARTBEAT, grace_period=HEARTBEAT_GRACE
+        )
+    try:
+        study = optuna.create_study(
+            study_name=f"mechdyn:{st.name}",
+            storage=storage,
+            sampler=sampler,
+            directions=[o.sense for o in st.objectives],
+            load_if_exists=True,
+        )
+        with warnings.catch_warnings():  # the heartbeats are recorded here, around ask and tell
+            warnings.filterwarnings(
+                "ignore", "Heartbeat of storage is supposed to be used with Study.optimize"
+            )
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            ids = _optimize(runner, study, storage)
+    finally:
+        storage.remove_session()
+        storage.engine.dispose()
+
+    variants = list(runner.store.by_ids(ids))
+    variants = [runner.evaluate(runner.base_row())[0], *variants]
+    findings: dict[str, Any] = {"trials": len(ids)}
+    if multi:
+        front = _pareto(st, variants)
+        findings["pareto_front"] = [_describe(st, v) for v in front]
+        best = {v.id for v in front}
+    else:
+        b = _best(st, variants[1:])
+        if b is not None:
+            findings["best"] = _describe(st, b)
+            base = variants[0]
+            o = st.objectives[0]
+            y0, y1 = _value(base, o.output.key), _value(b, o.output.key)
+            findings["improvement_percent"] = 100.0 * (y0 - y1) / abs(y0) * o.sign if y0 else None
+        best = {b.id} if b is not None else set()
+    findings["base"] = _describe(st, variants[0])
+    return findings, variants, best
+
+
+def _optimize(runner: Any, study: Any, storage: Any) -> list[int]:
+    """Ask batches of trials, evaluate each batch as one block, tell the results; stop when the
+    study holds ``samples`` finished trials (counting those of other processes on the same study).
+    Returns the variant ids of the finished trials."""
+    import optuna
+
+    st = runner.study
+    n_trials = st.samples or 100
+    dists = {
+        p.name: optuna.distributions.FloatDistribution(float(p.low), float(p.high)) for p in st.parameters
+    }
+    State = optuna.trial.TrialState
+    while True:
+        optuna.storages.fail_stale_trials(study)
+        finished = len(study.get_trials(deepcopy=False, states=(State.COMPLETE, State.FAIL)))
+        running = len(study.get_trials(deepcopy=False, states=(State.RUNNING,)))
+        if finished >= n_trials:
+            break
+        n = min(st.batch, n_trials - finished - running)
+        if n <= 0:  # the rest is being evaluated by another process (or will be failed as stale)
+            time.sleep(0.5)
+            continue
+        trials = [study.ask(dists) for _ in range(n)]
+        for t in trials:
+            storage.record_heartbeat(t._trial_id)
+        X = np.array([[t.params[p.name] for p in st.parameters] for t in trials])
+        variants = runner.evaluate(X, objective=_objective(st))
+        for t, v in zip(trials, variants, strict=True):
+            t.set_user_attr("variant", v.id)
+            if v.status != "ok" or not all(math.isfinite(_value(v, o.output.key)) for o in st.objectives):
+                study.tell(t, state=State.FAIL)
+                continue
+            for i, c in enumerate(st.constraints):  # feasible where ≤ 0 (Optuna's convention)
+                t.set_constraint(f"{i + 1}: {c.describe()}", c.violation(v.outputs.get(c.output.key)))
+            study.tell(t, [_value(v, o.output.key) for o in st.objectives])
+    done = study.get_trials(deepcopy=False, states=(State.COMPLETE, State.FAIL))
+    return [t.user_attrs["variant"] for t in done if "variant" in t.user_attrs]
+
+
+def _objective(st: Any) -> Callable[[dict[str, Any]], float] | None:
+    if not st.objectives:
+        return None
+    key = st.objectives[0].output.key
+
+    def f(outputs: dict[str, Any]) -> float:
+        v = outputs.get(key)
+        return float(v) if v is not None else math.nan
+
+    return f
+
+
+def _pareto(st: Any, variants: list[StoredVariant]) -> list[StoredVariant]:
+    """The feasible variants no other feasible variant dominates."""
+    feas = [v for v in variants[1:] if _feasible(st, v)]
+    F = np.array([[o.sign * _value(v, o.output.key) for o in st.objectives] for v in feas])
+    keep = []
+    for i in range(len(feas)):
+        dominated = np.any(np.all(F <= F[i], axis=1) & np.any(F < F[i], axis=1))
+        if not dominated:
+            keep.append(feas[i])
+    return keep
+
+
+def synthesis(runner: Any) -> Findings:
+    """Fit the targets by differential evolution; every generation is one block of variants."""
+    from scipy.optimize import differential_evolution
+
+    st = runner.study
+    penalty = 1e3
+
+    def cost_of(v: StoredVariant) -> float:
+        if v.status != "ok":
+            return 1e12
+        total = 0.0
+        for t in st.targets:
+            y = v.outputs.get(t.output.key)
+            if y is None:
+                return 1e12
+            total += ((y - t.equals) / t.tolerance) ** 2
+        for c in st.constraints:
+            total += (
+                penalty
+                * max(0.0, c.violation(v.outputs.get(c.output.key))) ** 2
+                / (
+                    abs(c.max if c.max is not None else c.min if c.min is not None else c.equals or 1.0) ** 2
+                    or 1.0
+                )
+            )
+        return total
+
+    def objective_outputs(outputs: dict[str, Any]) -> float:
+        return sum(
+            ((outputs.get(t.output.key) - t.equals) / t.tolerance) ** 2  # type: ignore[operator]
+            if outputs.get(t.output.key) is not None
+            else math.inf
+            for t in st.targets
+        )
+
+    def f(X: np.ndarray) -> np.ndarray:
+        vs = runner.evaluate(np.asarray(X).T, objective=objective_outputs)
+        return np.array([cost_of(v) for v in vs])
+
+    bounds = [(p.low, p.high) for p in st.parameters]
+    pop = st.population or 15
+    res = differential_evolution(
+        f,
+        bounds,
+        maxiter=st.samples or 100,
+        popsize=pop,
+        seed=st.seed,
+        vectorized=True,
+        updating="deferred",
+        polish=False,
+        tol=1e-8,
+        x0=runner.base_row(),
+    )
+    best_v = runner.evaluate(res.x)[0]
+    base = runner.evaluate(runner.base_row())[0]
+    variants = runner.all_variants()
+    findings = {
+        "generations": int(res.nit),
+        "evaluations": int(res.nfev),
+        "cost": float(res.fun),
+        "best": _describe(st, best_v),
+        "base": _describe(st, base),
+        "targets": [
+            {
+                "output": t.output.key,
+                "target": t.equals,
+                "tolerance": t.tolerance,
+                "value": best_v.outputs.get(t.output.key),
+                "base_value": base.outputs.get(t.output.key),
+            }
+            for t in st.targets
+        ],
+    }
+    return findings, variants, {best_v.id, base.id}
+
+
+KIND_RUNNERS: dict[str, Callable[[Any], Findings]] = {
+    "oat": oat,
+    "factorial": factorial,
+    "lhs": lhs,
+    "sobol": sobol,
+    "optimize": optimize,
+    "synthesis": synthesis,
+}

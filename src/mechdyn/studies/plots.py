@@ -1,0 +1,149 @@
+"""Plots of a study: tornado, Sobol bars, optimization history, Pareto front, parallel coordinates,
+and the overlaid curves of stored variants."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.plotting import new_axes
+
+if TYPE_CHECKING:
+    from mechdyn.store.studies import StoredVariant
+    from mechdyn.studies.result import StudyResult
+    from mechdyn.studies.spec import Watched
+
+__all__ = ["curves", "history", "parallel", "pareto", "sobol_bars", "tornado"]
+
+
+def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
+    """Each parameter level's change of one output, in % of the base, largest first."""
+    effects = [e for e in result.findings["effects"] if e["outputs"][w.key]["change_percent"] is not None]
+    effects.sort(key=lambda e: abs(e["outputs"][w.key]["change_percent"]))
+    ax = new_axes(ax, figsize=(7.0, 0.9 + 0.32 * max(len(effects), 1)))
+    y = np.arange(len(effects))
+    v = [e["outputs"][w.key]["change_percent"] for e in effects]
+    ax.barh(y, v, color=["tab:red" if x > 0 else "tab:blue" for x in v])
+    ax.set_yticks(y, [f"{e['parameter']} {e['level']}" for e in effects], fontsize=8)
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_xlabel(f"change of {w.key} from the base [%]")
+    ax.set_title(f"{result.study.name}: one at a time", fontsize=10)
+    return ax
+
+
+def sobol_bars(result: StudyResult, w: Watched, ax: Any = None) -> Any:
+    """First- and total-order indices of one output with their 95 % intervals."""
+    ind = result.findings["indices"][w.key]
+    names = sorted(ind, key=lambda n: -ind[n]["ST"])
+    ax = new_axes(ax, figsize=(7.0, 4.0))
+    x = np.arange(len(names))
+    ax.bar(
+        x - 0.2,
+        [ind[n]["S1"] for n in names],
+        0.4,
+        yerr=[ind[n]["S1_conf"] for n in names],
+        label="first order S1",
+        capsize=3,
+    )
+    ax.bar(
+        x + 0.2,
+        [ind[n]["ST"] for n in names],
+        0.4,
+        yerr=[ind[n]["ST_conf"] for n in names],
+        label="total order ST",
+        capsize=3,
+    )
+    ax.set_xticks(x, names, rotation=30, ha="right", fontsize=8)
+    ax.set_ylabel("Sobol index")
+    ax.set_title(f"Sobol indices of {w.key}", fontsize=10)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def history(result: StudyResult, ax: Any = None) -> Any:
+    """The objective of each evaluated variant in the order stored, and the best so far."""
+    st = result.study
+    o = st.objectives[0].output if st.objectives else st.targets[0].output
+    vs = sorted(result.variants, key=lambda v: v.id)
+    y = np.array([o.show(v.outputs.get(o.key)) if v.status == "ok" else None for v in vs], dtype=float)
+    ax = new_axes(ax)
+    ax.plot(np.arange(y.size), y, ".", ms=3, color="0.6", label="variants")
+    sign = st.objectives[0].sign if st.objectives else 1.0
+    best = np.fmin.accumulate(sign * np.where(np.isfinite(y), y, np.inf)) * sign
+    if st.objectives:
+        ax.plot(np.arange(y.size), best, "-", color="tab:red", label="best so far")
+    ax.set_xlabel("variant (order evaluated)")
+    ax.set_ylabel(o.label)
+    ax.set_title(f"{st.name}: history", fontsize=10)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def pareto(result: StudyResult, ax: Any = None) -> Any:
+    """The first two objectives of every feasible variant and the Pareto front."""
+    st = result.study
+    a, b = st.objectives[0].output, st.objectives[1].output
+    ax = new_axes(ax)
+    pts = np.array(
+        [
+            [a.show(v.outputs.get(a.key)), b.show(v.outputs.get(b.key))]
+            for v in result.variants
+            if v.status == "ok"
+        ],
+        dtype=float,
+    )
+    ax.plot(pts[:, 0], pts[:, 1], ".", color="0.6", ms=4, label="variants")
+    front = np.array(
+        [
+            [a.show(d["outputs"].get(a.key)), b.show(d["outputs"].get(b.key))]
+            for d in result.findings["pareto_front"]
+        ],
+        dtype=float,
+    )
+    order = np.argsort(front[:, 0])
+    ax.plot(front[order, 0], front[order, 1], "o-", color="tab:red", label="Pareto front")
+    ax.set_xlabel(a.label)
+    ax.set_ylabel(b.label)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def parallel(result: StudyResult, ax: Any = None) -> Any:
+    """Parallel coordinates: each variant a line through its parameters and outputs, scaled 0–1."""
+    st = result.study
+    ok = [v for v in result.variants if v.status == "ok"][:2000]
+    cols = [(p.name, lambda v, p=p: v.parameters.get(p.name)) for p in st.parameters]
+    cols += [(w.key, lambda v, w=w: v.outputs.get(w.key)) for w in st.watched]
+    M = np.array([[f(v) if f(v) is not None else np.nan for _, f in cols] for v in ok], dtype=float)
+    lo, hi = np.nanmin(M, axis=0), np.nanmax(M, axis=0)
+    S = (M - lo) / np.where(hi > lo, hi - lo, 1.0)
+    ax = new_axes(ax, figsize=(max(7.0, 1.1 * len(cols)), 4.5))
+    color = S[:, -1] if S.size else None
+    import matplotlib.pyplot as plt
+
+    cmap = plt.get_cmap("viridis")
+    for row, c in zip(S, color if color is not None else [], strict=False):
+        ax.plot(np.arange(len(cols)), row, color=cmap(c if np.isfinite(c) else 0.0), alpha=0.25, lw=0.7)
+    ax.set_xticks(np.arange(len(cols)), [n for n, _ in cols], rotation=30, ha="right", fontsize=8)
+    ax.set_ylabel("scaled to the range of the variants")
+    ax.set_title(f"{st.name}: {len(ok)} variants, coloured by {cols[-1][0]}", fontsize=10)
+    return ax
+
+
+def curves(variants: Sequence[StoredVariant], name: str, x: str | None = None, ax: Any = None) -> Any:
+    """One stored curve of several variants, overlaid (against another stored curve, or the sample)."""
+    from mechdyn.units import key_unit
+
+    ax = new_axes(ax)
+    for v in variants:
+        if name not in v.curves:
+            continue
+        y = v.curves[name][0]
+        xs = v.curves[x][0] if x is not None and x in v.curves else np.arange(y.size)
+        ax.plot(xs, y, label=f"variant {v.id}")
+    ax.set_xlabel(x or "sample")
+    ax.set_ylabel(f"{name}" + (f" [{key_unit(name)}]" if key_unit(name) else ""))
+    ax.legend(fontsize=8)
+    return ax

@@ -1,0 +1,213 @@
+"""A study's result, with the result protocol: its summary, its tables and its plots."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mechdyn.results import Result, Table
+from mechdyn.store.studies import StoredStudy, StoredVariant
+from mechdyn.studies.study import Study
+
+__all__ = ["StudyResult"]
+
+
+@dataclass(frozen=True)
+class StudyResult(Result):
+    """What a study found, and every variant it holds.
+
+    Attributes
+    ----------
+    study : Study
+    stored : StoredStudy
+        Its row in the results database.
+    variants : tuple of StoredVariant
+        The study's variants in design order (optimization and synthesis: every variant stored).
+    evaluated : int
+        Variants evaluated by this run.
+    reused : int
+        Variants found already stored (a resumed study).
+    failed : int
+        Variants that could not be evaluated (stored with their error).
+    findings : dict
+        What the kind found (SI): ``effects`` (oat), ``indices`` (sobol), ``best`` and
+        ``improvement_percent`` (optimize), ``pareto_front``, ``targets`` (synthesis), ...
+    """
+
+    study: Study
+    stored: StoredStudy
+    variants: tuple[StoredVariant, ...]
+    evaluated: int
+    reused: int
+    failed: int
+    findings: dict[str, Any]
+
+    def summary(self) -> dict[str, Any]:
+        """``study``, ``kind``, ``evaluated``, ``reused``, ``failed``, ``variants`` and the findings."""
+        return {
+            "study": self.study.name,
+            "kind": self.study.kind,
+            "analysis": self.study.analysis,
+            "variants": len(self.variants),
+            "evaluated": self.evaluated,
+            "reused": self.reused,
+            "failed": self.failed,
+            "parameters": {
+                p.name: {
+                    "base": p.base,
+                    "unit": p.unit,
+                    "low": p.low,
+                    "high": p.high,
+                    "levels": list(p.levels),
+                }
+                for p in self.study.parameters
+            },
+            **self.findings,
+        }
+
+    def to_frame(self) -> Any:
+        """One row per variant: id, status, parameters (SI) and outputs (SI)."""
+        import pandas as pd
+
+        rows = []
+        for v in self.variants:
+            row: dict[str, Any] = {"variant": v.id, "status": v.status}
+            row |= {_column(p.name, _si_unit(p)): v.parameters.get(p.name) for p in self.study.parameters}
+            row |= {_column(w.key, w.unit): v.outputs.get(w.key) for w in self.study.watched}
+            row["error"] = v.error
+            rows.append(row)
+        return pd.DataFrame(rows)
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        return {}
+
+    # -- tables -------------------------------------------------------------------------------
+    def tables(self, **display_units: str) -> list[Table]:
+        """The table a designer expects of the kind, in the outputs' display units."""
+        st, f = self.study, self.findings
+        out: list[Table] = []
+        kind = st.kind
+        if kind == "oat":
+            cols = ["parameter", "level"]
+            for w in st.watched:
+                cols += [w.label, "change [%]"]
+            rows = [["(base)", ""] + [x for w in st.watched for x in (w.show(f["base"].get(w.key)), None)]]
+            for e in f["effects"]:
+                level = e["level"] + (
+                    f" ({e['level_percent']:+.0f} %)" if e["level_percent"] is not None else ""
+                )
+                row = [e["parameter"], level]
+                for w in st.watched:
+                    o = e["outputs"][w.key]
+                    row += [w.show(o["value"]), o["change_percent"]]
+                rows.append(row)
+            out.append(Table(f"{st.name}: one at a time", cols, rows))
+        if kind == "sobol":
+            for key, ind in f["indices"].items():
+                w = next(w for w in st.watched if w.key == key)
+                if "error" in ind:
+                    out.append(Table(f"Sobol indices of {w.key}", ["note"], [[ind["error"]]]))
+                    continue
+                ranked = sorted(ind.items(), key=lambda kv: -kv[1]["ST"])
+                out.append(
+                    Table(
+                        f"Sobol indices of {w.key} (95 % intervals), ranked by total order",
+                        ["parameter", "S1", "± S1", "ST", "± ST"],
+                        [[n, d["S1"], d["S1_conf"], d["ST"], d["ST_conf"]] for n, d in ranked],
+                    )
+                )
+        for key in ("best", "base"):
+            if key in f and kind in ("optimize", "synthesis", "factorial", "lhs"):
+                out.append(self._variant_table(f[key], "optimum" if key == "best" else "base design"))
+        if "pareto_front" in f:
+            ws = [o.output for o in st.objectives]
+            out.append(
+                Table(
+                    f"{st.name}: Pareto front ({len(f['pareto_front'])} designs)",
+                    ["variant", *(p.name for p in st.parameters), *(w.label for w in ws)],
+                    [
+                        [
+                            d["variant"],
+                            *(d["given"].get(p.name) for p in st.parameters),
+                            *(w.show(d["outputs"].get(w.key)) for w in ws),
+                        ]
+                        for d in f["pareto_front"]
+                    ],
+                )
+            )
+        if "targets" in f:
+            rows = []
+            for t in f["targets"]:
+                w = next(w for w in st.watched if w.key == t["output"])
+                rows.append(
+                    [
+                        w.label,
+                        w.show(t["target"]),
+                        w.show(t["tolerance"]),
+                        w.show(t["value"]),
+                        w.show(t["base_value"]),
+                    ]
+                )
+            out.append(Table(f"{st.name}: targets", ["output", "target", "tolerance", "fit", "base"], rows))
+        out.append(
+            Table(
+                f"{st.name}: variants",
+                ["variants", "evaluated now", "reused", "failed"],
+                [[len(self.variants), self.evaluated, self.reused, self.failed]],
+            )
+        )
+        return out
+
+    def _variant_table(self, d: dict[str, Any], title: str) -> Table:
+        st = self.study
+        rows: list[list[Any]] = [[p.name, d["given"].get(p.name)] for p in st.parameters]
+        rows += [[w.label, w.show(d["outputs"].get(w.key))] for w in st.watched]
+        rows += [[c["constraint"], "holds" if c["holds"] else "VIOLATED"] for c in d.get("constraints", [])]
+        if title == "optimum" and self.findings.get("improvement_percent") is not None:
+            rows.append(["improvement of the objective [%]", self.findings["improvement_percent"]])
+        return Table(f"{st.name}: {title} (variant {d['variant']})", ["", "value"], rows)
+
+    # -- plots --------------------------------------------------------------------------------
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """Tornado (oat), Sobol bars, objective history and Pareto front (optimize), parameter
+        scatter (sweeps), overlaid curves of the kept variants."""
+        from mechdyn.studies import plots as sp
+
+        kind = self.study.kind
+        out: dict[str, Any] = {}
+        if kind == "oat":
+            for w in self.study.watched:
+                out[f"tornado_{_safe(w.key)}.png"] = lambda w=w: sp.tornado(self, w)
+        if kind == "sobol":
+            for w in self.study.watched:
+                if "error" not in self.findings["indices"].get(w.key, {"error": 1}):
+                    out[f"sobol_{_safe(w.key)}.png"] = lambda w=w: sp.sobol_bars(self, w)
+        if kind in ("optimize", "synthesis"):
+            out["history.png"] = lambda: sp.history(self)
+        if "pareto_front" in self.findings:
+            out["pareto.png"] = lambda: sp.pareto(self)
+        if kind in ("lhs", "factorial", "sobol", "optimize", "synthesis"):
+            out["parallel_coordinates.png"] = lambda: sp.parallel(self)
+        return out
+
+
+def _si_unit(p: Any) -> str:
+    from mechdyn.units import registry
+
+    if not p.unit:
+        return ""
+    return f"{registry().Quantity(1.0, p.unit).to_base_units().units:~}"
+
+
+def _column(name: str, unit: str) -> str:
+    from mechdyn.units import key_unit
+
+    if key_unit(name) is not None or not unit:
+        return name
+    return f"{name} [{unit}]"
+
+
+def _safe(key: str) -> str:
+    return "".join(c if c.isalnum() or c in "_-" else "_" for c in key)

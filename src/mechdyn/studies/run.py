@@ -1,0 +1,316 @@
+"""Running a study: the design of each kind, evaluation in blocks (in-process or on Dask), every
+variant stored as it is finished, and what each kind finds.
+
+Kinds
+-----
+``oat``
+    One at a time: the base, then each parameter at each of its levels with the others at base
+    (as both publications did); each output's change in % of the base.
+``factorial``
+    Every combination of the parameters' levels.
+``lhs``
+    Latin hypercube over the ranges (:class:`scipy.stats.qmc.LatinHypercube`).
+``sobol``
+    First- and total-order Sobol indices with 95 % confidence intervals (Saltelli's sampling and
+    Jansen's estimators, by SALib: Saltelli et al., *Global Sensitivity Analysis. The Primer*, 2008).
+``optimize``
+    Optuna: TPE for one objective, NSGA-II for several (the Pareto front); constraints through
+    ``trial.set_constraint``; a failed variant is infeasible.
+``synthesis``
+    Fit targets (each ``equals`` within its ``tolerance``): differential evolution
+    (:func:`scipy.optimize.differential_evolution`, a whole generation evaluated as one block) on
+    the sum of squared residuals over tolerance, constraints as penalties.
+
+Resuming: a variant's key is a hash of its parameter values, unique within its study; a run looks
+up every key before it evaluates, so running a study again reuses what is stored (the designs and
+the optimizers are seeded, so the second run asks for the same variants).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from contextlib import nullcontext
+from typing import Any
+
+import numpy as np
+
+from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
+from mechdyn.studies.evaluate import Evaluation, Evaluator
+from mechdyn.studies.spec import StudyError
+from mechdyn.studies.study import Study
+
+__all__ = ["Runner", "recompute", "run_study"]
+
+
+class Runner:
+    """Evaluates a study's variants through its results database (reusing what is stored).
+
+    Parameters
+    ----------
+    study : Study
+    store : StudyStore
+    dask : str, optional
+        ``"local"`` for a LocalCluster, or a scheduler address ``tcp://HOST:PORT``.
+    progress : bool
+        A progress bar with ETA (rich).
+    """
+
+    def __init__(self, study: Study, store: StudyStore, dask: str | None = None, progress: bool = True):
+        self.study = study
+        self.store = store
+        self.evaluator = Evaluator(
+            study.source, study.analysis, study.parameters, [w.key for w in study.watched], study.options
+        )
+        tree = study.tree
+        self.stored, self.resumed = store.open(
+            study.name,
+            kind=study.kind,
+            analysis=study.analysis,
+            definition=study.definition or {"parameters": [p.name for p in study.parameters]},
+            model_path=study.source.path,
+            model_sha256=tree.sha256,
+            model_files=tree.texts,
+        )
+        self.model_sha256 = tree.sha256
+        self.cache: dict[str, StoredVariant] = store.stored(self.stored.id)
+        self.position = len(self.cache)
+        self.evaluated = 0
+        self.reused_keys: set[str] = set()
+        self.dask = dask
+        self._client: Any = None
+        self.progress = progress
+        self._bar: Any = None
+
+    # -- evaluation ---------------------------------------------------------------------------
+    def evaluate(
+        self, X: Any, objective: Callable[[dict[str, Any]], float] | None = None
+    ) -> list[StoredVariant]:
+        """The stored variants of the rows of ``X`` (SI), evaluating and storing those not yet stored."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        keys = [variant_key(row) for row in X]
+        missing: dict[str, np.ndarray] = {}
+        for k, row in zip(keys, X, strict=True):
+            if k in self.cache:
+                self.reused_keys.add(k)
+            elif k not in missing:
+                missing[k] = row
+        if missing:
+            todo = list(missing.items())
+            chunk = self.study.chunk
+            blocks = [todo[i : i + chunk] for i in range(0, len(todo), chunk)]
+            for block, results in self._blocks(blocks):
+                self._store(block, results, objective)
+        return [self.cache[k] for k in keys]
+
+    def _blocks(self, blocks: list[list[tuple[str, np.ndarray]]]) -> Any:
+        total = sum(len(b) for b in blocks)
+        task = self._bar.add_task(self.study.name, total=total) if self._bar is not None else None
+        if self.dask is None:
+            for b in blocks:
+                out = self.evaluator(np.array([row for _, row in b]))
+                if task is not None:
+                    self._bar.advance(task, len(b))
+                yield b, out
+        else:
+            from distributed import as_completed
+
+            client = self.client()
+            ev = client.scatter(self.evaluator, broadcast=True)
+            futures = {
+                client.submit(_evaluate_block, ev, np.array([row for _, row in b]), pure=False): b
+                for b in blocks
+            }
+            for fut in as_completed(futures):
+                b = futures[fut]
+                out = fut.result()
+                if task is not None:
+                    self._bar.advance(task, len(b))
+                yield b, out
+        if task is not None:
+            self._bar.remove_task(task)
+
+    def _store(
+        self,
+        block: list[tuple[str, np.ndarray]],
+        results: Sequence[Evaluation],
+        objective: Callable[[dict[str, Any]], float] | None,
+    ) -> None:
+        rows = []
+        for (key, x), ev in zip(block, results, strict=True):
+            rows.append(
+                {
+                    "key": key,
+                    "position": self.position,
+                    "parameters": {p.name: float(v) for p, v in zip(self.study.parameters, x, strict=True)},
+                    "given": {
+                        p.name: p.shown(float(v)) for p, v in zip(self.study.parameters, x, strict=True)
+                    },
+                    "outputs": ev.outputs,
+                    "status": ev.status,
+                    "error": ev.error,
+                    "objective": objective(ev.outputs)
+                    if objective is not None and ev.status == "ok"
+                    else None,
+                    "model_sha256": self.model_sha256,
+                }
+            )
+            self.position += 1
+        self.store.add(self.stored.id, rows)
+        self.evaluated += len(rows)
+        fresh = self.store.by_keys(self.stored.id, [r["key"] for r in rows])
+        self.cache.update(fresh)
+
+    def all_variants(self) -> list[StoredVariant]:
+        """Every stored variant of this study, in the order stored."""
+        return sorted(self.store.stored(self.stored.id).values(), key=lambda v: v.id)
+
+    def client(self) -> Any:
+        if self._client is None:
+            from distributed import Client, LocalCluster
+
+            if self.dask == "local":
+                cluster = LocalCluster(
+                    n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+                )
+                self._client = Client(cluster)
+            else:
+                self._client = Client(self.dask)
+        return self._client
+
+    def close(self) -> None:
+        if self._client is not None:
+            cluster = getattr(self._client, "cluster", None)
+            self._client.close()
+            if cluster is not None and self.dask == "local":
+                cluster.close()
+            self._client = None
+
+    def keep_curves(self, variants: Sequence[StoredVariant]) -> None:
+        """Recompute the given variants with their curves and keep the curves (those that have
+        them already are left)."""
+        have = self.store.with_curves(self.stored.id)
+        for v in variants:
+            if v.status != "ok" or v.id in have:
+                continue
+            x = [v.parameters[p.name] for p in self.study.parameters]
+            ev = self.evaluator.one(x, curves=True)
+            if ev.curves:
+                self.store.add_curves(v.id, ev.curves)
+
+    # -- the kinds ----------------------------------------------------------------------------
+    def base_row(self) -> np.ndarray:
+        return np.array([p.base for p in self.study.parameters])
+
+    def run(self) -> Any:
+        from mechdyn.studies.kinds import KIND_RUNNERS
+        from mechdyn.studies.result import StudyResult
+
+        bar = nullcontext()
+        if self.progress:
+            from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeRemainingColumn
+
+            bar = Progress(
+                TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(), TimeRemainingColumn(),
+                transient=True,
+            )  # fmt: skip
+        try:
+            with bar as b:
+                self._bar = b
+                findings, variants, best = KIND_RUNNERS[self.study.kind](self)
+        finally:
+            self._bar = None
+            self.close()
+        if len(variants) <= self.study.curves:
+            self.keep_curves(variants)
+        else:
+            self.keep_curves([v for v in variants if v.position == 0 or (best is not None and v.id in best)])
+        failed = sum(1 for v in variants if v.status != "ok")
+        reused = len(self.reused_keys)
+        return StudyResult(self.study, self.stored, tuple(variants), self.evaluated, reused, failed, findings)
+
+
+def _evaluate_block(evaluator: Evaluator, X: np.ndarray) -> list[Evaluation]:
+    """A Dask task: one block of variants."""
+    return evaluator(X)
+
+
+def run_study(study: Study, store: Any = None, *, dask: str | None = None, progress: bool = False) -> Any:
+    """Run a study (or resume it), storing every variant.
+
+    Parameters
+    ----------
+    study : Study
+        :func:`mechdyn.studies.load_study` or built in Python.
+    store : ResultStore or str, optional
+        The results database (default: ``MECHDYN_DB`` or ``mechdyn.db``).
+    dask : str, optional
+        ``"local"`` or a scheduler address (``tcp://HOST:PORT``): evaluate the blocks on Dask (only
+        this process writes the database).
+    progress : bool
+        Show a progress bar with ETA.
+
+    Returns
+    -------
+    StudyResult
+    """
+    from mechdyn.store.store import ResultStore
+
+    own = not isinstance(store, ResultStore)
+    rs = ResultStore(store) if own else store
+    try:
+        return Runner(study, StudyStore(rs), dask=dask, progress=progress).run()
+    finally:
+        if own:
+            rs.close()
+
+
+def recompute(store: Any, variant_id: int, *, batch: bool = True) -> Evaluation:
+    """Evaluate a stored variant again from what is stored: the study's definition, the model files
+    as they were, and the variant's parameter values.
+
+    Parameters
+    ----------
+    store : ResultStore or str
+        The results database.
+    variant_id : int
+        As ``mechdyn results list --study NAME`` shows it.
+    batch : bool
+        The evaluation path: the batch (as a study evaluates) or one by one (the analysis itself).
+
+    Returns
+    -------
+    Evaluation
+        Its outputs equal the stored ones (exactly, on the path the study took).
+    """
+    import tomllib
+
+    from mechdyn.io.modelfile import ModelSource
+    from mechdyn.store.store import ResultStore
+    from mechdyn.studies.study import study_from_data
+
+    rs = store if isinstance(store, ResultStore) else ResultStore(store)
+    studies = StudyStore(rs)
+    v = studies.variant(variant_id)
+    stored = studies.study(v.study)
+    files = {p: ModelSource(p, t, "", tomllib.loads(t)) for p, t in stored.model_files.items()}
+    base = files.pop(stored.model_path)
+    base = ModelSource(base.path, base.text, "", base.data, files)
+    study = study_from_data(stored.model_path, stored.definition, base)
+    ev = Evaluator(base, study.analysis, study.parameters, list(v.outputs), study.options, batch=batch)
+    return ev([[v.parameters[p.name] for p in study.parameters]])[0]
+
+
+def grid(levels: Sequence[Sequence[float]]) -> np.ndarray:
+    """Every combination of the levels (rows)."""
+    return np.array(list(itertools.product(*levels)), dtype=float)
+
+
+def require(cond: bool, message: str) -> None:
+    if not cond:
+        raise StudyError(message)
+
+
+def finite(v: float | None) -> bool:
+    return v is not None and math.isfinite(v)

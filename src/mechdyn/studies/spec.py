@@ -1,0 +1,409 @@
+"""What a study varies and what it looks at: parameters with their ranges, outputs, objectives and
+constraints, all with units and all structured data (nothing is evaluated as code).
+
+A parameter's range is absolute (``["1.2 m", "1.6 m"]``), relative to the model's value
+(``"±10 %"``), or a list of levels (``["0 %", "-10 %", "-20 %"]``, or absolute values). A parameter
+may move several values together (``mounts.*.stiffness``, or ``tie`` = more paths): each moves by the
+same factor from its own base value. In Python a parameter may instead be any function
+``(model, value) -> model``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from mechdyn.errors import MechdynError
+from mechdyn.studies.paths import Location, ModelTree
+
+__all__ = ["Constraint", "Objective", "Parameter", "StudyError", "Watched", "parse_relative"]
+
+
+class StudyError(MechdynError):
+    """A study is not valid: names the file or field, the value and the fix."""
+
+
+_RELATIVE = re.compile(r"^\s*(±|\+/-|\+-|[+-])?\s*(\d+(?:\.\d*)?|\.\d+)\s*%\s*$")
+
+
+def parse_relative(text: Any) -> tuple[str, float] | None:
+    """``"±10 %"`` → ``("±", 0.10)``; ``"-20 %"`` → ``("", -0.20)``; None when not a percentage."""
+    if not isinstance(text, str):
+        return None
+    m = _RELATIVE.match(text)
+    if m is None:
+        return None
+    sign, number = m.group(1) or "", float(m.group(2)) / 100.0
+    if sign in ("±", "+/-", "+-"):
+        return "±", number
+    return "", -number if sign == "-" else number
+
+
+def _file_unit(value: Any) -> str:
+    """The unit a file value is written in (``"576 mm"`` → ``"mm"``; a bare number → ``""``)."""
+    if isinstance(value, str):
+        parts = value.strip().split(None, 1)
+        return parts[1] if len(parts) == 2 else ""
+    return ""
+
+
+def _si(value: Any, unit: str) -> tuple[float, float]:
+    """(SI magnitude, factor from the unit to SI) of a file value or a user's quantity."""
+    from mechdyn.units import registry
+
+    ureg = registry()
+    if not isinstance(value, str):
+        return float(value), 1.0
+    q = ureg.Quantity(value)
+    if not hasattr(q, "to_base_units"):
+        return float(q), 1.0
+    base = q.to_base_units()
+    factor = ureg.Quantity(1.0, unit).to_base_units().magnitude if unit else 1.0
+    return float(base.magnitude), float(factor)
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A design parameter: the model values it sets and its range or levels, SI.
+
+    Build one with :meth:`from_spec` (paths with units, as in a study file) or :meth:`function`.
+
+    Attributes
+    ----------
+    name : str
+        How tables and the database name it (the path by default).
+    locations : tuple of Location
+        The values it sets (several: they move together, each by the same factor from its base).
+    base : float
+        The model's value at the first location, SI.
+    unit : str
+        The unit the file writes it in (for display), ``""`` for a bare number.
+    factor : float
+        SI per display unit.
+    low, high : float or None
+        Continuous range, SI (for Latin hypercube, Sobol, optimization, synthesis).
+    levels : tuple of float
+        Discrete values, SI (one-at-a-time and factorial); the base value is not among them unless
+        given.
+    bases : tuple of float
+        Every location's base value, SI.
+    apply : callable or None
+        ``(model, value) -> model`` for a parameter that is a Python function.
+    """
+
+    name: str
+    locations: tuple[Location, ...]
+    base: float
+    unit: str
+    factor: float
+    low: float | None = None
+    high: float | None = None
+    levels: tuple[float, ...] = ()
+    bases: tuple[float, ...] = ()
+    apply: Callable[[Any, float], Any] | None = field(default=None, compare=False)
+
+    # -- construction ------------------------------------------------------------------------
+    @classmethod
+    def from_spec(
+        cls,
+        tree: ModelTree,
+        path: str,
+        *,
+        range: Any = None,
+        levels: Sequence[Any] | None = None,
+        tie: Sequence[str] = (),
+        name: str | None = None,
+        where: str = "",
+    ) -> list[Parameter]:
+        """The parameter(s) a study file's row names: a vector (``points.C``) gives one parameter
+        per component (``points.C.x``, ``points.C.y``).
+
+        Parameters
+        ----------
+        tree : ModelTree
+            The base model.
+        path : str
+            The value's path (:mod:`mechdyn.studies.paths`).
+        range : str or [low, high], optional
+            ``"±10 %"``, or two quantities with units (``["1.2 m", "1.6 m"]``).
+        levels : list, optional
+            Relative (``"-10 %"``) or absolute (``"1.2 m"``) values.
+        tie : list of str
+            More paths that move with this one, by the same factor.
+        name : str, optional
+            The parameter's name in tables (default: the path).
+        where : str
+            The study file and row, for errors.
+        """
+        if (range is None) == (levels is None):
+            raise StudyError(f"{where}: give the parameter {path!r} either a range or levels (one of them)")
+        locations = tree.resolve(path)
+        tied = [loc for p in tie for loc in tree.resolve(p)]
+        groups: list[tuple[str, list[Location]]] = [(path, [*locations, *tied])]
+        if _coordinates(tree, locations):  # a point: each coordinate is a parameter of its own
+            n = len(locations)
+            groups = [(f"{path}.{'xyz'[i]}", [loc, *tied[i::n]]) for i, loc in enumerate(locations)]
+        out = []
+        for label, locs in groups:
+            out.append(
+                cls._one(tree, name or label if len(groups) == 1 else label, locs, range, levels, where)
+            )
+        return out
+
+    @classmethod
+    def _one(
+        cls, tree: ModelTree, name: str, locs: list[Location], range_: Any, levels: Any, where: str
+    ) -> Parameter:
+        values = [tree.value(loc) for loc in locs]
+        unit = _file_unit(values[0])
+        bases = []
+        for v in values:
+            si, _ = _si(v, _file_unit(v))
+            bases.append(si)
+        base, factor = _si(values[0], unit)
+
+        def absolute(q: Any, what: str) -> float:
+            if isinstance(q, (int, float)) and not isinstance(q, bool):
+                if unit:
+                    raise StudyError(
+                        f"{where}: {what} {q!r} for {name!r} needs its unit "
+                        f"(the model writes {values[0]!r}), "
+                        f'e.g. "{q} {unit}"'
+                    )
+                return float(q)
+            from mechdyn.units import UnitError, to_si
+
+            try:
+                return to_si(q, unit or "", plain_is_si=False) * factor
+            except UnitError as exc:
+                raise StudyError(
+                    f"{where}: {what} {q!r} for {name!r}: {exc}; the model writes {values[0]!r}, so give a "
+                    f"quantity in {unit or 'plain numbers'}"
+                ) from None
+
+        def relative(q: Any) -> float | None:
+            r = parse_relative(q)
+            if r is None:
+                return None
+            if r[0] == "±":
+                raise StudyError(f'{where}: level {q!r} for {name!r}: a level is one value, e.g. "-10 %"')
+            if base == 0:
+                raise StudyError(
+                    f"{where}: {name!r} is 0 in the model, so a relative level {q!r} moves nothing; give "
+                    "absolute levels with units"
+                )
+            return base * (1.0 + r[1])
+
+        low = high = None
+        lv: tuple[float, ...] = ()
+        if levels is not None:
+            if not isinstance(levels, (list, tuple)) or not levels:
+                raise StudyError(
+                    f'{where}: levels of {name!r} must be a non-empty list, e.g. ["-10 %", "10 %"]'
+                )
+            lv = tuple(r if (r := relative(q)) is not None else absolute(q, "level") for q in levels)
+        else:
+            r = parse_relative(range_)
+            if r is not None:
+                if r[0] != "±":
+                    raise StudyError(
+                        f'{where}: range {range_!r} for {name!r}: a relative range is written "±10 %"'
+                    )
+                if base == 0:
+                    raise StudyError(
+                        f"{where}: {name!r} is 0 in the model, so {range_!r} of it is empty; give an "
+                        f'absolute range with units, e.g. ["-0.1 {unit or "m"}", "0.1 {unit or "m"}"]'
+                    )
+                a, b = base * (1 - r[1]), base * (1 + r[1])
+                low, high = min(a, b), max(a, b)
+            elif isinstance(range_, (list, tuple)) and len(range_) == 2:
+                low, high = (absolute(q, "range bound") for q in range_)
+                if not low < high:
+                    raise StudyError(f"{where}: range {list(range_)!r} for {name!r} must go from low to high")
+            else:
+                raise StudyError(
+                    f'{where}: range {range_!r} for {name!r}: give "±10 %" or two quantities '
+                    f'["low {unit}", "high {unit}"]'
+                )
+        return cls(name, tuple(locs), base, unit, factor, low, high, lv, tuple(bases))
+
+    @classmethod
+    def function(
+        cls,
+        name: str,
+        apply: Callable[[Any, float], Any],
+        base: float,
+        *,
+        low: float | None = None,
+        high: float | None = None,
+        levels: Sequence[float] = (),
+        unit: str = "",
+    ) -> Parameter:
+        """A parameter that is any function ``apply(model, value) -> model`` (Python API).
+
+        Parameters
+        ----------
+        name : str
+        apply : callable
+            Returns a new model with the parameter set to ``value`` (SI); it must not change its input.
+        base : float
+            The value of the base model, SI.
+        low, high : float, optional
+            Continuous range, SI.
+        levels : sequence of float
+            Discrete values, SI.
+        unit : str
+            The parameter's SI unit, for display.
+        """
+        return cls(name, (), float(base), unit, 1.0, low, high, tuple(levels), (), apply)
+
+    # -- values -------------------------------------------------------------------------------
+    def location_values(self, value: Any) -> dict[Location, Any]:
+        """SI value at each location (``value`` a float or an array of variants): each location
+        moves by the same factor from its own base value."""
+        return {
+            loc: value if self.base == 0 or b == self.base else b * (value / self.base)
+            for loc, b in zip(self.locations, self.bases, strict=True)
+        }
+
+    def file_values(self, value: float) -> dict[Location, Any]:
+        """The file values (text in the file's unit, or a number) that set this parameter to
+        ``value`` (SI)."""
+        return {
+            loc: f"{v / self.factor!r} {self.unit}" if self.unit else v
+            for loc, v in self.location_values(value).items()
+        }
+
+    def shown(self, value: float) -> str:
+        """The value in the file's unit, as text."""
+        v = value / self.factor
+        return f"{v:.6g} {self.unit}".strip()
+
+    def relative(self, value: float) -> float | None:
+        """Change from the base value, as a fraction (None when the base is 0)."""
+        return value / self.base - 1.0 if self.base else None
+
+    @property
+    def bounded(self) -> bool:
+        return self.low is not None and self.high is not None and math.isfinite(self.high - self.low)
+
+
+def _coordinates(tree: ModelTree, locations: Sequence[Location]) -> bool:
+    """The locations are the coordinates of one point (one vector of lengths, named without a
+    component): a study varies each coordinate on its own. Other vectors (a mount's three
+    stiffnesses) and wildcards move together."""
+    if len(locations) < 2 or len({(loc.files, loc.keys[:-1]) for loc in locations}) != 1:
+        return False
+    if "*" in locations[0].path:
+        return False
+    from mechdyn.units import registry
+
+    first = tree.value(locations[0])
+    if not isinstance(first, str):
+        return False
+    q = registry().Quantity(first)
+    return hasattr(q, "dimensionality") and str(q.dimensionality) == "[length]"
+
+
+@dataclass(frozen=True)
+class Watched:
+    """An output of the analysis a study looks at: a summary key (nested keys with dots, e.g.
+    ``joint_force_peak_N.F`` or ``excitation.stroke_m``) and the unit to show it in."""
+
+    key: str
+    unit: str
+    display: str
+
+    def show(self, value: float | None) -> float | None:
+        from mechdyn.units import convert
+
+        if value is None or not math.isfinite(value):
+            return None
+        return float(convert(value, self.unit, self.display)) if self.display else value
+
+    @property
+    def label(self) -> str:
+        return (
+            f"{self.key} [{self.display or self.unit}]"
+            if (self.display or self.unit) not in ("", "1")
+            else self.key
+        )
+
+
+@dataclass(frozen=True)
+class Objective:
+    """Minimise or maximise an output."""
+
+    output: Watched
+    sense: str  # "minimize" or "maximize"
+
+    @property
+    def sign(self) -> float:
+        return 1.0 if self.sense == "minimize" else -1.0
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """A limit on an output: ``max``, ``min``, or ``equals`` within ``tolerance``, SI.
+
+    :meth:`violation` is ≤ 0 when the constraint holds (Optuna's convention), in the output's unit.
+    """
+
+    output: Watched
+    max: float | None = None
+    min: float | None = None
+    equals: float | None = None
+    tolerance: float | None = None
+
+    def violation(self, value: float | None) -> float:
+        if value is None or not math.isfinite(value):
+            return math.inf
+        parts = []
+        if self.max is not None:
+            parts.append(value - self.max)
+        if self.min is not None:
+            parts.append(self.min - value)
+        if self.equals is not None:
+            parts.append(abs(value - self.equals) - (self.tolerance or 0.0))
+        return max(parts) if parts else -math.inf
+
+    def describe(self) -> str:
+        o = self.output
+
+        def q(v: float | None) -> str:
+            shown = o.show(v)
+            return f"{shown:.6g} {o.display or o.unit}".strip() if shown is not None else "—"
+
+        if self.equals is not None:
+            return f"{o.key} = {q(self.equals)} ± {q(self.tolerance or 0.0)}"
+        bits = []
+        if self.min is not None:
+            bits.append(f"≥ {q(self.min)}")
+        if self.max is not None:
+            bits.append(f"≤ {q(self.max)}")
+        return f"{o.key} " + " and ".join(bits)
+
+
+def output_value(summary: Mapping[str, Any], key: str) -> float | None:
+    """The scalar at a dotted key of a summary (None when absent or not a number)."""
+    node: Any = summary
+    for part in key.split("."):
+        if isinstance(node, Mapping) and part in node:
+            node = node[part]
+        elif isinstance(node, list) and part.isdigit() and 1 <= int(part) <= len(node):
+            node = node[int(part) - 1]
+        else:
+            return None
+    if isinstance(node, bool) or not isinstance(node, (int, float)):
+        try:
+            import numpy as np
+
+            if isinstance(node, np.generic):
+                return float(node)
+        except ImportError:  # pragma: no cover
+            pass
+        return None
+    return float(node)

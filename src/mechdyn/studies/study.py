@@ -1,0 +1,416 @@
+"""A design study: the base model, the analysis, the parameters, what to look at, and how to search.
+
+A study is read from a study file (TOML; see ``examples/studies/``) with :func:`load_study`, or
+built in Python with :class:`Study`. Every error names the study file and the field.
+
+.. code-block:: toml
+
+    [study]
+    name = "press-support-influence"
+    kind = "oat"                     # oat, factorial, lhs, sobol, optimize, synthesis
+    model = "../press_on_support.toml"
+    analysis = "support"
+
+    [[parameters]]
+    path = "support.stiffness"
+    levels = ["-10 %", "-20 %", "-30 %"]
+
+    [[outputs]]
+    output = "transmitted_force_range_N"
+    unit = "tonf"
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from mechdyn.io.modelfile import ModelSource, read
+from mechdyn.studies.paths import ModelTree, PathError
+from mechdyn.studies.spec import Constraint, Objective, Parameter, StudyError, Watched
+
+__all__ = ["KINDS", "Study", "load_study", "study_from_data"]
+
+KINDS = ("oat", "factorial", "lhs", "sobol", "optimize", "synthesis")
+
+
+class _Row(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class _StudyTable(_Row):
+    name: str
+    kind: Literal["oat", "factorial", "lhs", "sobol", "optimize", "synthesis"]
+    model: str = Field(description="the base model file, relative to the study file")
+    analysis: str = Field(description="a registered analysis (`mechdyn analyses` lists them)")
+    description: str = ""
+    options: dict[str, Any] = Field(default_factory=dict, description="the analysis' options")
+    samples: int | None = Field(
+        default=None,
+        ge=1,
+        description="lhs: variants; sobol: base samples N (N·(P+2) variants); optimize: trials; "
+        "synthesis: generations",
+    )
+    seed: int = 1
+    curves: int = Field(default=100, ge=0, description="keep every variant's curves up to this study size")
+    chunk: int = Field(default=2048, ge=1, description="variants per evaluation block (and per Dask task)")
+    population: int | None = Field(default=None, ge=4, description="synthesis: population per generation")
+    batch: int = Field(default=16, ge=1, description="optimize: trials asked for at once")
+
+
+class _ParameterRow(_Row):
+    path: str
+    name: str | None = None
+    range: str | list[Any] | None = None
+    levels: list[Any] | None = None
+    tie: list[str] = Field(default_factory=list)
+
+
+class _OutputRow(_Row):
+    output: str
+    unit: str = ""
+
+
+class _GoalRow(_Row):
+    output: str
+    unit: str = ""
+    goal: Literal["minimize", "maximize"] = "minimize"
+
+
+class _ConstraintRow(_Row):
+    output: str
+    unit: str = ""
+    max: str | float | None = None
+    min: str | float | None = None
+    equals: str | float | None = None
+    tolerance: str | float | None = None
+
+
+class _StudyFile(_Row):
+    study: _StudyTable
+    parameters: list[_ParameterRow]
+    outputs: list[_OutputRow] = Field(default_factory=list)
+    objectives: list[_GoalRow] = Field(default_factory=list)
+    constraints: list[_ConstraintRow] = Field(default_factory=list)
+    targets: list[_ConstraintRow] = Field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class Study:
+    """A design study.
+
+    Attributes
+    ----------
+    name : str
+        Its name in the results database (running a study of a stored name resumes it).
+    kind : {"oat", "factorial", "lhs", "sobol", "optimize", "synthesis"}
+    source : ModelSource
+        The base model file.
+    analysis : str
+        The registered analysis every variant runs.
+    parameters : tuple of Parameter
+    outputs : tuple of Watched
+        What is reported (objectives, constraints and targets are added).
+    objectives : tuple of Objective
+        ``optimize`` (one: the optimum; several: the Pareto front).
+    constraints : tuple of Constraint
+        Limits the optimum keeps (``optimize``, ``synthesis``).
+    targets : tuple of Constraint
+        ``synthesis``: features to reach (``equals`` within ``tolerance``).
+    options : dict
+        The analysis' options, SI.
+    samples : int or None
+        See the study file's ``samples``.
+    seed : int
+    curves : int
+        Keep every variant's curves while the study has at most this many variants; the best and
+        the base are always kept.
+    chunk : int
+        Variants per evaluation block.
+    population, batch : int or None
+        Synthesis population; optimization trials asked at once.
+    definition : dict
+        What the study file says (stored, and compared when a study is resumed).
+    path : str
+        The study file ("" when built in Python).
+    """
+
+    name: str
+    kind: str
+    source: ModelSource
+    analysis: str
+    parameters: tuple[Parameter, ...]
+    outputs: tuple[Watched, ...] = ()
+    objectives: tuple[Objective, ...] = ()
+    constraints: tuple[Constraint, ...] = ()
+    targets: tuple[Constraint, ...] = ()
+    options: dict[str, Any] = field(default_factory=dict)
+    samples: int | None = None
+    seed: int = 1
+    curves: int = 100
+    chunk: int = 2048
+    population: int | None = None
+    batch: int = 16
+    definition: dict[str, Any] = field(default_factory=dict)
+    path: str = ""
+
+    @property
+    def watched(self) -> tuple[Watched, ...]:
+        """Every output the study reads: the outputs, then the objectives', constraints' and targets'."""
+        seen: dict[str, Watched] = {}
+        for w in (
+            *self.outputs,
+            *(o.output for o in self.objectives),
+            *(c.output for c in (*self.constraints, *self.targets)),
+        ):
+            seen.setdefault(w.key, w)
+        return tuple(seen.values())
+
+    @property
+    def tree(self) -> ModelTree:
+        return ModelTree(self.source)
+
+
+def _validation_error(path: str, exc: ValidationError) -> StudyError:
+    problems = []
+    for err in exc.errors():
+        loc = " → ".join(str(p) if not isinstance(p, int) else f"#{p + 1}" for p in err["loc"])
+        msg = err["msg"]
+        if err["type"] == "extra_forbidden":
+            msg = "unknown field"
+        value = err.get("input")
+        shown = "" if isinstance(value, (dict, list)) or value is None else f" (got {value!r})"
+        problems.append(f"{loc}: {msg}{shown}")
+    return StudyError(f"{path}: " + "; ".join(problems))
+
+
+def _watched(analysis: Any, key: str, unit: str, where: str) -> Watched:
+    """An output of the analysis, checked against what its summary holds."""
+    from mechdyn.units import UnitError, convert, key_unit
+
+    outputs = analysis.output_units
+    head = key.split(".")[0]
+    if head not in outputs:
+        near = difflib.get_close_matches(key, list(outputs), n=3)
+        raise StudyError(
+            f"{where}: {key!r} is not an output of the {analysis.name} analysis"
+            + (f"; did you mean {', '.join(near)}?" if near else "")
+            + f" Its outputs: {', '.join(outputs)} (nested values with dots: joint_force_peak_N.F)"
+        )
+    si = key_unit(key.split(".")[-1]) or outputs[head] or ""
+    si = "" if si == "1" else si
+    if unit:
+        try:
+            convert(1.0, si or "", unit)
+        except UnitError:
+            raise StudyError(
+                f"{where}: unit {unit!r} cannot show {key!r}, which is in {si or 'no unit'}"
+            ) from None
+    return Watched(key, si, unit)
+
+
+def _quantity(w: Watched, value: Any, what: str, where: str) -> float | None:
+    from mechdyn.units import UnitError, to_si
+
+    if value is None:
+        return None
+    try:
+        return to_si(value, w.unit or "")
+    except UnitError as exc:
+        raise StudyError(
+            f"{where}: {what} {value!r} of {w.key!r} needs a quantity in {w.unit or 'no unit'}: {exc}"
+        ) from None
+
+
+def _constraint(analysis: Any, row: _ConstraintRow, where: str, target: bool = False) -> Constraint:
+    w = _watched(analysis, row.output, row.unit, where)
+    c = Constraint(
+        w,
+        max=_quantity(w, row.max, "max", where),
+        min=_quantity(w, row.min, "min", where),
+        equals=_quantity(w, row.equals, "equals", where),
+        tolerance=_quantity(w, row.tolerance, "tolerance", where),
+    )
+    if target and (c.equals is None or not c.tolerance):
+        raise StudyError(
+            f'{where}: a target needs equals and a tolerance, e.g. equals = "1496 mm", tolerance = "1 mm"'
+        )
+    if c.max is None and c.min is None and c.equals is None:
+        raise StudyError(f"{where}: give max, min, or equals (with a tolerance)")
+    return c
+
+
+def load_study(path: str | Path) -> Study:
+    """Read a study file.
+
+    Parameters
+    ----------
+    path : str or Path
+        A TOML study file (``[study]``, ``[[parameters]]``, ``[[outputs]]``, ``[[objectives]]``,
+        ``[[constraints]]``, ``[[targets]]``).
+
+    Returns
+    -------
+    Study
+
+    Raises
+    ------
+    StudyError
+        Naming the file and the field: an unknown parameter path lists the valid paths nearby, an
+        unknown output lists the analysis' outputs, a range with the wrong unit says which it needs.
+    """
+    from mechdyn.io.modelfile import read_toml
+
+    src = read_toml(path, "a .toml study file")
+    return study_from_data(src.path, src.data)
+
+
+def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None = None) -> Study:
+    """A study from its file's parsed TOML (``path`` for messages and relative model paths).
+
+    ``base`` gives the model file (with the files it refers to in ``includes``) instead of reading
+    it from disk: a stored study is rebuilt on the model files it ran on.
+    """
+    from mechdyn.errors import ModelFileError
+    from mechdyn.registry import get
+    from mechdyn.units import UnitError
+
+    src_path = path
+    try:
+        f = _StudyFile.model_validate(data)
+    except ValidationError as exc:
+        raise _validation_error(src_path, exc) from None
+    s = f.study
+    if base is None:
+        model_path = Path(os.path.normpath(Path(src_path).parent / s.model))
+        if not model_path.is_file():
+            raise StudyError(
+                f"{src_path}: [study] → model: {s.model!r}: no such file ({model_path}); give the model "
+                "file relative to the study file"
+            )
+        try:
+            base = read(model_path)
+        except ModelFileError as exc:
+            raise StudyError(f"{src_path}: [study] → model: {exc}") from None
+    try:
+        analysis = get(s.analysis)
+    except Exception as exc:
+        raise StudyError(f"{src_path}: [study] → analysis: {exc}") from None
+    if base.model_type not in analysis.model_types:
+        raise StudyError(
+            f"{src_path}: [study] → analysis: {s.analysis!r} runs on "
+            f"{', '.join(analysis.model_types)} models; {s.model} is a {base.model_type!r} model"
+        )
+    options = _options(analysis, s.options, src_path)
+    tree = ModelTree(base)
+    params: list[Parameter] = []
+    for i, row in enumerate(f.parameters):
+        where = f"{src_path}: [[parameters]] #{i + 1} (path = {row.path!r})"
+        try:
+            params.extend(
+                Parameter.from_spec(
+                    tree,
+                    row.path,
+                    range=row.range,
+                    levels=row.levels,
+                    tie=row.tie,
+                    name=row.name,
+                    where=where,
+                )
+            )
+        except PathError as exc:
+            raise StudyError(f"{where}: {exc}") from None
+        except UnitError as exc:
+            raise StudyError(f"{where}: {exc}") from None
+    if not params:
+        raise StudyError(f"{src_path}: give at least one [[parameters]] row")
+    outputs = tuple(
+        _watched(analysis, o.output, o.unit, f"{src_path}: [[outputs]] #{i + 1}")
+        for i, o in enumerate(f.outputs)
+    )
+    objectives = tuple(
+        Objective(_watched(analysis, o.output, o.unit, f"{src_path}: [[objectives]] #{i + 1}"), o.goal)
+        for i, o in enumerate(f.objectives)
+    )
+    constraints = tuple(
+        _constraint(analysis, c, f"{src_path}: [[constraints]] #{i + 1}") for i, c in enumerate(f.constraints)
+    )
+    targets = tuple(
+        _constraint(analysis, c, f"{src_path}: [[targets]] #{i + 1}", True) for i, c in enumerate(f.targets)
+    )
+    study = Study(
+        s.name,
+        s.kind,
+        base,
+        s.analysis,
+        tuple(params),
+        outputs,
+        objectives,
+        constraints,
+        targets,
+        options,
+        s.samples,
+        s.seed,
+        s.curves,
+        s.chunk,
+        s.population,
+        s.batch,
+        dict(data),
+        src_path,
+    )
+    check(study)
+    return study
+
+
+def _options(analysis: Any, given: Mapping[str, Any], where: str) -> dict[str, Any]:
+    """The analysis' options from a study file (quantities with units), SI."""
+    from mechdyn.units import UnitError, to_si
+
+    known = {o.name: o for o in analysis.options}
+    out: dict[str, Any] = {}
+    for k, v in given.items():
+        if k not in known:
+            raise StudyError(
+                f"{where}: [study] → options: {analysis.name} has no option {k!r}; its options: "
+                f"{', '.join(known) or 'none'}"
+            )
+        o = known[k]
+        if o.kind == "quantity":
+            try:
+                out[k] = (
+                    [to_si(x, o.unit or "") for x in v] if isinstance(v, list) else to_si(v, o.unit or "")
+                )
+            except UnitError as exc:
+                raise StudyError(f"{where}: [study] → options → {k}: {exc}") from None
+        else:
+            out[k] = v
+    return out
+
+
+def check(study: Study) -> None:
+    """What each kind needs: levels for one-at-a-time and factorial, ranges for the others,
+    objectives for optimization, targets for synthesis."""
+    where = study.path or study.name
+    levels_kinds = ("oat", "factorial")
+    for p in study.parameters:
+        if study.kind in levels_kinds and not p.levels and not p.bounded:
+            raise StudyError(
+                f"{where}: parameter {p.name!r} needs levels or a range for a {study.kind} study"
+            )
+        if study.kind not in levels_kinds and not p.bounded:
+            raise StudyError(
+                f'{where}: parameter {p.name!r} needs a range ("±10 %" or [low, high]) '
+                f"for a {study.kind} study"
+            )
+    if study.kind == "optimize" and not study.objectives:
+        raise StudyError(f"{where}: an optimize study needs [[objectives]] (output and goal)")
+    if study.kind == "synthesis" and not study.targets:
+        raise StudyError(f"{where}: a synthesis study needs [[targets]] (output, equals, tolerance)")
+    if not study.watched:
+        raise StudyError(f"{where}: give the [[outputs]] to look at")

@@ -1,0 +1,582 @@
+"""Design studies: parameters by path, the batched and one-by-one evaluations, every kind, the
+results database (resume, kill -9, two processes on PostgreSQL), Dask, and the command line."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mechdyn
+from conftest import EXAMPLES
+from mechdyn.io.modelfile import read
+from mechdyn.store import ResultStore
+from mechdyn.store.studies import StudyStore
+from mechdyn.studies import Evaluator, ModelTree, Parameter, StudyError, load_study, recompute, run_study
+from mechdyn.studies.paths import PathError
+from mechdyn.support.model import MountedMachine
+from mechdyn.support.response import periodic_response
+
+STUDIES = EXAMPLES / "studies"
+
+
+def write_study(tmp_path: Path, body: str, name: str = "study.toml") -> Path:
+    """A study file beside copies of the press models (so that relative paths resolve)."""
+    for f in ("press_on_support.toml", "press_link_drive.toml", "slider_crank.toml", "fourbar.toml"):
+        (tmp_path / f).write_text((EXAMPLES / f).read_text())
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(body))
+    return p
+
+
+# -- parameters by path ------------------------------------------------------------------------
+
+
+def test_paths_follow_the_file_and_its_references():
+    tree = ModelTree(read(EXAMPLES / "press_on_support.toml"))
+    paths = tree.paths()
+    assert {"support.stiffness", "machine.mass", "excitation.mechanism.points.C.x"} <= set(paths)
+    assert "excitation.mechanism.bodies.slide.mass" in paths
+    (loc,) = tree.resolve("excitation.mechanism.bodies.slide.mass")
+    assert loc.files == (str(EXAMPLES / "press_link_drive.toml"),) and loc.keys == ("bodies", 4, "mass")
+    assert len(tree.resolve("excitation.mechanism.points.C")) == 2
+    drivetrain = ModelTree(read(EXAMPLES / "turret_milling.toml"))
+    (disk,) = drivetrain.resolve("disks.3.inertia")
+    assert disk.keys == ("disks", 2, "inertia")
+
+
+def test_an_unknown_path_lists_the_valid_paths_nearby():
+    tree = ModelTree(read(EXAMPLES / "press_on_support.toml"))
+    with pytest.raises(PathError, match=r"no value at 'support.stifness'.*support.stiffness"):
+        tree.resolve("support.stifness")
+
+
+def test_a_point_is_one_parameter_per_coordinate_and_a_wildcard_moves_together():
+    tree = ModelTree(read(EXAMPLES / "press_on_support.toml"))
+    cx, cy = Parameter.from_spec(tree, "excitation.mechanism.points.C", range="±10 %")
+    assert cx.name.endswith("C.x") and cy.name.endswith("C.y")
+    assert cx.low == pytest.approx(0.9 * 0.576357773) and cy.high == pytest.approx(0.9 * -2.079683037)
+    pads = ModelTree(read(EXAMPLES / "press_on_pads.toml"))
+    (t,) = Parameter.from_spec(pads, "mounts.*.mount.pad.thickness", levels=["-10 %"])
+    assert len(t.locations) == 4
+    assert t.levels == pytest.approx([0.9 * t.base])
+
+
+def test_a_variant_is_new_and_the_base_is_untouched():
+    source = read(EXAMPLES / "press_on_support.toml")
+    before = json.dumps(source.data, sort_keys=True)
+    tree = ModelTree(source)
+    (k,) = Parameter.from_spec(tree, "support.stiffness", range="±10 %")
+    (m,) = Parameter.from_spec(tree, "excitation.mechanism.bodies.slide.mass", range="±10 %")
+    v = mechdyn.io.modelfile.load_source(tree.variant({**k.file_values(4e8), **m.file_values(1.0e5)}))
+    assert v.model.mounts[0].stiffness[2] == pytest.approx(4e8)
+    assert v.settings.excitation.mechanism.bodies[4].mass == pytest.approx(1.0e5)
+    assert json.dumps(source.data, sort_keys=True) == before
+    assert mechdyn.load(EXAMPLES / "press_on_support.toml").model.mounts[0].stiffness[2] == 4.5e8
+
+
+def test_ranges_with_the_wrong_unit_say_which_unit_they_need():
+    tree = ModelTree(read(EXAMPLES / "press_on_support.toml"))
+    with pytest.raises(StudyError, match=r"needs its unit.*e.g. \"1 N/m\""):
+        Parameter.from_spec(tree, "support.stiffness", range=[1, 2])
+    with pytest.raises(StudyError, match=r"range bound '1 m'.*quantity in N/m"):
+        Parameter.from_spec(tree, "support.stiffness", range=["1 m", "2 m"])
+    with pytest.raises(StudyError, match="relative range is written"):
+        Parameter.from_spec(tree, "support.stiffness", range="10 %")
+
+
+# -- evaluation: one compiled batch and one by one give the same numbers -----------------------
+
+
+def _random_rows(params, n, seed=0):
+    rng = np.random.default_rng(seed)
+    lo = np.array([p.low for p in params])
+    hi = np.array([p.high for p in params])
+    return lo + rng.random((n, len(params))) * (hi - lo)
+
+
+def test_the_support_batch_equals_the_support_analysis_variant_by_variant():
+    source = read(EXAMPLES / "press_on_support.toml")
+    tree = ModelTree(source)
+    params = [
+        *Parameter.from_spec(tree, "excitation.mechanism.points.C", range="±10 %"),
+        *Parameter.from_spec(tree, "support.stiffness", range="±30 %"),
+        *Parameter.from_spec(tree, "support.damping_ratio", range="±30 %"),
+        *Parameter.from_spec(tree, "machine.mass", range="±30 %"),
+        *Parameter.from_spec(tree, "excitation.mechanism.bodies.slide.mass", range="±10 %"),
+    ]
+    outputs = [
+        "transmitted_force_range_N",
+        "transmitted_force_min_N",
+        "displacement_max_m",
+        "inertia_force_range_N",
+        "excitation.stroke_m",
+        "excitation.inertia_force_fluctuation_N",
+    ]
+    X = _random_rows(params, 5)
+    batch = Evaluator(source, "support", params, outputs, {"cycles": 1})
+    fast = batch(X)
+    assert batch.batch  # the compiled path took them
+    slow = Evaluator(source, "support", params, outputs, {"cycles": 1}, batch=False)(X)
+    for a, b in zip(fast, slow, strict=True):
+        assert a.status == b.status == "ok"
+        for k in outputs:
+            assert a.outputs[k] == pytest.approx(b.outputs[k], rel=1e-12), k
+
+
+def test_a_linkage_that_does_not_assemble_fails_alone_with_its_reason():
+    source = read(EXAMPLES / "fourbar.toml")
+    tree = ModelTree(source)
+    (bx,) = [p for p in Parameter.from_spec(tree, "points.B", range="±10 %") if p.name.endswith(".x")]
+    rows = np.array([[bx.base], [bx.base * 40.0], [bx.base * 1.05]])
+    outs = ["driving_torque_peak_Nm"]
+    fast = Evaluator(source, "mechanism", [bx], outs)(rows)
+    slow = Evaluator(source, "mechanism", [bx], outs, batch=False)(rows)
+    assert [e.status for e in fast] == [e.status for e in slow] == ["ok", "failed", "ok"]
+    assert "assembl" in fast[1].error.lower() or "reach" in fast[1].error.lower()
+    assert fast[2].outputs["driving_torque_peak_Nm"] == pytest.approx(
+        slow[2].outputs["driving_torque_peak_Nm"], rel=1e-12
+    )
+
+
+# -- the kinds ---------------------------------------------------------------------------------
+
+
+def test_the_support_influence_study_against_the_closed_form_response(tmp_path):
+    """Each variant against its own steady state computed directly: a softer support of the same
+    damping ratio (c = 2ζ√(km)), and a smaller damping ratio at the same stiffness."""
+    study = load_study(STUDIES / "press_support_influence.toml")
+    result = run_study(study, str(tmp_path / "r.db"))
+    assert result.failed == 0 and len(result.variants) == 7
+    loaded = mechdyn.load(EXAMPLES / "press_on_support.toml")
+    m, load = loaded.model.body.mass, loaded.settings.load
+    for e in result.findings["effects"]:
+        k, zeta = 4.5e8, 0.05
+        factor = 1 + e["level_percent"] / 100
+        if e["parameter"] == "support.stiffness":
+            k *= factor
+        else:
+            zeta *= factor
+        direct = periodic_response(MountedMachine.single_dof(m, k, zeta), load)
+        assert e["outputs"]["transmitted_force_range_N"]["value"] == pytest.approx(
+            np.ptp(direct.transmitted_force), rel=1e-12
+        )
+        assert e["outputs"]["displacement_max_m"]["value"] == pytest.approx(
+            direct.vertical_displacement.max(), rel=1e-12
+        )
+    # published: softer or less damped supports change the floor force only a little
+    changes = [
+        abs(e["outputs"]["transmitted_force_range_N"]["change_percent"]) for e in result.findings["effects"]
+    ]
+    assert max(changes) < 2.0
+
+
+def test_sobol_indices_of_an_output_that_one_parameter_sets(tmp_path):
+    """The machine's mass output is the mass parameter itself: S1 = ST = 1 for it, 0 for the rest."""
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "sobol-check"
+        kind = "sobol"
+        model = "press_on_support.toml"
+        analysis = "support"
+        samples = 64
+
+        [[parameters]]
+        path = "machine.mass"
+        range = "±20 %"
+
+        [[parameters]]
+        path = "support.stiffness"
+        range = "±20 %"
+
+        [[outputs]]
+        output = "machine_mass_kg"
+
+        [[outputs]]
+        output = "displacement_max_m"
+        """,
+    )
+    result = run_study(load_study(path), str(tmp_path / "r.db"))
+    assert len(result.variants) == 64 * 4
+    mass = result.findings["indices"]["machine_mass_kg"]
+    assert mass["machine.mass"]["S1"] == pytest.approx(1.0, abs=0.05)
+    assert mass["machine.mass"]["ST"] == pytest.approx(1.0, abs=0.05)
+    assert mass["support.stiffness"]["ST"] == pytest.approx(0.0, abs=1e-12)
+    # quasi-static: the bed displacement is F/k, set by the stiffness, not the mass
+    z = result.findings["indices"]["displacement_max_m"]
+    assert z["support.stiffness"]["ST"] > 0.99 and z["machine.mass"]["ST"] < 0.01
+
+
+def test_synthesis_finds_the_crank_of_a_stroke(tmp_path):
+    """A slider-crank's stroke is twice its crank: the fit must find r = stroke / 2."""
+    loaded = mechdyn.load(EXAMPLES / "slider_crank.toml")
+    r0 = math.dist(loaded.model.points["O"], loaded.model.points["A"])
+    path = write_study(
+        tmp_path,
+        f"""
+        [study]
+        name = "stroke-fit"
+        kind = "synthesis"
+        model = "slider_crank.toml"
+        analysis = "mechanism"
+        samples = 30
+        population = 6
+        options = {{ angles = 72 }}
+
+        [[parameters]]
+        path = "points.A.x"
+        range = "±30 %"
+
+        [[targets]]
+        output = "stroke_m"
+        equals = "{2 * r0 * 1.2 * 1000:.6f} mm"
+        tolerance = "0.01 mm"
+        """,
+    )
+    result = run_study(load_study(path), str(tmp_path / "r.db"))
+    best = result.findings["best"]
+    assert best["outputs"]["stroke_m"] == pytest.approx(2 * r0 * 1.2, abs=2e-5)
+
+
+def test_optimization_keeps_its_constraint_and_finds_the_stiff_end(tmp_path):
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "opt-check"
+        kind = "optimize"
+        model = "press_on_support.toml"
+        analysis = "support"
+        samples = 24
+        batch = 8
+
+        [[parameters]]
+        path = "support.stiffness"
+        range = "±30 %"
+
+        [[parameters]]
+        path = "support.damping_ratio"
+        range = "±30 %"
+
+        [[objectives]]
+        output = "displacement_max_m"
+        goal = "minimize"
+
+        [[constraints]]
+        output = "transmitted_force_range_N"
+        max = "86 tonf"
+        """,
+    )
+    db = str(tmp_path / "r.db")
+    result = run_study(load_study(path), db)
+    best = result.findings["best"]
+    assert all(c["holds"] for c in best["constraints"])
+    # z ≈ F/k: the stiffest support found is near the top of the range
+    assert best["parameters"]["support.stiffness"] > 1.1 * 4.5e8
+    assert result.findings["trials"] == 24
+    again = run_study(load_study(path), db)
+    assert again.findings["trials"] == 24 and again.evaluated == 0
+
+
+def test_a_pareto_front_is_not_dominated(tmp_path):
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "pareto-check"
+        kind = "optimize"
+        model = "fourbar.toml"
+        analysis = "mechanism"
+        samples = 24
+        options = { angles = 72 }
+
+        [[parameters]]
+        path = "points.B.x"
+        range = "±10 %"
+
+        [[parameters]]
+        path = "points.O4.y"
+        range = ["-5 mm", "5 mm"]
+
+        [[objectives]]
+        output = "driving_torque_peak_Nm"
+
+        [[objectives]]
+        output = "shaking_force_max_N"
+        """,
+    )
+    result = run_study(load_study(path), str(tmp_path / "r.db"))
+    front = result.findings["pareto_front"]
+    assert front
+    keys = ["driving_torque_peak_Nm", "shaking_force_max_N"]
+    pts = np.array([[d["outputs"][k] for k in keys] for d in front])
+    ok = np.array([[v.outputs[k] for k in keys] for v in result.variants if v.status == "ok"])
+    for p in pts:
+        assert not np.any(np.all(ok <= p, axis=1) & np.any(ok < p, axis=1))
+
+
+# -- the results database: resume, kill -9, two processes ---------------------------------------
+
+
+def test_running_a_study_again_reuses_every_variant(tmp_path):
+    study = load_study(STUDIES / "press_support_influence.toml")
+    db = str(tmp_path / "r.db")
+    first = run_study(study, db)
+    second = run_study(study, db)
+    assert (first.evaluated, first.reused) == (7, 0)
+    assert (second.evaluated, second.reused) == (0, 7)
+    assert [v.outputs for v in first.variants] == [v.outputs for v in second.variants]
+    with ResultStore(db) as store:
+        vs = StudyStore(store).variants(study.name, curves=True)
+    assert len(vs) == 7 and all(v.curves for v in vs)  # 7 ≤ [study] curves: every variant's curves
+
+
+def test_a_stored_variant_is_recomputed_exactly_from_its_stored_inputs(tmp_path):
+    study = load_study(STUDIES / "press_support_influence.toml")
+    db = str(tmp_path / "r.db")
+    run_study(study, db)
+    with ResultStore(db) as store:
+        variants = StudyStore(store).variants(study.name)
+        for v in variants:
+            assert recompute(store, v.id).outputs == v.outputs  # bit for bit, on the study's path
+            one_by_one = recompute(store, v.id, batch=False).outputs
+            assert one_by_one == pytest.approx(v.outputs, rel=1e-12)
+
+
+KILL_STUDY = """
+[study]
+name = "kill-check"
+kind = "lhs"
+model = "press_on_support.toml"
+analysis = "support"
+samples = 400
+chunk = 20
+curves = 0
+
+[[parameters]]
+path = "support.stiffness"
+range = "±30 %"
+
+[[parameters]]
+path = "excitation.mechanism.points.D.y"
+range = "±2 %"
+
+[[outputs]]
+output = "transmitted_force_range_N"
+"""
+
+
+def test_kill_9_loses_nothing_and_the_finished_study_equals_an_uninterrupted_one(tmp_path):
+    path = write_study(tmp_path, KILL_STUDY)
+    killed, clean = str(tmp_path / "killed.db"), str(tmp_path / "clean.db")
+    code = (
+        "import sys, numpy as np\n"
+        "from mechdyn.studies import load_study\nfrom mechdyn.studies import evaluate\n"
+        "orig = evaluate.Evaluator.__call__\n"
+        "def slow(self, X, curves=False):\n"
+        "    import time; time.sleep(0.05); return orig(self, X, curves)\n"
+        "evaluate.Evaluator.__call__ = slow\n"
+        "from mechdyn.studies import run_study\n"
+        f"run_study(load_study({str(path)!r}), {killed!r})\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", code], cwd=tmp_path)
+    deadline = time.time() + 120
+    stored = 0
+    while time.time() < deadline and proc.poll() is None:
+        time.sleep(0.2)
+        if Path(killed).exists():
+            try:
+                with ResultStore(killed) as store:
+                    stored = len(StudyStore(store).variants("kill-check"))
+            except Exception:
+                stored = 0
+            if stored >= 60:
+                break
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert 0 < stored < 401, "the study was not interrupted in the middle"
+    resumed = run_study(load_study(path), killed)
+    assert resumed.reused >= stored and resumed.evaluated + resumed.reused == 401
+    uninterrupted = run_study(load_study(path), clean)
+    with ResultStore(killed) as a, ResultStore(clean) as b:
+        va, vb = StudyStore(a).variants("kill-check"), StudyStore(b).variants("kill-check")
+    assert len(va) == len({v.key for v in va}) == 401
+    by_key = {v.key: v for v in vb}
+    for v in va:
+        assert v.outputs == by_key[v.key].outputs
+    assert [v.outputs for v in resumed.variants] == [v.outputs for v in uninterrupted.variants]
+
+
+@pytest.mark.postgres
+def test_two_processes_share_one_optimization_on_postgresql(tmp_path, postgres_url):
+    store_url = postgres_url
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "shared-opt"
+        kind = "optimize"
+        model = "press_on_support.toml"
+        analysis = "support"
+        samples = 40
+        batch = 4
+
+        [[parameters]]
+        path = "support.stiffness"
+        range = "±30 %"
+
+        [[objectives]]
+        output = "displacement_max_m"
+        """,
+    )
+    code = (
+        "from mechdyn.studies import load_study, run_study\n"
+        f"run_study(load_study({str(path)!r}), {store_url!r})\n"
+    )
+    procs = [subprocess.Popen([sys.executable, "-c", code], cwd=tmp_path) for _ in range(2)]
+    assert [p.wait(timeout=300) for p in procs] == [0, 0]
+    import optuna
+
+    storage = optuna.storages.RDBStorage(store_url.replace("postgresql://", "postgresql+psycopg://"))
+    trials = optuna.load_study(study_name="mechdyn:shared-opt", storage=storage).trials
+    storage.engine.dispose()
+    finished = [t for t in trials if t.state.is_finished()]
+    assert 40 <= len(finished) <= 40 + 4  # the two may each ask one last batch at the same time
+    numbers = [t.number for t in trials]
+    assert len(numbers) == len(set(numbers))
+    with ResultStore(store_url) as store:
+        vs = StudyStore(store).variants("shared-opt")
+    assert len(vs) == len({v.key for v in vs})
+    ids = {t.user_attrs["variant"] for t in finished}
+    assert ids <= {v.id for v in vs}
+
+
+# -- Dask ----------------------------------------------------------------------------------------
+
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_a_study_on_a_real_dask_scheduler_equals_the_in_process_run(tmp_path):
+    path = write_study(tmp_path, KILL_STUDY.replace("samples = 400", "samples = 60"))
+    port = _free_port()
+    dask = Path(sys.executable).with_name("dask")
+    cmd = [str(dask)] if dask.exists() else [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+    scheduler = subprocess.Popen(
+        [*cmd, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"]
+        if dask.exists()
+        else [*cmd, "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    address = f"tcp://127.0.0.1:{port}"
+    worker = subprocess.Popen(
+        [str(dask), "worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        cwd=tmp_path,
+    )
+    try:
+        from distributed import Client
+
+        with Client(address, timeout=60) as c:
+            c.wait_for_workers(1, timeout=60)
+        on_dask = run_study(load_study(path), str(tmp_path / "dask.db"), dask=address)
+    finally:
+        worker.terminate()
+        scheduler.terminate()
+        worker.wait(30)
+        scheduler.wait(30)
+    in_process = run_study(load_study(path), str(tmp_path / "local.db"))
+    assert on_dask.evaluated == in_process.evaluated == 61
+    assert [v.outputs for v in on_dask.variants] == [v.outputs for v in in_process.variants]
+
+
+# -- the command line and the study files --------------------------------------------------------
+
+
+def test_the_study_command_prints_json_and_lists_exports_and_compares(tmp_path, capsys):
+    from mechdyn.cli.main import main
+
+    db = str(tmp_path / "r.db")
+    assert (
+        main(
+            [
+                "study",
+                str(STUDIES / "press_support_influence.toml"),
+                "--db",
+                db,
+                "--json",
+                "--plots",
+                str(tmp_path / "p"),
+            ]
+        )
+        == 0
+    )
+    doc = json.loads(capsys.readouterr().out)
+    assert {"study", "kind", "evaluated", "reused", "failed", "effects"} <= set(doc)
+    assert doc["evaluated"] == 7 and doc["failed"] == 0
+    assert (tmp_path / "p" / "tornado_transmitted_force_range_N.png").stat().st_size > 10_000
+    assert main(["results", "list", "--study", "press-support-influence", "--db", db, "--json"]) == 0
+    listed = json.loads(capsys.readouterr().out)
+    assert len(listed) == 7 and {"id", "status", "parameters", "outputs"} <= set(listed[0])
+    assert listed[1]["parameters"]["support.stiffness"] == pytest.approx(0.9 * 4.5e8)
+    ids = [str(listed[0]["id"]), str(listed[3]["id"])]
+    assert main(["results", "compare", *ids, "--db", db, "--plots", str(tmp_path / "c")]) == 0
+    out = capsys.readouterr().out
+    assert "variants side by side" in out and "transmitted_force_range_N" in out
+    assert list((tmp_path / "c").glob("compare_*.png"))
+    pq = tmp_path / "v.parquet"
+    assert (
+        main(["results", "export", "--study", "press-support-influence", "--db", db, "--parquet", str(pq)])
+        == 0
+    )
+    import pandas as pd
+
+    frame = pd.read_parquet(pq)
+    assert len(frame) == 7 and "output:transmitted_force_range_N" in frame.columns
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (("support.stiffness", "support.stifness"), r"no value at 'support.stifness'.*support.stiffness"),
+        (
+            ("transmitted_force_range_N", "transmitted_force_rang_N"),
+            r"not an output of the support analysis.*did you mean",
+        ),
+        (('levels = ["-10 %", "-20 %", "-30 %"]', 'range = ["1 m", "2 m"]'), r"quantity in N/m"),
+        (('kind = "oat"', 'kind = "sweep"'), r"kind.*(oat|literal)"),
+    ],
+)
+def test_study_file_errors_name_the_file_and_the_field(tmp_path, capsys, change, message):
+    from mechdyn.cli.main import main
+
+    text = (STUDIES / "press_support_influence.toml").read_text().replace(*change, 1)
+    path = write_study(tmp_path, text.replace("../press_on_support.toml", "press_on_support.toml"))
+    assert main(["study", str(path), "--db", str(tmp_path / "r.db")]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and re.search(message, err, re.S)
+
+
+def test_every_shipped_study_file_loads():
+    files = sorted(STUDIES.glob("*.toml"))
+    assert files
+    for f in files:
+        assert load_study(f).parameters
