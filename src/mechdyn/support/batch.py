@@ -63,8 +63,10 @@ def support_batch(
     mount = machine.mounts[0]
     m = own.get(("machine", "mass"), np.full(V, machine.body.mass))
     k = own.get(("support", "stiffness"), np.full(V, mount.stiffness[2]))
-    zeta = own.get(("support", "damping_ratio"))
-    c = np.full(V, mount.damping[2]) if zeta is None else 2.0 * zeta * np.sqrt(k * m)
+    # the file gives the damping ratio: a stiffer or heavier variant keeps it (c = 2ζ√(km))
+    zeta0 = mount.damping[2] / (2.0 * np.sqrt(mount.stiffness[2] * machine.body.mass))
+    zeta = own.get(("support", "damping_ratio"), np.full(V, zeta0))
+    c = 2.0 * zeta * np.sqrt(k * m)
     if np.any(~(k > 0)) or np.any(~(m > 0)) or np.any(c < 0):
         raise NotBatchable("a variant has a mass or stiffness that is not positive")
     coeff = np.fft.rfft(np.nan_to_num(F), axis=-1) / N  # (V, H + 1)
