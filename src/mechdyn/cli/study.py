@@ -6,6 +6,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 __all__ = ["register"]
 
@@ -27,33 +28,102 @@ def _run(args: argparse.Namespace) -> int:
         return 0
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
-    from mechdyn.studies import load_study, run_study
+    from mechdyn.studies import load_studies, run_study
 
-    study = load_study(args.file)
+    studies = load_studies(args.file)
+    if args.samples is not None:  # a quick form of the study, stored under its own name
+        from dataclasses import replace
+
+        studies = [
+            replace(
+                s,
+                name=f"{s.name} [samples {args.samples}]",
+                samples=args.samples,
+                definition={**s.definition, "samples": args.samples},
+            )
+            for s in studies
+        ]
+    results = []
     with ResultStore(args.db) as store:
-        result = run_study(study, store, dask=args.dask, progress=not args.json and sys.stderr.isatty())
+        for study in studies:
+            if results and results[-1].findings.get("best"):  # a wider box starts from the last optimum
+                best = results[-1].findings["best"]["parameters"]
+                study = study.starting_from([[best[p.name] for p in study.parameters]])
+            progress = not args.json and sys.stderr.isatty()
+            results.append(run_study(study, store, dask=args.dask, progress=progress))
         where = store.url
     plot_files = []
-    if args.plots:
-        from mechdyn.plotting import save_figure
+    for result in results:
+        if args.plots:
+            from mechdyn.plotting import save_figure
 
-        for name, make in result.plots().items():
-            plot_files.append(str(save_figure(make(), Path(args.plots) / name)))
+            prefix = "" if len(results) == 1 else _safe(result.study.name) + "_"
+            for name, make in result.plots().items():
+                plot_files.append(str(save_figure(make(), Path(args.plots) / (prefix + name))))
     if args.csv:
-        result.to_frame().to_csv(args.csv, index=False, float_format="%.10g")
+        import pandas as pd
+
+        frames = [r.to_frame().assign(study=r.study.name) for r in results]
+        pd.concat(frames).to_csv(args.csv, index=False, float_format="%.10g")
     if args.json:
-        print(json.dumps(jsonable({**result.summary(), "plots": plot_files}), indent=2))
+        if len(results) == 1:
+            doc = results[0].summary()
+        else:
+            first = results[0].study
+            doc = {
+                "study": first.family or first.name,
+                "kind": first.kind,
+                **{
+                    k: sum(r.summary()[k] for r in results)
+                    for k in ("variants", "evaluated", "reused", "failed")
+                },
+                "studies": [r.summary() for r in results],
+            }
+        print(json.dumps(jsonable({**doc, "plots": plot_files}), indent=2))
         return 0
     from mechdyn.cli.common import print_table
 
-    print(f"study {study.name!r}: {study.kind} of {study.analysis} on {study.source.path}")
-    for t in result.tables():
-        print_table(t)
+    for result in results:
+        study = result.study
+        print(f"study {study.name!r}: {study.kind} of {study.analysis} on {study.source.path}")
+        for t in result.tables():
+            print_table(t)
+    if len(results) > 1:
+        print_table(_boxes_table(results))
     for p in plot_files:
         print(f"plot: {p}")
     shown = where.split("@")[-1].removeprefix("sqlite:///")
-    print(f"stored in {shown}  (mechdyn results list --study {study.name!r})")
+    names = ", ".join(repr(r.study.name) for r in results)
+    print(f"stored in {shown}  (mechdyn results list --study NAME; {names})")
     return 0
+
+
+def _boxes_table(results: list) -> Any:
+    """One row per study of a file with boxes: the optimum, its improvement, the constraints."""
+    from mechdyn.results import Table
+
+    st = results[0].study
+    watched = st.watched
+    rows = []
+    for r in results:
+        best = r.findings.get("best")
+        if best is None:
+            rows.append([r.study.name, "no feasible variant", *([None] * len(watched))])
+            continue
+        rows.append(
+            [
+                r.study.name,
+                r.findings.get("improvement_percent"),
+                *(w.show(best["outputs"].get(w.key)) for w in watched),
+            ]
+        )
+    return Table(
+        "the optimum of each box", ["study", "objective improved [%]", *(w.label for w in watched)], rows
+    )
+
+
+def _safe(name: str) -> str:
+    return "".join(c if c.isalnum() or c in "_-" else "_" for c in name).strip("_")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -73,5 +143,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object (no progress bar)")
     p.add_argument("--plots", metavar="DIR", help="write the study's plots (PNG) here")
     p.add_argument("--csv", metavar="FILE", help="write one row per variant")
+    p.add_argument(
+        "--samples",
+        type=int,
+        metavar="N",
+        help="override [study] samples (a quick form, stored as 'NAME [samples N]')",
+    )
     p.add_argument("--paths", action="store_true", help="list the paths of a model file's values and stop")
     p.set_defaults(func=_run)

@@ -21,6 +21,7 @@ __all__ = attach(
         "StudyError": "spec",
         "StudyResult": "result",
         "Watched": "spec",
+        "load_studies": "study",
         "load_study": "study",
         "recompute": "run",
         "run_study": "run",

@@ -218,6 +218,9 @@ def optimize(runner: Any) -> Findings:
             directions=[o.sense for o in st.objectives],
             load_if_exists=True,
         )
+        if not study.trials:  # the base design first, then given starts (the optimum of a smaller box)
+            for row in (runner.base_row(), *st.start):
+                study.enqueue_trial({p.name: float(x) for p, x in zip(st.parameters, row, strict=True)})
         with warnings.catch_warnings():  # the heartbeats are recorded here, around ask and tell
             warnings.filterwarnings(
                 "ignore", "Heartbeat of storage is supposed to be used with Study.optimize"
@@ -230,7 +233,7 @@ def optimize(runner: Any) -> Findings:
 
     variants = list(runner.store.by_ids(ids))
     variants = [runner.evaluate(runner.base_row())[0], *variants]
-    findings: dict[str, Any] = {"trials": len(ids)}
+    findings: dict[str, Any] = {"trials": len(ids), "best": None, "improvement_percent": None}
     if multi:
         front = _pareto(st, variants)
         findings["pareto_front"] = [_describe(st, v) for v in front]

@@ -63,17 +63,33 @@ def sobol_bars(result: StudyResult, w: Watched, ax: Any = None) -> Any:
 
 
 def history(result: StudyResult, ax: Any = None) -> Any:
-    """The objective of each evaluated variant in the order stored, and the best so far."""
+    """The objective of each evaluated variant in the order stored (those that break a constraint
+    in light grey) and the best feasible one so far."""
     st = result.study
     o = st.objectives[0].output if st.objectives else st.targets[0].output
     vs = sorted(result.variants, key=lambda v: v.id)
     y = np.array([o.show(v.outputs.get(o.key)) if v.status == "ok" else None for v in vs], dtype=float)
+    feasible = np.array(
+        [
+            v.status == "ok" and all(c.violation(v.outputs.get(c.output.key)) <= 0 for c in st.constraints)
+            for v in vs
+        ]
+    )
     ax = new_axes(ax)
-    ax.plot(np.arange(y.size), y, ".", ms=3, color="0.6", label="variants")
-    sign = st.objectives[0].sign if st.objectives else 1.0
-    best = np.fmin.accumulate(sign * np.where(np.isfinite(y), y, np.inf)) * sign
-    if st.objectives:
-        ax.plot(np.arange(y.size), best, "-", color="tab:red", label="best so far")
+    n = np.arange(y.size)
+    ax.plot(n[~feasible], y[~feasible], ".", ms=3, color="0.85", label="breaks a constraint")
+    ax.plot(n[feasible], y[feasible], ".", ms=3, color="0.45", label="feasible")
+    if st.objectives and feasible.any():
+        sign = st.objectives[0].sign
+        best = np.fmin.accumulate(np.where(feasible & np.isfinite(y), sign * y, np.inf)) * sign
+        ax.plot(
+            n, np.where(np.isfinite(best), best, np.nan), "-", color="tab:red", label="best feasible so far"
+        )
+    good = y[feasible & np.isfinite(y)]
+    if good.size > 4:  # the bulk of the feasible variants, not the odd wild one
+        lo, hi = np.percentile(good, [0, 95])
+        pad = 0.1 * (hi - lo or abs(hi) or 1.0)
+        ax.set_ylim(lo - pad, hi + pad)
     ax.set_xlabel("variant (order evaluated)")
     ax.set_ylabel(o.label)
     ax.set_title(f"{st.name}: history", fontsize=10)

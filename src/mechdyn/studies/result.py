@@ -118,8 +118,10 @@ class StudyResult(Result):
                         [[n, d["S1"], d["S1_conf"], d["ST"], d["ST_conf"]] for n, d in ranked],
                     )
                 )
+        if kind == "optimize" and "best" in f and f["best"] is None:
+            out.append(Table(f"{st.name}: optimum", ["note"], [["no variant keeps every constraint"]]))
         for key in ("best", "base"):
-            if key in f and kind in ("optimize", "synthesis", "factorial", "lhs"):
+            if f.get(key) and kind in ("optimize", "synthesis", "factorial", "lhs"):
                 out.append(self._variant_table(f[key], "optimum" if key == "best" else "base design"))
         if "pareto_front" in f:
             ws = [o.output for o in st.objectives]

@@ -35,7 +35,7 @@ from mechdyn.io.modelfile import ModelSource, read
 from mechdyn.studies.paths import ModelTree, PathError
 from mechdyn.studies.spec import Constraint, Objective, Parameter, StudyError, Watched
 
-__all__ = ["KINDS", "Study", "load_study", "study_from_data"]
+__all__ = ["KINDS", "Study", "load_studies", "load_study", "study_from_data"]
 
 KINDS = ("oat", "factorial", "lhs", "sobol", "optimize", "synthesis")
 
@@ -58,10 +58,14 @@ class _StudyTable(_Row):
         "synthesis: generations",
     )
     seed: int = 1
-    curves: int = Field(default=100, ge=0, description="keep every variant's curves up to this study size")
+    curves: int = Field(default=20, ge=0, description="keep every variant's curves up to this study size")
     chunk: int = Field(default=2048, ge=1, description="variants per evaluation block (and per Dask task)")
     population: int | None = Field(default=None, ge=4, description="synthesis: population per generation")
     batch: int = Field(default=16, ge=1, description="optimize: trials asked for at once")
+    boxes: list[str] = Field(
+        default_factory=list,
+        description='one study per box: parameters with range = "box" take each ("±10 %", "±20 %")',
+    )
 
 
 class _ParameterRow(_Row):
@@ -139,6 +143,10 @@ class Study:
         What the study file says (stored, and compared when a study is resumed).
     path : str
         The study file ("" when built in Python).
+    start : tuple of tuple of float
+        Parameter rows (SI) an optimization tries first (e.g. the optimum of a smaller box).
+    family : str
+        The file's study name when the file holds one study per box ("" otherwise).
     """
 
     name: str
@@ -153,12 +161,20 @@ class Study:
     options: dict[str, Any] = field(default_factory=dict)
     samples: int | None = None
     seed: int = 1
-    curves: int = 100
+    curves: int = 20
     chunk: int = 2048
     population: int | None = None
     batch: int = 16
     definition: dict[str, Any] = field(default_factory=dict)
     path: str = ""
+    start: tuple[tuple[float, ...], ...] = ()
+    family: str = ""
+
+    def starting_from(self, rows: Any) -> Study:
+        """The same study, asked to evaluate these parameter rows (SI) first (an optimizer's start)."""
+        from dataclasses import replace
+
+        return replace(self, start=tuple(tuple(float(x) for x in r) for r in rows))
 
     @property
     def watched(self) -> tuple[Watched, ...]:
@@ -268,7 +284,53 @@ def load_study(path: str | Path) -> Study:
     from mechdyn.io.modelfile import read_toml
 
     src = read_toml(path, "a .toml study file")
+    boxes = src.data.get("study", {}).get("boxes") if isinstance(src.data.get("study"), dict) else None
+    if boxes:
+        raise StudyError(
+            f"{src.path}: [study] → boxes: the file holds {len(boxes)} studies, one per box; read it with "
+            "load_studies (mechdyn study runs them all)"
+        )
     return study_from_data(src.path, src.data)
+
+
+def load_studies(path: str | Path) -> list[Study]:
+    """The studies of a study file: one, or one per box of ``[study] boxes`` (named ``NAME ±10 %``),
+    in which every parameter with ``range = "box"`` takes the box as its range.
+
+    Raises
+    ------
+    StudyError
+        As :func:`load_study`; also a box that is not a relative range, or boxes without a
+        parameter of ``range = "box"``.
+    """
+    import copy
+
+    from mechdyn.io.modelfile import read_toml
+    from mechdyn.studies.spec import parse_relative
+
+    src = read_toml(path, "a .toml study file")
+    table = src.data.get("study")
+    boxes = table.get("boxes") if isinstance(table, dict) else None
+    if not boxes:
+        return [study_from_data(src.path, src.data)]
+    rows = src.data.get("parameters") or []
+    if not any(isinstance(r, dict) and r.get("range") == "box" for r in rows):
+        raise StudyError(f'{src.path}: [study] → boxes: give the parameters that take them range = "box"')
+    out = []
+    for box in boxes:
+        r = parse_relative(box)
+        if r is None or r[0] != "±":
+            raise StudyError(f'{src.path}: [study] → boxes: {box!r} is not a relative range such as "±10 %"')
+        data = copy.deepcopy(dict(src.data))
+        data["study"]["name"] = f"{table['name']} {box}"
+        del data["study"]["boxes"]
+        for row in data["parameters"]:
+            if row.get("range") == "box":
+                row["range"] = box
+        from dataclasses import replace
+
+        out.append(replace(study_from_data(src.path, data), family=table["name"]))
+    return out
 
 
 def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None = None) -> Study:
