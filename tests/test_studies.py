@@ -21,7 +21,16 @@ from conftest import EXAMPLES
 from mechdyn.io.modelfile import read
 from mechdyn.store import ResultStore
 from mechdyn.store.studies import StudyStore
-from mechdyn.studies import Evaluator, ModelTree, Parameter, StudyError, load_study, recompute, run_study
+from mechdyn.studies import (
+    Evaluator,
+    ModelTree,
+    Parameter,
+    StudyError,
+    load_studies,
+    load_study,
+    recompute,
+    run_study,
+)
 from mechdyn.studies.paths import PathError
 from mechdyn.support.model import MountedMachine
 from mechdyn.support.response import periodic_response
@@ -584,6 +593,42 @@ def test_study_file_errors_name_the_file_and_the_field(tmp_path, capsys, change,
 
 def test_every_shipped_study_file_loads():
     files = sorted(STUDIES.glob("*.toml"))
-    assert files
+    assert len(files) >= 3
     for f in files:
-        assert load_study(f).parameters
+        assert all(s.parameters for s in load_studies(f))
+
+
+def test_the_link_relocation_study_keeps_the_stroke_and_wider_boxes_do_no_worse(tmp_path, capsys):
+    """The quick form (40 trials a box): each box starts from the base and the optimum of the box
+    inside it, so a wider box never ends worse; every optimum keeps the stroke within 1 mm."""
+    from mechdyn.cli.main import main
+
+    path = STUDIES / "press_link_relocation.toml"
+    assert main(["study", str(path), "--db", str(tmp_path / "r.db"), "--samples", "40", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["study"] == "press-link-relocation" and len(doc["studies"]) == 3
+    forces = []
+    for box in doc["studies"]:
+        best = box["best"]
+        assert abs(best["outputs"]["excitation.stroke_m"] - 1.4963) <= 1e-3 + 1e-4
+        assert all(c["holds"] for c in best["constraints"])
+        forces.append(best["outputs"]["transmitted_force_range_N"])
+    assert forces == sorted(forces, reverse=True)
+    assert doc["evaluated"] + doc["reused"] >= 3 * 40
+
+
+def test_the_sobol_study_of_press_a_in_its_quick_form(tmp_path, capsys):
+    """The slide carries almost all of the moving mass: its mass sets most of the floor force's
+    fluctuation; the link masses hardly matter; the stroke depends on the geometry alone."""
+    from mechdyn.cli.main import main
+
+    path = STUDIES / "press_sobol.toml"
+    assert main(["study", str(path), "--db", str(tmp_path / "r.db"), "--samples", "128", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["failed"] == 0 and doc["variants"] == 128 * 10
+    force = doc["indices"]["transmitted_force_range_N"]
+    slide = "excitation.mechanism.bodies.slide.mass"
+    assert max(force, key=lambda n: force[n]["ST"]) == slide and force[slide]["ST"] > 0.7
+    assert force["excitation.mechanism.bodies.rocker.mass"]["ST"] < 0.01
+    stroke = doc["indices"]["excitation.stroke_m"]
+    assert stroke[slide]["ST"] == pytest.approx(0.0, abs=1e-12)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -137,6 +138,20 @@ class StoredVariant:
             "created_at": self.created_at.isoformat(),
             "curves": sorted(self.curves),
         }
+
+
+def _flat(d: Mapping[str, Any]) -> Any:
+    """A flat mapping of floats, text and None as JSON values (the common case, fast); anything
+    else through :func:`jsonable`."""
+    out = {}
+    for k, v in d.items():
+        if type(v) is float:
+            out[k] = v if math.isfinite(v) else None
+        elif v is None or type(v) is str:
+            out[k] = v
+        else:
+            return jsonable(d)
+    return out
 
 
 def _utc(t: datetime) -> datetime:
@@ -267,16 +282,6 @@ class StudyStore:
             name = self._name(s, study_id)
             return {r.key: self._variant(r, name) for r in rows}
 
-    def by_keys(self, study_id: int, keys: Sequence[str]) -> dict[str, StoredVariant]:
-        """The stored variants of a study with these keys (without curves)."""
-        out: dict[str, StoredVariant] = {}
-        with Session(self._engine) as s:
-            name = self._name(s, study_id)
-            for i in range(0, len(keys), 500):
-                q = select(_Variant).where(_Variant.study_id == study_id, _Variant.key.in_(keys[i : i + 500]))
-                out.update({r.key: self._variant(r, name) for r in s.scalars(q)})
-        return out
-
     def by_ids(self, ids: Sequence[int]) -> list[StoredVariant]:
         """Stored variants by id, in the order given (without curves)."""
         found: dict[int, StoredVariant] = {}
@@ -286,27 +291,38 @@ class StudyStore:
                     found[r.id] = self._variant(r, self._name(s, r.study_id))
         return [found[i] for i in ids if i in found]
 
-    def add(self, study_id: int, rows: Iterable[Mapping[str, Any]]) -> int:
-        """Store a block of variants in one transaction; a key already stored is left as it is.
+    def ids(self, study_id: int, keys: Sequence[str]) -> dict[str, int]:
+        """The ids of a study's stored variants with these keys."""
+        out: dict[str, int] = {}
+        with Session(self._engine) as s:
+            for i in range(0, len(keys), 500):
+                q = select(_Variant.key, _Variant.id).where(
+                    _Variant.study_id == study_id, _Variant.key.in_(keys[i : i + 500])
+                )
+                out.update(dict(s.execute(q).all()))
+        return out
+
+    def add(self, study_id: int, rows: Iterable[Mapping[str, Any]]) -> None:
+        """Store a block of variants in one transaction; a key already stored (by another process
+        on the same study) is left as it is.
 
         Each row holds ``key``, ``position``, ``parameters``, ``given``, ``outputs``, ``status``,
         ``error``, ``objective``, ``model_sha256`` and optionally ``curves`` (name → (array, unit)).
-        Returns how many were new.
         """
         from mechdyn import __version__
 
         now = datetime.now(UTC)
         rows = list(rows)
         if not rows:
-            return 0
+            return
         values = [
             {
                 "study_id": study_id,
                 "key": r["key"],
                 "position": int(r["position"]),
-                "parameters": jsonable(r["parameters"]),
-                "given": jsonable(r.get("given", {})),
-                "outputs": jsonable(r["outputs"]),
+                "parameters": _flat(r["parameters"]),
+                "given": _flat(r.get("given", {})),
+                "outputs": _flat(r["outputs"]),
                 "status": r["status"],
                 "error": r.get("error"),
                 "objective": jsonable(r.get("objective")),
@@ -318,9 +334,7 @@ class StudyStore:
         ]
         stmt = self._insert(_Variant.__table__).on_conflict_do_nothing(index_elements=["study_id", "key"])
         with Session(self._engine) as s, s.begin():
-            before = s.scalar(select(_count()).where(_Variant.study_id == study_id)) or 0
             s.execute(stmt, values)
-            after = s.scalar(select(_count()).where(_Variant.study_id == study_id)) or 0
             with_curves = [r for r in rows if r.get("curves")]
             if with_curves:
                 keys = [r["key"] for r in with_curves]
@@ -332,7 +346,6 @@ class StudyStore:
                     ).all()
                 )
                 self._put_curves(s, [(ids[r["key"]], r["curves"]) for r in with_curves])
-        return int(after - before)
 
     def with_curves(self, study_id: int) -> set[int]:
         """Ids of the study's variants that have curves kept."""
@@ -420,9 +433,3 @@ class StudyStore:
             r.package_version,
             _utc(r.created_at),
         )
-
-
-def _count() -> Any:
-    from sqlalchemy import func
-
-    return func.count(_Variant.id)

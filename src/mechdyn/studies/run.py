@@ -32,10 +32,12 @@ import itertools
 import math
 from collections.abc import Callable, Sequence
 from contextlib import nullcontext
+from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
 
+from mechdyn import __version__
 from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.evaluate import Evaluation, Evaluator
 from mechdyn.studies.spec import StudyError
@@ -159,8 +161,14 @@ class Runner:
             self.position += 1
         self.store.add(self.stored.id, rows)
         self.evaluated += len(rows)
-        fresh = self.store.by_keys(self.stored.id, [r["key"] for r in rows])
-        self.cache.update(fresh)
+        ids = self.store.ids(self.stored.id, [r["key"] for r in rows])
+        now = datetime.now(UTC)
+        for r in rows:  # as stored (outputs and parameters are plain floats; the ids from the database)
+            self.cache[r["key"]] = StoredVariant(
+                ids[r["key"]], self.study.name, r["key"], r["position"], r["parameters"], r["given"],
+                {k: (v if v is None or math.isfinite(v) else None) for k, v in r["outputs"].items()},
+                r["status"], r["error"], r["objective"], r["model_sha256"], __version__, now,
+            )  # fmt: skip
 
     def all_variants(self) -> list[StoredVariant]:
         """Every stored variant of this study, in the order stored."""
