@@ -115,8 +115,8 @@ def test_a_lean_batch_says_what_it_did_not_keep(press):
 
     lean = cycle(press, 30, store_points=False)
     assert lean.summary()["stroke_m"].shape == (1,)
-    with pytest.raises(ModelError, match=r"motion of 'F' was not kept; run cycle\(..., store_points=True\)"):
-        lean.point("F")
+    with pytest.raises(ModelError, match=r"motion of 'C' was not kept; run cycle\(..., store_points=True\)"):
+        lean.point("C")
     with pytest.raises(ModelError, match="was not kept"):
         lean.q
 
@@ -156,3 +156,24 @@ def test_the_motion_solver_is_a_callable_and_the_loads_follow_from_any_of_them(p
         np.testing.assert_allclose(fb, fa, atol=1e-9 * np.abs(fa).max())
     with pytest.raises(ModelError, match="must be 'auto', 'dyads', 'newton' or a callable"):
         kinematics(press, 36, method="euler")
+
+
+def test_the_obliquity_of_a_connecting_rod_and_the_guide_offset_against_closed_forms():
+    """An in-line slider-crank leans its rod by asin(r/l) at most, its guide through the pivot; with
+    the slider's guide offset by e the largest lean is asin((r + e)/l). One design and a batch agree."""
+    import math
+
+    m = mechdyn.load(EXAMPLES / "slider_crank.toml").model  # r = 0.1 m, l = 0.4 m
+    one = inverse_dynamics(m, 360).summary()
+    assert one["output_link_obliquity_max_deg"] == pytest.approx(math.degrees(math.asin(0.25)), rel=1e-12)
+    assert one["guide_offset_m"] == pytest.approx(0.0, abs=1e-15)
+    e = 0.05  # the slider's point, and with it the guide, moved off the pivot's line
+    b = np.array([math.sqrt(0.4**2 - e**2) + 0.1, e])
+    batch = cycle(m, 360, points={"B": np.array([m.points["B"], b])}, store_points=False).summary()
+    assert batch["output_link_obliquity_max_deg"][0] == pytest.approx(
+        one["output_link_obliquity_max_deg"], rel=1e-12
+    )
+    assert batch["guide_offset_m"][1] == pytest.approx(e, rel=1e-12)
+    assert batch["output_link_obliquity_max_deg"][1] == pytest.approx(
+        math.degrees(math.asin(0.15 / 0.4)), rel=1e-9
+    )

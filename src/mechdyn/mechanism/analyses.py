@@ -63,6 +63,11 @@ register(
             Output("inertia_force_min_N", "smallest inertia force along the slide axis"),
             Output("inertia_force_min_deg", "crank angle of the smallest inertia force"),
             Output("inertia_force_fluctuation_N", "largest minus smallest inertia force"),
+            Output(
+                "output_link_obliquity_max_deg",
+                "largest angle between the link that drives the slide and the slide's axis",
+            ),
+            Output("guide_offset_m", "distance from the crank's pivot to the slide's guide line"),
             Output("driving_torque_max_Nm", "largest driving torque"),
             Output("driving_torque_min_Nm", "smallest driving torque"),
             Output("driving_torque_peak_Nm", "largest magnitude of the driving torque"),

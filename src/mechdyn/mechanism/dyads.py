@@ -288,6 +288,13 @@ class CycleBatch(Result):
         if s is not None and j is not None:
             f = _dot(self._inertia, complex(math.cos(j.axis), math.sin(j.axis)))
             out.update(output_figures(deg, s, f, self.mechanism.angle_datum == "bdc"))
+        ends = self.mechanism.output_link()
+        pivot = self.mechanism.driver.pivot
+        if s is not None and j is not None and ends is not None and all(p in self._z for p in (*ends, pivot)):
+            from mechdyn.mechanism.extrema import layout_figures
+
+            za, zb = (self._z[p][0] for p in ends)
+            out.update(layout_figures(zb - za, j.axis, self._z[pivot][0][:, 0], zb[:, 0]))
         out["joint_force_peak_N"] = self.joint_force_peaks
         return out
 
@@ -461,7 +468,11 @@ def cycle(
     wanted = (
         list(m.points) + [f"__com__{b.name}" for b in m.bodies]
         if store_points
-        else sorted({pf.point for pf in m.process_forces} | {f"__com__{pf.body}" for pf in m.process_forces})
+        else sorted(
+            {pf.point for pf in m.process_forces}
+            | {f"__com__{pf.body}" for pf in m.process_forces}
+            | ({m.driver.pivot, *m.output_link()} if m.output_link() else set())  # for layout_figures
+        )
     )
     keep = np.array([slot[n] for n in wanted], dtype=np.int64)
     N = n_angles

@@ -164,6 +164,17 @@ class DynamicsResult(Result):
             u = np.array([math.cos(j.axis), math.sin(j.axis)])
             figures = output_figures(deg, s, self.inertia_force @ u, self.mechanism.angle_datum == "bdc")
             out.update({key: float(v) for key, v in figures.items()})
+        ends = self.mechanism.output_link()
+        if ends is not None and j is not None:
+            from mechdyn.mechanism.extrema import layout_figures
+
+            m, kin = self.mechanism, self.kinematics
+            a, b = ends
+            body = next(x.name for x in m.bodies if a in x.points and b in x.points)
+            za, zb = (kin.point(body, p)[0] @ np.array([1.0, 1j]) for p in (a, b))
+            pivot = complex(*m.points[m.driver.pivot])
+            figures = layout_figures(zb - za, j.axis, np.asarray(pivot), np.asarray(zb[0]))
+            out.update({key: float(v) for key, v in figures.items()})
         peaks = self.joint_force_peaks
         out["joint_force_peak_N"] = peaks
         gears = self.gear_pairs

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["load_figures", "output_figures", "peak"]
+__all__ = ["layout_figures", "load_figures", "output_figures", "peak"]
 
 # the quartic through (−2, y₋₂) … (2, y₂): coefficients c₀…c₄ of Σ c_i tⁱ = V⁻¹ y
 _VINV = np.linalg.inv(np.vander(np.arange(-2.0, 3.0), 5, increasing=True))
@@ -134,3 +134,35 @@ def load_figures(torque: np.ndarray, force: np.ndarray, moment: np.ndarray) -> d
         "shaking_force_x_range_N": np.ptp(force[..., 0], axis=-1),
         "shaking_force_y_range_N": np.ptp(force[..., 1], axis=-1),
     }
+
+
+def layout_figures(
+    link: np.ndarray, axis: float, pivot: np.ndarray, slide: np.ndarray
+) -> dict[str, np.ndarray]:
+    """How a slide is driven: the largest obliquity of the link that drives it, and how far its
+    guide runs from the crank's pivot.
+
+    Parameters
+    ----------
+    link : ndarray
+        (..., N) complex: the link's direction (shared point minus far point) at each sample.
+    axis : float
+        The slide's axis, rad from +x.
+    pivot : ndarray
+        (...) complex: the crank's pivot.
+    slide : ndarray
+        (...) complex: a position of the slide's point (any: it moves along the axis).
+
+    Returns
+    -------
+    dict
+        ``output_link_obliquity_max_deg`` (the largest angle between the link and the slide's axis,
+        between samples: 0 when the link pushes straight along it) and ``guide_offset_m`` (distance
+        from the crank's pivot to the guide's line), each (...).
+    """
+    u = np.exp(1j * axis)
+    along = np.abs((np.conj(u) * link).real)
+    obliquity = np.degrees(np.arccos(np.clip(along / np.abs(link), 0.0, 1.0)))
+    _, worst = peak(obliquity, 1.0)
+    offset = np.abs((np.conj(u) * (pivot - slide)).imag)
+    return {"output_link_obliquity_max_deg": np.minimum(worst, 90.0), "guide_offset_m": offset}

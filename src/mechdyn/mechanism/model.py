@@ -624,6 +624,22 @@ class Mechanism:
     def inertias(self) -> np.ndarray:
         return np.array([b.inertia for b in self.bodies])
 
+    def output_link(self) -> tuple[str, str] | None:
+        """The two drawing points of the link that drives the output slide (the press's connecting
+        rod): its far point, then the point it shares with the slide. None without a slide or when
+        no single link pins onto it."""
+        j = self.output_joint()
+        if j is None:
+            return None
+        slide = j.bodies[0] if j.bodies[0] != GROUND else j.bodies[1]
+        pins = [r for r in self.joints if r.pins and slide in r.bodies and GROUND not in r.bodies]
+        if len(pins) != 1:
+            return None
+        r = pins[0]
+        link = r.bodies[0] if r.bodies[1] == slide else r.bodies[1]
+        far = [p for p in self.bodies[self._index[link]].points if p != r.point]
+        return (far[0], r.point) if far else None
+
     def output_joint(self) -> Prismatic | None:
         """The prismatic joint whose motion is the stroke."""
         prismatic = [j for j in self.joints if j.slides]
