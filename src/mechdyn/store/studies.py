@@ -49,6 +49,7 @@ class _Study(_Base):
     model_path: Mapped[str] = mapped_column(Text)
     model_sha256: Mapped[str] = mapped_column(String(64))
     model_files: Mapped[dict[str, Any]] = mapped_column(JSON)
+    columns: Mapped[dict[str, Any]] = mapped_column(JSON)  # parameter and output names, in order
     package_version: Mapped[str] = mapped_column(String(64))
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
 
@@ -60,9 +61,10 @@ class _Variant(_Base):
     study_id: Mapped[int] = mapped_column(ForeignKey("mechdyn_studies.id", ondelete="CASCADE"), index=True)
     key: Mapped[str] = mapped_column(String(64))
     position: Mapped[int] = mapped_column(Integer)
-    parameters: Mapped[dict[str, Any]] = mapped_column(JSON)
-    given: Mapped[dict[str, Any]] = mapped_column(JSON)
-    outputs: Mapped[dict[str, Any]] = mapped_column(JSON)
+    # values in the order of the study's columns (names are stored once, with the study)
+    parameters: Mapped[list[Any]] = mapped_column(JSON)
+    given: Mapped[list[Any]] = mapped_column(JSON)
+    outputs: Mapped[list[Any]] = mapped_column(JSON)
     status: Mapped[str] = mapped_column(String(16), index=True)
     error: Mapped[str | None] = mapped_column(Text, nullable=True)
     objective: Mapped[float | None] = mapped_column(Float, nullable=True)
@@ -100,6 +102,8 @@ class StoredStudy:
     model_files: dict[str, str]
     package_version: str
     created_at: datetime
+    parameter_names: tuple[str, ...] = ()
+    output_names: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -140,17 +144,18 @@ class StoredVariant:
         }
 
 
-def _flat(d: Mapping[str, Any]) -> Any:
-    """A flat mapping of floats, text and None as JSON values (the common case, fast); anything
-    else through :func:`jsonable`."""
-    out = {}
-    for k, v in d.items():
+def _flat(d: Mapping[str, Any], names: Sequence[str]) -> list[Any]:
+    """The values of a mapping in the order of ``names``, as JSON values (floats, text, None: the
+    common case, fast; anything else through :func:`jsonable`)."""
+    out = []
+    for k in names:
+        v = d.get(k)
         if type(v) is float:
-            out[k] = v if math.isfinite(v) else None
+            out.append(v if math.isfinite(v) else None)
         elif v is None or type(v) is str:
-            out[k] = v
+            out.append(v)
         else:
-            return jsonable(d)
+            out.append(jsonable(v))
     return out
 
 
@@ -170,6 +175,7 @@ class StudyStore:
     def __init__(self, store: ResultStore):
         self.store = store
         self._engine = store._engine
+        self._names: dict[int, tuple[str, tuple[str, ...], tuple[str, ...]]] = {}
 
     # -- studies ------------------------------------------------------------------------------
     def open(
@@ -182,6 +188,8 @@ class StudyStore:
         model_path: str,
         model_sha256: str,
         model_files: Mapping[str, str],
+        parameters: Sequence[str],
+        outputs: Sequence[str],
     ) -> tuple[StoredStudy, bool]:
         """The study called ``name``: created, or found (then its definition and model must match).
 
@@ -211,6 +219,7 @@ class StudyStore:
                     model_path=model_path,
                     model_sha256=model_sha256,
                     model_files=dict(model_files),
+                    columns={"parameters": list(parameters), "outputs": list(outputs)},
                     package_version=__version__,
                     created_at=datetime.now(UTC),
                 )
@@ -272,6 +281,8 @@ class StudyStore:
             dict(r.model_files),
             r.package_version,
             _utc(r.created_at),
+            tuple(r.columns["parameters"]),
+            tuple(r.columns["outputs"]),
         )
 
     # -- variants -----------------------------------------------------------------------------
@@ -279,8 +290,7 @@ class StudyStore:
         """Every stored variant of a study by key (without curves)."""
         with Session(self._engine) as s:
             rows = s.scalars(select(_Variant).where(_Variant.study_id == study_id).order_by(_Variant.id))
-            name = self._name(s, study_id)
-            return {r.key: self._variant(r, name) for r in rows}
+            return {r.key: self._variant(r) for r in rows}
 
     def by_ids(self, ids: Sequence[int]) -> list[StoredVariant]:
         """Stored variants by id, in the order given (without curves)."""
@@ -288,7 +298,7 @@ class StudyStore:
         with Session(self._engine) as s:
             for i in range(0, len(ids), 500):
                 for r in s.scalars(select(_Variant).where(_Variant.id.in_(ids[i : i + 500]))):
-                    found[r.id] = self._variant(r, self._name(s, r.study_id))
+                    found[r.id] = self._variant(r)
         return [found[i] for i in ids if i in found]
 
     def ids(self, study_id: int, keys: Sequence[str]) -> dict[str, int]:
@@ -315,14 +325,15 @@ class StudyStore:
         rows = list(rows)
         if not rows:
             return
+        _, pn, on = self._columns(study_id)
         values = [
             {
                 "study_id": study_id,
                 "key": r["key"],
                 "position": int(r["position"]),
-                "parameters": _flat(r["parameters"]),
-                "given": _flat(r.get("given", {})),
-                "outputs": _flat(r["outputs"]),
+                "parameters": _flat(r["parameters"], pn),
+                "given": _flat(r.get("given", {}), pn),
+                "outputs": _flat(r["outputs"], on),
                 "status": r["status"],
                 "error": r.get("error"),
                 "objective": jsonable(r.get("objective")),
@@ -393,7 +404,7 @@ class StudyStore:
         if limit:
             q = q.limit(limit)
         with Session(self._engine) as s:
-            out = [self._variant(r, st.name) for r in s.scalars(q)]
+            out = [self._variant(r) for r in s.scalars(q)]
         return [self.variant(v.id) for v in out] if curves else out
 
     def variant(self, variant_id: int) -> StoredVariant:
@@ -405,27 +416,31 @@ class StudyStore:
                     f"no variant with id {variant_id} in {self.where}; `mechdyn results list --study NAME` "
                     "shows the ids"
                 )
-            v = self._variant(r, self._name(s, r.study_id))
+            v = self._variant(r)
             curves = {
                 c.name: (_unpack(c.data), c.unit)
                 for c in s.scalars(select(_Curve).where(_Curve.variant_id == variant_id))
             }
         return StoredVariant(**{**v.__dict__, "curves": curves})
 
-    @staticmethod
-    def _name(s: Session, study_id: int) -> str:
-        return str(s.scalar(select(_Study.name).where(_Study.id == study_id)))
+    def _columns(self, study_id: int) -> tuple[str, tuple[str, ...], tuple[str, ...]]:
+        """A study's name and its parameter and output names (read once)."""
+        if study_id not in self._names:
+            with Session(self._engine) as s:
+                name, cols = s.execute(select(_Study.name, _Study.columns).where(_Study.id == study_id)).one()
+            self._names[study_id] = (name, tuple(cols["parameters"]), tuple(cols["outputs"]))
+        return self._names[study_id]
 
-    @staticmethod
-    def _variant(r: _Variant, study: str) -> StoredVariant:
+    def _variant(self, r: _Variant) -> StoredVariant:
+        study, pn, on = self._columns(r.study_id)
         return StoredVariant(
             r.id,
             study,
             r.key,
             r.position,
-            dict(r.parameters or {}),
-            dict(r.given or {}),
-            dict(r.outputs or {}),
+            dict(zip(pn, r.parameters or (), strict=False)),
+            dict(zip(pn, r.given or (), strict=False)),
+            dict(zip(on, r.outputs or (), strict=False)),
             r.status,
             r.error,
             r.objective,

@@ -74,6 +74,8 @@ class Runner:
             model_path=study.source.path,
             model_sha256=tree.sha256,
             model_files=tree.texts,
+            parameters=[p.name for p in study.parameters],
+            outputs=[w.key for w in study.watched],
         )
         self.model_sha256 = tree.sha256
         self.cache: dict[str, StoredVariant] = store.stored(self.stored.id)
