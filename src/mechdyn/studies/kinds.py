@@ -365,7 +365,7 @@ def synthesis(runner: Any) -> Findings:
         updating="deferred",
         polish=False,
         tol=1e-8,
-        x0=runner.base_row(),
+        x0=np.clip(runner.base_row(), *np.array(bounds).T),  # the base design, moved into the ranges
     )
     best_v = runner.evaluate(res.x)[0]
     base = runner.evaluate(runner.base_row())[0]
