@@ -14,7 +14,11 @@ from conftest import EXAMPLES, ROOT
 from mechdyn.cli.main import main
 
 DRIVETRAIN_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drivetrain"' in p.read_text())
-MECHANISM_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mechanism"' in p.read_text())
+MECHANISM_EXAMPLES = sorted(
+    p
+    for p in EXAMPLES.glob("*.toml")
+    if 'type = "mechanism"' in p.read_text() or 'type = "planting_mechanism"' in p.read_text()
+)
 SUPPORT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "support"' in p.read_text())
 MOUNT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mount"' in p.read_text())
 GEAR_EXAMPLES = sorted(

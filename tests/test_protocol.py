@@ -24,6 +24,7 @@ from mechdyn.units import convert, key_unit
 EXAMPLE_OF = {
     "drivetrain": "turret_milling.toml",
     "mechanism": "transplanter_rp1.toml",
+    "planting_mechanism": "transplanter_rp1_design.toml",
     "support": "press_on_mounts.toml",
     "gear_pair": "spur_pair.toml",
     "tooth_pair": "tooth_pair1_published.toml",

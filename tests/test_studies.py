@@ -632,3 +632,53 @@ def test_the_sobol_study_of_press_a_in_its_quick_form(tmp_path, capsys):
     assert force["excitation.mechanism.bodies.rocker.mass"]["ST"] < 0.01
     stroke = doc["indices"]["excitation.stroke_m"]
     assert stroke[slide]["ST"] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_the_rp1_sensitivity_against_the_published_directions(tmp_path):
+    """SPEC §6: larger ε raises the gear and arm forces, the torque and the shaking force; smaller R
+    raises the gear forces and lowers the torque; L changes no force. (Smaller |α|: published as
+    raising the gear and arm forces, here it lowers them; and ε moves the shaking force more than d
+    does: see the README.)"""
+    from dataclasses import replace
+
+    study = load_study(STUDIES / "rp1_sensitivity.toml")
+    study = replace(study, options={"angles": 36}, curves=0, name="rp1-quick")
+    result = run_study(study, str(tmp_path / "r.db"))
+    assert result.failed == 0
+
+    def change(parameter: str, percent: float, key: str) -> float:
+        (e,) = [
+            e
+            for e in result.findings["effects"]
+            if e["parameter"] == parameter and e["level_percent"] == pytest.approx(percent)
+        ]
+        return e["outputs"][key]["change_percent"]
+
+    keys = [
+        "tooth_force_max_N",
+        "joint_force_peak_N.P1",
+        "joint_force_peak_N.I1",
+        "driving_torque_range_Nm",
+        "shaking_force_y_range_N",
+    ]
+    for key in keys:
+        assert (
+            change("design.eccentricity_ratio", 10, key) > 0 > change("design.eccentricity_ratio", -10, key)
+        )
+    assert change("design.arm_radius", -10, "tooth_force_max_N") > 0
+    assert change("design.arm_radius", -10, "driving_torque_range_Nm") < 0
+    for key in keys:
+        assert change("design.fork_length", 10, key) == pytest.approx(0.0, abs=1e-9)
+    # the planets' unbalance m·d: the shaking force is proportional to d
+    assert change("design.com_offset", 10, "shaking_force_x_range_N") == pytest.approx(10.0, rel=1e-6)
+
+
+def test_tied_parameters_move_together_by_the_same_factor(tmp_path):
+    """The two sides of RP-1 written body by body: the planets' masses tied, as one parameter."""
+    tree = ModelTree(read(EXAMPLES / "transplanter_rp1.toml"))
+    (p,) = Parameter.from_spec(tree, "bodies.planet 1.mass", levels=["10 %"], tie=["bodies.planet 2.mass"])
+    assert len(p.locations) == 2
+    values = p.location_values(p.levels[0])
+    assert list(values.values()) == pytest.approx([1.1 * 1.0654, 1.1 * 1.0654])
+    v = mechdyn.io.modelfile.load_source(tree.variant(p.file_values(p.levels[0]))).model
+    assert [b.mass for b in v.bodies if b.name.startswith("planet")] == pytest.approx([1.1 * 1.0654] * 2)

@@ -44,6 +44,7 @@ _BUILDERS: dict[str, str] = {
     "gear_pair": "mechdyn.gears.schema:build_gear_pair",
     "tooth_pair": "mechdyn.gears.schema:build_tooth_pair",
     "mechanism": "mechdyn.mechanism.schema:build",
+    "planting_mechanism": "mechdyn.mechanism.planter:build",
     "support": "mechdyn.support.schema:build",
     "mount": "mechdyn.mounts.schema:build",
 }
@@ -159,6 +160,7 @@ def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
 # the field of each builder's record that holds the model itself (a type not named here: the record)
 _MODEL_FIELD = {
     "mechanism": "mechanism",
+    "planting_mechanism": "mechanism",
     "support": "machine",
     "gear_pair": "pair",
     "tooth_pair": "teeth",

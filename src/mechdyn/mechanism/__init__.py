@@ -25,6 +25,7 @@ __all__ = attach(
         "KinematicsResult": "kinematics",
         "Mechanism": "model",
         "NotDecomposable": "dyads",
+        "PlanterDesign": "planter",
         "Prismatic": "model",
         "ProcessForce": "model",
         "Revolute": "model",
@@ -34,6 +35,7 @@ __all__ = attach(
         "dyad_motion": "kinematics",
         "kinematics": "kinematics",
         "newton_motion": "kinematics",
+        "planter": "planter",
         "variants": "dyads",
     },
 )

@@ -45,7 +45,7 @@ def _mechanism_batch(loaded: Any, columns: Any, keys: Any, angles: int | None = 
 register(
     Analysis(
         "mechanism",
-        ("mechanism",),
+        ("mechanism", "planting_mechanism"),
         _mechanism,
         "kinematics and inverse dynamics of a planar mechanism",
         batch=_mechanism_batch,
@@ -70,6 +70,7 @@ register(
             Output("guide_offset_m", "distance from the crank's pivot to the slide's guide line"),
             Output("driving_torque_max_Nm", "largest driving torque"),
             Output("driving_torque_min_Nm", "smallest driving torque"),
+            Output("driving_torque_range_Nm", "largest minus smallest driving torque"),
             Output("driving_torque_peak_Nm", "largest magnitude of the driving torque"),
             Output("driving_torque_rms_Nm", "root mean square of the driving torque"),
             Output("shaking_force_max_N", "largest magnitude of the shaking force"),

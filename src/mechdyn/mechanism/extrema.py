@@ -120,13 +120,14 @@ def load_figures(torque: np.ndarray, force: np.ndarray, moment: np.ndarray) -> d
     Returns
     -------
     dict
-        ``driving_torque_max_Nm``, ``driving_torque_min_Nm``, ``driving_torque_peak_Nm``,
-        ``driving_torque_rms_Nm``, ``shaking_force_max_N``, ``shaking_moment_range_Nm``,
-        ``shaking_force_x_range_N``, ``shaking_force_y_range_N``, each (...).
+        ``driving_torque_max_Nm``, ``driving_torque_min_Nm``, ``driving_torque_range_Nm``,
+        ``driving_torque_peak_Nm``, ``driving_torque_rms_Nm``, ``shaking_force_max_N``,
+        ``shaking_moment_range_Nm``, ``shaking_force_x_range_N``, ``shaking_force_y_range_N``, each (...).
     """
     return {
         "driving_torque_max_Nm": torque.max(axis=-1),
         "driving_torque_min_Nm": torque.min(axis=-1),
+        "driving_torque_range_Nm": np.ptp(torque, axis=-1),
         "driving_torque_peak_Nm": np.abs(torque).max(axis=-1),
         "driving_torque_rms_Nm": np.sqrt(np.mean(torque**2, axis=-1)),
         "shaking_force_max_N": np.linalg.norm(force, axis=-1).max(axis=-1),

@@ -1,0 +1,281 @@
+"""The gear-type rotary planting mechanism (SPEC §6) built from its design variables.
+
+A carrier arm turns about a fixed sun gear; on each side an idler at R/2 and a planet at R mesh in
+a chain, and a planting fork is fixed to each planet. The sun and the planets are eccentric circles
+of pitch radius ρ, sized so that the mates close at the centre distance R/2; each idler is their
+exact pure-rolling mate. The planets are installed at the phase α (the line from pivot to centre at
+α to the horizontal in the drawing), the sun at the angle that makes each idler the exact mate of
+both its neighbours (an idler is one gear), and side 2 as side 1 stands half a turn later, so that
+the two sides run point-symmetric about the sun.
+
+:class:`PlanterDesign` holds the design variables (ε, α, β, R, L, γ, d, the masses and the inertias
+about the pivots, the speed); :func:`planter` builds the :class:`~mechdyn.mechanism.Mechanism`; a
+``type = "planting_mechanism"`` model file holds a ``[design]`` table, so that a design study
+varies ε or d by their path (``design.eccentricity_ratio``). The published prototype RP-1 is the
+default design (d and the arm's inertia were not published: chosen, see the fields).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from mechdyn.errors import ModelError
+from mechdyn.mechanism.kinematics import kinematics
+from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Revolute
+from mechdyn.mechanism.pitch import closing_centre_distance, eccentric_circle, pitch_law
+from mechdyn.units import to_si
+
+__all__ = ["PlanterDesign", "planter"]
+
+
+@dataclass(frozen=True)
+class PlanterDesign:
+    """Design variables of a rotary planting mechanism (SI; angles in rad).
+
+    Attributes
+    ----------
+    eccentricity_ratio : float
+        ε = e/ρ of the eccentric sun and planets (RP-1: 0.13; studied 0–0.2).
+    alpha : float
+        α, the planets' installation angle: the line from pivot to centre against the horizontal,
+        rad (RP-1: −35°).
+    beta : float
+        β, the arm's angle in the drawing, rad (RP-1: −76°).
+    arm_radius : float
+        R, sun to planet centre, m (RP-1: 76.8 mm); the idler sits at R/2.
+    fork_length : float
+        L, planet centre to fork tip, m (RP-1: 138 mm).
+    fork_angle : float
+        γ, the fork's direction in the drawing, rad (RP-1: 14°; the publication writes 90° − β but
+        its numbers fit 90° + β).
+    com_offset : float
+        d, planet pivot to the centre of mass of planet + fork along the fork, m (not published;
+        20 mm: the inertia about the pivot allows at most √(I/m) = 32 mm).
+    arm_mass, idler_mass, planet_mass : float
+        kg (RP-1: 1.0716, 0.0069, 1.0654 with the fork).
+    arm_inertia : float
+        About the sun, kg·m² (not published: 2.1e-3, a bar of 2R; at constant speed it changes
+        nothing).
+    idler_inertia, planet_inertia : float
+        About their pivots, kg·m² (RP-1: 1.26e-5, 1.092e-3).
+    speed : float
+        The carrier's speed, rad/s (RP-1: 200 rpm).
+    gravity : float
+        m/s², along −y.
+    """
+
+    eccentricity_ratio: float = 0.13
+    alpha: float = math.radians(-35.0)
+    beta: float = math.radians(-76.0)
+    arm_radius: float = 0.0768
+    fork_length: float = 0.138
+    fork_angle: float = math.radians(14.0)
+    com_offset: float = 0.020
+    arm_mass: float = 1.0716
+    idler_mass: float = 0.0069
+    planet_mass: float = 1.0654
+    arm_inertia: float = 2.1e-3
+    idler_inertia: float = 1.26e-5
+    planet_inertia: float = 1.092e-3
+    speed: float = field(default_factory=lambda: to_si("200 rpm", "rad/s"))
+    gravity: float = 9.81
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.eccentricity_ratio < 1:
+            raise ModelError(
+                f"{self.eccentricity_ratio:g} must be in [0, 1)", element="design", field="eccentricity_ratio"
+            )
+        for name in ("arm_radius", "fork_length", "planet_mass", "idler_mass", "arm_mass"):
+            if not getattr(self, name) > 0:
+                raise ModelError(f"{getattr(self, name):g} must be positive", element="design", field=name)
+        if self.planet_inertia - self.planet_mass * self.com_offset**2 <= 0:
+            limit = math.sqrt(self.planet_inertia / self.planet_mass)
+            raise ModelError(
+                f"{self.com_offset:g} m: the planet's inertia about its pivot allows a centre of mass "
+                f"at most {limit:.4g} m from it (I = I_G + m d²)",
+                element="design",
+                field="com_offset",
+            )
+
+
+def _side(design, curve, com, mass, sun, planet, k):
+    """Bodies and joints of one side (k = 1 or 2); ``sun`` and ``planet``: the installation angles
+    of the eccentrics (rad)."""
+    mp, ip = mass
+    bodies = (
+        Body(f"idler {k}", (f"I{k}",), design.idler_mass, design.idler_inertia, f"I{k}"),
+        Body(f"planet {k}", (f"P{k}", f"F{k}"), mp, ip, com),
+    )
+    g_sun, g_pl = ("G1-G2", "G3-G2") if k == 1 else ("G1-G4", "G5-G4")
+    joints = (
+        Revolute(f"I{k}", ("arm", f"idler {k}"), f"I{k}"),
+        Revolute(f"P{k}", ("arm", f"planet {k}"), f"P{k}"),
+        GearJoint(g_sun, ("ground", f"idler {k}"), ("O", f"I{k}"), curve, "arm", sun),
+        GearJoint(g_pl, (f"planet {k}", f"idler {k}"), (f"P{k}", f"I{k}"), curve, "arm", planet),
+    )
+    return bodies, joints
+
+
+def idler_mismatch(curve, a: float, beta: float, sun: float, planet: float, n: int = 2048) -> float:
+    """Largest difference between the idler pitch curve that the sun mesh implies and the one the
+    planet mesh implies (m): an idler is one gear, so the two must agree."""
+    psi = 2 * np.pi * np.arange(n) / n
+    curves = []
+    for law, side in (
+        (pitch_law(curve, a, beta - sun), math.pi),
+        (pitch_law(curve, a, beta + math.pi - planet), 0.0),
+    ):
+        turned, _, _ = law(psi)
+        theta = np.mod(beta + side - turned, 2 * np.pi)
+        radius = a - law.contact_radius(psi)[0]
+        o = np.argsort(theta)
+        curves.append(
+            np.interp(np.linspace(0, 2 * np.pi, 1000, endpoint=False), theta[o], radius[o], period=2 * np.pi)
+        )
+    return float(np.abs(curves[0] - curves[1]).max())
+
+
+def sun_orientation(curve, a: float, beta: float, planet: float) -> float:
+    """The sun's installation angle (rad) at which each idler is the exact mate of both the sun and
+    its planet."""
+    scan = np.radians(np.arange(-180.0, 180.0, 10.0))
+    start = scan[int(np.argmin([idler_mismatch(curve, a, beta, x, planet) for x in scan]))]
+    res = minimize_scalar(
+        lambda x: idler_mismatch(curve, a, beta, x, planet),
+        bounds=(start - math.radians(10), start + math.radians(10)),
+        method="bounded",
+        options={"xatol": 1e-10},
+    )
+    return float(res.x)
+
+
+def geometry(design: PlanterDesign) -> tuple[dict, float, tuple, float, float]:
+    """Drawing points (m), the pitch radius ρ (m), the planets' centres of mass, and the
+    installation angles of the sun's and planet 2's eccentrics (rad; planet 1's is α).
+
+    Side 2 is installed as side 1 stands half a turn later (the carrier's half turn brings side 1
+    where side 2 is), so that the two sides run alike half a turn apart, point-symmetric about the
+    sun: its planet, fork and eccentric are turned by the angle planet 1 turns in half a turn.
+    """
+    D = design
+    eps, R, L, d = D.eccentricity_ratio, D.arm_radius, D.fork_length, D.com_offset
+    a = R / 2
+    rho = a / closing_centre_distance(eccentric_circle(1.0, eps)) if eps > 0 else a / 2
+    b = D.beta
+    u = np.array([math.cos(b), math.sin(b)])
+    f = np.array([math.cos(D.fork_angle), math.sin(D.fork_angle)])
+    pts = {"O": (0.0, 0.0), "I1": tuple(u * a), "P1": tuple(u * R), "F1": tuple(u * R + L * f)}
+    com1 = tuple(u * R + d * f)
+    curve = eccentric_circle(rho, eps * rho)
+    planet = D.alpha
+    sun = sun_orientation(curve, a, b, planet) if eps > 0 else planet
+    # side 1 alone, half a turn on: how far has planet 1 turned?
+    bodies, joints = _side(D, curve, com1, _planet_mass(D), sun, planet, 1)
+    arm = Body("arm", ("O", "I1", "P1"), D.arm_mass, D.arm_inertia, "O")
+    half = Mechanism(
+        pts, (arm, *bodies), (Revolute("O", ("ground", "arm"), "O"), *joints), Driver("arm", "O", "I1", 1.0)
+    )
+    k = kinematics(half, 4)
+    i = int(np.argmin(np.abs(np.angle(np.exp(1j * (k.crank_angle - b - math.pi))))))
+    turn = float(k.q[i, 3 * half.body_index["planet 1"] + 2])
+    rot = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    f2 = rot @ f
+    pts |= {"I2": tuple(-u * a), "P2": tuple(-u * R), "F2": tuple(-u * R + L * f2)}
+    com2 = tuple(-u * R + d * f2)
+    return pts, rho, (com1, com2), sun, planet + turn
+
+
+def _planet_mass(D: PlanterDesign) -> tuple[float, float]:
+    """Planet + fork: mass, and inertia about the centre of mass (I_G = I_pivot − m d²)."""
+    return D.planet_mass, D.planet_inertia - D.planet_mass * D.com_offset**2
+
+
+def planter(design: PlanterDesign | None = None, name: str = "planting mechanism RP-1") -> Mechanism:
+    """The planting mechanism of a design (by default the published prototype RP-1).
+
+    Parameters
+    ----------
+    design : PlanterDesign, optional
+    name : str
+
+    Returns
+    -------
+    Mechanism
+        Bodies arm, idler 1, planet 1, idler 2, planet 2; revolutes O, I1, P1, I2, P2; gear pairs
+        G1-G2, G3-G2, G1-G4, G5-G4 on the arm; the fork tips F1, F2; driven at the arm.
+    """
+    D = design or PlanterDesign()
+    pts, rho, com, sun, planet2 = geometry(D)
+    curve = eccentric_circle(rho, D.eccentricity_ratio * rho)
+    mass = _planet_mass(D)
+    b1, j1 = _side(D, curve, com[0], mass, sun, D.alpha, 1)
+    b2, j2 = _side(D, curve, com[1], mass, sun, planet2, 2)
+    arm = Body("arm", ("O", "I1", "P1", "I2", "P2"), D.arm_mass, D.arm_inertia, "O")
+    joints = (Revolute("O", ("ground", "arm"), "O"), *j1[:2], *j2[:2], *j1[2:], *j2[2:])
+    return Mechanism(
+        pts,
+        (arm, b1[0], b1[1], b2[0], b2[1]),
+        joints,
+        Driver("arm", "O", "I1", D.speed),
+        gravity=(0.0, -D.gravity),
+        name=name,
+    )
+
+
+# -- the model file: [model] type = "planting_mechanism" -----------------------------------------
+
+
+def build(source: Any) -> Any:
+    """Builder for ``[model] type = "planting_mechanism"``: ``[design]`` (the variables of
+    :class:`PlanterDesign`, quantities with units; those left out are RP-1's) and ``[settings]``
+    (``n_angles``, ``trace``, ``field_velocity``, as in a mechanism file)."""
+    from pydantic import Field
+
+    from mechdyn.io.fields import Angle, Dimensionless, FileModel, Length, ModelTableBase, quantity
+    from mechdyn.io.modelfile import field_context, validate
+    from mechdyn.mechanism.schema import MechanismSpec
+
+    Mass, Inertia = quantity("kg"), quantity("kg*m^2")
+    d = PlanterDesign()
+
+    class ModelTable(ModelTableBase):
+        type: Literal["planting_mechanism"]
+        name: str = "planting mechanism"
+
+    class DesignTable(FileModel):
+        eccentricity_ratio: Dimensionless = d.eccentricity_ratio
+        alpha: Angle = d.alpha
+        beta: Angle = d.beta
+        arm_radius: Length = d.arm_radius
+        fork_length: Length = d.fork_length
+        fork_angle: Angle = d.fork_angle
+        com_offset: Length = d.com_offset
+        arm_mass: Mass = d.arm_mass
+        idler_mass: Mass = d.idler_mass
+        planet_mass: Mass = d.planet_mass
+        arm_inertia: Inertia = d.arm_inertia
+        idler_inertia: Inertia = d.idler_inertia
+        planet_inertia: Inertia = d.planet_inertia
+        speed: quantity("rad/s") = d.speed  # type: ignore[valid-type]
+        gravity: quantity("m/s^2") = d.gravity  # type: ignore[valid-type]
+
+    class SettingsTable(FileModel):
+        n_angles: int = Field(default=360, ge=8, le=100_000)
+        trace: list[str] = Field(default_factory=list)
+        field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
+
+    class PlanterFile(FileModel):
+        model: ModelTable
+        design: DesignTable = DesignTable()
+        settings: SettingsTable = SettingsTable()
+
+    f = validate(PlanterFile, source)
+    with field_context(source, "[design]"):
+        mech = planter(PlanterDesign(**f.design.model_dump()), f.model.name)
+    s = f.settings
+    return MechanismSpec(mech, s.n_angles, tuple(s.trace), s.field_velocity)
