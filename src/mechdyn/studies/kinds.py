@@ -367,10 +367,14 @@ def synthesis(runner: Any) -> Findings:
         tol=1e-8,
         x0=np.clip(runner.base_row(), *np.array(bounds).T),  # the base design, moved into the ranges
     )
-    best_v = runner.evaluate(res.x)[0]
     base = runner.evaluate(runner.base_row())[0]
     variants = runner.all_variants()
+    # the fit: the variant nearest the targets among those that keep every constraint (the
+    # optimizer's own end point may break one by a little: its constraints are penalties)
+    feasible = [v for v in variants if _feasible(st, v) and v.objective is not None]
+    best_v = min(feasible, key=lambda v: v.objective) if feasible else runner.evaluate(res.x)[0]
     findings = {
+        "feasible": bool(feasible),
         "generations": int(res.nit),
         "evaluations": int(res.nfev),
         "cost": float(res.fun),
