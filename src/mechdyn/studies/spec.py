@@ -134,7 +134,8 @@ class Parameter:
         tie : list of str
             More paths that move with this one, by the same factor.
         name : str, optional
-            The parameter's name in tables (default: the path).
+            The parameter's name in tables (default: the path); a point's coordinates are named
+            ``NAME.x`` and ``NAME.y``.
         where : str
             The study file and row, for errors.
         """
@@ -145,12 +146,13 @@ class Parameter:
         groups: list[tuple[str, list[Location]]] = [(path, [*locations, *tied])]
         if _coordinates(tree, locations):  # a point: each coordinate is a parameter of its own
             n = len(locations)
-            groups = [(f"{path}.{'xyz'[i]}", [loc, *tied[i::n]]) for i, loc in enumerate(locations)]
+            head = name or path
+            groups = [(f"{head}.{'xyz'[i]}", [loc, *tied[i::n]]) for i, loc in enumerate(locations)]
+        elif name:
+            groups = [(name, groups[0][1])]
         out = []
         for label, locs in groups:
-            out.append(
-                cls._one(tree, name or label if len(groups) == 1 else label, locs, range, levels, where)
-            )
+            out.append(cls._one(tree, label, locs, range, levels, where))
         return out
 
     @classmethod
