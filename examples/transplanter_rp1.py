@@ -35,7 +35,8 @@ def toml_text() -> str:
     lines = [
         "# Reference machine D: the gear-type rotary planting mechanism RP-1 (SPEC §6), written by",
         "# examples/transplanter_rp1.py --write from its published design data (see that script):",
-        f"# ε = {D.eccentricity_ratio}, α = {deg(D.alpha)}°, β = {deg(D.beta)}°, R = {D.arm_radius * 1e3} mm, "
+        f"# ε = {D.eccentricity_ratio}, α = {deg(D.alpha)}°, β = {deg(D.beta)}°, "
+        f"R = {D.arm_radius * 1e3} mm, "
         f"L = {D.fork_length * 1e3} mm, γ = {deg(D.fork_angle)}°,",
         f"# d = {D.com_offset * 1e3} mm (not published: pivot to centre of mass of planet + fork, along",
         "# the fork). The sun and planets are eccentric circles",

@@ -51,7 +51,7 @@ def _run(args: argparse.Namespace) -> int:
                 study = study.starting_from([[best[p.name] for p in study.parameters]])
             progress = not args.json and sys.stderr.isatty()
             results.append(run_study(study, store, dask=args.dask, progress=progress))
-        where = store.url
+        where = store.where
     plot_files = []
     for result in results:
         if args.plots:
@@ -92,7 +92,7 @@ def _run(args: argparse.Namespace) -> int:
         print_table(_boxes_table(results))
     for p in plot_files:
         print(f"plot: {p}")
-    shown = where.split("@")[-1].removeprefix("sqlite:///")
+    shown = where.removeprefix("sqlite:///")
     names = ", ".join(repr(r.study.name) for r in results)
     print(f"stored in {shown}  (mechdyn results list --study NAME; {names})")
     return 0

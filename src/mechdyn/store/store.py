@@ -185,7 +185,7 @@ class ResultStore:
             with self.schema_lock():
                 _Base.metadata.create_all(self._engine)
         except (OperationalError, ArgumentError) as exc:
-            shown = make_url(self.url).render_as_string(hide_password=True)
+            shown = self.where
             raise StoreError(
                 f"cannot open the results database {shown}: {exc.__class__.__name__}: {exc.args[0]}"
             ) from None
@@ -193,6 +193,11 @@ class ResultStore:
             raise StoreError(
                 f"the database driver for {self.url.split(':')[0]} is not installed ({exc})"
             ) from None
+
+    @property
+    def where(self) -> str:
+        """The database's URL as it may be shown (without a password)."""
+        return make_url(self.url).render_as_string(hide_password=True)
 
     @contextmanager
     def schema_lock(self) -> Iterator[None]:
@@ -269,8 +274,7 @@ class ResultStore:
             r = s.get(_Run, run_id)
             if r is None:
                 raise StoreError(
-                    f"no run with id {run_id} in {make_url(self.url).render_as_string(hide_password=True)}; "
-                    "`mechdyn results list` shows the ids"
+                    f"no run with id {run_id} in {self.where}; `mechdyn results list` shows the ids"
                 )
             base = self._summary(r)
             arrays = {a.name: (_unpack(a.data), a.unit) for a in r.arrays}

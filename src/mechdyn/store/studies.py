@@ -264,9 +264,7 @@ class StudyStore:
 
     @property
     def where(self) -> str:
-        from sqlalchemy.engine import make_url
-
-        return make_url(self.store.url).render_as_string(hide_password=True)
+        return self.store.where
 
     @staticmethod
     def _study(r: _Study) -> StoredStudy:

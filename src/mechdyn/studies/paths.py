@@ -237,13 +237,11 @@ class ModelTree:
                 self.source.sha256 + json.dumps(sorted((_key(loc), repr(v)) for loc, v in values.items()))
             ).encode()
         ).hexdigest()
-        includes = {
-            p: ModelSource(p, self._files[p].text, stamp, d, {})
-            for p, d in data.items()
-            if p != self.source.path
-        }
-        # a referenced file sees the other changed files too (a support's mechanism → its mount files)
-        includes = {p: ModelSource(s.path, s.text, s.sha256, s.data, includes) for p, s in includes.items()}
+        # every changed file sees every other one, however deep it refers (one shared mapping)
+        includes: dict[str, ModelSource] = {}
+        for p, d in data.items():
+            if p != self.source.path:
+                includes[p] = ModelSource(p, self._files[p].text, stamp, d, includes)
         base = data.get(self.source.path, self.source.data)
         return ModelSource(self.source.path, self.source.text, stamp, base, includes)
 
