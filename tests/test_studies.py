@@ -549,6 +549,7 @@ def test_the_study_command_prints_json_and_lists_exports_and_compares(tmp_path, 
     assert {"study", "kind", "evaluated", "reused", "failed", "effects"} <= set(doc)
     assert doc["evaluated"] == 7 and doc["failed"] == 0
     assert (tmp_path / "p" / "tornado_transmitted_force_range_N.png").stat().st_size > 10_000
+    assert (tmp_path / "p" / "curves_floor_force_z_N.png").stat().st_size > 10_000  # 7 variants overlaid
     assert main(["results", "list", "--study", "press-support-influence", "--db", db, "--json"]) == 0
     listed = json.loads(capsys.readouterr().out)
     assert len(listed) == 7 and {"id", "status", "parameters", "outputs"} <= set(listed[0])
@@ -682,3 +683,87 @@ def test_tied_parameters_move_together_by_the_same_factor(tmp_path):
     assert list(values.values()) == pytest.approx([1.1 * 1.0654, 1.1 * 1.0654])
     v = mechdyn.io.modelfile.load_source(tree.variant(p.file_values(p.levels[0]))).model
     assert [b.mass for b in v.bodies if b.name.startswith("planet")] == pytest.approx([1.1 * 1.0654] * 2)
+
+
+def test_a_study_built_in_python_with_a_function_parameter(tmp_path):
+    """A parameter that is any function model → model: the slider-crank's slider mass scaled; the
+    largest inertia force along the stroke grows with the reciprocating mass, the stroke does not."""
+    from dataclasses import replace
+
+    from mechdyn.studies import Study, Watched
+
+    source = read(EXAMPLES / "slider_crank.toml")
+    base = mechdyn.load(EXAMPLES / "slider_crank.toml").model
+    m0 = base.bodies[-1].mass
+
+    def slider_mass(model, value):
+        bodies = (*model.bodies[:-1], replace(model.bodies[-1], mass=value))
+        return replace(model, bodies=bodies)
+
+    p = Parameter.function("slider mass", slider_mass, m0, levels=(0.5 * m0, 2.0 * m0), unit="kg")
+    study = Study(
+        "function-parameter",
+        "oat",
+        source,
+        "mechanism",
+        (p,),
+        (Watched("inertia_force_max_N", "N", ""), Watched("stroke_m", "m", "mm")),
+        options={"angles": 72},
+    )
+    result = run_study(study, str(tmp_path / "r.db"))
+    assert result.failed == 0 and len(result.variants) == 3
+    forces = [v.outputs["inertia_force_max_N"] for v in result.variants]
+    assert forces[1] < forces[0] < forces[2]
+    assert len({round(v.outputs["stroke_m"], 12) for v in result.variants}) == 1
+    assert base.bodies[-1].mass == m0  # the base model is untouched
+
+
+def test_a_factorial_study_stores_the_variants_that_fail_with_their_reason(tmp_path):
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "factorial-check"
+        kind = "factorial"
+        model = "fourbar.toml"
+        analysis = "mechanism"
+        options = { angles = 36 }
+
+        [[parameters]]
+        path = "points.B.x"
+        levels = ["0 %", "5 %", "3900 %"]
+
+        [[parameters]]
+        path = "bodies.coupler.mass"
+        levels = ["-10 %", "10 %"]
+
+        [[outputs]]
+        output = "driving_torque_peak_Nm"
+        """,
+    )
+    result = run_study(load_study(path), str(tmp_path / "r.db"))
+    assert len(result.variants) == 1 + 3 * 2
+    failed = [v for v in result.variants if v.status == "failed"]
+    assert result.failed == len(failed) == 2
+    assert all(v.error and v.outputs["driving_torque_peak_Nm"] is None for v in failed)
+    ok = [v for v in result.variants if v.status == "ok"]
+    assert all(v.outputs["driving_torque_peak_Nm"] > 0 for v in ok)
+
+
+def test_comparing_variants_keeps_their_curves(tmp_path, capsys):
+    """A study too large to keep every curve: comparing two variants computes theirs and keeps them."""
+    from dataclasses import replace
+
+    from mechdyn.cli.main import main
+
+    study = replace(load_study(STUDIES / "press_support_influence.toml"), curves=0, name="few-curves")
+    db = str(tmp_path / "r.db")
+    result = run_study(study, db)
+    ids = [v.id for v in result.variants[1:3]]
+    with ResultStore(db) as store:
+        assert not any(StudyStore(store).variant(i).curves for i in ids)
+    assert main(["results", "compare", *map(str, ids), "--db", db, "--plots", str(tmp_path / "c")]) == 0
+    capsys.readouterr()
+    with ResultStore(db) as store:
+        assert all(StudyStore(store).variant(i).curves for i in ids)
+    assert list((tmp_path / "c").glob("compare_*.png"))

@@ -125,7 +125,17 @@ def _compare(args: argparse.Namespace) -> int:
     from mechdyn.units import key_unit
 
     with ResultStore(args.db) as store:
-        variants = [StudyStore(store).variant(i) for i in args.ids]
+        studies = StudyStore(store)
+        variants = [studies.variant(i) for i in args.ids]
+        if args.plots:  # a selected variant keeps its curves: computed once, from what is stored
+            from mechdyn.studies.run import recompute
+
+            for v in variants:
+                if not v.curves and v.status == "ok":
+                    ev = recompute(store, v.id, curves=True)
+                    if ev.curves:
+                        studies.add_curves(v.id, ev.curves)
+            variants = [studies.variant(i) for i in args.ids]
     keys = list(dict.fromkeys(k for v in variants for k in (*v.parameters, *v.outputs)))
     if args.json:
         print(json.dumps([jsonable(v.describe()) for v in variants], indent=2))

@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from mechdyn.studies.result import StudyResult
     from mechdyn.studies.spec import Watched
 
-__all__ = ["curves", "history", "parallel", "pareto", "sobol_bars", "tornado"]
+__all__ = ["curve_choice", "curves", "history", "parallel", "pareto", "sobol_bars", "tornado"]
 
 
 def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
@@ -148,6 +148,28 @@ def parallel(result: StudyResult, ax: Any = None) -> Any:
     return ax
 
 
+def curve_choice(variants: Sequence[StoredVariant], n: int = 3) -> tuple[str | None, list[str]]:
+    """Which stored curves to overlay: the abscissa (the first curve, a time or angle) and the
+    ``n`` curves of its length that differ most between the variants (none with fewer than two)."""
+    with_curves = [v for v in variants if v.curves]
+    if len(with_curves) < 2:
+        return None, []
+    first = with_curves[0].curves
+    x = next(iter(first))
+    size = first[x][0].shape
+    spread = {}
+    for name, (y, _) in first.items():
+        if name == x or y.shape != size or not all(name in v.curves for v in with_curves):
+            continue
+        if any(w in name for w in ("angle", "time")):
+            continue
+        stack = np.array([v.curves[name][0] for v in with_curves], dtype=float)
+        scale = float(np.abs(stack).max()) or 1.0
+        spread[name] = float(np.abs(stack - stack[0]).max()) / scale
+    chosen = [k for k, d in sorted(spread.items(), key=lambda kv: -kv[1]) if d > 0][:n]
+    return x, chosen
+
+
 def curves(variants: Sequence[StoredVariant], name: str, x: str | None = None, ax: Any = None) -> Any:
     """One stored curve of several variants, overlaid (against another stored curve, or the sample)."""
     from mechdyn.units import key_unit
@@ -158,8 +180,10 @@ def curves(variants: Sequence[StoredVariant], name: str, x: str | None = None, a
             continue
         y = v.curves[name][0]
         xs = v.curves[x][0] if x is not None and x in v.curves else np.arange(y.size)
-        ax.plot(xs, y, label=f"variant {v.id}")
+        label = f"variant {v.id}" + (" (base)" if v.position == 0 else "")
+        ax.plot(xs, y, label=label, lw=2.0 if v.position == 0 else 1.0)
     ax.set_xlabel(x or "sample")
+    ax.set_title(f"{name}: {len(variants)} variants overlaid", fontsize=10)
     ax.set_ylabel(f"{name}" + (f" [{key_unit(name)}]" if key_unit(name) else ""))
     ax.legend(fontsize=8)
     return ax

@@ -34,6 +34,8 @@ class StudyResult(Result):
     findings : dict
         What the kind found (SI): ``effects`` (oat), ``indices`` (sobol), ``best`` and
         ``improvement_percent`` (optimize), ``pareto_front``, ``targets`` (synthesis), ...
+    kept : tuple of StoredVariant
+        Variants with their curves (the base and the best; every variant of a small study).
     """
 
     study: Study
@@ -43,6 +45,7 @@ class StudyResult(Result):
     reused: int
     failed: int
     findings: dict[str, Any]
+    kept: tuple[StoredVariant, ...] = ()
 
     def summary(self) -> dict[str, Any]:
         """``study``, ``kind``, ``evaluated``, ``reused``, ``failed``, ``variants`` and the findings."""
@@ -192,6 +195,9 @@ class StudyResult(Result):
             out["pareto.png"] = lambda: sp.pareto(self)
         if kind in ("lhs", "factorial", "sobol", "optimize", "synthesis"):
             out["parallel_coordinates.png"] = lambda: sp.parallel(self)
+        x, names = sp.curve_choice(self.kept)
+        for name in names:
+            out[f"curves_{_safe(name)}.png"] = lambda name=name: sp.curves(self.kept, name, x)
         return out
 
 

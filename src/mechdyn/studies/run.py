@@ -233,12 +233,18 @@ class Runner:
             self._bar = None
             self.close()
         if len(variants) <= self.study.curves:
-            self.keep_curves(variants)
+            kept = list(variants)
         else:
-            self.keep_curves([v for v in variants if v.position == 0 or (best is not None and v.id in best)])
+            kept = [v for v in variants if v.position == 0 or (best is not None and v.id in best)]
+        self.keep_curves(kept)
+        with_curves = tuple(
+            self.store.variant(v.id) for v in kept[: self.study.curves or 2] if v.status == "ok"
+        )
         failed = sum(1 for v in variants if v.status != "ok")
         reused = len(self.reused_keys)
-        return StudyResult(self.study, self.stored, tuple(variants), self.evaluated, reused, failed, findings)
+        return StudyResult(
+            self.study, self.stored, tuple(variants), self.evaluated, reused, failed, findings, with_curves
+        )
 
 
 def _evaluate_block(evaluator: Evaluator, X: np.ndarray) -> list[Evaluation]:
@@ -276,7 +282,7 @@ def run_study(study: Study, store: Any = None, *, dask: str | None = None, progr
             rs.close()
 
 
-def recompute(store: Any, variant_id: int, *, batch: bool = True) -> Evaluation:
+def recompute(store: Any, variant_id: int, *, batch: bool = True, curves: bool = False) -> Evaluation:
     """Evaluate a stored variant again from what is stored: the study's definition, the model files
     as they were, and the variant's parameter values.
 
@@ -288,6 +294,8 @@ def recompute(store: Any, variant_id: int, *, batch: bool = True) -> Evaluation:
         As ``mechdyn results list --study NAME`` shows it.
     batch : bool
         The evaluation path: the batch (as a study evaluates) or one by one (the analysis itself).
+    curves : bool
+        Also compute the result's arrays (one by one), e.g. to keep them for a selected variant.
 
     Returns
     -------
@@ -309,7 +317,7 @@ def recompute(store: Any, variant_id: int, *, batch: bool = True) -> Evaluation:
     base = ModelSource(base.path, base.text, "", base.data, files)
     study = study_from_data(stored.model_path, stored.definition, base)
     ev = Evaluator(base, study.analysis, study.parameters, list(v.outputs), study.options, batch=batch)
-    return ev([[v.parameters[p.name] for p in study.parameters]])[0]
+    return ev([[v.parameters[p.name] for p in study.parameters]], curves=curves)[0]
 
 
 def grid(levels: Sequence[Sequence[float]]) -> np.ndarray:
