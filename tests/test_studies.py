@@ -767,3 +767,23 @@ def test_comparing_variants_keeps_their_curves(tmp_path, capsys):
     with ResultStore(db) as store:
         assert all(StudyStore(store).variant(i).curves for i in ids)
     assert list((tmp_path / "c").glob("compare_*.png"))
+
+
+def test_every_mount_stiffness_moves_together_and_the_modes_follow(tmp_path):
+    """``mounts.*.stiffness``: all the mounts' stiffnesses (three axes each) by one factor; the
+    natural frequencies scale with its square root (the mass is unchanged)."""
+    source = read(EXAMPLES / "press_on_mounts.toml")
+    tree = ModelTree(source)
+    (k,) = Parameter.from_spec(tree, "mounts.*.stiffness", levels=["-19 %"])
+    n_mounts = len(source.data["mounts"])
+    assert len(k.locations) == 3 * n_mounts
+    modes = [f"natural_frequencies_hz.{i}" for i in range(1, 7)]  # a list's items from 1
+    ev = Evaluator(source, "support", [k], modes, {"cycles": 1})
+    base, soft = (ev.one([x]) for x in (k.base, k.levels[0]))
+    assert base.status == soft.status == "ok"
+    for m in modes:
+        assert soft.outputs[m] == pytest.approx(0.9 * base.outputs[m], rel=1e-9)
+    loaded = mechdyn.io.modelfile.load_source(tree.variant(k.file_values(k.levels[0]))).model
+    ref = mechdyn.load(EXAMPLES / "press_on_mounts.toml").model
+    for a, b in zip(loaded.mounts, ref.mounts, strict=True):
+        np.testing.assert_allclose(a.stiffness, 0.81 * np.asarray(b.stiffness), rtol=1e-12)
