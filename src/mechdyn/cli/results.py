@@ -154,7 +154,7 @@ def _compare(args: argparse.Namespace) -> int:
         x = next((c for c in curves if c.startswith(("crank_angle", "time"))), None)
         for name in args.curve or [c for c in curves if c != x][:4]:
             if name not in curves:
-                raise_unknown(name, curves)
+                _unknown_curve(name, curves)
             ax = plot_curves(variants, name, x)
             print(f"plot: {save_figure(ax, Path(args.plots) / f'compare_{name}.png')}")
     elif args.plots:
@@ -162,7 +162,7 @@ def _compare(args: argparse.Namespace) -> int:
     return 0
 
 
-def raise_unknown(name: str, curves: list[str]) -> None:
+def _unknown_curve(name: str, curves: list[str]) -> None:
     from mechdyn.errors import MechdynError
 
     raise MechdynError(f"no curve {name!r} kept for these variants; kept: {', '.join(curves)}")

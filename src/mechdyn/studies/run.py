@@ -40,7 +40,6 @@ import numpy as np
 from mechdyn import __version__
 from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.evaluate import Evaluation, Evaluator
-from mechdyn.studies.spec import StudyError
 from mechdyn.studies.study import Study
 
 __all__ = ["Runner", "recompute", "run_study"]
@@ -323,12 +322,3 @@ def recompute(store: Any, variant_id: int, *, batch: bool = True, curves: bool =
 def grid(levels: Sequence[Sequence[float]]) -> np.ndarray:
     """Every combination of the levels (rows)."""
     return np.array(list(itertools.product(*levels)), dtype=float)
-
-
-def require(cond: bool, message: str) -> None:
-    if not cond:
-        raise StudyError(message)
-
-
-def finite(v: float | None) -> bool:
-    return v is not None and math.isfinite(v)
