@@ -216,10 +216,12 @@ def test_light_commands_import_no_numerical_library(argv, allowed, tmp_path):
 def test_every_command_help_ends_with_examples(capsys):
     from mechdyn.cli.main import main
 
-    for name in [*analyses(), "analyses"]:
+    commands = [[name] for name in [*analyses(), "analyses", "study", "results"]]
+    commands += [["results", sub] for sub in ("list", "show", "compare", "export", "delete")]
+    for command in commands:
         with pytest.raises(SystemExit):
-            main([name, "--help"])
-        assert "examples:\n  mechdyn " in capsys.readouterr().out, name
+            main([*command, "--help"])
+        assert "examples:\n  mechdyn " in capsys.readouterr().out, command
 
 
 def test_display_units_come_from_the_one_registry():

@@ -59,6 +59,9 @@ class Runner:
     """
 
     def __init__(self, study: Study, store: StudyStore, dask: str | None = None, progress: bool = True):
+        from mechdyn.studies.study import check
+
+        check(study)  # a study built in Python gets the study file's checks
         self.study = study
         self.store = store
         self.evaluator = Evaluator(
