@@ -55,7 +55,7 @@ def study(samples: int) -> Study:
         parameters=(*base.parameters, *extra),
         samples=samples,
         curves=0,
-        definition={**base.definition, "benchmark": samples},
+        definition={**base.definition, "study": {**base.definition["study"], "samples": samples}},
     )
 
 

@@ -93,6 +93,7 @@ def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> 
     p.add_argument("--json", action="store_true", help="print a machine-readable summary (JSON) on stdout")
     p.add_argument("--plots", metavar="DIR", help="write the plots (PNG) into DIR")
     p.add_argument("--csv", metavar="FILE", help="write the result table (columns named with their units)")
+    p.add_argument("--report", metavar="FILE", help="write a self-contained HTML report of the run")
     p.add_argument(
         "--db",
         metavar="URL",
@@ -146,6 +147,26 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
             scalars={**summary, "warnings": notes},
             arrays=result.arrays(),
         )
+    if args.report:
+        from mechdyn.reports.html import run_report, write
+
+        with ResultStore(args.db) as store:
+            where = store.where
+        report = run_report(
+            result,
+            analysis=analysis.name,
+            model_name=loaded.name,
+            model_path=source.path,
+            model_text=source.text,
+            model_sha256=source.sha256,
+            options=parameters,
+            warnings=notes,
+            run_id=run_id,
+            database=where,
+        )
+        report_file = str(write(report, args.report))
+    else:
+        report_file = None
     if args.json:
         doc = {
             "run_id": run_id,
@@ -157,6 +178,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
             **summary,
             "warnings": notes,
             "plots": plot_files,
+            "report": report_file,
         }
         print(json.dumps(jsonable(doc), indent=2))
         return 0
@@ -167,5 +189,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         print_table(t)
     for p in plot_files:
         print(f"plot: {p}")
+    if report_file:
+        print(f"report: {report_file}")
     print(f"stored as run {run_id}  (mechdyn results show {run_id})")
     return 0

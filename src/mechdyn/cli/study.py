@@ -39,7 +39,7 @@ def _run(args: argparse.Namespace) -> int:
                 s,
                 name=f"{s.name} [samples {args.samples}]",
                 samples=args.samples,
-                definition={**s.definition, "samples": args.samples},
+                definition={**s.definition, "study": {**s.definition["study"], "samples": args.samples}},
             )
             for s in studies
         ]
@@ -60,6 +60,16 @@ def _run(args: argparse.Namespace) -> int:
             prefix = "" if len(results) == 1 else _safe(result.study.name) + "_"
             for name, make in result.plots().items():
                 plot_files.append(str(save_figure(make(), Path(args.plots) / (prefix + name))))
+    if args.report:
+        from mechdyn.reports.html import study_report, write
+
+        for result in results:
+            target = Path(args.report)
+            if len(results) > 1:
+                target = target.with_name(f"{target.stem}_{_safe(result.study.name)}{target.suffix}")
+            plot_files.append(
+                str(write(study_report(result, database=where, study_text=_text(args.file)), target))
+            )
     if args.csv:
         import pandas as pd
 
@@ -122,6 +132,13 @@ def _boxes_table(results: list) -> Any:
     )
 
 
+def _text(path: str) -> str | None:
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except OSError:
+        return None
+
+
 def _safe(name: str) -> str:
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in name).strip("_")
 
@@ -143,6 +160,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object (no progress bar)")
     p.add_argument("--plots", metavar="DIR", help="write the study's plots (PNG) here")
     p.add_argument("--csv", metavar="FILE", help="write one row per variant")
+    p.add_argument("--report", metavar="FILE", help="write a self-contained HTML report of the study")
     p.add_argument(
         "--samples",
         type=int,

@@ -26,7 +26,11 @@ def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     y = np.arange(len(effects))
     v = [e["outputs"][w.key]["change_percent"] for e in effects]
     ax.barh(y, v, color=["tab:red" if x > 0 else "tab:blue" for x in v])
-    ax.set_yticks(y, [f"{e['parameter']} {e['level']}" for e in effects], fontsize=8)
+    def label(e: dict) -> str:
+        pct = e["level_percent"]
+        return f"{e['parameter']} {pct:+.0f} %" if pct is not None else f"{e['parameter']} {e['level']}"
+
+    ax.set_yticks(y, [label(e) for e in effects], fontsize=8)
     ax.axvline(0.0, color="k", lw=0.8)
     ax.set_xlabel(f"change of {w.key} from the base [%]")
     ax.set_title(f"{result.study.name}: one at a time", fontsize=10)

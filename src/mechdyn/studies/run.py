@@ -42,7 +42,7 @@ from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.evaluate import Evaluation, Evaluator
 from mechdyn.studies.study import Study
 
-__all__ = ["Runner", "recompute", "run_study"]
+__all__ = ["Runner", "recompute", "run_study", "stored_study"]
 
 
 class Runner:
@@ -304,22 +304,41 @@ def recompute(store: Any, variant_id: int, *, batch: bool = True, curves: bool =
     Evaluation
         Its outputs equal the stored ones (exactly, on the path the study took).
     """
+    from mechdyn.store.store import ResultStore
+
+    rs = store if isinstance(store, ResultStore) else ResultStore(store)
+    v = StudyStore(rs).variant(variant_id)
+    study = stored_study(rs, v.study)
+    ev = Evaluator(
+        study.source, study.analysis, study.parameters, list(v.outputs), study.options, batch=batch
+    )
+    return ev([[v.parameters[p.name] for p in study.parameters]], curves=curves)[0]
+
+
+def stored_study(store: Any, name: str) -> Study:
+    """A stored study as it ran: its stored definition on the model files as they were stored (the
+    files on disk may have changed since).
+
+    Parameters
+    ----------
+    store : ResultStore or str
+    name : str
+        The study's name.
+    """
     import tomllib
+    from dataclasses import replace
 
     from mechdyn.io.modelfile import ModelSource
     from mechdyn.store.store import ResultStore
     from mechdyn.studies.study import study_from_data
 
     rs = store if isinstance(store, ResultStore) else ResultStore(store)
-    studies = StudyStore(rs)
-    v = studies.variant(variant_id)
-    stored = studies.study(v.study)
+    stored = StudyStore(rs).study(name)
     files = {p: ModelSource(p, t, "", tomllib.loads(t)) for p, t in stored.model_files.items()}
     base = files.pop(stored.model_path)
     base = ModelSource(base.path, base.text, "", base.data, files)
     study = study_from_data(stored.model_path, stored.definition, base)
-    ev = Evaluator(base, study.analysis, study.parameters, list(v.outputs), study.options, batch=batch)
-    return ev([[v.parameters[p.name] for p in study.parameters]], curves=curves)[0]
+    return replace(study, name=stored.name)  # a box of a file with boxes, a quick form: as stored
 
 
 def grid(levels: Sequence[Sequence[float]]) -> np.ndarray:
