@@ -18,7 +18,7 @@ __all__ = ["build_parser", "main"]
 
 def build_parser() -> argparse.ArgumentParser:
     from mechdyn import __version__
-    from mechdyn.cli import analyses_command, report, results, study
+    from mechdyn.cli import analyses_command, dashboard, report, results, study
     from mechdyn.cli.runner import add_analysis_parser
     from mechdyn.registry import analyses
 
@@ -41,6 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     study.register(sub)
     results.register(sub)
     report.register(sub)
+    dashboard.register(sub)
     return p
 
 

@@ -68,7 +68,7 @@ def _report(args: argparse.Namespace) -> int:
             from mechdyn.studies.run import run_study, stored_study
 
             result = run_study(stored_study(store, args.study), store)  # every variant is reused
-            report = study_report(result, database=store.where)
+            report = study_report(result, database=store.label)
         else:
             run, result, note = run_from_store(store, args.id)
             report = run_report(
@@ -82,7 +82,7 @@ def _report(args: argparse.Namespace) -> int:
                 warnings=run.scalars.get("warnings") or (),
                 run_id=run.id,
                 created=run.created_at,
-                database=store.where,
+                database=store.label,
                 note=note,
             )
     print(f"report: {write(report, args.output)}", file=sys.stdout)

@@ -151,7 +151,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         from mechdyn.reports.html import run_report, write
 
         with ResultStore(args.db) as store:
-            where = store.where
+            where = store.label
         report = run_report(
             result,
             analysis=analysis.name,

@@ -51,7 +51,7 @@ def _run(args: argparse.Namespace) -> int:
                 study = study.starting_from([[best[p.name] for p in study.parameters]])
             progress = not args.json and sys.stderr.isatty()
             results.append(run_study(study, store, dask=args.dask, progress=progress))
-        where = store.where
+        where, label = store.where, store.label
     plot_files = []
     for result in results:
         if args.plots:
@@ -68,7 +68,7 @@ def _run(args: argparse.Namespace) -> int:
             if len(results) > 1:
                 target = target.with_name(f"{target.stem}_{_safe(result.study.name)}{target.suffix}")
             plot_files.append(
-                str(write(study_report(result, database=where, study_text=_text(args.file)), target))
+                str(write(study_report(result, database=label, study_text=_text(args.file)), target))
             )
     if args.csv:
         import pandas as pd

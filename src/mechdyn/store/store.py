@@ -185,10 +185,16 @@ class ResultStore:
     ----------
     url : str or path, optional
         See :func:`resolve_url`.
+    read_only : bool
+        Open an existing database for reading only (a dashboard): nothing is created or written.
     """
 
-    def __init__(self, url: str | os.PathLike[str] | None = None):
+    def __init__(self, url: str | os.PathLike[str] | None = None, *, read_only: bool = False):
         self.url = resolve_url(url)
+        self.read_only = read_only
+        if read_only:
+            self._open_read_only()
+            return
         import mechdyn.store.studies  # noqa: F401  (its tables live in the same database)
 
         try:
@@ -207,10 +213,39 @@ class ResultStore:
                 f"the database driver for {self.url.split(':')[0]} is not installed ({exc})"
             ) from None
 
+    def _open_read_only(self) -> None:
+        """Open for reading only: SQLite by a read-only URI (the file must exist), PostgreSQL with
+        read-only transactions; no table is created."""
+        url = make_url(self.url)
+        if url.get_backend_name() == "sqlite":
+            path = url.database or ""
+            if not path or not Path(path).is_file():
+                raise StoreError(f"no results database at {path!r}; run an analysis or a study first")
+            self._engine = create_engine(
+                f"sqlite:///file:{path}?mode=ro&uri=true", connect_args={"check_same_thread": False}
+            )
+        else:
+            self._engine = create_engine(
+                self.url, connect_args={"options": "-c default_transaction_read_only=on"}
+            )
+        try:
+            with self._engine.connect() as conn:
+                conn.execute(text("SELECT 1"))
+        except OperationalError as exc:
+            raise StoreError(f"cannot open the results database {self.where}: {exc.args[0]}") from None
+
     @property
     def where(self) -> str:
         """The database's URL as it may be shown (without a password)."""
         return make_url(self.url).render_as_string(hide_password=True)
+
+    @property
+    def label(self) -> str:
+        """A short name for reports and pages: a SQLite file's name, a server's URL (no password)."""
+        url = make_url(self.url)
+        if url.get_backend_name() == "sqlite":
+            return f"SQLite file {Path(url.database or '').name}"
+        return self.where
 
     @contextmanager
     def schema_lock(self) -> Iterator[None]:

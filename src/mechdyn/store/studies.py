@@ -247,6 +247,25 @@ class StudyStore:
                 )
             return self._study(row)
 
+    def study_by_id(self, study_id: int) -> StoredStudy | None:
+        """The study with this id, or None."""
+        with Session(self._engine) as s:
+            row = s.get(_Study, study_id)
+            return None if row is None else self._study(row)
+
+    def counts(self, study_id: int) -> dict[str, int]:
+        """How many variants a study holds, and how many of them failed."""
+        from sqlalchemy import func
+
+        with Session(self._engine) as s:
+            q = (
+                select(_Variant.status, func.count())
+                .where(_Variant.study_id == study_id)
+                .group_by(_Variant.status)
+            )
+            by = dict(s.execute(q).all())
+        return {"variants": int(sum(by.values())), "failed": int(sum(n for k, n in by.items() if k != "ok"))}
+
     def studies(self) -> list[StoredStudy]:
         with Session(self._engine) as s:
             return [self._study(r) for r in s.scalars(select(_Study).order_by(_Study.id))]

@@ -15,7 +15,16 @@ if TYPE_CHECKING:
     from mechdyn.studies.result import StudyResult
     from mechdyn.studies.spec import Watched
 
-__all__ = ["curve_choice", "curves", "history", "parallel", "pareto", "sobol_bars", "tornado"]
+__all__ = [
+    "choose_curves",
+    "curve_choice",
+    "curves",
+    "history",
+    "parallel",
+    "pareto",
+    "sobol_bars",
+    "tornado",
+]
 
 
 def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
@@ -26,6 +35,7 @@ def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     y = np.arange(len(effects))
     v = [e["outputs"][w.key]["change_percent"] for e in effects]
     ax.barh(y, v, color=["tab:red" if x > 0 else "tab:blue" for x in v])
+
     def label(e: dict) -> str:
         pct = e["level_percent"]
         return f"{e['parameter']} {pct:+.0f} %" if pct is not None else f"{e['parameter']} {e['level']}"
@@ -153,25 +163,33 @@ def parallel(result: StudyResult, ax: Any = None) -> Any:
 
 
 def curve_choice(variants: Sequence[StoredVariant], n: int = 3) -> tuple[str | None, list[str]]:
-    """Which stored curves to overlay: the abscissa (the first curve, a time or angle) and the
-    ``n`` curves of its length that differ most between the variants (none with fewer than two)."""
-    with_curves = [v for v in variants if v.curves]
-    if len(with_curves) < 2:
+    """Which stored curves of these variants to overlay (see :func:`choose_curves`)."""
+    return choose_curves([v.curves for v in variants if v.curves], n)
+
+
+def choose_curves(
+    curves: Sequence[dict[str, tuple[np.ndarray, str]]], n: int = 3
+) -> tuple[str | None, list[str]]:
+    """Which of several runs' or variants' curves to overlay: the abscissa (the first curve, a time
+    or an angle) and the ``n`` curves of its length, kept by all, that differ most between them
+    (for one alone: the first ``n``); none with no curve."""
+    if not curves:
         return None, []
-    first = with_curves[0].curves
+    first = curves[0]
     x = next(iter(first))
-    size = first[x][0].shape
+    size = np.asarray(first[x][0]).shape
     spread = {}
     for name, (y, _) in first.items():
-        if name == x or y.shape != size or not all(name in v.curves for v in with_curves):
+        if name == x or np.asarray(y).shape != size or not all(name in c for c in curves):
             continue
         if any(w in name for w in ("angle", "time")):
             continue
-        stack = np.array([v.curves[name][0] for v in with_curves], dtype=float)
+        stack = np.array([np.asarray(c[name][0], dtype=float) for c in curves])
         scale = float(np.abs(stack).max()) or 1.0
         spread[name] = float(np.abs(stack - stack[0]).max()) / scale
-    chosen = [k for k, d in sorted(spread.items(), key=lambda kv: -kv[1]) if d > 0][:n]
-    return x, chosen
+    if len(curves) == 1:
+        return x, list(spread)[:n]
+    return x, [k for k, d in sorted(spread.items(), key=lambda kv: -kv[1]) if d > 0][:n]
 
 
 def curves(variants: Sequence[StoredVariant], name: str, x: str | None = None, ax: Any = None) -> Any:

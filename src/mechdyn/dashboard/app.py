@@ -1,0 +1,316 @@
+"""The web dashboard over a results database (``mechdyn dashboard``).
+
+Starlette (a small, maintained ASGI toolkit) with Jinja2 templates, served by uvicorn; interactive
+plots by Plotly.js, served from the installed ``plotly`` package (never a CDN: the machines that run
+it may have no internet). The database is opened read-only; a request reaches it only as integer
+ids and filter values bound as SQL parameters, never as a file path; every value from the database
+is escaped by the templates; a missing run or study is a 404 page.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from datetime import date, datetime
+from pathlib import Path
+from typing import Any
+
+from mechdyn.reports.html import _cell
+from mechdyn.store.store import ResultStore, StoreError
+from mechdyn.store.studies import StudyStore
+
+__all__ = ["create_app"]
+
+MAX_POINTS = 20_000  # variants drawn in a study's plots
+MAX_ROWS = 200  # variants listed in a study's table
+MAX_RUNS = 500
+
+
+def _plotly_js() -> Path:
+    import plotly
+
+    return Path(plotly.__file__).parent / "package_data" / "plotly.min.js"
+
+
+def _date(text: str | None) -> date | None:
+    try:
+        return date.fromisoformat(text) if text else None
+    except ValueError:
+        return None
+
+
+def _utc(t: datetime) -> str:
+    return t.strftime("%Y-%m-%d %H:%M:%S")
+
+
+def _number(v: Any) -> float | None:
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
+
+
+def _line_figures(
+    curves: list[tuple[str, dict[str, tuple[Any, str]]]], limit: int = 4
+) -> list[dict[str, Any]]:
+    """Plotly figures of curves kept by one or several runs or variants, overlaid: the curves that
+    differ most between them, against their time or angle (:func:`mechdyn.studies.plots.choose_curves`)."""
+    import numpy as np
+
+    from mechdyn.studies.plots import choose_curves
+
+    x, names = choose_curves([c for _, c in curves], limit)
+    figures = []
+    for name in names:
+        unit = curves[0][1][name][1]
+        data = [
+            {
+                "x": np.asarray(c[x][0], dtype=float).tolist(),
+                "y": np.asarray(c[name][0], dtype=float).tolist(),
+                "name": label,
+                "mode": "lines",
+                "type": "scatter",
+            }
+            for label, c in curves
+        ]
+        layout = {
+            "title": {"text": name},
+            "xaxis": {"title": {"text": x}},
+            "yaxis": {"title": {"text": f"{name} [{unit}]" if unit else name}},
+            "margin": {"t": 40},
+        }
+        figures.append({"data": data, "layout": layout})
+    return figures
+
+
+def create_app(url: str | None = None) -> Any:
+    """The dashboard application over the results database at ``url`` (opened read-only).
+
+    Parameters
+    ----------
+    url : str, optional
+        A SQLite file or a SQLAlchemy URL (default: ``MECHDYN_DB``, else ``mechdyn.db``).
+
+    Returns
+    -------
+    starlette.applications.Starlette
+    """
+    from jinja2 import Environment, PackageLoader, select_autoescape
+    from starlette.applications import Starlette
+    from starlette.exceptions import HTTPException
+    from starlette.requests import Request
+    from starlette.responses import FileResponse, HTMLResponse, JSONResponse
+    from starlette.routing import Route
+
+    store = ResultStore(url, read_only=True)
+    studies = StudyStore(store)
+    env = Environment(
+        loader=PackageLoader("mechdyn.dashboard", "templates"), autoescape=select_autoescape(default=True)
+    )
+    plotly_js = _plotly_js()
+
+    def page(name: str, status: int = 200, **context: Any) -> HTMLResponse:
+        html = env.get_template(name).render(database=store.label, **context)
+        return HTMLResponse(html, status_code=status)
+
+    def missing(message: str) -> HTMLResponse:
+        return page("missing.html.j2", 404, message=message)
+
+    async def index(request: Request) -> HTMLResponse:
+        q = request.query_params
+        filters = {k: q.get(k, "") for k in ("analysis", "model", "since", "until", "study")}
+        since, until = _date(filters["since"]), _date(filters["until"])
+        runs = store.runs(analysis=filters["analysis"] or None, limit=MAX_RUNS)
+
+        def keep(created: datetime, model: str) -> bool:
+            d = created.date()
+            return (
+                (since is None or d >= since)
+                and (until is None or d <= until)
+                and filters["model"].lower() in model.lower()
+            )
+
+        runs = [r for r in runs if keep(r.created_at, r.model_name + " " + r.model_path)]
+        rows = []
+        for s in studies.studies():
+            if filters["study"].lower() not in s.name.lower():
+                continue
+            if filters["analysis"] and s.analysis != filters["analysis"]:
+                continue
+            if not keep(s.created_at, s.model_path):
+                continue
+            counts = studies.counts(s.id)
+            rows.append(
+                {
+                    "id": s.id,
+                    "name": s.name,
+                    "kind": s.kind,
+                    "analysis": s.analysis,
+                    "model": s.model_path,
+                    "variants": counts["variants"],
+                    "failed": counts["failed"],
+                    "created": _utc(s.created_at),
+                }
+            )
+        from mechdyn.registry import analyses
+
+        return page(
+            "index.html.j2",
+            filters=filters,
+            analyses=list(analyses()),
+            studies=rows,
+            runs=[
+                {
+                    "id": r.id,
+                    "analysis": r.analysis,
+                    "model_name": r.model_name,
+                    "model_path": r.model_path,
+                    "created": _utc(r.created_at),
+                }
+                for r in runs
+            ],
+            truncated=len(runs) >= MAX_RUNS,
+        )
+
+    async def run_page(request: Request) -> HTMLResponse:
+        run_id = request.path_params["run_id"]
+        try:
+            run = store.get(run_id)
+        except StoreError:
+            return missing(f"There is no run {run_id} in this database.")
+        from mechdyn.reports.html import _summary_table
+
+        table = _summary_table(run.scalars, {})
+        summary = [(r[0].text, r[1], r[2].text) for r in table.rows]
+        figures = _line_figures([(f"run {run.id}", run.arrays)])
+        return page(
+            "run.html.j2",
+            run=run,
+            created=_utc(run.created_at),
+            options=json.dumps(run.parameters, ensure_ascii=False),
+            summary=summary,
+            warnings=run.scalars.get("warnings") or [],
+            figures=figures,
+        )
+
+    async def compare(request: Request) -> HTMLResponse:
+        q = request.query_params
+        try:
+            run_ids = [int(x) for x in q.getlist("run")]
+            variant_ids = [int(x) for x in q.getlist("variant")]
+        except ValueError:
+            return missing("Runs and variants are given by their numbers.")
+        from mechdyn.units import key_unit
+
+        columns: list[str] = []
+        values: list[dict[str, Any]] = []
+        units: dict[str, str] = {}
+        curves: list[tuple[str, dict[str, Any]]] = []
+        try:
+            for i in run_ids:
+                r = store.get(i)
+                columns.append(f"run {i} ({r.model_name})")
+                flat = {k: v for k, v in r.scalars.items() if k != "warnings"}
+                values.append(flat)
+                curves.append((f"run {i}", r.arrays))
+            for i in variant_ids:
+                v = studies.variant(i)
+                columns.append(f"variant {i} ({v.study})")
+                values.append({**v.given, **v.outputs, "status": v.status})
+                units.update({k: "" for k in v.given})
+                if v.curves:
+                    curves.append((f"variant {i}", v.curves))
+        except StoreError as exc:
+            return missing(str(exc))
+        keys = list(dict.fromkeys(k for row in values for k in row))
+        rows = []
+        for k in keys:
+            unit = units.get(k, key_unit(k.split(".")[-1]) or "")
+            rows.append((k, "" if unit == "1" else unit, [_cell(row.get(k)) for row in values]))
+        what = "runs" if run_ids else "variants"
+        heading = f"{len(columns)} {what} side by side" if columns else "Compare"
+        return page(
+            "compare.html.j2",
+            heading=heading,
+            what=what,
+            columns=columns,
+            rows=rows,
+            figures=_line_figures(curves) if len(curves) == len(columns) else [],
+        )
+
+    async def study_page(request: Request) -> HTMLResponse:
+        study_id = request.path_params["study_id"]
+        st = studies.study_by_id(study_id)
+        if st is None:
+            return missing(f"There is no study {study_id} in this database.")
+        variants = studies.variants(st.name)
+        from mechdyn.units import key_unit
+
+        def unit(key: str) -> str:
+            u = key_unit(key.split(".")[-1])
+            return f" [{u}]" if u and u != "1" else ""
+
+        axes = [*(f"{p} [SI]" for p in st.parameter_names), *(o + unit(o) for o in st.output_names)]
+        ok = [v for v in variants if v.status == "ok"][:MAX_POINTS]
+        points = {
+            "ids": [v.id for v in ok],
+            "values": [
+                [_number(v.parameters.get(p)) for p in st.parameter_names]
+                + [_number(v.outputs.get(o)) for o in st.output_names]
+                for v in ok
+            ],
+        }
+        table = [
+            {
+                "id": v.id,
+                "status": v.status,
+                "cells": [_cell(v.parameters.get(p)) for p in st.parameter_names]
+                + [_cell(v.outputs.get(o)) for o in st.output_names],
+                "error": v.error or "",
+            }
+            for v in variants[:MAX_ROWS]
+        ]
+        return page(
+            "study.html.j2",
+            study=st,
+            variants=variants,
+            failed=sum(1 for v in variants if v.status != "ok"),
+            created=_utc(st.created_at),
+            axes=axes,
+            points=points,
+            table=table,
+            definition=json.dumps(st.definition, indent=2, default=str, ensure_ascii=False),
+        )
+
+    async def study_count(request: Request) -> JSONResponse:
+        st = studies.study_by_id(request.path_params["study_id"])
+        if st is None:
+            raise HTTPException(404)
+        return JSONResponse(studies.counts(st.id))
+
+    async def static_plotly(request: Request) -> FileResponse:
+        return FileResponse(plotly_js, media_type="application/javascript")
+
+    async def not_found(request: Request, exc: Exception) -> HTMLResponse:
+        return missing(f"There is nothing at {request.url.path}.")
+
+    app = Starlette(
+        routes=[
+            Route("/", index),
+            Route("/runs/{run_id:int}", run_page),
+            Route("/compare", compare),
+            Route("/studies/{study_id:int}", study_page),
+            Route("/api/studies/{study_id:int}/count", study_count),
+            Route("/static/plotly.min.js", static_plotly),
+        ],
+        exception_handlers={404: not_found},
+    )
+    app.state.store = store
+    return app
+
+
+def serve(url: str | None = None, host: str = "127.0.0.1", port: int = 8050) -> None:
+    """Serve the dashboard until interrupted (``mechdyn dashboard``)."""
+    import uvicorn
+
+    app = create_app(url)
+    where = app.state.store.where
+    print(f"mechdyn dashboard on http://{host}:{port}/ over {where} (read-only); Ctrl-C stops it")
+    uvicorn.run(app, host=host, port=port, log_level="warning")

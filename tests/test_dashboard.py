@@ -1,0 +1,172 @@
+"""The web dashboard, driven in headless Chromium by Playwright over a database filled by real runs
+and a real study: list → open a run → open a study → pick variants → compare them."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import threading
+import time
+import urllib.error
+import urllib.request
+
+import pytest
+
+from conftest import EXAMPLES
+from mechdyn.cli.main import main
+
+
+def _chromium() -> str:
+    path = os.environ.get("MECHDYN_TEST_CHROMIUM") or shutil.which("chromium")
+    if path:
+        return path
+    if os.environ.get("CI"):
+        pytest.fail("no Chromium in CI: run the tests through scripts/with-chromium")
+    pytest.skip("no Chromium: run the tests through scripts/with-chromium")
+
+
+@pytest.fixture(scope="module")
+def database(tmp_path_factory):
+    """Real runs and a real study, as a user makes them."""
+    d = tmp_path_factory.mktemp("dashboard")
+    db = str(d / "results.db")
+    evil = (
+        (EXAMPLES / "fourbar.toml")
+        .read_text()
+        .replace('name = "crank-rocker four-bar"', 'name = "<script>alert(1)</script>"')
+    )
+    (d / "evil.toml").write_text(evil)
+    for argv in (
+        ["support", str(EXAMPLES / "press_on_support.toml"), "--cycles", "1"],
+        ["modal", str(EXAMPLES / "turret_indexing.toml")],
+        ["mechanism", str(d / "evil.toml"), "--angles", "36"],
+        ["study", str(EXAMPLES / "studies" / "press_support_influence.toml")],
+    ):
+        assert main([*argv, "--db", db]) == 0
+    return db
+
+
+@pytest.fixture(scope="module")
+def server(database):
+    import uvicorn
+
+    from mechdyn.dashboard.app import create_app
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    srv = uvicorn.Server(
+        uvicorn.Config(create_app(database), host="127.0.0.1", port=port, log_level="warning")
+    )
+    thread = threading.Thread(target=srv.run, daemon=True)
+    thread.start()
+    deadline = time.time() + 30
+    while not srv.started and time.time() < deadline:
+        time.sleep(0.05)
+    yield f"http://127.0.0.1:{port}"
+    srv.should_exit = True
+    thread.join(10)
+
+
+def _get(url: str) -> tuple[int, str]:
+    try:
+        with urllib.request.urlopen(url) as r:
+            return r.status, r.read().decode()
+    except urllib.error.HTTPError as e:
+        return e.code, e.read().decode()
+
+
+def test_missing_pages_are_404_pages_and_user_text_is_escaped(server):
+    status, body = _get(server + "/runs/999")
+    assert status == 404 and "There is no run 999" in body and "Traceback" not in body
+    assert _get(server + "/studies/999")[0] == 404
+    assert _get(server + "/compare?run=x")[0] == 404
+    assert _get(server + "/../../etc/passwd")[0] == 404
+    status, body = _get(server + "/")
+    assert status == 200 and "<script>alert(1)</script>" not in body and "&lt;script&gt;" in body
+    status, js = _get(server + "/static/plotly.min.js")
+    assert status == 200 and len(js) > 1_000_000  # served from the installed package, no CDN
+
+
+def test_the_database_is_opened_read_only(database):
+    from mechdyn.store.store import ResultStore
+
+    store = ResultStore(database, read_only=True)
+    with pytest.raises(Exception, match=r"readonly|read-only|read only"):
+        store.record(
+            analysis="x",
+            model_name="x",
+            model_path="x",
+            model_text="",
+            model_sha256="x",
+            parameters={},
+            scalars={},
+        )
+
+
+def test_the_dashboard_binds_this_machine_only_by_default():
+    from mechdyn.cli.main import build_parser
+
+    args = build_parser().parse_args(["dashboard"])
+    assert args.host == "127.0.0.1"
+
+
+def test_a_designer_goes_from_the_list_to_a_comparison_in_a_real_browser(server):
+    from playwright.sync_api import expect, sync_playwright
+
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=_chromium(), args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1280, "height": 900})
+        # the list: runs and the study, filtered by analysis
+        page.goto(server + "/")
+        expect(page.locator("h1")).to_have_text("Runs and studies")
+        expect(page.locator("#runs tbody tr")).to_have_count(3)
+        expect(page.locator("#studies")).to_contain_text("press-support-influence")
+        page.select_option("select[name=analysis]", "modal")
+        page.click("button[type=submit]")
+        expect(page.locator("#runs tbody tr")).to_have_count(1)
+        page.goto(server + "/")
+        # open a run: its summary with units, its curves drawn by Plotly, its model file
+        page.locator("#runs a", has_text="1").first.click()
+        expect(page.locator("h1")).to_contain_text("support of press A on its support")
+        expect(page.locator("#summary")).to_contain_text("transmitted_force_range_N")
+        expect(page.locator(".plot .main-svg").first).to_be_visible()
+        expect(page.locator("pre")).to_contain_text("[excitation]")
+        # open the study; pick one variant by clicking its point in the scatter plot
+        page.goto(server + "/")
+        page.locator("#studies a", has_text="press-support-influence").click()
+        expect(page.locator("h1")).to_contain_text("press-support-influence")
+        expect(page.locator("#variants tbody tr")).to_have_count(7)
+        page.select_option("#xaxis", index=0)
+        page.select_option("#yaxis", label="displacement_max_m [m]")
+        x, y = page.evaluate(
+            """() => {
+              const gd = document.getElementById('scatter'), fl = gd._fullLayout, xs = gd.data[0].x;
+              const i = xs.indexOf(Math.min(...xs));  // the softest support
+              const box = gd.querySelector('.nsewdrag').getBoundingClientRect();
+              return [box.left + fl.xaxis.l2p(xs[i]), box.top + fl.yaxis.l2p(gd.data[0].y[i])];
+            }"""
+        )
+        page.mouse.click(x, y)
+        expect(page.locator("#selected")).not_to_have_text("none")
+        picked = page.locator("#selected").inner_text()
+        # select several with the box tool: drag over the whole plot
+        box = page.locator("#scatter .nsewdrag").bounding_box()
+        page.mouse.move(box["x"] + 2, box["y"] + 2)
+        page.mouse.down()
+        page.mouse.move(box["x"] + box["width"] - 2, box["y"] + box["height"] - 2, steps=8)
+        page.mouse.up()
+        expect(page.locator("#selected")).to_contain_text(",")
+        assert len(page.locator("#selected").inner_text().split(",")) >= 4
+        # compare them: scalars side by side with units, curves overlaid with zoom
+        page.click("#compare")
+        expect(page.locator("h1")).to_contain_text("variants side by side")
+        expect(page.locator("#side-by-side")).to_contain_text("transmitted_force_range_N")
+        expect(page.locator("#side-by-side")).to_contain_text("N/m")
+        expect(page.locator(".plot .main-svg").first).to_be_visible()
+        expect(page.locator(".modebar").first).to_be_attached()  # Plotly's zoom tools
+        # one variant alone, from the click above
+        page.goto(server + "/compare?variant=" + picked.split(",")[0].strip())
+        expect(page.locator("#side-by-side thead th")).to_have_count(3)
+        browser.close()
