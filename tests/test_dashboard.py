@@ -140,6 +140,8 @@ def test_a_designer_goes_from_the_list_to_a_comparison_in_a_real_browser(server)
         expect(page.locator("#variants tbody tr")).to_have_count(7)
         page.select_option("#xaxis", index=0)
         page.select_option("#yaxis", label="displacement_max_m [m]")
+        expect(page.locator("table.findings").first).to_contain_text("support.stiffness")  # the OAT table
+        page.locator("#scatter").scroll_into_view_if_needed()
         x, y = page.evaluate(
             """() => {
               const gd = document.getElementById('scatter'), fl = gd._fullLayout, xs = gd.data[0].x;
@@ -152,6 +154,7 @@ def test_a_designer_goes_from_the_list_to_a_comparison_in_a_real_browser(server)
         expect(page.locator("#selected")).not_to_have_text("none")
         picked = page.locator("#selected").inner_text()
         # select several with the box tool: drag over the whole plot
+        page.locator("#scatter").scroll_into_view_if_needed()
         box = page.locator("#scatter .nsewdrag").bounding_box()
         page.mouse.move(box["x"] + 2, box["y"] + 2)
         page.mouse.down()

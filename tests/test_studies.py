@@ -787,3 +787,41 @@ def test_every_mount_stiffness_moves_together_and_the_modes_follow(tmp_path):
     ref = mechdyn.load(EXAMPLES / "press_on_mounts.toml").model
     for a, b in zip(loaded.mounts, ref.mounts, strict=True):
         np.testing.assert_allclose(a.stiffness, 0.81 * np.asarray(b.stiffness), rtol=1e-12)
+
+
+def test_a_stored_study_gives_its_findings_from_the_database_alone(tmp_path):
+    """What a dashboard shows: the findings rebuilt from the stored variants, read-only, equal the
+    run's own (one-at-a-time); for an optimization the stored best keeps its constraints."""
+    from mechdyn.studies.run import stored_result
+
+    db = str(tmp_path / "r.db")
+    ran = run_study(load_study(STUDIES / "press_support_influence.toml"), db)
+    again = stored_result(db, "press-support-influence")
+    assert again.findings["effects"] == ran.findings["effects"]
+    assert again.evaluated == 0 and len(again.variants) == 7
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "opt-stored"
+        kind = "optimize"
+        model = "press_on_support.toml"
+        analysis = "support"
+        samples = 12
+
+        [[parameters]]
+        path = "support.stiffness"
+        range = "±30 %"
+
+        [[objectives]]
+        output = "displacement_max_m"
+
+        [[constraints]]
+        output = "transmitted_force_range_N"
+        max = "86 tonf"
+        """,
+    )
+    opt = run_study(load_study(path), db)
+    stored = stored_result(db, "opt-stored")
+    assert stored.findings["best"]["variant"] == opt.findings["best"]["variant"]
+    assert all(c["holds"] for c in stored.findings["best"]["constraints"])

@@ -267,8 +267,22 @@ def create_app(url: str | None = None) -> Any:
             }
             for v in variants[:MAX_ROWS]
         ]
+        from mechdyn.reports.html import _figures, _table
+        from mechdyn.studies.run import stored_result
+        from mechdyn.studies.spec import StudyError
+
+        try:
+            result = stored_result(store, st.name)
+            findings = [_table(t) for t in result.tables()]
+            figures = _figures(result.plots())
+            note = ""
+        except (StudyError, StoreError) as exc:
+            findings, figures, note = [], [], f"The findings appear when every variant is stored: {exc}"
         return page(
             "study.html.j2",
+            findings=findings,
+            figures=figures,
+            findings_note=note,
             study=st,
             variants=variants,
             failed=sum(1 for v in variants if v.status != "ok"),

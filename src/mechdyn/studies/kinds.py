@@ -402,3 +402,57 @@ KIND_RUNNERS: dict[str, Callable[[Any], Findings]] = {
     "optimize": optimize,
     "synthesis": synthesis,
 }
+
+
+def from_stored(study: Any, variants: list[StoredVariant]) -> Findings:
+    """What a stored study found, from its stored variants alone (nothing evaluated or written): the
+    sweeps' and Sobol's findings as a run gives them; for an optimization or a synthesis, the best
+    variant that keeps every constraint (or the Pareto front) among those stored.
+
+    Raises
+    ------
+    StudyError
+        When a sweep's variants are not all stored yet (the study is still running).
+    """
+    from mechdyn.store.studies import variant_key
+
+    by_key = {v.key: v for v in variants}
+
+    class _Stored:
+        """The part of a runner that the kinds use, answered from the stored variants."""
+
+        def __init__(self) -> None:
+            self.study = study
+
+        def base_row(self) -> np.ndarray:
+            return np.array([p.base for p in study.parameters])
+
+        def evaluate(self, X: Any, objective: Any = None) -> list[StoredVariant]:
+            rows = np.atleast_2d(np.asarray(X, dtype=float))
+            missing = [k for k in map(variant_key, rows) if k not in by_key]
+            if missing:
+                raise StudyError(
+                    f"{len(missing)} of the study's {len(rows)} variants are not stored yet "
+                    "(is it still running?)"
+                )
+            return [by_key[variant_key(r)] for r in rows]
+
+    if study.kind in ("oat", "factorial", "lhs", "sobol"):
+        return KIND_RUNNERS[study.kind](_Stored())
+    base = next((v for v in variants if v.position == 0), variants[0] if variants else None)
+    findings: dict[str, Any] = {"base": _describe(study, base) if base is not None else None}
+    if study.kind == "optimize" and len(study.objectives) > 1:
+        front = _pareto(study, [base, *variants] if base is not None else variants)
+        findings["pareto_front"] = [_describe(study, v) for v in front]
+        return findings, variants, {v.id for v in front}
+    if study.kind == "optimize":
+        best = _best(study, variants)
+    else:
+        feasible = [v for v in variants if _feasible(study, v) and v.objective is not None]
+        best = min(feasible, key=lambda v: v.objective) if feasible else None
+    findings["best"] = _describe(study, best) if best is not None else None
+    if study.kind == "optimize" and best is not None and base is not None:
+        o = study.objectives[0]
+        y0, y1 = _value(base, o.output.key), _value(best, o.output.key)
+        findings["improvement_percent"] = 100.0 * (y0 - y1) / abs(y0) * o.sign if y0 else None
+    return findings, variants, {best.id} if best is not None else None

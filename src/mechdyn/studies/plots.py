@@ -187,8 +187,8 @@ def choose_curves(
         stack = np.array([np.asarray(c[name][0], dtype=float) for c in curves])
         scale = float(np.abs(stack).max()) or 1.0
         spread[name] = float(np.abs(stack - stack[0]).max()) / scale
-    if len(curves) == 1:
-        return x, list(spread)[:n]
+    if len(curves) == 1:  # one alone: its curves that are not flat
+        return x, [k for k in spread if np.ptp(np.asarray(first[k][0], dtype=float)) > 0][:n]
     return x, [k for k, d in sorted(spread.items(), key=lambda kv: -kv[1]) if d > 0][:n]
 
 

@@ -42,7 +42,7 @@ from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.evaluate import Evaluation, Evaluator
 from mechdyn.studies.study import Study
 
-__all__ = ["Runner", "recompute", "run_study", "stored_study"]
+__all__ = ["Runner", "recompute", "run_study", "stored_result", "stored_study"]
 
 
 class Runner:
@@ -339,6 +339,36 @@ def stored_study(store: Any, name: str) -> Study:
     base = ModelSource(base.path, base.text, "", base.data, files)
     study = study_from_data(stored.model_path, stored.definition, base)
     return replace(study, name=stored.name)  # a box of a file with boxes, a quick form: as stored
+
+
+def stored_result(store: Any, name: str) -> Any:
+    """A stored study's result from the database alone, without evaluating or writing anything (a
+    read-only dashboard): :func:`mechdyn.studies.kinds.from_stored`.
+
+    Parameters
+    ----------
+    store : ResultStore or str
+    name : str
+
+    Returns
+    -------
+    StudyResult
+        ``evaluated`` and ``reused`` are 0 (nothing ran); ``kept`` holds the base and the best with
+        their curves where stored.
+    """
+    from mechdyn.store.store import ResultStore
+    from mechdyn.studies.kinds import from_stored
+    from mechdyn.studies.result import StudyResult
+
+    rs = store if isinstance(store, ResultStore) else ResultStore(store, read_only=True)
+    studies = StudyStore(rs)
+    study = stored_study(rs, name)
+    variants = studies.variants(name)
+    findings, ordered, best = from_stored(study, variants)
+    kept = [v for v in ordered if v.position == 0 or (best is not None and v.id in best)]
+    with_curves = tuple(studies.variant(v.id) for v in kept[:4])
+    failed = sum(1 for v in ordered if v.status != "ok")
+    return StudyResult(study, studies.study(name), tuple(ordered), 0, 0, failed, findings, with_curves)
 
 
 def grid(levels: Sequence[Sequence[float]]) -> np.ndarray:
