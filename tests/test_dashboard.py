@@ -173,3 +173,33 @@ def test_a_designer_goes_from_the_list_to_a_comparison_in_a_real_browser(server)
         page.goto(server + "/compare?variant=" + picked.split(",")[0].strip())
         expect(page.locator("#side-by-side thead th")).to_have_count(3)
         browser.close()
+
+
+def test_a_study_page_reloads_while_the_study_adds_variants(server, database):
+    from playwright.sync_api import expect, sync_playwright
+
+    from mechdyn.store.store import ResultStore
+    from mechdyn.store.studies import StudyStore, variant_key
+
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=_chromium(), args=["--no-sandbox"])
+        page = browser.new_page()
+        page.goto(server + "/")
+        page.locator("#studies a", has_text="press-support-influence").click()
+        expect(page.locator("#count")).to_contain_text("7 (0 failed)")
+        with ResultStore(database) as store:  # another process adding a variant, as a running study does
+            studies = StudyStore(store)
+            st = studies.study("press-support-influence")
+            row = {
+                "key": variant_key([1.0, 2.0]),
+                "position": 7,
+                "parameters": {"support.stiffness": 3e8, "support.damping_ratio": 0.05},
+                "given": {},
+                "outputs": {},
+                "status": "failed",
+                "error": "added by the test",
+                "model_sha256": st.model_sha256,
+            }
+            studies.add(st.id, [row])
+        expect(page.locator("#count")).to_contain_text("8 (1 failed)", timeout=15_000)
+        browser.close()
