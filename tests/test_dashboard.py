@@ -203,3 +203,42 @@ def test_a_study_page_reloads_while_the_study_adds_variants(server, database):
             studies.add(st.id, [row])
         expect(page.locator("#count")).to_contain_text("8 (1 failed)", timeout=15_000)
         browser.close()
+
+
+@pytest.mark.postgres
+def test_the_dashboard_serves_a_postgresql_database_read_only(postgres_url):
+    import uvicorn
+
+    from mechdyn.dashboard.app import create_app
+    from mechdyn.store.store import ResultStore
+
+    assert main(["modal", str(EXAMPLES / "turret_indexing.toml"), "--db", postgres_url, "--json"]) == 0
+    store = ResultStore(postgres_url, read_only=True)
+    with pytest.raises(Exception, match=r"read-only transaction"):
+        store.record(
+            analysis="x",
+            model_name="x",
+            model_path="x",
+            model_text="",
+            model_sha256="x",
+            parameters={},
+            scalars={},
+        )
+    store.close()
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    app = create_app(postgres_url)
+    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
+    thread = threading.Thread(target=srv.run, daemon=True)
+    thread.start()
+    while not srv.started:
+        time.sleep(0.05)
+    try:
+        status, body = _get(f"http://127.0.0.1:{port}/runs/1")
+        assert status == 200 and "turret" in body.lower() and "frequencies_hz" in body
+        assert "password" not in body
+    finally:
+        srv.should_exit = True
+        thread.join(10)
+        app.state.store.close()

@@ -125,6 +125,9 @@ def _summary_table(summary: Mapping[str, Any], units: Mapping[str, str]) -> Html
             for k, v in value.items():
                 add([*path, str(k)], v, key_unit(str(k)) or unit)
             return
+        if isinstance(value, (list, tuple)) and any(isinstance(v, Mapping) for v in value):
+            rows.append([Cell(" · ".join(path)), Cell(f"{len(value)} rows: see the tables below"), Cell("")])
+            return
         rows.append([Cell(" · ".join(path)), _cell(value), Cell(unit if unit != "1" else "")])
 
     for key, value in summary.items():
