@@ -10,6 +10,7 @@ import threading
 import time
 import urllib.error
 import urllib.request
+from contextlib import contextmanager
 
 import pytest
 
@@ -47,26 +48,53 @@ def database(tmp_path_factory):
     return db
 
 
-@pytest.fixture(scope="module")
-def server(database):
+@contextmanager
+def _serving(app):
+    """A real uvicorn server for ``app`` on a free local port, in a thread; yields its address."""
     import uvicorn
-
-    from mechdyn.dashboard.app import create_app
 
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    srv = uvicorn.Server(
-        uvicorn.Config(create_app(database), host="127.0.0.1", port=port, log_level="warning")
-    )
+    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
     thread = threading.Thread(target=srv.run, daemon=True)
     thread.start()
     deadline = time.time() + 30
     while not srv.started and time.time() < deadline:
         time.sleep(0.05)
-    yield f"http://127.0.0.1:{port}"
-    srv.should_exit = True
-    thread.join(10)
+    try:
+        yield f"http://127.0.0.1:{port}"
+    finally:
+        srv.should_exit = True
+        thread.join(10)
+        app.state.store.close()
+
+
+def _write_refused(url: str, message: str) -> None:
+    from mechdyn.store.store import ResultStore
+
+    store = ResultStore(url, read_only=True)
+    try:
+        with pytest.raises(Exception, match=message):
+            store.record(
+                analysis="x",
+                model_name="x",
+                model_path="x",
+                model_text="",
+                model_sha256="x",
+                parameters={},
+                scalars={},
+            )
+    finally:
+        store.close()
+
+
+@pytest.fixture(scope="module")
+def server(database):
+    from mechdyn.dashboard.app import create_app
+
+    with _serving(create_app(database)) as address:
+        yield address
 
 
 def _get(url: str) -> tuple[int, str]:
@@ -90,19 +118,7 @@ def test_missing_pages_are_404_pages_and_user_text_is_escaped(server):
 
 
 def test_the_database_is_opened_read_only(database):
-    from mechdyn.store.store import ResultStore
-
-    store = ResultStore(database, read_only=True)
-    with pytest.raises(Exception, match=r"readonly|read-only|read only"):
-        store.record(
-            analysis="x",
-            model_name="x",
-            model_path="x",
-            model_text="",
-            model_sha256="x",
-            parameters={},
-            scalars={},
-        )
+    _write_refused(database, r"readonly|read-only|read only")
 
 
 def test_the_dashboard_binds_this_machine_only_by_default():
@@ -207,38 +223,10 @@ def test_a_study_page_reloads_while_the_study_adds_variants(server, database):
 
 @pytest.mark.postgres
 def test_the_dashboard_serves_a_postgresql_database_read_only(postgres_url):
-    import uvicorn
-
     from mechdyn.dashboard.app import create_app
-    from mechdyn.store.store import ResultStore
 
     assert main(["modal", str(EXAMPLES / "turret_indexing.toml"), "--db", postgres_url, "--json"]) == 0
-    store = ResultStore(postgres_url, read_only=True)
-    with pytest.raises(Exception, match=r"read-only transaction"):
-        store.record(
-            analysis="x",
-            model_name="x",
-            model_path="x",
-            model_text="",
-            model_sha256="x",
-            parameters={},
-            scalars={},
-        )
-    store.close()
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    app = create_app(postgres_url)
-    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
-    thread = threading.Thread(target=srv.run, daemon=True)
-    thread.start()
-    while not srv.started:
-        time.sleep(0.05)
-    try:
-        status, body = _get(f"http://127.0.0.1:{port}/runs/1")
-        assert status == 200 and "turret" in body.lower() and "frequencies_hz" in body
-        assert "password" not in body
-    finally:
-        srv.should_exit = True
-        thread.join(10)
-        app.state.store.close()
+    _write_refused(postgres_url, r"read-only transaction")
+    with _serving(create_app(postgres_url)) as address:
+        status, body = _get(address + "/runs/1")
+    assert status == 200 and "turret" in body.lower() and "frequencies_hz" in body
