@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import mechdyn
+from conftest import EXAMPLES
 from mechdyn.errors import ModelFileError, ModelWarning
 
 GOOD = """
@@ -412,3 +413,23 @@ def test_speed_profile_table(tmp_path):
     bad = text.replace('["0 deg", "100 rad/s"], ', "")
     with pytest.raises(ModelFileError, match=r"\[driver\]: speed_profile angles must start at 0 deg"):
         mechdyn.load(_write(tmp_path, bad))
+
+
+def test_a_model_file_error_lists_every_problem_of_the_file(tmp_path, capsys):
+    """Three problems in three tables: all three named, each with its field and value (a misspelt
+    field without the "missing" error of the field it stands for)."""
+    from mechdyn.cli.main import main
+
+    text = (EXAMPLES / "press_on_support.toml").read_text()
+    text = text.replace('mass = "600 t"', 'mas = "600 t"').replace('"4.5e8 N/m"', '"4.5e8 N"')
+    text = text.replace("damping_ratio = 0.05", 'damping_ratio = "x"')
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text)
+    (tmp_path / "press_link_drive.toml").write_text((EXAMPLES / "press_link_drive.toml").read_text())
+    assert main(["support", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert f"{bad}: 3 problems:" in err
+    assert "[machine] → mas: unknown field 'mas'; did you mean 'mass'?" in err
+    assert "[support] → stiffness: '4.5e8 N' is in N" in err and "e.g. '4.5e+08 N/m'" in err
+    assert "[support] → damping_ratio: cannot read 'x'" in err and "a plain number" in err
+    assert "missing" not in err and "Traceback" not in err

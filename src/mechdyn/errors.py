@@ -65,13 +65,28 @@ class ModelFileError(MechdynError, ValueError):
         What is wrong, with the bad value and what was expected.
     value : Any, optional
         The offending value as read from the file.
+    problems : list of (location, message), optional
+        Every problem of the file when there are several (the first is ``location`` and
+        ``message``); the error's text lists them all, one per line.
     """
 
-    def __init__(self, path: str, location: str, message: str, value: Any = None):
+    def __init__(
+        self,
+        path: str,
+        location: str,
+        message: str,
+        value: Any = None,
+        problems: list[tuple[str, str]] | None = None,
+    ):
         self.path = str(path)
         self.location = location
         self.value = value
         self.detail = message
+        self.problems = list(problems) if problems else [(location, message)]
+        if len(self.problems) > 1:
+            lines = "\n".join(f"  - {loc}: {msg}" if loc else f"  - {msg}" for loc, msg in self.problems)
+            super().__init__(f"{self.path}: {len(self.problems)} problems:\n{lines}")
+            return
         loc = f" {location}:" if location else ""
         super().__init__(f"{self.path}:{loc} {message}")
 

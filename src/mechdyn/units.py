@@ -83,10 +83,12 @@ def _coerce(value: Any, unit: str) -> pint.Quantity:
         try:
             q = ureg.Quantity(text)
         except (pint.errors.PintError, ValueError, AttributeError, TypeError, SyntaxError) as exc:
-            raise UnitError(
-                f"cannot read {value!r} as a quantity ({exc}); expected a number and a unit "
-                f"of {_dimension_text(unit)}, e.g. '1 {unit}'"
-            ) from None
+            expected = (
+                "a plain number, e.g. 0.05"
+                if not unit
+                else f"a number and a unit of {_dimension_text(unit)}, e.g. '1 {unit}'"
+            )
+            raise UnitError(f"cannot read {value!r} as a quantity ({exc}); expected {expected}") from None
         if not isinstance(q, pint.Quantity):  # a plain number written as text
             q = ureg.Quantity(float(q), "")
         return q

@@ -333,18 +333,42 @@ def _known_fields(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> list[s
 
 
 def validate(schema: type[M], source: ModelSource) -> M:
-    """Validate parsed TOML against a schema, turning pydantic errors into a ModelFileError."""
+    """Validate parsed TOML against a schema, turning pydantic errors into a ModelFileError that
+    lists every problem of the file, each with its table, field, value and what was expected."""
     try:
         return schema.model_validate(source.data)
     except ValidationError as exc:
-        # a misspelt field is reported first: the "missing" error beside it is its consequence
-        errors = sorted(exc.errors(), key=lambda e: e.get("type") != "extra_forbidden")
-        first = errors[0]
-        location = _describe_location(tuple(first["loc"]), source.data)
-        message = _error_message(first, schema)
-        if len(errors) > 1:
-            message += f" (and {len(errors) - 1} more problem(s) in this file)"
-        raise ModelFileError(source.path, location, message, first.get("input")) from None
+        problems = _problems(exc.errors(), source, schema)
+        location, message, value = problems[0]
+        raise ModelFileError(
+            source.path, location, message, value, problems=[(loc, msg) for loc, msg, _ in problems]
+        ) from None
+
+
+def _problems(errors: list[Any], source: ModelSource, schema: type[BaseModel]) -> list[tuple[str, str, Any]]:
+    """One (location, message, value) per field in error: a misspelt field first, without the
+    "missing" error of the field it was meant to be; one error per field (a union type reports
+    each of its branches)."""
+    errors = sorted(errors, key=lambda e: e.get("type") != "extra_forbidden")
+    misspelt = {
+        (tuple(e["loc"][:-1]), str(e["loc"][-1]))
+        for e in errors
+        if e.get("type") == "extra_forbidden" and e["loc"]
+    }
+    out: list[tuple[str, str, Any]] = []
+    seen: set[str] = set()
+    for e in errors:
+        loc = tuple(e["loc"])
+        if e.get("type") == "missing" and loc:
+            siblings = [name for parent, name in misspelt if parent == loc[:-1]]
+            if difflib.get_close_matches(str(loc[-1]), siblings, n=1):
+                continue  # its misspelling is reported
+        location = _describe_location(loc, source.data)
+        if location in seen:
+            continue
+        seen.add(location)
+        out.append((location, _error_message(e, schema), e.get("input")))
+    return out
 
 
 @contextmanager
