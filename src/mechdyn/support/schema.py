@@ -449,8 +449,14 @@ def _placed(row: MountTable, source: ModelSource, where: str) -> PlacedEstimate:
         try:
             spec = build_mount(inline)
         except ModelFileError as exc:
-            at = f"{where} → estimate" + (f" → {exc.location}" if exc.location else "")
-            raise ModelFileError(source.path, at, exc.detail, exc.value) from None
+
+            def inline(loc: str) -> str:
+                return f"{where} → estimate" + (f" → {loc}" if loc else "")
+
+            problems = [(inline(loc), msg) for loc, msg in exc.problems]
+            raise ModelFileError(
+                source.path, inline(exc.location), exc.detail, exc.value, problems=problems
+            ) from None
         origin = f"{source.path}: {where}"
     estimate = spec.mount
     if row.lateral_stiffness is None and estimate.lateral_stiffness is None:
