@@ -107,20 +107,26 @@ def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> 
 
 def run(args: argparse.Namespace, analysis: Analysis) -> int:
     """Load ``args.file``, run the analysis, store the run, print a table or JSON, write plots."""
+    from mechdyn.errors import MechdynError, ModelFileError
     from mechdyn.io.modelfile import load_model
     from mechdyn.store import ResultStore
-    from mechdyn.store.store import jsonable
+    from mechdyn.store.store import StoreError, jsonable
 
     options = {o.name: getattr(args, o.name) for o in analysis.options}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         loaded = load_model(args.file)
-        if analysis.uses_store:
-            with ResultStore(args.db) as store:
-                result = analysis.run(loaded, store=store, **options)
-        else:
-            result = analysis.run(loaded, **options)
-        summary = result.summary()
+        try:
+            if analysis.uses_store:
+                with ResultStore(args.db) as store:
+                    result = analysis.run(loaded, store=store, **options)
+            else:
+                result = analysis.run(loaded, **options)
+            summary = result.summary()
+        except (ModelFileError, StoreError):
+            raise
+        except MechdynError as exc:  # found while analysing the file's model: name the file
+            raise MechdynError(f"{args.file}: {exc}") from None
     notes = list(dict.fromkeys([str(w.message) for w in caught] + list(result.warnings)))
     for n in notes:
         print(f"warning: {n}", file=sys.stderr)

@@ -9,6 +9,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict
 from mechdyn.units import to_si
 
 __all__ = [
+    "DEFAULT_LIMIT",
+    "MAGNITUDE_LIMITS",
     "Angle",
     "Density",
     "Dimensionless",
@@ -19,6 +21,7 @@ __all__ = [
     "ModelTableBase",
     "Pressure",
     "quantity",
+    "within_limits",
 ]
 
 
@@ -30,9 +33,47 @@ def quantity(unit: str) -> Any:
     """
 
     def convert(value: Any) -> float:
-        return to_si(value, unit)
+        return within_limits(value, to_si(value, unit), unit)
 
     return Annotated[float, BeforeValidator(convert)]
+
+
+def within_limits(value: Any, si: float, unit: str) -> float:
+    """``si`` (the SI magnitude of a file's ``value`` in ``unit``) if it is within the magnitude a
+    machine can have (:data:`MAGNITUDE_LIMITS`); a ValueError naming the bound otherwise."""
+    limit = MAGNITUDE_LIMITS.get(unit, DEFAULT_LIMIT)
+    if abs(si) > limit:
+        shown = f"{limit:g} {unit}".strip()
+        raise ValueError(
+            f"{value!r} is beyond any machine this package models (at most {shown} in magnitude); "
+            "check the number and its unit"
+        )
+    return si
+
+
+# The largest magnitude a model file may give a quantity, by its SI unit: generous bounds for
+# machines (a 1 km length, a 100 000 t mass, 10 MHz), so that a slipped exponent or a wrong unit
+# ("12 furlong", "1e300 Hz") is refused at the file's edge instead of overflowing a solver.
+DEFAULT_LIMIT = 1e15
+MAGNITUDE_LIMITS = {
+    "m": 1e3,
+    "kg": 1e8,
+    "kg*m^2": 1e10,
+    "s": 1e7,
+    "Hz": 1e7,
+    "rad/s": 1e8,
+    "rad": 1e6,
+    "N": 1e11,
+    "N*m": 1e11,
+    "Pa": 1e13,
+    "N/m": 1e15,
+    "N*m/rad": 1e14,
+    "N*s/m": 1e13,
+    "kg/m^3": 1e5,
+    "m/s": 1e5,
+    "m/s^2": 1e6,
+    "": 1e9,
+}
 
 
 class FileModel(BaseModel):

@@ -125,12 +125,14 @@ class FETable(FileModel):
 
 def _weight(value: Any) -> float:
     """A weight in newtons, or a mass taken under standard gravity."""
+    from mechdyn.io.fields import within_limits
     from mechdyn.units import STANDARD_GRAVITY, UnitError, to_si
 
     try:
-        return to_si(value, "N")
+        newtons = to_si(value, "N")
     except UnitError:
-        return to_si(value, "kg") * STANDARD_GRAVITY
+        newtons = to_si(value, "kg") * STANDARD_GRAVITY
+    return within_limits(value, newtons, "N")
 
 
 class LoadTable(FileModel):

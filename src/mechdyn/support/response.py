@@ -27,6 +27,8 @@ from mechdyn.support.excitation import PeriodicLoad, series, series_on_grid
 from mechdyn.support.model import DOFS, MountedMachine
 from mechdyn.support.modes import modes
 
+MAX_STEPS = 2e7  # time steps a start-up integration may take
+
 __all__ = ["SupportResponse", "harmonic_response", "periodic_response", "startup_response"]
 
 
@@ -271,6 +273,14 @@ def startup_response(
         c = np.abs(load.coefficients).max(axis=1)
         h_top = int(np.nonzero(c >= 1e-6 * c.max())[0].max()) if c.max() > 0 else 1
         steps_per_period = int(max(40 * f_max * load.period, 40 * h_top, 64))
+    if cycles * steps_per_period > MAX_STEPS:
+        raise ModelError(
+            f"{cycles} periods of {steps_per_period} steps each (the highest natural frequency, "
+            f"{f_max:.4g} Hz, is {f_max * load.period:.3g} times the load's frequency) are more than "
+            f"{MAX_STEPS:.0e} steps; check the stiffness and the mass, or integrate fewer cycles",
+            element="start-up",
+            field="cycles",
+        )
     t = load.period * np.arange(cycles * steps_per_period + 1) / steps_per_period
     B = machine.load_matrix()
     A, Bs = _state_space(machine)

@@ -1,0 +1,155 @@
+"""Bad input never gets a traceback: every example file, mutated the ways users get files wrong, runs
+to finite results or exits with status 2 and a message naming the file (issue: hardening).
+
+The default suite runs one mutation of each kind on one file of each model type, in process; the
+whole set (every example, every kind, on the first numbers of each file, in subprocesses with a
+time limit, so that a hang shows) runs with ``pytest -m slow``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import shutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from conftest import EXAMPLES
+from mechdyn.cli.main import main
+
+COMMAND = {
+    "drivetrain": ["modal"],
+    "mechanism": ["mechanism", "--angles", "24"],
+    "planting_mechanism": ["mechanism", "--angles", "24"],
+    "support": ["support", "--cycles", "1"],
+    "mount": ["mount"],
+    "gear_pair": ["gear"],
+    "tooth_pair": ["gear"],
+}
+NUMBER = re.compile(r'^(\s*[A-Za-z_]+\s*=\s*)"([-+0-9.eE]+)\s+([^"]+)"\s*$')
+KINDS = ("negative", "zero", "nan", "inf", "huge", "wrong unit", "misspelt unit", "text", "deleted")
+
+
+def _mutate(text: str, line: int, kind: str) -> str:
+    lines = text.splitlines()
+    m = NUMBER.match(lines[line])
+    assert m, lines[line]
+    head, number, unit = m.groups()
+    value = {
+        "negative": f'"-{number.lstrip("-+")} {unit}"',
+        "zero": f'"0 {unit}"',
+        "nan": f'"nan {unit}"',
+        "inf": f'"inf {unit}"',
+        "huge": f'"1e300 {unit}"',
+        "wrong unit": f'"{number} furlong"',
+        "misspelt unit": f'"{number} {unit}x"',
+        "text": '"abc"',
+    }.get(kind)
+    if value is None:
+        del lines[line]
+    else:
+        lines[line] = head + value
+    return "\n".join(lines) + "\n"
+
+
+def _numbers(text: str) -> list[int]:
+    return [i for i, ln in enumerate(text.splitlines()) if NUMBER.match(ln)]
+
+
+def _finite(doc) -> bool:
+    if isinstance(doc, float):
+        return math.isfinite(doc)
+    if isinstance(doc, dict):
+        return all(_finite(v) for v in doc.values())
+    if isinstance(doc, list):
+        return all(_finite(v) for v in doc)
+    return True
+
+
+def _one_per_type() -> list[Path]:
+    seen, out = set(), []
+    for p in sorted(EXAMPLES.glob("*.toml")):
+        kind = tomllib.loads(p.read_text())["model"]["type"]
+        if kind not in seen:
+            seen.add(kind)
+            out.append(p)
+    return out
+
+
+def _check(path: Path, kind_of_model: str, capsys, tmp_path: Path) -> None:
+    code = main(
+        [
+            *COMMAND[kind_of_model][:1],
+            str(path),
+            *COMMAND[kind_of_model][1:],
+            "--json",
+            "--db",
+            str(tmp_path / "r.db"),
+        ]
+    )
+    out, err = capsys.readouterr()
+    assert code in (0, 2), err
+    if code == 2:
+        assert str(path) in err, err
+    else:
+        doc = json.loads(out)
+        assert _finite({k: v for k, v in doc.items() if k != "warnings"}), "a non-finite result"
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("example", _one_per_type(), ids=lambda p: p.stem)
+def test_a_mutated_example_is_accepted_or_refused_with_its_file_named(example, kind, tmp_path, capsys):
+    work = tmp_path / "files"
+    shutil.copytree(EXAMPLES, work, ignore=shutil.ignore_patterns("studies"))
+    text = example.read_text()
+    model = tomllib.loads(text)["model"]["type"]
+    line = _numbers(text)[len(_numbers(text)) // 2]  # a value in the middle of the file
+    target = work / example.name
+    target.write_text(_mutate(text, line, kind))
+    _check(target, model, capsys, tmp_path)
+
+
+def test_a_truncated_file_is_refused_with_its_name(tmp_path, capsys):
+    for example in _one_per_type():
+        target = tmp_path / example.name
+        text = example.read_text()
+        target.write_text(text[: len(text) // 2])
+        model = tomllib.loads(text)["model"]["type"]
+        _check(target, model, capsys, tmp_path)
+
+
+@pytest.mark.slow
+def test_every_example_mutated_every_way_in_subprocesses(tmp_path):
+    """The whole set: 9 kinds on the first six numbers of every example, and truncation; a run may
+    take at most 60 s (a hang fails)."""
+    failures = []
+    for example in sorted(EXAMPLES.glob("*.toml")):
+        text = example.read_text()
+        model = tomllib.loads(text)["model"]["type"]
+        cases = [(f"{k}@{i + 1}", _mutate(text, i, k)) for i in _numbers(text)[:6] for k in KINDS]
+        cases.append(("truncated", text[: len(text) // 2]))
+        for label, mutated in cases:
+            work = tmp_path / "files"
+            shutil.rmtree(work, ignore_errors=True)
+            shutil.copytree(EXAMPLES, work, ignore=shutil.ignore_patterns("studies"))
+            target = work / example.name
+            target.write_text(mutated)
+            argv = [sys.executable, "-m", "mechdyn", *COMMAND[model][:1], str(target), *COMMAND[model][1:]]
+            argv += ["--json", "--db", str(tmp_path / "r.db")]
+            try:
+                p = subprocess.run(argv, capture_output=True, text=True, timeout=60)
+            except subprocess.TimeoutExpired:
+                failures.append(f"{example.name} {label}: hangs")
+                continue
+            if "Traceback" in p.stderr or p.returncode not in (0, 2):
+                failures.append(f"{example.name} {label}: {p.stderr.strip().splitlines()[-1:]}")
+            elif p.returncode == 2 and str(target) not in p.stderr:
+                failures.append(f"{example.name} {label}: the error does not name the file: {p.stderr[:120]}")
+            elif p.returncode == 0 and not _finite(json.loads(p.stdout)):
+                failures.append(f"{example.name} {label}: a non-finite result")
+    assert not failures, "\n".join(failures)
