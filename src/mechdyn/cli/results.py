@@ -71,11 +71,24 @@ def _show(args: argparse.Namespace) -> int:
     )
     print(f"model sha256 {r.model_sha256}")
     print("parameters: " + json.dumps(jsonable(r.parameters)))
-    rows = []
+    rows: list[list[object]] = []
+
+    def add(key: str, value: object) -> None:  # every value in full, nested tables one row each
+        if isinstance(value, dict):
+            for k, v in value.items():
+                add(f"{key} · {k}", v)
+        elif isinstance(value, list) and any(isinstance(v, (dict, list)) for v in value):
+            for i, v in enumerate(value, start=1):
+                add(f"{key} #{i}", v)
+        elif isinstance(value, list):
+            rows.append([key, ", ".join(json.dumps(jsonable(v)) for v in value)])
+        else:
+            plain = isinstance(value, (int, float, str)) or value is None
+            rows.append([key, value if plain else json.dumps(jsonable(value))])
+
     for k, v in r.scalars.items():
-        text = json.dumps(jsonable(v))
-        rows.append([k, text if len(text) <= 100 else text[:97] + "..."])
-    print_table(Table("results", ["key", "value"], rows))
+        add(k, v)
+    print_table(Table("results", ["key", "value"], rows), max_rows=len(rows) + 1)
     print_table(
         Table(
             "arrays",

@@ -197,5 +197,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         print(f"plot: {p}")
     if report_file:
         print(f"report: {report_file}")
-    print(f"stored as run {run_id}  (mechdyn results show {run_id})")
+    with ResultStore(args.db) as store:
+        label = store.label
+    print(f"stored as run {run_id} in the {label}  (mechdyn results show {run_id})")
     return 0
