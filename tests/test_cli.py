@@ -387,3 +387,13 @@ def test_a_large_model_gets_its_lowest_modes_and_a_short_table(db, capsys, tmp_p
     assert main(["modal", str(path), "--modes", "3", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert len(doc["frequencies_hz"]) == 3 and len(doc["modes"][0]["shape"]) == n
+
+
+def test_the_isolation_table_says_whether_the_mount_isolates_or_amplifies(db, capsys):
+    """A negative isolation efficiency is an amplification, and the table says so in words."""
+    for name, word in (
+        ("pad_shore60.toml", "amplifies: the floor gets 1.51 times"),
+        ("mount_frf.toml", "isolates: 59 %"),
+    ):
+        assert main(["mount", str(EXAMPLES / name)]) == 0
+        assert word in capsys.readouterr().out, name

@@ -105,5 +105,14 @@ def mount_tables(
     if "frf_fit" in s:
         tables.append(Table("fit to the measured FRF", ["quantity", "value"], _rows(s["frf_fit"])))
     if "isolation" in s:
-        tables.append(Table("isolation on the given load", ["quantity", "value"], _rows(s["isolation"])))
+        iso = s["isolation"]
+        T = iso["transmissibility"]
+        verdict = (
+            f"isolates: {100 * (1 - T):.0f} % of the disturbing force is kept from the floor"
+            if T < 1
+            else f"amplifies: the floor gets {T:.2f} times the disturbing force (the disturbing frequency "
+            "is below √2 times the natural frequency; a softer mount would isolate)"
+        )
+        rows = [*_rows(iso), ["verdict", verdict]]
+        tables.append(Table("isolation on the given load", ["quantity", "value"], rows))
     return tables

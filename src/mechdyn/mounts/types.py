@@ -308,6 +308,12 @@ def isolation(
         Hz (or rpm).
     loss_factor : float
         η; the viscous equivalent ζ = η/2.
+
+    Returns
+    -------
+    dict
+        ``static_deflection_m``, ``natural_frequency_hz``, ``frequency_ratio``,
+        ``transmissibility`` T and ``isolation_efficiency`` 1 − T (negative: the mount amplifies).
     """
     k = _positive("isolation", "stiffness", stiffness, "N/m")
     try:
