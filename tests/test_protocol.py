@@ -216,7 +216,7 @@ def test_light_commands_import_no_numerical_library(argv, allowed, tmp_path):
 def test_every_command_help_ends_with_examples(capsys):
     from mechdyn.cli.main import main
 
-    commands = [[name] for name in [*analyses(), "analyses", "study", "results"]]
+    commands = [[name] for name in [*analyses(), "analyses", "study", "results", "report", "dashboard"]]
     commands += [["results", sub] for sub in ("list", "show", "compare", "export", "delete")]
     for command in commands:
         with pytest.raises(SystemExit):
