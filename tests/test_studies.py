@@ -716,6 +716,10 @@ def test_a_study_built_in_python_with_a_function_parameter(tmp_path):
     assert forces[1] < forces[0] < forces[2]
     assert len({round(v.outputs["stroke_m"], 12) for v in result.variants}) == 1
     assert base.bodies[-1].mass == m0  # the base model is untouched
+    from mechdyn.studies.run import stored_study
+
+    with pytest.raises(StudyError, match="built in Python"):  # no study file to rebuild it from
+        stored_study(str(tmp_path / "r.db"), "function-parameter")
 
 
 def test_a_factorial_study_stores_the_variants_that_fail_with_their_reason(tmp_path):

@@ -65,10 +65,10 @@ def _report(args: argparse.Namespace) -> int:
         raise MechdynError("give a run id (`mechdyn results list`) or --study NAME, one of them")
     with ResultStore(args.db) as store:
         if args.study is not None:
-            from mechdyn.studies.run import run_study, stored_study
+            from mechdyn.studies.run import stored_result
 
-            result = run_study(stored_study(store, args.study), store)  # every variant is reused
-            report = study_report(result, database=store.label)
+            # what the study found, from the stored variants alone (nothing is evaluated again)
+            report = study_report(stored_result(store, args.study), database=store.label)
         else:
             run, result, note = run_from_store(store, args.id)
             report = run_report(

@@ -40,6 +40,7 @@ import numpy as np
 from mechdyn import __version__
 from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.evaluate import Evaluation, Evaluator
+from mechdyn.studies.spec import StudyError
 from mechdyn.studies.study import Study
 
 __all__ = ["Runner", "recompute", "run_study", "stored_result", "stored_study"]
@@ -68,7 +69,7 @@ class Runner:
             study.source, study.analysis, study.parameters, [w.key for w in study.watched], study.options
         )
         tree = study.tree
-        self.stored, self.resumed = store.open(
+        self.stored, _ = store.open(
             study.name,
             kind=study.kind,
             analysis=study.analysis,
@@ -334,10 +335,15 @@ def stored_study(store: Any, name: str) -> Study:
 
     rs = store if isinstance(store, ResultStore) else ResultStore(store)
     stored = StudyStore(rs).study(name)
+    if "study" not in stored.definition:
+        raise StudyError(
+            f"study {name!r} was built in Python, not read from a study file: the database holds its "
+            "variants (`mechdyn results list --study`), but not a definition to rebuild it from"
+        )
     files = {p: ModelSource(p, t, "", tomllib.loads(t)) for p, t in stored.model_files.items()}
     base = files.pop(stored.model_path)
     base = ModelSource(base.path, base.text, "", base.data, files)
-    study = study_from_data(stored.model_path, stored.definition, base)
+    study = study_from_data(f"the stored study {name!r}", stored.definition, base)
     return replace(study, name=stored.name)  # a box of a file with boxes, a quick form: as stored
 
 
