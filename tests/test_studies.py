@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 import signal
 import subprocess
@@ -829,3 +830,17 @@ def test_a_stored_study_gives_its_findings_from_the_database_alone(tmp_path):
     stored = stored_result(db, "opt-stored")
     assert stored.findings["best"]["variant"] == opt.findings["best"]["variant"]
     assert all(c["holds"] for c in stored.findings["best"]["constraints"])
+
+
+def test_a_study_shows_a_progress_bar_with_its_eta_on_a_terminal(tmp_path):
+    """rich draws the bar (name, bar, %, time remaining) when the output is a terminal (forced here);
+    `mechdyn study --json` prints JSON alone (see the command-line test)."""
+    code = (
+        "from mechdyn.studies import load_study, run_study\n"
+        f"study = load_study({str(STUDIES / 'press_support_influence.toml')!r})\n"
+        f"run_study(study, {str(tmp_path / 'r.db')!r}, progress=True)\n"
+    )
+    env = {**os.environ, "FORCE_COLOR": "1"}
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert "press-support-influence" in p.stderr and "━" in p.stderr and "-:--:--" in p.stderr

@@ -222,11 +222,12 @@ class Runner:
 
         bar = nullcontext()
         if self.progress:
+            from rich.console import Console
             from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeRemainingColumn
 
             bar = Progress(
                 TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(), TimeRemainingColumn(),
-                transient=True,
+                transient=True, console=Console(stderr=True),  # the tables and JSON go to stdout
             )  # fmt: skip
         try:
             with bar as b:
