@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict
@@ -20,6 +21,7 @@ __all__ = [
     "LinearStiffness",
     "ModelTableBase",
     "Pressure",
+    "Unit",
     "quantity",
     "within_limits",
 ]
@@ -35,7 +37,21 @@ def quantity(unit: str) -> Any:
     def convert(value: Any) -> float:
         return within_limits(value, to_si(value, unit), unit)
 
-    return Annotated[float, BeforeValidator(convert)]
+    return Annotated[float, Unit(unit), BeforeValidator(convert)]
+
+
+@dataclass(frozen=True)
+class Unit:
+    """The SI unit a quantity field holds its value in: metadata of the field's type, read by the
+    model-file reference of the documentation and by tools that show a field's unit.
+
+    Attributes
+    ----------
+    unit : str
+        The unit as pint spells it, e.g. ``"N*m/rad"``; ``""`` for a dimensionless number.
+    """
+
+    unit: str
 
 
 def within_limits(value: Any, si: float, unit: str) -> float:
@@ -79,7 +95,10 @@ MAGNITUDE_LIMITS = {
 class FileModel(BaseModel):
     """Base of every table in a model file: unknown fields are errors, values are frozen."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, str_strip_whitespace=True)
+    # a field's docstring (the string literal under it) is its description in the model-file reference
+    model_config = ConfigDict(
+        extra="forbid", frozen=True, str_strip_whitespace=True, use_attribute_docstrings=True
+    )
 
 
 # The field types every model file uses; a capability declares its own beside them.

@@ -33,6 +33,7 @@ __all__ = [
     "read_toml",
     "referenced",
     "register_model_type",
+    "schema_of",
     "validate",
 ]
 
@@ -50,9 +51,61 @@ _BUILDERS: dict[str, str] = {
 }
 
 
-def register_model_type(name: str, builder: str) -> None:
-    """Register ``"module:function"`` as the builder for model files of ``[model] type = name``."""
+# type name -> "module:Class", the pydantic schema that validates a whole file of that type (the
+# documentation's model-file reference is generated from these); "study" is the study file
+_SCHEMAS: dict[str, str] = {
+    "drivetrain": "mechdyn.drivetrain.schema:DrivetrainFile",
+    "gear_pair": "mechdyn.gears.schema:GearPairModel",
+    "tooth_pair": "mechdyn.gears.schema:ToothPairModel",
+    "mechanism": "mechdyn.mechanism.schema:MechanismFile",
+    "planting_mechanism": "mechdyn.mechanism.planter:PlanterFile",
+    "support": "mechdyn.support.schema:SupportFile",
+    "mount": "mechdyn.mounts.schema:MountFile",
+    "study": "mechdyn.studies.study:StudyFile",
+}
+
+
+def register_model_type(name: str, builder: str, schema: str | None = None) -> None:
+    """Register a model-file type.
+
+    Parameters
+    ----------
+    name : str
+        The type as files name it, ``[model] type = name``.
+    builder : str
+        ``"module:function"`` that turns a :class:`ModelSource` of that type into a loaded model.
+    schema : str, optional
+        ``"module:Class"``, the pydantic schema of the whole file, for :func:`schema_of` and the
+        documentation's model-file reference.
+    """
     _BUILDERS[name] = builder
+    if schema is not None:
+        _SCHEMAS[name] = schema
+
+
+def schema_of(file_type: str) -> type[BaseModel]:
+    """The pydantic schema that validates a whole file of ``file_type``.
+
+    Parameters
+    ----------
+    file_type : str
+        A model type (``"drivetrain"``, ``"mechanism"``, …) or ``"study"`` for a study file.
+
+    Returns
+    -------
+    type
+        The schema class; its fields are the file's tables.
+
+    Raises
+    ------
+    KeyError
+        For an unknown type, naming the known ones.
+    """
+    if file_type not in _SCHEMAS:
+        raise KeyError(f"no schema for file type {file_type!r}; known: {', '.join(sorted(_SCHEMAS))}")
+    module, _, name = _SCHEMAS[file_type].partition(":")
+    schema: type[BaseModel] = getattr(importlib.import_module(module), name)
+    return schema
 
 
 @dataclass(frozen=True)

@@ -22,9 +22,11 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
+from pydantic import Field
 from scipy.optimize import minimize_scalar
 
 from mechdyn.errors import ModelError
+from mechdyn.io.fields import Angle, Dimensionless, FileModel, Length, ModelTableBase, quantity
 from mechdyn.mechanism.kinematics import kinematics
 from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Revolute
 from mechdyn.mechanism.pitch import closing_centre_distance, eccentric_circle, pitch_law
@@ -230,49 +232,57 @@ def planter(design: PlanterDesign | None = None, name: str = "planting mechanism
 # -- the model file: [model] type = "planting_mechanism" -----------------------------------------
 
 
+_Mass, _Inertia = quantity("kg"), quantity("kg*m^2")
+_D = PlanterDesign()
+
+
+class PlanterModelTable(ModelTableBase):
+    type: Literal["planting_mechanism"]
+    name: str = "planting mechanism"
+
+
+class DesignTable(FileModel):
+    """The design variables; each left out takes RP-1's value (:class:`PlanterDesign`)."""
+
+    eccentricity_ratio: Dimensionless = _D.eccentricity_ratio
+    alpha: Angle = _D.alpha
+    beta: Angle = _D.beta
+    arm_radius: Length = _D.arm_radius
+    fork_length: Length = _D.fork_length
+    fork_angle: Angle = _D.fork_angle
+    com_offset: Length = _D.com_offset
+    arm_mass: _Mass = _D.arm_mass
+    idler_mass: _Mass = _D.idler_mass
+    planet_mass: _Mass = _D.planet_mass
+    arm_inertia: _Inertia = _D.arm_inertia
+    idler_inertia: _Inertia = _D.idler_inertia
+    planet_inertia: _Inertia = _D.planet_inertia
+    speed: quantity("rad/s") = _D.speed  # type: ignore[valid-type]
+    gravity: quantity("m/s^2") = _D.gravity  # type: ignore[valid-type]
+
+
+class SettingsTable(FileModel):
+    """As a mechanism file's ``[settings]``."""
+
+    n_angles: int = Field(default=360, ge=8, le=100_000)
+    trace: list[str] = Field(default_factory=list)
+    field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
+
+
+class PlanterFile(FileModel):
+    """Schema of a planting-mechanism file."""
+
+    model: PlanterModelTable
+    design: DesignTable = DesignTable()
+    settings: SettingsTable = SettingsTable()
+
+
 def build(source: Any) -> Any:
     """Builder for ``[model] type = "planting_mechanism"``: ``[design]`` (the variables of
     :class:`PlanterDesign`, quantities with units; those left out are RP-1's) and ``[settings]``
     (``n_angles``, ``trace``, ``field_velocity``, as in a mechanism file)."""
-    from pydantic import Field
-
-    from mechdyn.io.fields import Angle, Dimensionless, FileModel, Length, ModelTableBase, quantity
     from mechdyn.io.modelfile import field_context, validate
     from mechdyn.mechanism.schema import MechanismSpec
-
-    Mass, Inertia = quantity("kg"), quantity("kg*m^2")
-    d = PlanterDesign()
-
-    class ModelTable(ModelTableBase):
-        type: Literal["planting_mechanism"]
-        name: str = "planting mechanism"
-
-    class DesignTable(FileModel):
-        eccentricity_ratio: Dimensionless = d.eccentricity_ratio
-        alpha: Angle = d.alpha
-        beta: Angle = d.beta
-        arm_radius: Length = d.arm_radius
-        fork_length: Length = d.fork_length
-        fork_angle: Angle = d.fork_angle
-        com_offset: Length = d.com_offset
-        arm_mass: Mass = d.arm_mass
-        idler_mass: Mass = d.idler_mass
-        planet_mass: Mass = d.planet_mass
-        arm_inertia: Inertia = d.arm_inertia
-        idler_inertia: Inertia = d.idler_inertia
-        planet_inertia: Inertia = d.planet_inertia
-        speed: quantity("rad/s") = d.speed  # type: ignore[valid-type]
-        gravity: quantity("m/s^2") = d.gravity  # type: ignore[valid-type]
-
-    class SettingsTable(FileModel):
-        n_angles: int = Field(default=360, ge=8, le=100_000)
-        trace: list[str] = Field(default_factory=list)
-        field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
-
-    class PlanterFile(FileModel):
-        model: ModelTable
-        design: DesignTable = DesignTable()
-        settings: SettingsTable = SettingsTable()
 
     f = validate(PlanterFile, source)
     with field_context(source, "[design]"):

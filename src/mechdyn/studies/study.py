@@ -41,7 +41,7 @@ KINDS = ("oat", "factorial", "lhs", "sobol", "optimize", "synthesis")
 
 
 class _Row(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, use_attribute_docstrings=True)
 
 
 class _StudyTable(_Row):
@@ -96,7 +96,9 @@ class _ConstraintRow(_Row):
     tolerance: str | float | None = None
 
 
-class _StudyFile(_Row):
+class StudyFile(_Row):
+    """Schema of a study file."""
+
     study: _StudyTable
     parameters: list[_ParameterRow]
     outputs: list[_OutputRow] = Field(default_factory=list)
@@ -345,7 +347,7 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
 
     src_path = path
     try:
-        f = _StudyFile.model_validate(data)
+        f = StudyFile.model_validate(data)
     except ValidationError as exc:
         raise _validation_error(src_path, exc) from None
     s = f.study
