@@ -18,6 +18,8 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from conftest import EXAMPLES
 from mechdyn.cli.main import main
@@ -153,3 +155,84 @@ def test_every_example_mutated_every_way_in_subprocesses(tmp_path):
             elif p.returncode == 0 and not _finite(json.loads(p.stdout)):
                 failures.append(f"{example.name} {label}: a non-finite result")
     assert not failures, "\n".join(failures)
+
+
+# -- property: any one mutation of any example file loads or is refused naming the file and the field --
+
+ALL_EXAMPLES = sorted(EXAMPLES.glob("*.toml"))
+NAME = re.compile(r'^(\s*name\s*=\s*)"([^"]+)"\s*$')
+REFERENCE = re.compile(
+    r"^(\s*(?:disks|disk|bodies|body|joints|points|gear_pair|mechanism|mount)\s*=\s*)(.+)$"
+)
+HEADER = re.compile(r"^\s*\[\[?([A-Za-z_.]+)\]\]?\s*$")
+UNITS = ("mm", "kg", "N", "N/m", "Pa", "Hz", "rpm", "deg", "s", "kg*m^2", "N*m/rad", "furlong", "m/s^2", "")
+
+
+def _structural(text: str, kind: str, pick: int) -> str | None:
+    lines = text.splitlines()
+    if kind == "duplicate name":
+        names = [i for i, ln in enumerate(lines) if NAME.match(ln)]
+        if len(names) < 2:
+            return None
+        a, b = names[pick % len(names)], names[(pick + 1) % len(names)]
+        lines[b] = NAME.match(lines[b]).group(1) + f'"{NAME.match(lines[a]).group(2)}"'
+    elif kind == "unknown reference":
+        refs = [i for i, ln in enumerate(lines) if REFERENCE.match(ln)]
+        if not refs:
+            return None
+        i = refs[pick % len(refs)]
+        head, value = REFERENCE.match(lines[i]).groups()
+        lines[i] = head + ('["nowhere", "nothing"]' if value.startswith("[") else '"nowhere"')
+    elif kind == "empty table":
+        headers = [i for i, ln in enumerate(lines) if HEADER.match(ln) and "model" not in ln]
+        if not headers:
+            return None
+        i = headers[pick % len(headers)]
+        j = next((k for k in range(i + 1, len(lines)) if HEADER.match(lines[k])), len(lines))
+        del lines[i + 1 : j]
+    return "\n".join(lines) + "\n"
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_any_mutation_loads_or_is_refused_naming_the_file_and_field(data, tmp_path):
+    import warnings
+
+    from mechdyn.errors import MechdynError, ModelWarning
+    from mechdyn.io import load_model
+
+    example = data.draw(st.sampled_from(ALL_EXAMPLES), label="example")
+    text = example.read_text()
+    structural = ("duplicate name", "unknown reference", "empty table")
+    kind = data.draw(st.sampled_from((*KINDS, "number", *structural)), label="kind")
+    pick = data.draw(st.integers(0, 1000), label="pick")
+    field = None
+    if kind in structural:
+        mutated = _structural(text, kind, pick)
+        if mutated is None:
+            return
+    else:
+        numbers = _numbers(text)
+        line = numbers[pick % len(numbers)]
+        field = NUMBER.match(text.splitlines()[line]).group(1).split("=")[0].strip()
+        if kind == "number":  # any float, with any unit (or none)
+            value = data.draw(st.floats(allow_nan=True, allow_infinity=True), label="value")
+            unit = data.draw(st.sampled_from(UNITS), label="unit")
+            lines = text.splitlines()
+            lines[line] = NUMBER.match(lines[line]).group(1) + f'"{value!r} {unit}"'.replace(' "', '"')
+            mutated = "\n".join(lines) + "\n"
+        else:
+            mutated = _mutate(text, line, kind)
+    work = tmp_path / f"w{pick}"
+    shutil.copytree(EXAMPLES, work, ignore=shutil.ignore_patterns("studies", "gallery"), dirs_exist_ok=True)
+    target = work / example.name
+    target.write_text(mutated)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ModelWarning)
+            load_model(target)
+    except MechdynError as exc:
+        message = str(exc)
+        assert str(target) in message or target.name in message, message
+        if field is not None and kind != "deleted":  # a check across fields may name the field in words
+            assert field in message or field.replace("_", " ") in message, f"{kind} of {field!r}: {message}"

@@ -58,7 +58,7 @@ class ModelTable(ModelTableBase):
 
 
 class MachineTable(FileModel):
-    mass: Mass
+    mass: Mass = Field(gt=0.0)
     center_of_mass: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
     inertia: tuple[Inertia, Inertia, Inertia] = (0.0, 0.0, 0.0)
     inertia_products: tuple[Inertia, Inertia, Inertia] = Field(
