@@ -236,3 +236,34 @@ def test_any_mutation_loads_or_is_refused_naming_the_file_and_field(data, tmp_pa
         assert str(target) in message or target.name in message, message
         if field is not None and kind != "deleted":  # a check across fields may name the field in words
             assert field in message or field.replace("_", " ") in message, f"{kind} of {field!r}: {message}"
+
+
+# -- outputs that cannot be written, and a database that is not one ---------------------------------
+
+
+@pytest.mark.parametrize("option", ["--plots", "--csv", "--report"])
+def test_an_output_that_cannot_be_written_is_one_line_and_the_run_is_kept(option, tmp_path, capsys):
+    from mechdyn.store import ResultStore
+
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder")
+    target = blocker / ("plots" if option == "--plots" else "out.csv" if option == "--csv" else "r.html")
+    db = tmp_path / "r.db"
+    code = main(["modal", str(EXAMPLES / "turret_milling.toml"), option, str(target), "--db", str(db)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.strip().count("\n") == 0 and "Traceback" not in err, err
+    assert str(target) in err and "is a file, not a folder" in err and "stored as run 1" in err
+    with ResultStore(str(db)) as store:
+        assert [r.id for r in store.runs()] == [1]
+
+
+def test_a_database_path_that_is_not_a_database_is_one_line(tmp_path, capsys):
+    text = tmp_path / "notes.txt"
+    text.write_text("these are my notes\n" * 100)
+    code = main(["modal", str(EXAMPLES / "turret_milling.toml"), "--db", str(text)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.startswith("error: ") and err.strip().count("\n") == 0, err
+    assert f"{text} is not a results database" in err
+    assert text.read_text() == "these are my notes\n" * 100  # untouched

@@ -13,6 +13,8 @@ import json
 import math
 import sys
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -130,16 +132,6 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     notes = list(dict.fromkeys([str(w.message) for w in caught] + list(result.warnings)))
     for n in notes:
         print(f"warning: {n}", file=sys.stderr)
-    if args.csv:
-        path = Path(args.csv)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        result.to_frame().to_csv(path, index=False, float_format="%.10g")
-    plot_files: list[str] = []
-    if args.plots:
-        from mechdyn.plotting import save_figure
-
-        for name, make in result.plots().items():
-            plot_files.append(str(save_figure(make(), Path(args.plots) / name)))
     source = loaded.source
     parameters = {k: v for k, v in options.items() if v is not None and v is not False}
     with ResultStore(args.db) as store:
@@ -153,6 +145,21 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
             scalars={**summary, "warnings": notes},
             arrays=result.arrays(),
         )
+    # the run is stored; a file that cannot be written is an error that loses nothing
+    failed: list[str] = []
+    if args.csv:
+        with _writing(args.csv, "the table", run_id, failed):
+            path = Path(args.csv)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            result.to_frame().to_csv(path, index=False, float_format="%.10g")
+    plot_files: list[str] = []
+    if args.plots:
+        from mechdyn.plotting import save_figure
+
+        with _writing(args.plots, "the plots", run_id, failed):
+            for name, make in result.plots().items():
+                plot_files.append(str(save_figure(make(), Path(args.plots) / name)))
+    report_file = None
     if args.report:
         from mechdyn.reports.html import run_report, write
 
@@ -170,9 +177,8 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
             run_id=run_id,
             database=where,
         )
-        report_file = str(write(report, args.report))
-    else:
-        report_file = None
+        with _writing(args.report, "the report", run_id, failed):
+            report_file = str(write(report, args.report))
     if args.json:
         doc = {
             "run_id": run_id,
@@ -187,7 +193,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
             "report": report_file,
         }
         print(json.dumps(jsonable(doc), indent=2))
-        return 0
+        return 2 if failed else 0
     from mechdyn.cli.common import print_table
 
     print(f"{loaded.name}  ({source.path})")
@@ -200,4 +206,24 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     with ResultStore(args.db) as store:
         label = store.label
     print(f"stored as run {run_id} in the {label}  (mechdyn results show {run_id})")
-    return 0
+    return 2 if failed else 0
+
+
+@contextmanager
+def _writing(path: str, what: str, run_id: int, failed: list[str]) -> Iterator[None]:
+    """Write an output file; if it cannot be written, say so in one line naming the path (the run is
+    already stored) and note the failure, so that the command ends with status 2."""
+    try:
+        yield
+    except OSError as exc:
+        if isinstance(exc, FileExistsError | NotADirectoryError):
+            reason = f"{exc.filename} is a file, not a folder"
+        else:
+            reason = exc.strerror or str(exc)
+            if exc.filename and str(exc.filename) != str(path):
+                reason += f" ({exc.filename})"
+        print(
+            f"error: cannot write {what} to {path}: {reason}; the analysis is stored as run {run_id}",
+            file=sys.stderr,
+        )
+        failed.append(path)

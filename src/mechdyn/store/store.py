@@ -32,7 +32,7 @@ from sqlalchemy import (
     text,
 )
 from sqlalchemy.engine import make_url
-from sqlalchemy.exc import ArgumentError, OperationalError
+from sqlalchemy.exc import ArgumentError, DatabaseError, OperationalError
 from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column, relationship
 
 from mechdyn.errors import MechdynError
@@ -207,6 +207,13 @@ class ResultStore:
             shown = self.where
             raise StoreError(
                 f"cannot open the results database {shown}: {exc.__class__.__name__}: {exc.args[0]}"
+            ) from None
+        except DatabaseError as exc:  # e.g. a text file given as the SQLite file
+            url = make_url(self.url)
+            shown = url.database if url.get_backend_name() == "sqlite" else self.where
+            raise StoreError(
+                f"{shown} is not a results database ({getattr(exc, 'orig', exc)}); give the path of a "
+                "new or existing results database (--db, or MECHDYN_DB)"
             ) from None
         except ModuleNotFoundError as exc:
             raise StoreError(
