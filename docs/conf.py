@@ -59,6 +59,7 @@ sphinx_gallery_conf = {
     "matplotlib_animations": False,
     "abort_on_example_error": True,
     "write_computation_times": False,
+    "capture_repr": (),  # a plot call's returned axes is not output
 }
 
 

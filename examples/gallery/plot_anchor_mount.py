@@ -16,7 +16,7 @@ import mechdyn
 from mechdyn.registry import get
 from mechdyn.store import ResultStore
 
-# the examples folder, whether this runs as a script or in the documentation's gallery (in this folder)
+# the examples folder (this script runs from examples/gallery)
 EXAMPLES = Path(globals().get("__file__", "gallery.py")).resolve().parents[1]
 with ResultStore("sqlite://") as store:  # an in-memory database keeps the calibration
     result = get("mount").run(mechdyn.load(EXAMPLES / "anchor_concrete.toml"), store=store)

@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt
 import mechdyn
 from mechdyn.mechanism import inverse_dynamics
 
-# the examples folder, whether this runs as a script or in the documentation's gallery (in this folder)
+# the examples folder (this script runs from examples/gallery)
 EXAMPLES = Path(globals().get("__file__", "gallery.py")).resolve().parents[1]
 press = mechdyn.load(EXAMPLES / "press_link_drive.toml").model
 result = inverse_dynamics(press, 360)

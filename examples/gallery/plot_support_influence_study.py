@@ -16,7 +16,7 @@ from mechdyn.cli.common import print_table
 from mechdyn.studies import load_study, run_study
 from mechdyn.studies.plots import tornado
 
-# the examples folder, whether this runs as a script or in the documentation's gallery (in this folder)
+# the examples folder (this script runs from examples/gallery)
 EXAMPLES = Path(globals().get("__file__", "gallery.py")).resolve().parents[1]
 study = load_study(EXAMPLES / "studies" / "press_support_influence.toml")
 with tempfile.TemporaryDirectory() as folder:

@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt
 import mechdyn
 from mechdyn.drivetrain import compare_rigid, modal
 
-# the examples folder, whether this runs as a script or in the documentation's gallery (in this folder)
+# the examples folder (this script runs from examples/gallery)
 EXAMPLES = Path(globals().get("__file__", "gallery.py")).resolve().parents[1]
 turret = mechdyn.load(EXAMPLES / "turret_indexing.toml").model
 
