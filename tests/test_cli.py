@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -404,3 +405,24 @@ def test_the_isolation_table_says_whether_the_mount_isolates_or_amplifies(db, ca
     ):
         assert main(["mount", str(EXAMPLES / name)]) == 0
         assert word in capsys.readouterr().out, name
+
+
+def test_the_readme_first_session_is_what_the_command_prints(tmp_path):
+    """The README's first session, output and warnings included, is what a newcomer sees."""
+    import shutil
+
+    readme = (ROOT / "README.md").read_text()
+    block = re.search(r"## A first session\n\n```console\n\$ (.*?)\n(.*?)```", readme, flags=re.S)
+    assert block, "the README has no first session"
+    command, shown = block.group(1), block.group(2)
+    shutil.copytree(EXAMPLES, tmp_path / "examples")
+    run = subprocess.run(
+        [sys.executable, "-m", "mechdyn", *command.split()[1:]],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "MECHDYN_DB": "", "MPLBACKEND": "Agg"},
+        check=True,
+    )
+    printed = run.stderr + run.stdout
+    assert [ln.rstrip() for ln in printed.splitlines()] == [ln.rstrip() for ln in shown.splitlines()]
