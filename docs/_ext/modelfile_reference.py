@@ -71,10 +71,11 @@ def _shown_unit(unit: str) -> str:
     return f"{ureg.Unit(unit):~P}"
 
 
-def _type(annotation: Any) -> str:
-    """How the value is written in a file, in words, with its unit."""
+def _type(annotation: Any, extra: list[Any] | None = None) -> str:
+    """How the value is written in a file, in words, with its unit (``extra``: metadata pydantic moved
+    from the annotation to the field)."""
     annotation, metadata = _unwrap(annotation)
-    unit = _unit(metadata)
+    unit = _unit([*metadata, *(extra or [])])
     if unit is not None:
         shown = _shown_unit(unit)
         return "number (dimensionless)" if shown == "dimensionless" else f"quantity in {shown}"
@@ -153,7 +154,7 @@ def render(schema: type[BaseModel], file_type: str) -> tuple[list[str], list[str
             description = f.description or ""
             if not description:
                 undocumented.append(f"[{path}] {name}")
-            rows.append((name, _type(f.annotation), _default(f), _limits(f), description))
+            rows.append((name, _type(f.annotation, f.metadata), _default(f), _limits(f), description))
         header = f"[[{path}]]" if is_array else f"[{path}]"
         anchor = f"file-{file_type}-{path.replace('.', '-').replace('_', '-')}"
         lines.extend([f".. _{anchor}:", "", header, "-" * len(header), ""])
@@ -162,15 +163,15 @@ def render(schema: type[BaseModel], file_type: str) -> tuple[list[str], list[str
             [f"*{need}{'; one table per element' if is_array else ''}.* {_cell(field.description or '')}", ""]
         )
         if rows:
-            lines.extend([".. list-table::", "   :header-rows: 1", "   :widths: 18 22 12 10 38", ""])
-            lines.extend(["   * - field", "     - type", "     - default", "     - limits", "     - meaning"])
+            lines.extend([".. list-table::", "   :header-rows: 1", "   :widths: 20 26 14 40", ""])
+            lines.extend(["   * - field", "     - type", "     - default", "     - meaning"])
             for name, kind, default, limits, description in rows:
+                shown = f"{kind}, {limits}" if limits else kind
                 lines.extend(
                     [
                         f"   * - ``{name}``",
-                        f"     - {_cell(kind)}",
+                        f"     - {_cell(shown)}",
                         f"     - {default}",
-                        f"     - {_cell(limits) or '—'}",
                         f"     - {_cell(description) or '—'}",
                     ]
                 )
@@ -180,10 +181,20 @@ def render(schema: type[BaseModel], file_type: str) -> tuple[list[str], list[str
 
     for name, field in schema.model_fields.items():
         sub, is_array = _table_of(field.annotation)
-        if sub is None:
-            undocumented.append(f"top-level field {name} (not a table)")
+        if sub is not None:
+            table(sub, name, is_array, field)
             continue
-        table(sub, name, is_array, field)
+        # a table of named values (e.g. a mechanism's [points]: name = [x, y])
+        if not field.description:
+            undocumented.append(f"[{name}]")
+        header = f"[{name}]"
+        anchor = f"file-{file_type}-{name.replace('_', '-')}"
+        need = "required" if field.is_required() else "optional"
+        lines.extend([f".. _{anchor}:", "", header, "-" * len(header), ""])
+        lines.extend([f"*{need}.* {_cell(field.description or '')}", ""])
+        value = get_args(_unwrap(field.annotation)[0])
+        shown = _type(value[1]) if len(value) == 2 else _type(field.annotation)
+        lines.extend([f"Each entry is ``name = value``, the value {shown}.", ""])
     return lines, undocumented
 
 

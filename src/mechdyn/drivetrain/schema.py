@@ -48,21 +48,31 @@ Seconds = quantity("s")
 
 class ModelTable(ModelTableBase):
     type: Literal["drivetrain"]
+    """The file type, ``"drivetrain"``: it selects the schema and the analyses that read the file."""
     name: str = "drivetrain"
+    """The model's name, shown in tables, plots, reports and the results database."""
 
 
 class MaterialTable(FileModel):
     density: Density | None = None
+    """Density of the disks given by their geometry (a disk's own ``density`` overrides it)."""
     shear_modulus: Pressure | None = None
+    """Shear modulus G of the shafts given by their geometry (a shaft's own overrides it)."""
 
 
 class DiskTable(FileModel):
     name: str
+    """The disk's name, unique in the file; shafts, meshes and outputs refer to it."""
     inertia: Inertia | None = None
+    """Polar moment of inertia J about the shaft axis. Give it, or ``thickness`` and ``outer_diameter``."""
     thickness: Length | None = None
+    """Axial thickness h of a disk given by its geometry: J = ρ h π (D_o⁴ − D_i⁴)/32."""
     outer_diameter: Length | None = None
+    """Outer diameter D_o of a disk given by its geometry."""
     inner_diameter: Length = 0.0
+    """Bore diameter D_i of a disk given by its geometry."""
     density: Density | None = None
+    """Density ρ of this disk (default: ``[material] density``)."""
 
     @model_validator(mode="after")
     def _one_way(self) -> DiskTable:
@@ -78,13 +88,21 @@ class DiskTable(FileModel):
 
 class ShaftTable(FileModel):
     name: str
+    """The shaft's name, unique among the elements; used in tables, plots and messages."""
     disks: tuple[str, str]
+    """The two disks the shaft connects, by name."""
     stiffness: TorsionalStiffness | None = None
+    """Torsional stiffness k. Give it, or ``length`` and ``diameter`` (k = G π (d⁴ − d_i⁴)/(32 l))."""
     length: Length | None = None
+    """Length l of a shaft given by its geometry."""
     diameter: Length | None = None
+    """Outer diameter d of a shaft given by its geometry."""
     inner_diameter: Length = 0.0
+    """Bore d_i of a hollow shaft given by its geometry."""
     shear_modulus: Pressure | None = None
+    """Shear modulus G of this shaft (default: ``[material] shear_modulus``)."""
     damping: TorsionalDamping = 0.0
+    """Viscous torsional damping between the two disks."""
 
     @model_validator(mode="after")
     def _one_way(self) -> ShaftTable:
@@ -100,14 +118,25 @@ class ShaftTable(FileModel):
 
 class MeshTable(FileModel):
     name: str
+    """The mesh's name, unique among the elements."""
     disks: tuple[str, str]
+    """The two disks that carry the gears, by name; with ``gear_pair`` the first carries the pinion."""
     kind: Literal["external", "internal"] = "external"
+    """``external`` (the gears turn in opposite senses) or ``internal`` (a ring gear: the same sense)."""
     teeth: tuple[int, int] | None = None
+    """Tooth numbers [z_a, z_b]: they set the rigid ratio z_b/z_a and the Campbell diagram's mesh orders."""
     ratio: Dimensionless | None = None
+    """Speed ratio n = |θ_a/θ_b| when the teeth are not known (instead of ``teeth``)."""
     base_radii: tuple[Length, Length] | None = None
+    """Base-circle radii [r_a, r_b]; the flexible mesh acts along the line of action at these radii. A warning
+    says when they disagree with the teeth or ratio by more than 0.5 %."""
     stiffness: LinearStiffness | None = None
+    """Mesh stiffness k_c along the line of action; leave it out for a rigid mesh (a constraint)."""
     damping: LinearDamping = 0.0
+    """Viscous mesh damping along the line of action."""
     gear_pair: str | None = None
+    """The name of a ``[[gear_pairs]]`` row: the mesh then takes its teeth, base radii and mean mesh stiffness
+    (over a mesh cycle) from that gear data."""
 
     @model_validator(mode="after")
     def _one_source(self) -> MeshTable:
@@ -126,47 +155,70 @@ class GearPairTable(FileModel):
     """A spur pair whose mean mesh stiffness, teeth and base radii a mesh takes (``gear_pair = name``)."""
 
     name: str
+    """The pair's name, which a mesh's ``gear_pair`` refers to."""
     pinion: GearTable
+    """The pinion, by gear data (``teeth``, ``module``, ``face_width``, …; see the gear-pair file)."""
     gear: GearTable
+    """The gear, by gear data."""
     center_distance: Length | None = None
+    """Operating centre distance (default: the standard one for the profile shifts)."""
 
 
 class GroundSpringTable(FileModel):
     name: str
+    """The spring's name, unique among the elements."""
     disk: str
+    """The disk it ties to the frame (a motor, a brake, a clamp)."""
     stiffness: TorsionalStiffness
+    """Torsional stiffness between the disk and the frame."""
 
 
 class GroundDamperTable(FileModel):
     name: str
+    """The damper's name, unique among the elements."""
     disk: str
+    """The disk it ties to the frame."""
     damping: TorsionalDamping
+    """Viscous torsional damping between the disk and the frame."""
 
 
 class CampbellTable(FileModel):
     speed_range: tuple[Speed, Speed]
+    """Lowest and highest speed of the reference disk for ``mechdyn campbell``."""
     reference_disk: str | None = None
+    """The disk whose speed is the abscissa (default: the first disk)."""
     shaft_orders: list[float] = Field(default_factory=lambda: [1.0])
+    """Excitation orders per revolution of each shaft line, at its own speed."""
     mesh_orders: list[float] = Field(default_factory=lambda: [1.0])
+    """Multiples of each mesh's tooth-passing frequency (teeth × shaft speed); needs ``teeth``."""
 
 
 class ExcitationTable(FileModel):
     disk: str
+    """The disk the harmonic torque acts on."""
     amplitude: Torque
+    """Amplitude of the harmonic torque."""
     phase: Angle = 0.0
+    """Phase of the harmonic torque."""
 
 
 class RayleighTable(FileModel):
     alpha: PerSecond = 0.0
+    """Mass-proportional coefficient α of Rayleigh damping, C = α M + β K."""
     beta: Seconds = 0.0
+    """Stiffness-proportional coefficient β of Rayleigh damping, C = α M + β K."""
 
 
 class ResponseTable(FileModel):
     excitation: list[ExcitationTable] = Field(min_length=1)
     frequency_range: tuple[Frequency, Frequency]
+    """Lowest and highest frequency of ``mechdyn frf``."""
     points: int = Field(default=1000, ge=2, le=200_000)
+    """Frequencies in the range, spaced logarithmically."""
     outputs: list[str] = Field(default_factory=list)
+    """Disks, shafts and meshes whose response is reported (default: all disks)."""
     modal_damping: float | None = Field(default=None, ge=0.0, lt=1.0)
+    """Damping ratio ζ of every mode (instead of ``[response.rayleigh]``)."""
     rayleigh: RayleighTable | None = None
 
     @model_validator(mode="after")

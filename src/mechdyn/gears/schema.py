@@ -31,24 +31,37 @@ LineLoad = quantity("N/mm")
 
 class MaterialTable(FileModel):
     youngs_modulus: Pressure = 206e9
+    """Young's modulus E of the gears (a gear's own value overrides it)."""
     poisson_ratio: float = Field(default=0.3, gt=-1.0, lt=0.5)
+    """Poisson's ratio ν of the gears, for the Hertz term and the shear modulus."""
 
 
 class GearTable(FileModel):
     """One spur gear from ordinary gear data."""
 
     teeth: int = Field(ge=5)
+    """Number of teeth z."""
     module: Length
+    """Module m (the pitch diameter is m z)."""
     face_width: Length
+    """Face width b."""
     pressure_angle: Angle = math.radians(20.0)
+    """Standard pressure angle α of the basic rack."""
     profile_shift: float = 0.0
+    """Profile-shift coefficient x (in modules)."""
     addendum: float = 1.0
+    """Addendum coefficient h_a* (in modules): tip radius = m (z/2 + h_a* + x)."""
     dedendum: float = 1.25
+    """Dedendum coefficient h_f* (in modules): root radius = m (z/2 − h_f* + x)."""
     bore_diameter: Length | None = None
+    """Diameter of the gear's bore, for the foundation of the teeth. Without it the gear is taken as solid to
+    half its root diameter, and the result says so."""
     rim_thickness: Length | None = Field(default=None, description="s_R of a rim-and-web blank")
     web_width: Length | None = Field(default=None, description="b_s of a rim-and-web blank")
     youngs_modulus: Pressure | None = None
+    """Young's modulus of this gear (default: ``[material]``)."""
     poisson_ratio: float | None = Field(default=None, gt=-1.0, lt=0.5)
+    """Poisson's ratio of this gear (default: ``[material]``)."""
 
     def build(self, name: str, material: MaterialTable) -> SpurGear:
         return SpurGear(
@@ -72,14 +85,21 @@ class GearTable(FileModel):
 
 class MeshSettings(FileModel):
     center_distance: Length | None = None
+    """Operating centre distance (default: from the profile shifts)."""
     tooth_model: Literal["truncated", "involute"] = "truncated"
+    """``truncated`` (truncated-triangle tooth, closed form) or ``involute`` (potential energy integrated over
+    the involute thickness)."""
     points: int = Field(default=400, ge=4, le=100_000)
+    """Positions over one mesh cycle at which the mesh stiffness is computed."""
     specific_load: LineLoad = 100.0  # N/mm, for the ISO load correction
+    """Line load F_t/b for ISO 6336-1's load correction of c′ and c_γα."""
 
 
 class PairModelTable(ModelTableBase):
     type: Literal["gear_pair"]
+    """The file type, ``"gear_pair"``: it selects the schema and the analyses that read the file."""
     name: str = "gear pair"
+    """The model's name, shown in tables, plots, reports and the results database."""
 
 
 class GearPairModel(FileModel):
@@ -134,27 +154,40 @@ def build_gear_pair(source: ModelSource) -> GearPairSpec:
 
 class ToothTable(FileModel):
     tip_height: Length
+    """Height h_a of the tooth's tip, from the same datum as the other heights."""
     root_height: Length
+    """Height h_b of the root section, where the taper starts."""
     load_height: Length
+    """Height h_c at which the normal force acts."""
     tip_thickness: Length
+    """Tooth thickness t_a at the tip."""
     root_thickness: Length
+    """Tooth thickness t_b at the root section."""
     root_radius: Length | None = None
+    """Radius of the root section, for the foundation term of Sainsot et al. (2004) with ``bore_radius``."""
     bore_radius: Length | None = None
+    """Radius of the gear's bore, for the foundation term (with ``root_radius``)."""
 
 
 class LoadTable(FileModel):
     load_angle: Angle
+    """Angle φ between the normal force and the perpendicular to the tooth's centre line."""
     face_width: Length
+    """Face width f of the teeth."""
 
 
 class PublishedTable(FileModel):
     mesh_stiffness: Stiffness | None = None
+    """The stiffness the publication prints for this pair, to compare with."""
     note: str = ""
+    """Where the printed value comes from."""
 
 
 class ToothModelTable(ModelTableBase):
     type: Literal["tooth_pair"]
+    """The file type, ``"tooth_pair"``: it selects the schema and the analyses that read the file."""
     name: str = "tooth pair"
+    """The model's name, shown in tables, plots, reports and the results database."""
 
 
 class ToothPairModel(FileModel):

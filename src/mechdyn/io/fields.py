@@ -115,5 +115,8 @@ class ModelTableBase(FileModel):
     """The ``[model]`` table every model file starts with; each type adds ``type: Literal[...]``."""
 
     name: str = "model"
+    """The model's name, shown in tables, plots, reports and the results database."""
     description: str = ""
+    """Free text about the model: what it represents, what was assumed."""
     source: str = ""
+    """Where the data come from (a drawing, a publication, a measurement)."""

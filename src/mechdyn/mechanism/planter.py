@@ -238,35 +238,55 @@ _D = PlanterDesign()
 
 class PlanterModelTable(ModelTableBase):
     type: Literal["planting_mechanism"]
+    """The file type, ``"planting_mechanism"``: it selects the schema and the analyses that read the file."""
     name: str = "planting mechanism"
+    """The model's name, shown in tables, plots, reports and the results database."""
 
 
 class DesignTable(FileModel):
     """The design variables; each left out takes RP-1's value (:class:`PlanterDesign`)."""
 
     eccentricity_ratio: Dimensionless = _D.eccentricity_ratio
+    """ε, the eccentric gears' offset of pivot over radius."""
     alpha: Angle = _D.alpha
+    """α, angle to the horizontal of the line through an eccentric gear's pivot and centre."""
     beta: Angle = _D.beta
+    """β, the planet's installation angle."""
     arm_radius: Length = _D.arm_radius
+    """R, the carrier's radius from the sun to the planet (the idler sits at R/2)."""
     fork_length: Length = _D.fork_length
+    """L, from the planet's centre to the fork tip."""
     fork_angle: Angle = _D.fork_angle
+    """γ, the fork's angle on the planet."""
     com_offset: Length = _D.com_offset
+    """d, from the planet's pivot to the centre of mass of planet and fork (not published: chosen)."""
     arm_mass: _Mass = _D.arm_mass
+    """Mass of the carrier arm."""
     idler_mass: _Mass = _D.idler_mass
+    """Mass of each idler."""
     planet_mass: _Mass = _D.planet_mass
+    """Mass of each planet with its fork."""
     arm_inertia: _Inertia = _D.arm_inertia
+    """Moment of inertia of the carrier about the sun's axis (not published: chosen)."""
     idler_inertia: _Inertia = _D.idler_inertia
+    """Moment of inertia of each idler about its pivot."""
     planet_inertia: _Inertia = _D.planet_inertia
+    """Moment of inertia of each planet with its fork about its pivot."""
     speed: quantity("rad/s") = _D.speed  # type: ignore[valid-type]
+    """Carrier speed."""
     gravity: quantity("m/s^2") = _D.gravity  # type: ignore[valid-type]
+    """Gravity, acting down the drawing's y axis."""
 
 
 class SettingsTable(FileModel):
     """As a mechanism file's ``[settings]``."""
 
     n_angles: int = Field(default=360, ge=8, le=100_000)
+    """Carrier angles per revolution."""
     trace: list[str] = Field(default_factory=list)
+    """Points whose paths are drawn (e.g. the fork tips)."""
     field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
+    """Velocity of the machine over the ground, [v_x, v_y], for the paths over the field."""
 
 
 class PlanterFile(FileModel):

@@ -36,55 +36,94 @@ Force = quantity("N")
 
 class ModelTable(ModelTableBase):
     type: Literal["mechanism"]
+    """The file type, ``"mechanism"``: it selects the schema and the analyses that read the file."""
     name: str = "mechanism"
+    """The model's name, shown in tables, plots, reports and the results database."""
 
 
 class BodyTable(FileModel):
     name: str
+    """The body's name, unique in the file; joints and the driver refer to it."""
     points: list[str] = Field(min_length=1)
+    """The points of ``[points]`` that belong to this body (they move with it)."""
     mass: Mass = 0.0
+    """The body's mass."""
     inertia: Inertia = 0.0
+    """Moment of inertia about the centre of mass, perpendicular to the plane."""
     center_of_mass: tuple[Length, Length] | str | None = None
+    """Centre of mass: [x, y] in the drawing, or a point's name (default: the mean of the body's points)."""
 
 
 class PitchTable(FileModel):
     kind: Literal["circle", "eccentric", "ellipse", "samples"]
+    """Gear 1's pitch curve: ``circle``, ``eccentric`` (a circle pivoted off its centre), ``ellipse`` (pivoted
+    at a focus) or ``samples`` (radii at equal angles); gear 2 is its exact conjugate."""
     radius: Length | Literal["closing"] | None = None
+    """Radius of a circle or an eccentric circle; ``"closing"`` sizes it to the centre distance of the
+    drawing."""
     eccentricity_ratio: float | None = Field(default=None, ge=0, lt=1)
+    """Eccentricity over radius of an eccentric circle, or the eccentricity of an ellipse."""
     semi_major: Length | Literal["closing"] | None = None
+    """Semi-major axis of an ellipse; ``"closing"`` sizes it to the drawing."""
     radii: list[Length] | None = None
+    """Pitch radii at equal angles over one turn (``samples``), interpolated by a Fourier series."""
 
 
 class JointTable(FileModel):
     name: str
+    """The joint's name, unique in the file; tables of joint forces use it."""
     type: Literal["revolute", "prismatic", "gear"]
+    """``revolute`` (a pin), ``prismatic`` (a slider on a guide) or ``gear`` (two gears in mesh)."""
     bodies: tuple[str, str]
+    """The two bodies it joins, by name; ``ground`` is the frame."""
     point: str | None = None
+    """The point where a revolute or prismatic joint sits."""
     axis: Angle | None = None
+    """Direction of a prismatic joint's sliding axis, from the x axis; it points *up* (bottom dead centre is
+    the lowest position along it)."""
     points: tuple[str, str] | None = None
+    """A gear joint: the pivots of gear 1 and gear 2 on the carrier."""
     carrier: str = "ground"
+    """A gear joint: the body both gears pivot on (``ground`` for the frame)."""
     pitch: PitchTable | None = None
     orientation: Angle = 0.0
+    """A gear joint: the angle of gear 1's pitch curve in the drawing (its installation phase)."""
     pressure_angle: Angle = 0.3490658503988659
+    """A gear joint: the pressure angle of the teeth."""
     internal: bool = False
+    """A gear joint: gear 2 is a ring gear around gear 1."""
     flank: Literal["load", "fixed"] = "load"
+    """A gear joint: ``load`` (the normal force |F_t| tan φ pushes the gears apart on whichever flank is
+    loaded) or ``fixed`` (the published law F_n = F_t tan φ)."""
 
 
 class DriverTable(FileModel):
     body: str
+    """The crank: the body the motor turns."""
     pivot: str
+    """The crank's fixed pivot."""
     tip: str
+    """A second point of the crank; the crank angle is that of pivot → tip from the x axis."""
     speed: Speed
+    """Crank speed (constant unless ``speed_profile`` is given)."""
     speed_profile: list[tuple[str, str]] | None = None
+    """Crank speed against crank angle, rows [angle, speed] from 0° up to below 360°, interpolated; the
+    angular acceleration follows from it."""
 
 
 class SettingsTable(FileModel):
     gravity: tuple[Acceleration, Acceleration] = (0.0, 0.0)
+    """Gravity in the plane of the drawing, [g_x, g_y] (default: none)."""
     angle_datum: Angle | Literal["bdc"] = 0.0
+    """Where crank angles count from: an angle, or ``"bdc"`` (the located bottom dead centre)."""
     n_angles: int = Field(default=360, ge=8, le=100_000)
+    """Crank angles per revolution."""
     output: tuple[str, str] | None = None
+    """The output: [body, point] whose motion is reported (default: the slide of a prismatic joint)."""
     trace: list[str] = Field(default_factory=list)
+    """Points whose paths are drawn."""
     field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
+    """Velocity of the machine over the ground, [v_x, v_y], for the paths over the field."""
 
     @field_validator("angle_datum", mode="before")
     @classmethod
@@ -94,10 +133,15 @@ class SettingsTable(FileModel):
 
 class ProcessForceTable(FileModel):
     body: str
+    """The body the process force acts on."""
     point: str
+    """The point where it acts."""
     direction: Angle
+    """Its direction from the x axis."""
     versus: Literal["angle", "position"]
+    """Whether ``table`` is against crank ``angle`` or output ``position``."""
     table: list[tuple[str, str]] = Field(min_length=2)
+    """Rows [angle or position, force], each with its unit, interpolated linearly."""
 
 
 class MechanismFile(FileModel):
@@ -105,6 +149,8 @@ class MechanismFile(FileModel):
 
     model: ModelTable
     points: dict[str, tuple[Length, Length]]
+    """The assembly drawing: every named point at one assembled pose, ``A = ["100 mm", "0 mm"]``. It fixes the
+    link lengths and the assembly branch."""
     bodies: list[BodyTable] = Field(min_length=1)
     joints: list[JointTable] = Field(min_length=1)
     driver: DriverTable

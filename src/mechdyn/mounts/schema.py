@@ -35,21 +35,33 @@ Pressure = quantity("Pa")
 
 class ModelTable(ModelTableBase):
     type: Literal["mount"]
+    """The file type, ``"mount"``: it selects the schema and the analyses that read the file."""
     name: str = "mount"
+    """The model's name, shown in tables, plots, reports and the results database."""
 
 
 class MaterialsTable(FileModel):
     files: list[str] = Field(default_factory=list)
+    """Material files (TOML, relative to this file) added to the shipped database; names there override
+    shipped ones."""
 
 
 class PadTable(FileModel):
     material: str | None = None
+    """The rubber by name from the materials database (instead of ``shore_a``)."""
     shore_a: float | None = None
+    """The rubber by Shore A hardness (30–75), its E, G, k and B interpolated from Lindley's table."""
     thickness: Length
+    """Pad thickness h between its bonded faces."""
     length: Length | None = None
+    """Length l of a rectangular pad (with ``width``)."""
     width: Length | None = None
+    """Width b of a rectangular pad (with ``length``)."""
     diameter: Length | None = None
+    """Diameter D of a round pad (instead of ``length`` and ``width``)."""
     compression_coefficient: float | None = None
+    """The rubber's factor k in E_c = E (1 + 2 k S²) (default: the table's for the hardness); the parameter a
+    calibration fits."""
 
     @model_validator(mode="after")
     def _material(self) -> PadTable:
@@ -60,19 +72,30 @@ class PadTable(FileModel):
 
 class LayerTable(FileModel):
     thickness: Length
+    """Thickness of the clamped layer along the bolt."""
     material: str
+    """The layer's material by name from the materials database (e.g. ``steel``, ``concrete C25/30``)."""
 
 
 class BoltedTable(FileModel):
     diameter: Length
+    """Nominal bolt diameter d."""
     layers: list[LayerTable] = Field(min_length=1)
+    """The clamped layers from the head (or washer) down, each a ``[[bolted.layers]]`` table."""
     bolt_material: str = "bolt steel"
+    """The bolt's material by name."""
     head_diameter: Length
+    """Bearing diameter under the head or washer (d_W), where the pressure cone starts."""
     lower_bearing_diameter: Length | None = None
+    """Bearing diameter at the far end (nut, or an anchor's head); default: ``head_diameter``."""
     hole_diameter: Length | None = None
+    """Clearance-hole diameter (default: ISO 273 medium series)."""
     stress_area: Area | None = None
+    """Tensile stress area A_s (default: π/4 (d − 0.9382 P)², ISO 898-1)."""
     nut: Literal["nut", "tapped", "anchor"] = "nut"
+    """What holds the far end: ``nut``, ``tapped`` (a threaded hole) or ``anchor`` (a head in concrete)."""
     cone_angle: Angle | Literal["vdi2230"] = 0.5235987755982988
+    """Half-angle α of the pressure cones, or ``"vdi2230"`` for VDI 2230's from the geometry."""
     outer_diameter: Length | None = Field(
         default=None, description="D_A of the clamped parts (a cone that reaches it goes on as a sleeve)"
     )
@@ -81,29 +104,43 @@ class BoltedTable(FileModel):
 
 class WedgeTable(FileModel):
     bearing_area: Area
+    """Area of the wedge's bearing faces."""
     height: Length
+    """Height of the wedge stack."""
     material: str = "steel"
+    """The wedges' material by name."""
     catalogue_stiffness: LinearStiffness | None = None
+    """The maker's stiffness; without it the solid stack E A/h is the (upper-bound) estimate."""
 
 
 class ScrewFootTable(FileModel):
     diameter: Length
+    """Spindle diameter of the levelling screw."""
     free_length: Length
+    """Length of spindle between the machine's foot and the base plate."""
     material: str = "steel"
+    """The spindle's material by name."""
     base_stiffness: LinearStiffness | None = None
+    """Stiffness of the foot's base plate or pad, in series with the spindle."""
     pitch: Length | None = Field(default=None, description="spindle thread pitch; by default ISO 261 coarse")
 
 
 class DampingPadTable(PadTable):
     loss_factor: float = Field(default=0.1, ge=0, lt=2)
+    """Loss factor η of the damping material."""
 
 
 class SpringTable(FileModel):
     wire_diameter: Length
+    """Wire diameter d of a helical spring."""
     coil_diameter: Length
+    """Mean coil diameter D."""
     active_coils: float = Field(gt=0)
+    """Number of active coils n: k = G d⁴/(8 D³ n)."""
     springs: int = Field(default=1, ge=1)
+    """Springs in parallel in the isolator."""
     material: str = "steel"
+    """The spring's material by name."""
 
 
 class FETable(FileModel):
@@ -118,9 +155,13 @@ class FETable(FileModel):
     )
     max_refinement: int = Field(default=64, ge=1, le=1024, description="finest mesh it may refine to")
     preloads: list[Force] = Field(default_factory=list)
+    """Preloads at which an anchor's contact pressure is computed."""
     pressure_threshold: Pressure | None = None
+    """Contact pressure to compare with (the published anchor: 1.7 MPa)."""
     plate_radius: Length | None = None
+    """Radius of the base plate in the axisymmetric model (default: 2.5 × the head diameter)."""
     concrete_radius: Length | None = None
+    """Radius of the concrete block in the axisymmetric model (default: 6 × the head diameter)."""
 
 
 def _weight(value: Any) -> float:
@@ -137,16 +178,26 @@ def _weight(value: Any) -> float:
 
 class LoadTable(FileModel):
     weight: Annotated[float, BeforeValidator(_weight)]
+    """The load on the mount, as a force or as a mass under standard gravity."""
     disturbing_frequency: Frequency
+    """Frequency of the disturbing force, for transmissibility and isolation."""
     loss_factor: float | None = None
+    """Loss factor η of the mount (default: the estimate's)."""
 
 
 class CalibrationTable(FileModel):
     reference: Literal["fe", "measured", "frf"] | None = None
+    """What to calibrate against: ``fe`` (the FE reference), ``measured`` (``measured_stiffness``) or ``frf``
+    (a measured frequency response)."""
     measured_stiffness: LinearStiffness | None = None
+    """A measured stiffness to fit the free parameter to."""
     frf_csv: str | None = None
+    """A CSV file of a measured frequency response (frequency, real and imaginary receptance), fitted by a
+    single-degree-of-freedom model."""
     provenance: str = ""
+    """Where the reference comes from, stored with the calibration."""
     use_stored: bool = False
+    """Predict with the latest stored calibration of this mount."""
 
     @model_validator(mode="after")
     def _consistent(self) -> CalibrationTable:

@@ -46,10 +46,14 @@ class _Row(BaseModel):
 
 class _StudyTable(_Row):
     name: str
+    """The study's name in the results database; running a study of a stored name resumes it."""
     kind: Literal["oat", "factorial", "lhs", "sobol", "optimize", "synthesis"]
+    """``oat`` (one at a time), ``factorial``, ``lhs`` (Latin hypercube), ``sobol`` (Sobol indices),
+    ``optimize`` (Optuna) or ``synthesis`` (differential evolution to targets)."""
     model: str = Field(description="the base model file, relative to the study file")
     analysis: str = Field(description="a registered analysis (`mechdyn analyses` lists them)")
     description: str = ""
+    """Free text about the study."""
     options: dict[str, Any] = Field(default_factory=dict, description="the analysis' options")
     samples: int | None = Field(
         default=None,
@@ -58,6 +62,7 @@ class _StudyTable(_Row):
         "synthesis: generations",
     )
     seed: int = 1
+    """Seed of the samplers and optimizers, so that a study can be repeated."""
     curves: int = Field(default=20, ge=0, description="keep every variant's curves up to this study size")
     chunk: int = Field(default=2048, ge=1, description="variants per evaluation block (and per Dask task)")
     population: int | None = Field(default=None, ge=4, description="synthesis: population per generation")
@@ -70,30 +75,49 @@ class _StudyTable(_Row):
 
 class _ParameterRow(_Row):
     path: str
+    """The model value, as the model file spells it: ``support.stiffness``, ``points.C.y``,
+    ``bodies.slide.mass``, ``mounts.*.stiffness``; through a referenced file:
+    ``excitation.mechanism.points.C``."""
     name: str | None = None
+    """The parameter's name in tables (default: the path)."""
     range: str | list[Any] | None = None
+    """Low and high with units (``["1.2 m", "1.6 m"]``), relative (``"±10 %"``), or ``"box"`` (each of the
+    study's ``boxes``)."""
     levels: list[Any] | None = None
+    """Levels with units, or relative (``["-10 %", "-20 %"]``), for ``oat`` and ``factorial``."""
     tie: list[str] = Field(default_factory=list)
+    """More paths that move with this parameter, each by the same factor from its own value."""
 
 
 class _OutputRow(_Row):
     output: str
+    """A summary key of the analysis, nested with dots (``joint_force_peak_N.F``)."""
     unit: str = ""
+    """Display unit of the output (default: SI)."""
 
 
 class _GoalRow(_Row):
     output: str
+    """A summary key of the analysis to optimize."""
     unit: str = ""
+    """Display unit of the output."""
     goal: Literal["minimize", "maximize"] = "minimize"
+    """``minimize`` or ``maximize``."""
 
 
 class _ConstraintRow(_Row):
     output: str
+    """A summary key of the analysis."""
     unit: str = ""
+    """Unit of the limits (default: the output's SI unit)."""
     max: str | float | None = None
+    """Upper limit."""
     min: str | float | None = None
+    """Lower limit."""
     equals: str | float | None = None
+    """Value to hold (with ``tolerance``)."""
     tolerance: str | float | None = None
+    """Allowed deviation from ``equals``."""
 
 
 class StudyFile(_Row):

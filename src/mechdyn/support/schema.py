@@ -54,13 +54,18 @@ Vector3 = tuple[float, float, float]
 
 class ModelTable(ModelTableBase):
     type: Literal["support"]
+    """The file type, ``"support"``: it selects the schema and the analyses that read the file."""
     name: str = "machine on its supports"
+    """The model's name, shown in tables, plots, reports and the results database."""
 
 
 class MachineTable(FileModel):
     mass: Mass = Field(gt=0.0)
+    """The machine's total mass (a rigid body)."""
     center_of_mass: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    """Its centre of mass [x, y, z], z up."""
     inertia: tuple[Inertia, Inertia, Inertia] = (0.0, 0.0, 0.0)
+    """Moments of inertia [I_xx, I_yy, I_zz] about axes through the centre of mass."""
     inertia_products: tuple[Inertia, Inertia, Inertia] = Field(
         default=(0.0, 0.0, 0.0),
         description="(Ixy, Ixz, Iyz): the tensor's off-diagonal components, I_xy = −∫xy dm, kg·m² "
@@ -70,12 +75,16 @@ class MachineTable(FileModel):
 
 class SingleDofTable(FileModel):
     stiffness: LinearStiffness
+    """Vertical stiffness k of the one-degree-of-freedom support."""
     damping_ratio: Dimensionless
+    """Damping ratio ζ of the support (c = 2 ζ √(k m))."""
 
 
 class MountTable(FileModel):
     name: str
+    """The mount's name, unique in the file; mount forces are reported by it."""
     position: tuple[Length, Length, Length]
+    """Where the mount acts on the machine, [x, y, z]."""
     stiffness: tuple[LinearStiffness, LinearStiffness, LinearStiffness] | None = Field(
         default=None, description="along the mount's local axes (shear, shear, compression)"
     )
@@ -98,7 +107,11 @@ class MountTable(FileModel):
         description="along the local axes; by default 0, or from an estimate's loss factor",
     )
     orientation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
+    """Rotations of the mount's local axes [about x, about y, about z]; the third local axis is its
+    compression axis."""
     anchored: bool = False
+    """Whether the mount is bolted to the floor (it may then pull); a free-standing mount that the machine's
+    weight would have to pull is refused."""
 
     @model_validator(mode="after")
     def _one_stiffness(self) -> MountTable:
@@ -117,14 +130,24 @@ class MountTable(FileModel):
 
 class ExcitationTable(FileModel):
     mechanism: str | None = None
+    """A mechanism model file (relative to this file) whose shaking force and moment load the machine."""
     angles: int | None = Field(default=None, ge=8, le=100_000)
+    """Crank angles per revolution for that mechanism (default: its own setting)."""
     origin: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    """Where the mechanism's origin sits in the machine, [x, y, z]."""
     x_axis: Vector3 | None = None
+    """Direction in the machine of the mechanism's x axis (with ``y_axis``; default: its output axis points
+    up)."""
     y_axis: Vector3 | None = None
+    """Direction in the machine of the mechanism's y axis (with ``x_axis``)."""
     period: Time | None = None
+    """Period of a load given by samples or harmonics."""
     force_z: list[Force] | None = None
+    """The vertical force at equal steps over one period (instead of ``mechanism``)."""
     harmonics: list[tuple[int, Force, Angle]] | None = None
+    """The vertical force as rows [order, amplitude, phase] (instead of ``mechanism``)."""
     mean_force_z: Force = 0.0
+    """A constant vertical force added to samples or harmonics."""
 
     @model_validator(mode="after")
     def _one_source(self) -> ExcitationTable:
@@ -145,9 +168,14 @@ class ExcitationTable(FileModel):
 
 class AnalysisTable(FileModel):
     dofs: Literal["planar", "spatial"] = "spatial"
+    """``spatial`` (all six rigid-body coordinates) or ``planar`` (x–z with rocking about y)."""
     start_up_cycles: int = Field(default=5, ge=1, le=1000)
+    """Load periods integrated from rest for the start-up."""
     start_up_method: Literal["DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "duhamel"] = "DOP853"
+    """Time integrator of the start-up: a ``scipy.integrate.solve_ivp`` method or ``duhamel`` (the convolution
+    in state-space form)."""
     gravity: quantity("m/s^2") = STANDARD_GRAVITY  # type: ignore[valid-type]
+    """Gravity, for the mounts' static deflection."""
 
     @model_validator(mode="before")
     @classmethod
