@@ -24,7 +24,7 @@ MAC_THRESHOLD = 0.5
 def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Modal assurance criterion between the columns of ``a`` and ``b``.
 
-    MAC_ij = |a_iᵀ b_j|² / ((a_iᵀ a_i)(b_jᵀ b_j)) (Allemang & Brown, 1982; Allemang, *Sound and
+    ``MAC_ij = |a_iᵀ b_j|² / ((a_iᵀ a_i)(b_jᵀ b_j))`` (Allemang & Brown, 1982; Allemang, *Sound and
     Vibration* 37(8), 2003). 1 for identical shapes up to scale, 0 for orthogonal ones.
     """
     num = np.abs(a.T @ b) ** 2

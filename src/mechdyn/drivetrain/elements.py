@@ -6,7 +6,7 @@ Every disk angle θ is measured in one global sense (counter-clockwise looking a
 being parallel). An *external* mesh turns its gears in opposite senses: the contact compression along
 the line of action is δ = r_a θ_a + r_b θ_b, so a rigid external mesh imposes θ_a = −n θ_b. An
 *internal* mesh turns both the same way: δ = r_a θ_a − r_b θ_b and θ_a = +n θ_b. Here r are base radii
-and n = N_b / N_a (teeth) is the ratio |θ_a / θ_b|.
+and n = N_b / N_a (teeth) is the ratio ``|θ_a / θ_b|``.
 
 Every element implements one protocol, :meth:`Element.blocks`, returning the disks it connects and its
 contributions to the mass, stiffness and damping matrices and, for a rigid mesh, its constraint row.
@@ -262,7 +262,7 @@ class GearMesh(Element):
     teeth : (int, int), optional
         N_a, N_b; sets the ratio n = N_b / N_a and the gear-mesh excitation orders.
     ratio : float, optional
-        n = |θ_a / θ_b| when the teeth are not known.
+        n = ``|θ_a / θ_b|`` when the teeth are not known.
     base_radii : (float, float) or quantities, optional
         r_a, r_b in m. Required for a flexible mesh.
     stiffness : float or quantity, optional
@@ -390,7 +390,7 @@ class GearMesh(Element):
 
     @property
     def speed_ratio(self) -> float:
-        """n = |θ_a / θ_b| = |ω_a / ω_b| from teeth, ratio or base radii (in that order)."""
+        """n = ``|θ_a / θ_b| = |ω_a / ω_b|`` from teeth, ratio or base radii (in that order)."""
         return self._rigid_ratio
 
     @property

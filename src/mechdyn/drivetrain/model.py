@@ -249,7 +249,7 @@ class Drivetrain:
         return [tuple(v) for v in lines.values()]
 
     def speed_ratios(self, reference: str) -> np.ndarray:
-        """|ω_disk / ω_reference| for every disk, from shafts (1) and mesh ratios (teeth first).
+        """``|ω_disk / ω_reference|`` for every disk, from shafts (1) and mesh ratios (teeth first).
 
         Disks not connected to ``reference`` get NaN.
         """

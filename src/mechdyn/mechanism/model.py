@@ -164,7 +164,7 @@ class GearJoint:
     the revolute joints that hold them there are separate joints of the model. A gear may be the
     frame itself (a fixed sun gear). The mesh force acts at the pitch point along the line of
     action: tangential to the pitch curves and, by the working pressure angle φ, a normal part
-    F_n = |F_t| tan φ that pushes the gears apart, on the flank the tangential force loads
+    ``F_n = |F_t| tan φ`` that pushes the gears apart, on the flank the tangential force loads
     (``flank = "fixed"`` keeps the published linear law F_n = F_t tan φ).
 
     Parameters
@@ -186,7 +186,7 @@ class GearJoint:
     internal : bool
         Gear 2 is an annulus (circular gears only).
     flank : {"load", "fixed"}
-        ``"load"``: the teeth always push apart, F_n = |F_t| tan φ, on whichever flank the
+        ``"load"``: the teeth always push apart, ``F_n = |F_t| tan φ``, on whichever flank the
         tangential force loads; ``"fixed"``: F_n = F_t tan φ, the linear law of the published
         analyses (it pulls the gears together where F_t reverses).
     """
@@ -285,7 +285,7 @@ class Driver:
     profile : callable, optional
         ``profile(angle)`` for arrays of crank angle ψ turned from the drawing (rad, in the direction
         of rotation, periodic over 2π): either ``(speed, acceleration)``, θ̇ (rad/s, the sign of
-        ``speed``, never zero) and θ̈ (rad/s²), which must agree with θ̈ = |θ̇| dθ̇/dψ; or the speed
+        ``speed``, never zero) and θ̈ (rad/s²), which must agree with ``θ̈ = |θ̇| dθ̇/dψ``; or the speed
         alone, and the acceleration is derived from it (a periodic cubic spline through 1024 samples).
         None means constant speed.
 
@@ -344,7 +344,7 @@ _PROFILE_RTOL = 1e-4
 
 
 def _checked_profile(profile: Callable[[np.ndarray], Any], speed: float) -> Callable[[np.ndarray], Any]:
-    """The profile as (θ̇, θ̈); θ̈ derived when only θ̇ is given, checked against |θ̇| dθ̇/dψ when given.
+    """The profile as (θ̇, θ̈); θ̈ derived when only θ̇ is given, checked against ``|θ̇| dθ̇/dψ`` when given.
 
     The derivative dθ̇/dψ is taken from a periodic cubic spline through the samples, whose error on
     a smooth profile is O(h⁴) (de Boor, *A Practical Guide to Splines*, ch. V).

@@ -121,7 +121,7 @@ class PeriodicLoad:
         Parameters
         ----------
         harmonics : dict of order h ≥ 1 → complex amplitude A_h
-            A 6-vector (N, N·m) or a scalar for Fz alone; |A_h| is the amplitude, arg A_h the phase.
+            A 6-vector (N, N·m) or a scalar for Fz alone; ``|A_h|`` is the amplitude, arg A_h the phase.
         mean : 6-vector or scalar, optional
         """
         H = max(harmonics, default=0)
