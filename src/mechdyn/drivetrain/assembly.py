@@ -39,7 +39,7 @@ class Assembly:
     K, C : scipy.sparse.csr_array
         Reduced stiffness (N·m/rad) and damping (N·m·s/rad) matrices.
     rigid_body_vectors : ndarray
-        (n_disks, n_free) exact rigid-body motions, one per free branch.
+        (n_disks, n_free) exact rigid-body motions, one per free branch, rad per unit motion.
     """
 
     drivetrain: Drivetrain

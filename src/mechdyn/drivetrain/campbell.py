@@ -136,7 +136,17 @@ class CampbellResult(Result):
         return {"frequencies_hz": (self.modal.frequencies_hz, "Hz")}
 
     def plot(self, ax: Any = None, max_frequency_hz: float | None = None, **display_units: str) -> Any:
-        """Draw the Campbell diagram; returns the matplotlib axes."""
+        """Draw the Campbell diagram; returns the matplotlib axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default: a new figure).
+        max_frequency_hz : float, optional
+            Upper limit of the frequency axis, Hz (default: a little above the highest line).
+        **display_units : str
+            Display units (the speed axis is in rpm).
+        """
         from mechdyn.drivetrain.plots import plot_campbell
 
         return plot_campbell(self, ax=ax, max_frequency_hz=max_frequency_hz)

@@ -26,6 +26,16 @@ def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
     ``MAC_ij = |a_iᵀ b_j|² / ((a_iᵀ a_i)(b_jᵀ b_j))`` (Allemang & Brown, 1982; Allemang, *Sound and
     Vibration* 37(8), 2003). 1 for identical shapes up to scale, 0 for orthogonal ones.
+
+    Parameters
+    ----------
+    a, b : ndarray
+        Mode shapes as columns, (n, m_a) and (n, m_b), in any one unit (rad for disk angles).
+
+    Returns
+    -------
+    ndarray
+        (m_a, m_b) MAC values, dimensionless, in [0, 1].
     """
     num = np.abs(a.T @ b) ** 2
     den = np.outer(np.sum(a * a, axis=0), np.sum(b * b, axis=0))
@@ -138,7 +148,7 @@ def compare_rigid(drivetrain: Drivetrain, *, threshold: float = MAC_THRESHOLD) -
     drivetrain : Drivetrain
         The model as given (its flexible meshes stay flexible).
     threshold : float
-        Lowest MAC accepted as "the same mode".
+        Lowest MAC accepted as "the same mode", dimensionless.
 
     Returns
     -------

@@ -105,10 +105,26 @@ class Element:
     name: str
 
     def blocks(self) -> ElementBlocks:  # pragma: no cover - abstract
+        """The element's contribution to the model: its blocks of M, K and C on its own disks, or a
+        rigid constraint between them.
+
+        Returns
+        -------
+        ElementBlocks
+            Inertia (kg·m²), stiffness (N·m/rad) and damping (N·m·s/rad) blocks in the element's disk
+            angles, and/or a constraint row; the assembler adds them without knowing the element type.
+        """
         raise NotImplementedError
 
     def transmission(self) -> float | None:
-        """θ_b / θ_a in a motion that loads this two-disk element not at all; None if not a link."""
+        """θ_b / θ_a in a motion that loads this two-disk element not at all; None if not a link.
+
+        Returns
+        -------
+        float or None
+            The signed ratio of the second disk's angle to the first's, dimensionless (1 for a
+            shaft, ∓1/n for a mesh of ratio n); None for an element on one disk.
+        """
         return None
 
 
@@ -146,6 +162,8 @@ class Disk(Element):
 
         Parameters
         ----------
+        name : str
+            The disk's name, unique in its drivetrain.
         thickness, outer_diameter, inner_diameter : float or quantity
             h, D_o, D_i in m.
         density : float or quantity
@@ -218,10 +236,16 @@ class Shaft(Element):
 
         Parameters
         ----------
+        name : str
+            The shaft's name, unique in its drivetrain.
+        disks : tuple of str
+            The two disks it connects.
         length, diameter, inner_diameter : float or quantity
             l, d, d_i in m.
         shear_modulus : float or quantity
             G in Pa.
+        damping : float or quantity
+            Viscous torsional damping between the disks, N·m·s/rad.
 
         Notes
         -----
@@ -371,6 +395,19 @@ class GearMesh(Element):
         Teeth (ratio and mesh orders) and base radii from the gears; stiffness k_c = the mean mesh
         stiffness over one mesh cycle (:meth:`mechdyn.gears.GearPair.mesh_cycle`), N/m. Disk a is
         the pinion.
+
+        Parameters
+        ----------
+        name : str
+            The mesh's name, unique in its drivetrain.
+        disks : tuple of str
+            The disks that carry the pinion and the gear.
+        pair : mechdyn.gears.GearPair
+            The gear pair (teeth, base radii, tooth stiffness).
+        damping : float or quantity
+            Viscous mesh damping along the line of action, N·s/m.
+        points : int
+            Positions over one mesh cycle for its mean stiffness.
         """
         k = pair.mesh_cycle(points).mean
         return cls(

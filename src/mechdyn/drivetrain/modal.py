@@ -43,11 +43,11 @@ class ModalResult(Result, Modes):
         (n_disks, n_modes) mass-normalised mode shapes for *every* disk, including disks removed by
         rigid meshes (recovered as θ = T q), angles in rad for unit modal amplitude.
     rigid_body_shapes : ndarray
-        (n_disks, n_rigid_body) rigid-body motions, largest entry 1.
+        (n_disks, n_rigid_body) rigid-body motions, rad, largest entry 1.
     solver : str
         The eigen solver that ran.
     reduced_shapes : ndarray
-        (n_coordinates, n_modes) the same modes on the independent coordinates (shapes = T @ this).
+        (n_coordinates, n_modes) the same modes on the independent coordinates, rad (shapes = T @ this).
     rigid_gears : bool
         Whether the gear meshes were taken as rigid constraints.
     """
@@ -113,7 +113,18 @@ class ModalResult(Result, Modes):
         return tuple(names), energy / np.where(total == 0, 1.0, total)
 
     def dominant_element(self, mode: int) -> tuple[str, float]:
-        """The element holding the largest share of strain energy in flexible mode ``mode`` (0-based)."""
+        """The element holding the largest share of strain energy in flexible mode ``mode`` (0-based).
+
+        Parameters
+        ----------
+        mode : int
+            Index of the flexible mode, 0 for the lowest.
+
+        Returns
+        -------
+        tuple of (str, float)
+            The element's name and its share of the mode's strain energy, a fraction.
+        """
         names, share = self.strain_energy
         i = int(np.argmax(share[:, mode]))
         return names[i], float(share[i, mode])
@@ -240,7 +251,17 @@ class ModalResult(Result, Modes):
         return pd.DataFrame(cols, index=pd.Index(names, name="element"))
 
     def plot(self, modes: Any = None, ax: Any = None, **display_units: str) -> Any:
-        """Plot unit-scaled mode shapes against disk; returns the matplotlib axes."""
+        """Plot unit-scaled mode shapes against disk; returns the matplotlib axes.
+
+        Parameters
+        ----------
+        modes : sequence of int, optional
+            Flexible modes to draw, 0-based (default: all).
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default: a new figure).
+        **display_units : str
+            Display units (unused: the shapes are normalised).
+        """
         from mechdyn.drivetrain.plots import plot_mode_shapes
 
         return plot_mode_shapes(self, modes=modes, ax=ax)

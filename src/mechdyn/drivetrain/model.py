@@ -104,7 +104,13 @@ class Drivetrain:
         return np.array([d.inertia for d in self.disks])
 
     def element(self, name: str) -> Element | Disk:
-        """The disk or element called ``name``."""
+        """The disk or element called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            A disk's or an element's name.
+        """
         for item in (*self.disks, *self.elements):
             if item.name == name:
                 return item
@@ -120,7 +126,13 @@ class Drivetrain:
         return tuple((e, e.blocks()) for e in (*self.disks, *self.elements))
 
     def block_groups(self, which: str) -> tuple[BlockGroup, ...]:
-        """The elements' ``which`` blocks ("mass", "stiffness", "damping"), stacked by block size."""
+        """The elements' ``which`` blocks ("mass", "stiffness", "damping"), stacked by block size.
+
+        Parameters
+        ----------
+        which : {"mass", "stiffness", "damping"}
+            The matrix whose blocks are wanted (kg·m², N·m/rad or N·m·s/rad).
+        """
         return self._block_groups[which]
 
     @cached_property
@@ -252,6 +264,12 @@ class Drivetrain:
         """``|ω_disk / ω_reference|`` for every disk, from shafts (1) and mesh ratios (teeth first).
 
         Disks not connected to ``reference`` get NaN.
+
+        Parameters
+        ----------
+        reference : str
+            The disk whose speed is 1.
+
         """
         if reference not in self.disk_index:
             raise ModelError(

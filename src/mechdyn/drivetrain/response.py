@@ -25,7 +25,13 @@ __all__ = ["FRFResult", "ModalDamping", "RayleighDamping", "frf"]
 
 @dataclass(frozen=True)
 class ModalDamping:
-    """Viscous damping ratio ζ for every flexible mode (or one per mode, lowest first)."""
+    """Viscous damping ratio ζ for every flexible mode (or one per mode, lowest first).
+
+    Parameters
+    ----------
+    ratio : float or sequence of float
+        ζ, dimensionless: one for all flexible modes, or one per mode from the lowest.
+    """
 
     ratio: float | tuple[float, ...] = 0.02
 
@@ -38,7 +44,14 @@ class ModalDamping:
 @dataclass(frozen=True)
 class RayleighDamping:
     """C = α M + β K, with α in 1/s and β in s (Rayleigh proportional damping; Lord Rayleigh,
-    *The Theory of Sound*, vol. 1, 1877)."""
+    *The Theory of Sound*, vol. 1, 1877).
+
+    Parameters
+    ----------
+    alpha : float
+        Mass-proportional coefficient α, 1/s.
+    beta : float
+        Stiffness-proportional coefficient β, s."""
 
     alpha: float = 0.0
     beta: float = 0.0
@@ -49,7 +62,19 @@ class RayleighDamping:
 
     @classmethod
     def from_ratios(cls, f1_hz: float, f2_hz: float, zeta: float) -> RayleighDamping:
-        """α, β giving damping ratio ζ at the two frequencies f1 and f2 (Hz)."""
+        """α, β giving damping ratio ζ at the two frequencies f1 and f2 (Hz).
+
+        Parameters
+        ----------
+        f1_hz, f2_hz : float
+            The two frequencies, Hz.
+        zeta : float
+            The damping ratio at both, dimensionless.
+
+        Notes
+        -----
+        ζ(ω) = α/(2ω) + βω/2 solved at ω₁ and ω₂ (e.g. Chopra, *Dynamics of Structures*, §11.4).
+        """
         w1, w2 = 2 * np.pi * f1_hz, 2 * np.pi * f2_hz
         return cls(alpha=2 * zeta * w1 * w2 / (w1 + w2), beta=2 * zeta / (w1 + w2))
 
@@ -71,7 +96,7 @@ class FRFResult(Result):
         torque (N·m); see ``element_units``.
     element_units : tuple of str
     natural_frequencies_hz : ndarray
-        Undamped natural frequencies of the model, for reference.
+        Undamped natural frequencies of the model, Hz, for reference.
     model_name : str
     excitation : mapping of disk name → complex torque amplitude, N·m
     damping : ModalDamping or RayleighDamping or None
@@ -143,7 +168,13 @@ class FRFResult(Result):
         }
 
     def peak(self, name: str) -> tuple[float, float]:
-        """Largest magnitude of a disk angle or element load, and its frequency (Hz)."""
+        """Largest magnitude of a disk angle or element load, and its frequency (Hz).
+
+        Parameters
+        ----------
+        name : str
+            A disk (its angle, rad) or an element (its load, N·m or N).
+        """
         if name in self.disk_names:
             y = np.abs(self.angles[:, self.disk_names.index(name)])
         elif name in self.element_names:
@@ -166,7 +197,15 @@ class FRFResult(Result):
         return pd.DataFrame(cols)
 
     def plot(self, outputs: Sequence[str] | None = None, ax: Any = None) -> Any:
-        """Plot magnitudes against frequency (log scale); returns the matplotlib axes."""
+        """Plot magnitudes against frequency (log scale); returns the matplotlib axes.
+
+        Parameters
+        ----------
+        outputs : sequence of str, optional
+            Disks and elements to draw (default: every disk).
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default: a new figure).
+        """
         from mechdyn.drivetrain.plots import plot_frf
 
         return plot_frf(self, outputs=outputs, ax=ax)

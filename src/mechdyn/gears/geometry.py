@@ -173,7 +173,13 @@ class SpurGear:
 
     # -- thickness ---------------------------------------------------------------------------------
     def thickness(self, radius: float) -> float:
-        """Arc tooth thickness at a radius on the involute (r ≥ r_b), m."""
+        """Arc tooth thickness at a radius on the involute (r ≥ r_b), m.
+
+        Parameters
+        ----------
+        radius : float
+            Radius on the involute, m (r_b ≤ r ≤ r_a).
+        """
         if radius < self.base_radius * (1 - 1e-12):
             raise ModelError(
                 f"radius {radius:g} m is inside the base circle {self.base_radius:g} m", element=self.name
@@ -185,11 +191,23 @@ class SpurGear:
         )
 
     def chordal_thickness(self, radius: float) -> float:
-        """Chord across the tooth at a radius, m."""
+        """Chord across the tooth at a radius, m.
+
+        Parameters
+        ----------
+        radius : float
+            Radius on the involute, m (r_b ≤ r ≤ r_a).
+        """
         return 2.0 * radius * math.sin(self.thickness(radius) / (2.0 * radius))
 
     def load_angle(self, radius: float) -> float:
-        """Angle between the line of action and the perpendicular to the tooth centre line, rad."""
+        """Angle between the line of action and the perpendicular to the tooth centre line, rad.
+
+        Parameters
+        ----------
+        radius : float
+            Radius on the involute, m (r_b ≤ r ≤ r_a).
+        """
         alpha_c = math.acos(min(1.0, self.base_radius / radius))
         return alpha_c - self.thickness(radius) / (2.0 * radius)
 
@@ -212,7 +230,13 @@ class SpurGear:
         return self.tooth().compliances(r - self.root_radius, self.load_angle(r))
 
     def chordal_thickness_array(self, radius: np.ndarray) -> np.ndarray:
-        """Chordal thickness at radii on the involute (vectorised :meth:`chordal_thickness`), m."""
+        """Chordal thickness at radii on the involute (vectorised :meth:`chordal_thickness`), m.
+
+        Parameters
+        ----------
+        radius : ndarray
+            Radii on the involute, m.
+        """
         r = np.asarray(radius, dtype=float)
         s = self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
         alpha_y = np.arccos(np.minimum(1.0, self.base_radius / r))

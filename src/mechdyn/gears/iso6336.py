@@ -30,7 +30,7 @@ class IsoStiffness:
     q_prime : float
         Minimum flexibility of a tooth pair q′, mm·µm/N.
     c_th : float
-        Theoretical single stiffness c′_th = 1/q′.
+        Theoretical single stiffness c′_th = 1/q′, N/(mm·µm).
     C_M, C_R, C_B : float
         Theoretical correction factor, gear blank factor, basic rack factor.
     load_factor : float
@@ -38,9 +38,9 @@ class IsoStiffness:
     material_factor : float
         E / E_st for materials other than steel.
     c_prime : float
-        Single stiffness c′.
+        Single stiffness c′, N/(mm·µm).
     c_gamma_alpha : float
-        Mesh stiffness c_γα = c′ (0.75 ε_α + 0.25), × 0.9 when ε_α < 1.2.
+        Mesh stiffness c_γα = c′ (0.75 ε_α + 0.25), × 0.9 when ε_α < 1.2, N/(mm·µm).
     notes : tuple of str
         Where the input lies outside the regression's range of validity, and what was taken.
     """
@@ -57,7 +57,13 @@ class IsoStiffness:
     notes: tuple[str, ...] = ()
 
     def mesh_stiffness(self, face_width: float) -> float:
-        """c_γα b in N/m for a face width in m."""
+        """c_γα b in N/m for a face width in m.
+
+        Parameters
+        ----------
+        face_width : float
+            Face width b, m.
+        """
         return convert(self.c_gamma_alpha, "N/(mm*um)", "N/m^2") * face_width
 
 

@@ -140,7 +140,10 @@ class GearPair:
     def pair_compliances(self, s: float) -> dict[str, float]:
         """Compliance terms of one tooth pair in contact at ``s``, m/N.
 
-        ``s`` is the distance of the contact from T₁ along the line of action, m.
+        Parameters
+        ----------
+        s : float
+            Distance of the contact from T₁ (the pinion's tangent point) along the line of action, m.
 
         Keys ``pinion_<term>``, ``gear_<term>`` for each tooth term, ``hertz`` and ``total``.
         """
@@ -163,7 +166,13 @@ class GearPair:
         return out
 
     def pair_stiffness(self, s: float) -> float:
-        """Stiffness of one tooth pair in contact at ``s``, N/m (both teeth in series, Hertz once)."""
+        """Stiffness of one tooth pair in contact at ``s``, N/m (both teeth in series, Hertz once).
+
+        Parameters
+        ----------
+        s : float
+            Distance of the contact from T₁ along the line of action, m.
+        """
         return 1.0 / self.pair_compliances(s)["total"]
 
     @property
@@ -236,6 +245,8 @@ class MeshCycle:
         return float(np.mean(self.pairs_in_contact > 1))
 
     def to_frame(self) -> pd.DataFrame:
+        """The cycle as a table: position along the line of action (m), pinion angle (rad), pairs in
+        contact and mesh stiffness (N/m), one row per position."""
         import pandas as pd
 
         return pd.DataFrame(
@@ -248,7 +259,13 @@ class MeshCycle:
         )
 
     def plot(self, ax: Any = None) -> Any:
-        """Mesh stiffness over the cycle; returns the matplotlib axes."""
+        """Mesh stiffness over the cycle; returns the matplotlib axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default: a new figure).
+        """
         from mechdyn.plotting import new_axes
 
         ax = new_axes(ax)

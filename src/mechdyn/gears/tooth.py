@@ -171,7 +171,13 @@ class TruncatedTooth:
         return (self.root_thickness - self.tip_thickness) / (self.tip_height - self.root_height)
 
     def thickness(self, height: float) -> float:
-        """t(y) = t_b (w − y)/(w − h_b), m."""
+        """t(y) = t_b (w − y)/(w − h_b), m.
+
+        Parameters
+        ----------
+        height : float
+            Height y from the tooth's datum, m (h_b ≤ y ≤ h_a).
+        """
         return self.taper * (self.apex_height - height)
 
     @property
@@ -251,11 +257,27 @@ class TruncatedTooth:
         )
 
     def compliance(self, load_height: Any, load_angle: Any) -> float:
-        """Total tooth compliance (all terms but Hertz), m/N."""
+        """Total tooth compliance (all terms but Hertz), m/N.
+
+        Parameters
+        ----------
+        load_height : float or quantity
+            Height h_c of the load, m, from the tooth's datum.
+        load_angle : float or quantity
+            Load angle φ, rad.
+        """
         return sum(self.compliances(load_height, load_angle).values())
 
     def stiffness(self, load_height: Any, load_angle: Any) -> float:
-        """Tooth stiffness F/δ without the contact term, N/m."""
+        """Tooth stiffness F/δ without the contact term, N/m.
+
+        Parameters
+        ----------
+        load_height : float or quantity
+            Height h_c of the load, m.
+        load_angle : float or quantity
+            Load angle φ, rad.
+        """
         return 1.0 / self.compliance(load_height, load_angle)
 
 

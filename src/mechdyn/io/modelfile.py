@@ -160,7 +160,18 @@ def read_toml(path: str | Path, what: str = "a .toml model file") -> ModelSource
 
 
 def read(path: str | Path) -> ModelSource:
-    """Read and parse a TOML model file without building the model."""
+    """Read and parse a TOML model file without building the model.
+
+    Parameters
+    ----------
+    path : str or Path
+        The model file (TOML).
+
+    Returns
+    -------
+    ModelSource
+        Its path, text, SHA-256 and parsed data, with the files it refers to.
+    """
     return read_check(read_toml(path))
 
 
@@ -205,7 +216,13 @@ def build_source(source: ModelSource) -> Any:
 
 
 def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
-    """Load a model file and return the model with the :class:`ModelSource` it came from."""
+    """Load a model file and return the model with the :class:`ModelSource` it came from.
+
+    Parameters
+    ----------
+    path : str or Path
+        The model file (TOML).
+    """
     source = read(path)
     return build_source(source), source
 

@@ -153,6 +153,10 @@ class CycleBatch(Result):
         (V, N) moment on the frame about the origin, N·m (motor reaction included).
     output_position : ndarray or None
         (V, N) along the upward output axis, m.
+    mechanism : Mechanism
+        The base design the variants were made from.
+    failures : dict of int to str
+        Variant index → why it could not be computed (its rows are NaN).
     """
 
     mechanism: Mechanism
@@ -193,7 +197,13 @@ class CycleBatch(Result):
             )
 
     def point(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position, velocity and acceleration of a drawing point, each (V, N, 2)."""
+        """Position, velocity and acceleration of a drawing point, each (V, N, 2).
+
+        Parameters
+        ----------
+        name : str
+            A point of the drawing; m, m/s and m/s² in the drawing's axes.
+        """
         self._stored(name)
         return tuple(np.stack([z.real, z.imag], axis=-1) for z in self._z[name])  # type: ignore[return-value]
 
@@ -228,7 +238,12 @@ class CycleBatch(Result):
 
     def joint_force(self, joint: str) -> np.ndarray:
         """(V, N, 2) force that ``joint`` puts on its second body, N (as
-        :meth:`DynamicsResult.joint_load` gives it, without the moment)."""
+        :meth:`DynamicsResult.joint_load` gives it, without the moment).
+
+        Parameters
+        ----------
+        joint : str
+            The joint's name."""
         m = self.mechanism
         names = [j.name for j in m.joints]
         if joint not in names:
@@ -258,7 +273,13 @@ class CycleBatch(Result):
         return np.isfinite(self.driving_torque).all(axis=1)
 
     def shaking_moment(self, about: Any = (0.0, 0.0)) -> np.ndarray:
-        """(V, N) moment on the frame about a point, N·m."""
+        """(V, N) moment on the frame about a point, N·m.
+
+        Parameters
+        ----------
+        about : (float, float)
+            The point, m, in the drawing's axes.
+        """
         px, py = (float(v) for v in about)
         F = self._force
         return self.frame_moment - (px * F.imag - py * F.real)
@@ -775,7 +796,16 @@ class DesignBatch(Result):
     @classmethod
     def run(cls, models: Sequence[Mechanism], n_angles: int, method: Any = "auto") -> DesignBatch:
         """Each model's :func:`~mechdyn.mechanism.inverse_dynamics` with the motion solver
-        ``method``; an error is kept, not raised."""
+        ``method``; an error is kept, not raised.
+
+        Parameters
+        ----------
+        models : sequence of Mechanism
+            Variants of one topology.
+        n_angles : int
+            Crank positions over one revolution.
+        method : str or callable
+            The motion solver (see :func:`~mechdyn.mechanism.inverse_dynamics`)."""
         from mechdyn.mechanism.dynamics import inverse_dynamics
 
         results, status = [], []

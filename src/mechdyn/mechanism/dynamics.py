@@ -39,7 +39,8 @@ class DynamicsResult(Result):
     applied : ndarray
         (N, n) generalised applied forces Q (gravity and process forces).
     load_jacobian : (ndarray, ndarray), optional
-        The constraint Jacobians with gear flanks chosen by the load.
+        The constraint Jacobians with gear flanks chosen by the load (rows per constraint, columns per
+        coordinate: dimensionless for angles, m for lengths).
     trace : tuple of str
         ``"body.point"`` names whose paths the trajectory plot draws.
     field_velocity : (float, float), optional
@@ -79,7 +80,14 @@ class DynamicsResult(Result):
 
     def joint_load(self, joint: str, body: str) -> np.ndarray:
         """(N, 3) force (x, y, N) and moment (N·m, about the body's centre of mass, or the origin
-        for the frame) that ``joint`` puts on ``body``."""
+        for the frame) that ``joint`` puts on ``body``.
+
+        Parameters
+        ----------
+        joint : str
+            The joint's name.
+        body : str
+            One of the two bodies it joins."""
         m = self.mechanism
         names = [j.name for j in m.joints]
         if joint not in names:
@@ -105,7 +113,13 @@ class DynamicsResult(Result):
         return self.frame_load[:, :2]
 
     def shaking_moment(self, about: Any = (0.0, 0.0)) -> np.ndarray:
-        """(N,) moment the mechanism exerts on the frame about a point, N·m (motor reaction included)."""
+        """(N,) moment the mechanism exerts on the frame about a point, N·m (motor reaction included).
+
+        Parameters
+        ----------
+        about : (float, float)
+            The point, m, in the drawing's axes.
+        """
         px, py = (float(v) for v in about)
         F = self.frame_load
         return F[:, 2] - (px * F[:, 1] - py * F[:, 0])

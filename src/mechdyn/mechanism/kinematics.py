@@ -86,7 +86,15 @@ class KinematicsResult:
         return ConstraintSet(self.mechanism)
 
     def point(self, body: str, point: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position, velocity and acceleration of a drawing point on a body, each (N, 2)."""
+        """Position, velocity and acceleration of a drawing point on a body, each (N, 2).
+
+        Parameters
+        ----------
+        body : str
+            The body that carries the point.
+        point : str
+            A drawing point of that body; m, m/s and m/s² in the drawing's axes.
+        """
         m = self.mechanism
         i = m.body_index[body]
         s = m.local(body, point)
@@ -196,6 +204,13 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: Any = "auto") 
 def dyad_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
     """The motion by closed-form dyads (the compiled kernel of :mod:`mechdyn.mechanism.dyads`).
 
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The mechanism, as drawn.
+    n_angles : int
+        Crank positions over one revolution.
+
     Raises
     ------
     NotDecomposable
@@ -207,7 +222,15 @@ def dyad_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
 
 
 def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
-    """The motion by Newton continuation on the assembled constraints (any mechanism)."""
+    """The motion by Newton continuation on the assembled constraints (any mechanism).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The mechanism, as drawn.
+    n_angles : int
+        Crank positions over one revolution.
+    """
     cs = ConstraintSet(mechanism)
     scale = _scale(mechanism)
     omega = mechanism.driver.speed

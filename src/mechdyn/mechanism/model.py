@@ -108,7 +108,17 @@ class _AtAPoint:
 
 @dataclass(frozen=True)
 class Revolute(_AtAPoint):
-    """A pin joint at a drawing point between two bodies (or a body and ``"ground"``)."""
+    """A pin joint at a drawing point between two bodies (or a body and ``"ground"``).
+
+    Parameters
+    ----------
+    name : str
+        The joint's name, unique in the mechanism.
+    bodies : tuple of str
+        The two bodies it joins.
+    point : str
+        The drawing point where the pin sits.
+    """
 
     name: str
     bodies: tuple[str, str]
@@ -119,7 +129,15 @@ class Revolute(_AtAPoint):
     slides: ClassVar[bool] = False
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
-        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.RevoluteTerms`)."""
+        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.RevoluteTerms`).
+
+        Parameters
+        ----------
+        mechanism : Mechanism
+            The mechanism the joint belongs to.
+        slot : callable
+            Body name → index of its first coordinate in the mechanism's coordinate vector.
+        """
         from mechdyn.mechanism.constraints import RevoluteTerms
 
         a, b = self.bodies
@@ -132,6 +150,17 @@ class Prismatic(_AtAPoint):
 
     The line passes through the point's drawing position with direction ``axis`` (angle from +x in
     the drawing, rad or quantity); the two bodies keep their relative rotation.
+
+    Parameters
+    ----------
+    name : str
+        The joint's name, unique in the mechanism.
+    bodies : tuple of str
+        The slider's body and the body that carries the guide (``"ground"`` for the frame).
+    point : str
+        The drawing point that slides.
+    axis : float or quantity
+        Direction of the guide from +x, rad; it points *up* (bottom dead centre is lowest along it).
     """
 
     name: str
@@ -147,7 +176,15 @@ class Prismatic(_AtAPoint):
         object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
-        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.PrismaticTerms`)."""
+        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.PrismaticTerms`).
+
+        Parameters
+        ----------
+        mechanism : Mechanism
+            The mechanism the joint belongs to.
+        slot : callable
+            Body name → index of its first coordinate in the mechanism's coordinate vector.
+        """
         from mechdyn.mechanism.constraints import PrismaticTerms
 
         a, b = self.bodies
@@ -223,7 +260,15 @@ class GearJoint:
     slides: ClassVar[bool] = False
 
     def check(self, points: Mapping[str, Any], bodies: Mapping[str, Body]) -> None:
-        """Refuse a gear, carrier or pivot the mechanism does not have."""
+        """Refuse a gear, carrier or pivot the mechanism does not have.
+
+        Parameters
+        ----------
+        points : mapping of str to (float, float)
+            The drawing's points, m.
+        bodies : mapping of str to Body
+            The mechanism's bodies.
+        """
         for b in (*self.bodies, self.carrier):
             if b != GROUND and b not in bodies:
                 raise ModelError(
@@ -244,7 +289,12 @@ class GearJoint:
 
     def law(self, points: Mapping[str, Any]) -> Any:
         """The rolling law ψ₂ = g(ψ₁) (:class:`~mechdyn.mechanism.pitch.PitchLaw`) at the drawing's
-        centre distance."""
+        centre distance.
+
+        Parameters
+        ----------
+        points : mapping of str to (float, float)
+            The drawing's points, m (the two pivots set the centre distance)."""
         from mechdyn.mechanism.pitch import pitch_law
 
         c1, c2 = (np.asarray(points[p], dtype=float) for p in self.points)
@@ -261,7 +311,15 @@ class GearJoint:
         return self.points[0]
 
     def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
-        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.GearTerms`)."""
+        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.GearTerms`).
+
+        Parameters
+        ----------
+        mechanism : Mechanism
+            The mechanism the joint belongs to.
+        slot : callable
+            Body name → index of its first coordinate in the mechanism's coordinate vector.
+        """
         from mechdyn.mechanism.constraints import GearTerms
 
         c1, c2 = (mechanism.local(self.carrier, p) for p in self.points)
@@ -311,7 +369,13 @@ class Driver:
             object.__setattr__(self, "profile", _checked_profile(self.profile, v))
 
     def rates(self, turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """θ̇ (rad/s) and θ̈ (rad/s²) at crank angles turned from the drawing (rad)."""
+        """θ̇ (rad/s) and θ̈ (rad/s²) at crank angles turned from the drawing (rad).
+
+        Parameters
+        ----------
+        turned : ndarray
+            Crank angles turned from the drawing, rad.
+        """
         turned = np.asarray(turned, dtype=float)
         if self.profile is None:
             return np.full(turned.shape, self.speed), np.zeros(turned.shape)
@@ -325,7 +389,13 @@ class Driver:
         return w, a
 
     def time(self, turned: np.ndarray) -> np.ndarray:
-        """Time to turn the crank by each angle from the drawing, s (∫ dθ/θ̇, trapezoidal)."""
+        """Time to turn the crank by each angle from the drawing, s (∫ dθ/θ̇, trapezoidal).
+
+        Parameters
+        ----------
+        turned : ndarray
+            Crank angles turned from the drawing, rad, increasing.
+        """
         turned = np.asarray(turned, dtype=float)
         if self.profile is None:
             return turned / self.speed
@@ -589,14 +659,28 @@ class Mechanism:
         )
 
     def com(self, body: Body) -> np.ndarray:
-        """Drawing position of a body's centre of mass, m."""
+        """Drawing position of a body's centre of mass, m.
+
+        Parameters
+        ----------
+        body : Body
+            One of the mechanism's bodies.
+        """
         c = body.center_of_mass
         if c is None:
             return np.mean([self.points[p] for p in body.points], axis=0)
         return np.asarray(self.points[c] if isinstance(c, str) else c, dtype=float)
 
     def local(self, body: str, point: str) -> np.ndarray:
-        """A point in a body's frame (from its centre of mass, drawing axes), m; on ground, global."""
+        """A point in a body's frame (from its centre of mass, drawing axes), m; on ground, global.
+
+        Parameters
+        ----------
+        body : str
+            The body's name, or ``"ground"``.
+        point : str
+            A point of the drawing.
+        """
         p = np.asarray(self.points[point], dtype=float)
         if body == GROUND:
             return p
