@@ -98,6 +98,17 @@ def vdi2230_cone_angle(
 
     Through-bolted joint (DSV), Eq. (5.1/13): tan φ = 0.362 + 0.032 ln(β_L / 2) + 0.153 ln y;
     tapped-thread joint (ESV), Eq. (5.1/14): tan φ = 0.348 + 0.013 ln β_L + 0.193 ln y.
+
+    Parameters
+    ----------
+    grip : float
+        Clamp length l_K, m.
+    bearing_diameter : float
+        Outer bearing diameter d_W of the head or washer, m.
+    outer_diameter : float
+        Outer diameter D_A′ of the clamped parts, m.
+    tapped : bool
+        A tapped-thread joint (ESV) rather than a through-bolted one (DSV).
     """
     beta_l = grip / bearing_diameter
     y = max(outer_diameter / bearing_diameter, 1.0)
@@ -108,7 +119,15 @@ def vdi2230_cone_angle(
 
 @dataclass(frozen=True)
 class Layer:
-    """One clamped layer: its thickness and material (top to bottom)."""
+    """One clamped layer: its thickness and material (top to bottom).
+
+    Parameters
+    ----------
+    thickness : float or quantity
+        Thickness along the bolt, m.
+    material : Material
+        The layer's material (its E).
+    """
 
     thickness: Any
     material: Material
@@ -244,6 +263,11 @@ class BoltedJoint:
         mid-grip. Each cone is cut wherever it crosses a layer boundary, and where it reaches the
         parts' outer diameter D_A it goes on as a sleeve, k = E π (D_A² − d_h²)/(4 t) (the
         cone-and-sleeve body of VDI 2230 Part 1, 2015, Eq. 5.1/23; ``"sleeve": True``).
+
+        Parameters
+        ----------
+        alpha : float, optional
+            Cone half-angle, rad (default: the joint's).
         """
         a = self.cone_angle if alpha is None else alpha
         half = self.grip / 2
@@ -279,7 +303,13 @@ class BoltedJoint:
         return out
 
     def member_stiffness(self, alpha: float | None = None) -> float:
-        """k_m, the frusta in series, N/m."""
+        """k_m, the frusta in series, N/m.
+
+        Parameters
+        ----------
+        alpha : float, optional
+            Cone half-angle, rad (default: the joint's).
+        """
         return 1.0 / sum(1.0 / f["stiffness_N_per_m"] for f in self.frusta(alpha))
 
     # -- bolt ----------------------------------------------------------------------------------
@@ -296,6 +326,11 @@ class BoltedJoint:
 
         The grip is plain shank (A_N) over ``shank_length`` (by default all of it but one diameter)
         and free loaded thread (A_d3) over the rest; plus head, engaged thread and nut or tapped hole.
+
+        Parameters
+        ----------
+        shank_length : float, optional
+            Length of plain shank in the grip, m.
         """
         d, E = self.diameter, self.bolt_material.youngs_modulus
         A_N = math.pi / 4 * d**2

@@ -49,6 +49,7 @@ class Calibration:
     parameter : str
         ``"cone_angle"`` (rad) or ``"compression_coefficient"``.
     value : float
+        The fitted value, in the parameter's unit (rad, or dimensionless).
     target : float
         The reference stiffness it reproduces, N/m.
     before : float
@@ -65,6 +66,7 @@ class Calibration:
     provenance: str
 
     def as_dict(self) -> dict[str, Any]:
+        """The calibration as a JSON-ready dict (SI values), as it is stored."""
         return {
             "name": self.name,
             "parameter": self.parameter,
@@ -74,12 +76,25 @@ class Calibration:
         }
 
     def save(self, store: Any) -> int:
-        """Store as a named record with its provenance; returns the record id."""
+        """Store as a named record with its provenance; returns the record id.
+
+        Parameters
+        ----------
+        store : mechdyn.store.ResultStore
+            The results database.
+        """
         return store.put_record("calibration", self.name, self.as_dict(), self.provenance)
 
 
 def load_calibration(store: Any, name: str) -> Calibration:
     """The latest calibration of ``name`` in a results store.
+
+    Parameters
+    ----------
+    store : mechdyn.store.ResultStore
+        The results database.
+    name : str
+        The calibrated estimate's name.
 
     Raises
     ------
@@ -115,7 +130,17 @@ def _fit(f, lo: float, hi: float, what: str, name: str) -> float:
 
 
 def fit_cone_angle(joint: BoltedJoint, target: float, provenance: str) -> Calibration:
-    """The cone half-angle α at which the frusta give the reference member stiffness (N/m)."""
+    """The cone half-angle α at which the frusta give the reference member stiffness (N/m).
+
+    Parameters
+    ----------
+    joint : BoltedJoint
+        The joint as drawn.
+    target : float
+        The reference member stiffness, N/m.
+    provenance : str
+        Where the reference comes from.
+    """
     val = _fit(
         lambda a: joint.member_stiffness(a) - target,
         math.radians(1.0),
@@ -131,6 +156,15 @@ def fit_pad_factor(pad: ElastomerPad, target: float, provenance: str) -> Calibra
 
     Against an FE model of a linear-elastic solid k comes out near 1 (the solid's own law); the
     k < 1 of a filled rubber shows only in a test of the compound, which is the reference to use.
+
+    Parameters
+    ----------
+    pad : ElastomerPad
+        The pad as drawn.
+    target : float
+        The reference compression stiffness, N/m.
+    provenance : str
+        Where the reference comes from.
     """
 
     def err(k: float) -> float:
@@ -143,7 +177,15 @@ def fit_pad_factor(pad: ElastomerPad, target: float, provenance: str) -> Calibra
 
 
 def apply(calibration: Calibration, estimate: BoltedJoint | ElastomerPad) -> BoltedJoint | ElastomerPad:
-    """The estimate with the calibrated parameter in place."""
+    """The estimate with the calibrated parameter in place.
+
+    Parameters
+    ----------
+    calibration : Calibration
+        A fitted parameter.
+    estimate : BoltedJoint or ElastomerPad
+        The estimate to apply it to (a joint's cone angle, a pad's compression coefficient).
+    """
     if calibration.parameter == "cone_angle" and isinstance(estimate, BoltedJoint):
         return replace(estimate, cone_angle=calibration.value)
     if calibration.parameter == "compression_coefficient" and isinstance(estimate, ElastomerPad):
@@ -186,6 +228,13 @@ class SdofFit:
         return self.damping / (2 * math.sqrt(self.stiffness * self.mass))
 
     def receptance(self, frequency: Any) -> np.ndarray:
+        """The fitted model's receptance 1/(k − m ω² + i c ω), m/N.
+
+        Parameters
+        ----------
+        frequency : float or ndarray
+            Frequency, Hz.
+        """
         w = 2 * np.pi * np.asarray(frequency, dtype=float)
         return 1.0 / (self.stiffness - self.mass * w**2 + 1j * self.damping * w)
 
@@ -246,6 +295,11 @@ def read_frf_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray, str]:
     ``magnitude`` and ``phase_deg``; an optional comment line ``# kind: mobility``.
 
     Returns frequency (Hz), the complex response and its kind.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file.
     """
     import pandas as pd
 

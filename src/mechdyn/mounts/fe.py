@@ -95,6 +95,8 @@ class FEResult:
         The characteristic element size, m.
     order : int
         1 (linear) or 2 (quadratic) triangles.
+    extra : dict
+        Further figures of the model (e.g. the contact state), SI, keyed with their units.
     """
 
     stiffness: float
@@ -192,11 +194,25 @@ class AnchorFE:
     result: FEResult
 
     def pressure(self, preload: float) -> np.ndarray:
-        """Contact pressure under a preload (N), Pa."""
+        """Contact pressure under a preload (N), Pa.
+
+        Parameters
+        ----------
+        preload : float
+            The bolt's preload, N (the model is linear between contact changes: pressures scale).
+        """
         return self.contact_pressure * preload
 
     def radius_above(self, threshold: float, preload: float) -> float:
-        """Outermost radius where the contact pressure exceeds ``threshold`` (Pa) under ``preload`` (N), m."""
+        """Outermost radius where the contact pressure exceeds ``threshold`` (Pa) under ``preload`` (N), m.
+
+        Parameters
+        ----------
+        threshold : float
+            Contact pressure to compare with, Pa.
+        preload : float
+            The bolt's preload, N.
+        """
         p = self.pressure(preload)
         above = np.nonzero(p > threshold)[0]
         return float(self.contact_radius[above.max()]) if above.size else 0.0
@@ -237,6 +253,29 @@ def anchor_members(
     over the anchor head's bearing annulus. All lengths m, moduli Pa. ``n`` elements through the
     plate's thickness set the mesh (graded away from the bolt); linear triangles, so that the
     interface is a set of node pairs.
+
+    Parameters
+    ----------
+    plate_thickness, plate_radius : float
+        The base plate's thickness and outer radius, m.
+    embedment : float
+        Depth of the anchor's head below the concrete's surface, m.
+    concrete_radius : float
+        Outer radius of the modelled concrete block, m.
+    hole_diameter : float
+        Diameter of the bolt's hole through plate and concrete, m.
+    washer_diameter : float
+        Bearing diameter of the washer on the plate, m.
+    anchor_head_diameter : float
+        Bearing diameter of the anchor's head in the concrete, m.
+    plate_E, concrete_E : float
+        Young's moduli, Pa.
+    plate_nu, concrete_nu : float
+        Poisson's ratios, dimensionless.
+    n : int
+        Elements through the plate's thickness.
+    max_iterations : int
+        Most active-set iterations for the contact.
     """
     from skfem import Basis, FacetBasis, LinearForm, MeshTri, asm
 

@@ -123,6 +123,13 @@ class Material:
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> Material:
+        """A material from :meth:`as_dict`'s form.
+
+        Parameters
+        ----------
+        d : dict
+            SI values, as :meth:`as_dict` writes them.
+        """
         return cls(
             d["name"],
             d["kind"],
@@ -184,7 +191,13 @@ _SCHEMA: Any = None
 
 @dataclass(frozen=True)
 class MaterialDatabase:
-    """Materials by name; the shipped ones plus whatever the user adds (a new object each time)."""
+    """Materials by name; the shipped ones plus whatever the user adds (a new object each time).
+
+    Parameters
+    ----------
+    materials : dict of str to Material
+        The materials by name.
+    """
 
     materials: dict[str, Material] = field(default_factory=dict)
 
@@ -204,6 +217,13 @@ class MaterialDatabase:
         return name in self.materials
 
     def names(self, kind: str | None = None) -> list[str]:
+        """The materials' names, of one kind (``"steel"``, ``"concrete"``, ``"rubber"``, …) or all.
+
+        Parameters
+        ----------
+        kind : str, optional
+            Only materials of this kind.
+        """
         return [n for n, m in self.materials.items() if kind is None or m.kind == kind]
 
     def add(self, *materials: Material) -> MaterialDatabase:
@@ -211,13 +231,24 @@ class MaterialDatabase:
         return MaterialDatabase({**self.materials, **{m.name: m for m in materials}})
 
     def with_file(self, path: str | Path) -> MaterialDatabase:
-        """A database with the materials of a TOML file (``[[materials]]`` rows, as shipped) added."""
+        """A database with the materials of a TOML file (``[[materials]]`` rows, as shipped) added.
+
+        Parameters
+        ----------
+        path : str or Path
+            The TOML file.
+        """
         return self.add(*_read(path))
 
     def rubber(self, shore_a: float) -> Material:
         """Rubber of a Shore A hardness, interpolated linearly between the tabulated hardnesses.
 
         E and G interpolate in log scale (the table grows roughly exponentially with hardness).
+
+        Parameters
+        ----------
+        shore_a : float
+            Hardness, Shore A, within the table (30–75).
         """
         table = sorted(
             (m for m in self.materials.values() if m.kind == "rubber" and m.shore_a is not None),
@@ -254,7 +285,15 @@ class MaterialDatabase:
 
     @classmethod
     def from_store(cls, store: Any, base: MaterialDatabase | None = None) -> MaterialDatabase:
-        """The materials saved in a results store (latest of each name) over ``base``."""
+        """The materials saved in a results store (latest of each name) over ``base``.
+
+        Parameters
+        ----------
+        store : mechdyn.store.ResultStore
+            The results database.
+        base : MaterialDatabase, optional
+            The database they are added to (default: the shipped one).
+        """
         rows = store.records("material")
         return (base or cls()).add(*(Material.from_dict(r.data) for r in reversed(rows)))
 
@@ -266,7 +305,17 @@ def default_materials() -> MaterialDatabase:
 
 
 def save_materials(store: Any, materials: MaterialDatabase, provenance: str) -> list[int]:
-    """Write every material into the results store with its provenance; returns the record ids."""
+    """Write every material into the results store with its provenance; returns the record ids.
+
+    Parameters
+    ----------
+    store : mechdyn.store.ResultStore
+        The results database.
+    materials : MaterialDatabase
+        The materials to write.
+    provenance : str
+        Where they come from.
+    """
     return [
         store.put_record("material", m.name, m.as_dict(), provenance) for m in materials.materials.values()
     ]

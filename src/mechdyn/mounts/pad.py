@@ -174,6 +174,11 @@ class ElastomerPad:
         """Load-dependent estimate of the compressive force at a deflection δ (m), N.
 
         A neo-Hookean block scaled by the shape-factor modulus: F = (E_c A / 3)(λ⁻² − λ), λ = 1 − δ/h.
+
+        Parameters
+        ----------
+        deflection : float or ndarray or quantity
+            Compression δ, m (0 ≤ δ < h).
         """
         d = np.asarray(deflection, dtype=float)
         if np.any(d < 0) or np.any(d >= self.thickness):
@@ -182,7 +187,13 @@ class ElastomerPad:
         return self.compression_modulus * self.area / 3.0 * (lam**-2 - lam)
 
     def tangent_stiffness(self, deflection: Any) -> np.ndarray:
-        """dF/dδ of :meth:`compression_force`, N/m."""
+        """dF/dδ of :meth:`compression_force`, N/m.
+
+        Parameters
+        ----------
+        deflection : float or ndarray or quantity
+            Compression δ, m.
+        """
         lam = 1.0 - np.asarray(deflection, dtype=float) / self.thickness
         return self.compression_modulus * self.area / (3.0 * self.thickness) * (2 * lam**-3 + 1)
 

@@ -75,7 +75,10 @@ class MountEstimate(Protocol):
     @property
     def adjusts_height(self) -> bool: ...
 
-    def breakdown(self) -> dict[str, Any]: ...
+    def breakdown(self) -> dict[str, Any]:
+        """Every part of the estimate, SI values keyed with their unit (e.g. ``bolt_N_per_m``), for
+        tables and the JSON summary."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -93,6 +96,12 @@ class LevellingWedge:
         The wedges' steel.
     catalogue_stiffness : float or quantity, optional
         The vendor's vertical stiffness, N/m; used when given.
+    adjusts_height : bool
+        Whether the mount levels the machine (True for a wedge).
+    damps : bool
+        Whether it adds damping (False for steel).
+    loss_factor : float
+        η of the mount, dimensionless.
     """
 
     name: str
@@ -129,6 +138,8 @@ class LevellingWedge:
         return self.catalogue_stiffness if self.catalogue_stiffness is not None else self.solid_stiffness
 
     def breakdown(self) -> dict[str, Any]:
+        """Every part of the estimate, SI values keyed with their unit (e.g. ``spindle_N_per_m``),
+        for tables and the JSON summary."""
         return {
             "solid_steel_stack_N_per_m": self.solid_stiffness,
             "catalogue_N_per_m": self.catalogue_stiffness,
@@ -154,6 +165,8 @@ class ScrewFoot:
         An elastomer base pad, or the base's stiffness (N/m); none means a rigid steel base.
     pitch : float or quantity, optional
         Spindle thread pitch, m; by default the ISO 261 coarse pitch of its diameter.
+    adjusts_height : bool
+        True: the screw levels the machine.
     """
 
     name: str
@@ -205,12 +218,28 @@ class ScrewFoot:
         return 0.1 if self.damps else 0.0
 
     def breakdown(self) -> dict[str, Any]:
+        """Every part of the estimate, SI values keyed with their unit (e.g. ``spindle_N_per_m``),
+        for tables and the JSON summary."""
         return {"spindle_N_per_m": self.spindle_stiffness, "base_N_per_m": self.base_stiffness}
 
 
 @dataclass(frozen=True)
 class DampingPad:
-    """An elastomer damping pad: a bonded pad with a loss factor (does not adjust height)."""
+    """An elastomer damping pad: a bonded pad with a loss factor (does not adjust height).
+
+    Parameters
+    ----------
+    name : str
+        The mount's name.
+    pad : ElastomerPad
+        The pad, whose compression and shear stiffness the mount takes.
+    loss_factor : float
+        η of the damping compound, dimensionless, in [0, 2).
+    adjusts_height : bool
+        False: a pad does not level the machine.
+    damps : bool
+        True.
+    """
 
     name: str
     pad: ElastomerPad
@@ -235,6 +264,8 @@ class DampingPad:
         return self.pad.shear_stiffness
 
     def breakdown(self) -> dict[str, Any]:
+        """Every part of the estimate, SI values keyed with their unit (e.g. ``spindle_N_per_m``),
+        for tables and the JSON summary."""
         return self.pad.breakdown() | {"loss_factor": self.loss_factor}
 
 
@@ -248,11 +279,17 @@ class SpringIsolator:
     wire_diameter, coil_diameter : float or quantity
         d and mean coil diameter D, m.
     active_coils : float
-        N_a.
+        Number of active coils N_a (k = G d⁴/(8 D³ N_a)).
     springs : int
         How many in parallel.
     material : Material
         Spring steel (its shear modulus G).
+    adjusts_height : bool
+        Whether the mount levels the machine (True for a wedge).
+    damps : bool
+        Whether it adds damping (False for steel).
+    loss_factor : float
+        η of the mount, dimensionless.
     """
 
     name: str
@@ -290,6 +327,8 @@ class SpringIsolator:
         return self.springs * self.material.shear_modulus * d**4 / (8 * D**3 * self.active_coils)
 
     def breakdown(self) -> dict[str, Any]:
+        """Every part of the estimate, SI values keyed with their unit (e.g. ``spindle_N_per_m``),
+        for tables and the JSON summary."""
         return {"spring_N_per_m": self.stiffness / self.springs, "springs": self.springs}
 
 
