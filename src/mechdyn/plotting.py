@@ -9,7 +9,15 @@ __all__ = ["new_axes", "save_figure"]
 
 
 def new_axes(ax: Any = None, *, figsize: tuple[float, float] = (7.0, 4.5)) -> Any:
-    """Return ``ax`` or the axes of a new figure."""
+    """Return ``ax`` or the axes of a new figure.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on.
+    figsize : (float, float)
+        Size of a new figure, inches.
+    """
     if ax is not None:
         return ax
     import matplotlib.pyplot as plt  # falls back to the headless Agg backend without a display
@@ -19,7 +27,17 @@ def new_axes(ax: Any = None, *, figsize: tuple[float, float] = (7.0, 4.5)) -> An
 
 
 def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
-    """Save the figure of ``ax`` to ``path`` (PNG/SVG by suffix), close it and return the path."""
+    """Save the figure of ``ax`` to ``path`` (PNG/SVG by suffix), close it and return the path.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes or Figure
+        What to save.
+    path : str or Path
+        The file; its folder is made if missing.
+    dpi : int
+        Resolution of a PNG, dots per inch.
+    """
     import matplotlib.pyplot as plt
 
     p = Path(path)

@@ -62,7 +62,7 @@ class Option:
     default : Any
         Value when the option is not given (None: the model file's setting, else the function's).
     minimum : float, optional
-        Smallest allowed value of an ``int`` or ``float`` option.
+        Smallest allowed value of an ``int`` or ``float`` option, in the option's ``unit``.
     metavar : str or tuple of str, optional
         Placeholder(s) in ``--help``.
     """
@@ -102,6 +102,15 @@ class Output:
 
     The unit is read from the key's suffix (:func:`mechdyn.units.key_unit`) unless given; keys
     without a unit (counts, names, flags, nested tables) say so with ``unit=""``.
+
+    Parameters
+    ----------
+    key : str
+        The summary key, ending with its unit (``stroke_m``).
+    description : str
+        What it means, for ``mechdyn analyses`` and the documentation.
+    unit : str, optional
+        Its SI unit, when the key's suffix does not give it (``""`` for none).
     """
 
     key: str
@@ -121,6 +130,7 @@ class Output:
             object.__setattr__(self, "unit", unit)
 
     def describe(self) -> dict[str, Any]:
+        """JSON-ready description: key, unit and meaning."""
         return {"key": self.key, "unit": self.unit, "description": self.description}
 
 
@@ -222,7 +232,13 @@ _REGISTRY: dict[str, Analysis] = {}
 
 
 def register(analysis: Analysis) -> Analysis:
-    """Add an analysis to the registry (its name must be new); returns it."""
+    """Add an analysis to the registry (its name must be new); returns it.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        The analysis, with its options and outputs.
+    """
     if analysis.name in _REGISTRY and _REGISTRY[analysis.name] is not analysis:
         raise ValueError(f"an analysis named {analysis.name!r} is already registered")
     _REGISTRY[analysis.name] = analysis
@@ -237,7 +253,13 @@ def analyses() -> Mapping[str, Analysis]:
 
 
 def get(name: str) -> Analysis:
-    """The analysis called ``name``; an error lists the registered names."""
+    """The analysis called ``name``; an error lists the registered names.
+
+    Parameters
+    ----------
+    name : str
+        A registered analysis (``mechdyn analyses`` lists them).
+    """
     found = analyses()
     if name not in found:
         raise MechdynError(f"no analysis named {name!r}; registered: {', '.join(found)}")

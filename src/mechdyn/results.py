@@ -57,7 +57,13 @@ class Table:
 
 
 def frame_arrays(frame: pd.DataFrame) -> dict[str, tuple[np.ndarray, str]]:
-    """The columns of a result table as named arrays with the unit read from each column name."""
+    """The columns of a result table as named arrays with the unit read from each column name.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        A result's table, each numeric column named with its unit (``angle_deg``).
+    """
     from mechdyn.units import key_unit
 
     return {str(c): (frame[c].to_numpy(), key_unit(str(c)) or "") for c in frame.columns}

@@ -218,6 +218,17 @@ def _example(value: Any) -> str:
 def si_field(element: str, field: str, value: Any, unit: str) -> float:
     """:func:`to_si` for a field of a model element (plain numbers are SI), errors naming both.
 
+    Parameters
+    ----------
+    element : str
+        The element's name, for the message.
+    field : str
+        The field's name, for the message.
+    value : str, pint.Quantity or float
+        The value: a quantity, or a plain number taken as already in ``unit``.
+    unit : str
+        The SI unit wanted, e.g. ``"N*m/rad"``.
+
     Raises
     ------
     mechdyn.errors.ModelError
@@ -253,6 +264,14 @@ def convert(value: Any, unit: str, display: str) -> Any:
     ------
     UnitError
         If ``display`` is not a unit of the dimension of ``unit``.
+
+    Examples
+    --------
+    >>> from mechdyn.units import convert
+    >>> convert(9806.65, "N", "tonf")
+    1.0
+    >>> convert(1.2e9, "N/m", "N/µm")
+    1200.0
     """
     import numpy as np
 
@@ -303,6 +322,11 @@ _KEY_UNITS: tuple[tuple[str, str], ...] = (
 
 def key_unit(key: str) -> str | None:
     """The unit a result key or column name ends with (``"stroke_m"`` → ``"m"``), None if none.
+
+    Parameters
+    ----------
+    key : str
+        A summary key or column name.
 
     Dimensionless ratios end in ``_relative`` or ``_ratio`` and give ``"1"``.
     """

@@ -296,6 +296,18 @@ def modal(
     Friswell et al., *Dynamics of Rotating Machines*, 2010, ch. 9). The rigid-body modes are the exact
     rigid motions of the free branches; their number is checked against K during assembly, so the
     lowest that many eigenpairs are the zero modes and are set aside.
+
+    Examples
+    --------
+    Two disks on a shaft: one rigid-body mode, and f = √(k (1/J₁ + 1/J₂))/(2π).
+
+    >>> from mechdyn.drivetrain import Disk, Drivetrain, Shaft, modal
+    >>> pair = Drivetrain(
+    ...     [Disk("a", "1 kg*m^2"), Disk("b", "2 kg*m^2")], [Shaft("s", ("a", "b"), "1000 N*m/rad")]
+    ... )
+    >>> modes = modal(pair)
+    >>> modes.frequencies_hz.round(4), modes.rigid_body_shapes.shape[1]
+    (array([6.164]), 1)
     """
     if isinstance(model, Drivetrain):
         asm = assemble(model.with_rigid_gears() if rigid_gears else model)

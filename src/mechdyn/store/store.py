@@ -92,7 +92,25 @@ class _Record(_Base):
 
 @dataclass(frozen=True)
 class StoredRecord:
-    """A named record as read back: what it is, its data and where it came from."""
+    """A named record as read back: what it is, its data and where it came from.
+
+    Attributes
+    ----------
+    id : int
+        The record's id in the database.
+    created_at : datetime
+        When it was stored (UTC).
+    kind : str
+        What it is (``"material"``, ``"calibration"``, …).
+    name : str
+        Its name within the kind.
+    data : dict
+        Its content, SI values.
+    provenance : str
+        Where it came from.
+    package_version : str
+        The mechdyn version that stored it.
+    """
 
     id: int
     created_at: datetime
@@ -108,6 +126,11 @@ def resolve_url(value: str | os.PathLike[str] | None = None) -> str:
 
     A value with ``://`` is a URL (``postgresql://`` is given the psycopg 3 driver); anything else
     is the path of a SQLite file.
+
+    Parameters
+    ----------
+    value : str or path, optional
+        A ``--db`` value; default: ``$MECHDYN_DB``, else ``mechdyn.db`` in the working directory.
     """
     raw = os.fspath(value) if value is not None else os.environ.get(ENV_VAR) or DEFAULT_DB
     if "://" not in raw:
@@ -163,7 +186,27 @@ def _unpack(b: bytes) -> np.ndarray:
 
 @dataclass(frozen=True)
 class StoredRun:
-    """One recorded run as read back from the database."""
+    """One recorded run as read back from the database.
+
+    Attributes
+    ----------
+    id : int
+        The run's id.
+    created_at : datetime
+        When it ran (UTC).
+    analysis : str
+        The registered analysis.
+    model_name, model_path, model_sha256, model_text : str
+        The model file: its name, path, SHA-256 and full text.
+    parameters : dict
+        The analysis' options.
+    scalars : dict
+        The summary (SI, keys ending with their unit) and the warnings.
+    package_version : str
+        The mechdyn version that ran it.
+    arrays : dict of str to (ndarray, str)
+        The result's arrays with their units, bit for bit (empty when listed without them).
+    """
 
     id: int
     created_at: datetime
@@ -270,6 +313,7 @@ class ResultStore:
                 conn.commit()
 
     def close(self) -> None:
+        """Release the database connections (a ``with`` block does it on leaving)."""
         self._engine.dispose()
 
     def __enter__(self) -> ResultStore:
@@ -293,6 +337,19 @@ class ResultStore:
         """Store one run in a single transaction and return its id.
 
         ``arrays`` maps a name to ``(array, unit)``; arrays are kept bit for bit (NumPy ``.npy``).
+
+        Parameters
+        ----------
+        analysis : str
+            The registered analysis.
+        model_name, model_path, model_text, model_sha256 : str
+            The model file: name, path, full text and its SHA-256.
+        parameters : mapping
+            The analysis' options.
+        scalars : mapping
+            The summary (SI, keys ending with their unit) and the warnings.
+        arrays : mapping of str to (ndarray, str)
+            Named arrays with their units (SI, the unit given beside each).
         """
         from mechdyn import __version__
 
@@ -314,7 +371,15 @@ class ResultStore:
             return int(run.id)
 
     def runs(self, *, analysis: str | None = None, limit: int | None = None) -> list[StoredRun]:
-        """Recorded runs, newest first, without their arrays."""
+        """Recorded runs, newest first, without their arrays.
+
+        Parameters
+        ----------
+        analysis : str, optional
+            Only runs of this analysis.
+        limit : int, optional
+            At most this many.
+        """
         q = select(_Run).order_by(_Run.id.desc())
         if analysis:
             q = q.where(_Run.analysis == analysis)
@@ -324,7 +389,13 @@ class ResultStore:
             return [self._summary(r) for r in s.scalars(q)]
 
     def get(self, run_id: int) -> StoredRun:
-        """One run with its arrays."""
+        """One run with its arrays.
+
+        Parameters
+        ----------
+        run_id : int
+            The run's id (``mechdyn results list``).
+        """
         with Session(self._engine) as s:
             r = s.get(_Run, run_id)
             if r is None:
@@ -340,6 +411,17 @@ class ResultStore:
 
         Records are never overwritten: a new one of the same kind and name supersedes the old for
         :meth:`latest_record`, and the history stays.
+
+        Parameters
+        ----------
+        kind : str
+            What it is.
+        name : str
+            Its name within the kind.
+        data : mapping
+            Its content, JSON-ready (SI values).
+        provenance : str
+            Where it came from.
         """
         from mechdyn import __version__
 
@@ -359,7 +441,15 @@ class ResultStore:
             return int(rec.id)
 
     def records(self, kind: str, name: str | None = None) -> list[StoredRecord]:
-        """Records of a kind (and name), newest first."""
+        """Records of a kind (and name), newest first.
+
+        Parameters
+        ----------
+        kind : str
+            The records' kind.
+        name : str, optional
+            Only those of this name.
+        """
         q = select(_Record).where(_Record.kind == kind).order_by(_Record.id.desc())
         if name is not None:
             q = q.where(_Record.name == name)
@@ -378,7 +468,15 @@ class ResultStore:
             ]
 
     def latest_record(self, kind: str, name: str) -> StoredRecord:
-        """The newest record of a kind and name."""
+        """The newest record of a kind and name.
+
+        Parameters
+        ----------
+        kind : str
+            The record's kind.
+        name : str
+            Its name.
+        """
         found = self.records(kind, name)
         if not found:
             raise StoreError(f"no {kind} record named {name!r} in the results database")

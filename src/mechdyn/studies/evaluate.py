@@ -113,7 +113,13 @@ class Evaluator:
         return [self.one(row, curves=curves) for row in X]
 
     def variant_source(self, row: Sequence[float]) -> ModelSource:
-        """The model file of one variant, built in memory."""
+        """The model file of one variant, built in memory.
+
+        Parameters
+        ----------
+        row : sequence of float
+            The parameters' values, SI, in the study's order.
+        """
         values: dict[Any, Any] = {}
         for p, x in zip(self.parameters, row, strict=True):
             if p.apply is None:
@@ -121,7 +127,15 @@ class Evaluator:
         return self.tree.variant(values)
 
     def one(self, row: Sequence[float], curves: bool = False) -> Evaluation:
-        """Build one variant from its files and run the analysis on it."""
+        """Build one variant from its files and run the analysis on it.
+
+        Parameters
+        ----------
+        row : sequence of float
+            The parameters' values, SI, in the study's order.
+        curves : bool
+            Keep the result's arrays.
+        """
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:

@@ -91,7 +91,13 @@ class ModelTree:
 
     # -- files --------------------------------------------------------------------------------
     def file(self, files: tuple[str, ...]) -> ModelSource:
-        """The file at the end of a chain of references (the base file for an empty chain)."""
+        """The file at the end of a chain of references (the base file for an empty chain).
+
+        Parameters
+        ----------
+        files : tuple of str
+            The reference fields followed from the base file (e.g. ``("excitation.mechanism",)``).
+        """
         if not files:
             return self.source
         if files[-1] not in self._files:
@@ -156,6 +162,11 @@ class ModelTree:
     def resolve(self, path: str) -> list[Location]:
         """The values a path names (several with ``*``), each a quantity (vectors by component).
 
+        Parameters
+        ----------
+        path : str
+            As the file spells it, e.g. ``points.C.y`` or ``mounts.*.stiffness``.
+
         Raises
         ------
         PathError
@@ -213,7 +224,13 @@ class ModelTree:
         )
 
     def value(self, loc: Location) -> Any:
-        """The value as the file writes it."""
+        """The value as the file writes it.
+
+        Parameters
+        ----------
+        loc : Location
+            Where it is.
+        """
         node: Any = self.file(loc.files).data
         for k in loc.keys:
             node = node[k]
@@ -222,7 +239,12 @@ class ModelTree:
     # -- variants -----------------------------------------------------------------------------
     def variant(self, values: Mapping[Location, Any]) -> ModelSource:
         """The base model with the values at the given locations replaced (as file values, e.g.
-        ``"0.61 m"`` or ``0.05``), built in memory; the base is left as it is."""
+        ``"0.61 m"`` or ``0.05``), built in memory; the base is left as it is.
+
+        Parameters
+        ----------
+        values : mapping of Location to value
+            The new file values."""
         data: dict[str, Any] = {}
         for loc, v in values.items():
             path = loc.files[-1] if loc.files else self.source.path

@@ -265,7 +265,12 @@ class Parameter:
     # -- values -------------------------------------------------------------------------------
     def location_values(self, value: Any) -> dict[Location, Any]:
         """SI value at each location (``value`` a float or an array of variants): each location
-        moves by the same factor from its own base value."""
+        moves by the same factor from its own base value.
+
+        Parameters
+        ----------
+        value : float or ndarray
+            The parameter's value(s), in its SI unit."""
         return {
             loc: value if self.base == 0 or b == self.base else b * (value / self.base)
             for loc, b in zip(self.locations, self.bases, strict=True)
@@ -273,19 +278,36 @@ class Parameter:
 
     def file_values(self, value: float) -> dict[Location, Any]:
         """The file values (text in the file's unit, or a number) that set this parameter to
-        ``value`` (SI)."""
+        ``value`` (SI).
+
+        Parameters
+        ----------
+        value : float
+            The parameter's value, in its SI unit."""
         return {
             loc: f"{v / self.factor!r} {self.unit}" if self.unit else v
             for loc, v in self.location_values(value).items()
         }
 
     def shown(self, value: float) -> str:
-        """The value in the file's unit, as text."""
+        """The value in the file's unit, as text.
+
+        Parameters
+        ----------
+        value : float
+            The parameter's value, in its SI unit.
+        """
         v = value / self.factor
         return f"{v:.6g} {self.unit}".strip()
 
     def relative(self, value: float) -> float | None:
-        """Change from the base value, as a fraction (None when the base is 0)."""
+        """Change from the base value, as a fraction (None when the base is 0).
+
+        Parameters
+        ----------
+        value : float
+            The parameter's value, in its SI unit.
+        """
         return value / self.base - 1.0 if self.base else None
 
     @property
@@ -313,13 +335,30 @@ def _coordinates(tree: ModelTree, locations: Sequence[Location]) -> bool:
 @dataclass(frozen=True)
 class Watched:
     """An output of the analysis a study looks at: a summary key (nested keys with dots, e.g.
-    ``joint_force_peak_N.F`` or ``excitation.stroke_m``) and the unit to show it in."""
+    ``joint_force_peak_N.F`` or ``excitation.stroke_m``) and the unit to show it in.
+
+    Parameters
+    ----------
+    key : str
+        The summary key.
+    unit : str
+        Its SI unit (from the key or the registry).
+    display : str
+        The unit to show it in (``""``: SI).
+    """
 
     key: str
     unit: str
     display: str
 
     def show(self, value: float | None) -> float | None:
+        """``value`` (SI) in the display unit; None for a missing or non-finite value.
+
+        Parameters
+        ----------
+        value : float or None
+            The output's value, in its SI unit.
+        """
         from mechdyn.units import convert
 
         if value is None or not math.isfinite(value):
@@ -337,7 +376,15 @@ class Watched:
 
 @dataclass(frozen=True)
 class Objective:
-    """Minimise or maximise an output."""
+    """Minimise or maximise an output.
+
+    Parameters
+    ----------
+    output : Watched
+        The output.
+    sense : {"minimize", "maximize"}
+        The goal.
+    """
 
     output: Watched
     sense: str  # "minimize" or "maximize"
@@ -352,6 +399,15 @@ class Constraint:
     """A limit on an output: ``max``, ``min``, or ``equals`` within ``tolerance``, SI.
 
     :meth:`violation` is ≤ 0 when the constraint holds (Optuna's convention), in the output's unit.
+
+    Parameters
+    ----------
+    output : Watched
+        The output it limits.
+    max, min, equals : float, optional
+        The limits, in the output's SI unit.
+    tolerance : float, optional
+        Allowed deviation from ``equals``, in the output's SI unit.
     """
 
     output: Watched
@@ -361,6 +417,14 @@ class Constraint:
     tolerance: float | None = None
 
     def violation(self, value: float | None) -> float:
+        """How far ``value`` is outside the limits (≤ 0 inside), in the output's SI unit; infinite for
+        a missing or non-finite value.
+
+        Parameters
+        ----------
+        value : float or None
+            The output's value, SI.
+        """
         if value is None or not math.isfinite(value):
             return math.inf
         parts = []
@@ -373,6 +437,7 @@ class Constraint:
         return max(parts) if parts else -math.inf
 
     def describe(self) -> str:
+        """The constraint in words, in the output's display unit (e.g. ``stroke_m = 1.496 ± 0.001 m``)."""
         o = self.output
 
         def q(v: float | None) -> str:

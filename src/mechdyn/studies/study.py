@@ -197,7 +197,13 @@ class Study:
     family: str = ""
 
     def starting_from(self, rows: Any) -> Study:
-        """The same study, asked to evaluate these parameter rows (SI) first (an optimizer's start)."""
+        """The same study, asked to evaluate these parameter rows (SI) first (an optimizer's start).
+
+        Parameters
+        ----------
+        rows : array_like
+            (k, P) parameter values, SI, in the study's order.
+        """
         from dataclasses import replace
 
         return replace(self, start=tuple(tuple(float(x) for x in r) for r in rows))
@@ -322,6 +328,11 @@ def load_study(path: str | Path) -> Study:
 def load_studies(path: str | Path) -> list[Study]:
     """The studies of a study file: one, or one per box of ``[study] boxes`` (named ``NAME ±10 %``),
     in which every parameter with ``range = "box"`` takes the box as its range.
+
+    Parameters
+    ----------
+    path : str or Path
+        The study file.
 
     Raises
     ------

@@ -94,7 +94,21 @@ class PeriodicLoad:
         cls, period: Any, time: Any, samples: Any, angle: Any = None, n: int | None = None
     ) -> PeriodicLoad:
         """From samples at arbitrary increasing times within one period (a periodic cubic spline
-        resamples them onto ``n`` equal steps, by default as many as given)."""
+        resamples them onto ``n`` equal steps, by default as many as given).
+
+        Parameters
+        ----------
+        period : float or quantity
+            The load's period, s.
+        time : array_like
+            Increasing sample times within one period, s.
+        samples : array_like
+            (N, 6) load at those times (N and N·m), or (N,) Fz alone, N.
+        angle : array_like, optional
+            Crank angle of each sample, rad, for plots.
+        n : int, optional
+            Equal steps to resample onto.
+        """
         from scipy.interpolate import CubicSpline
 
         T = si_field("load", "period", period, "s")
@@ -120,6 +134,8 @@ class PeriodicLoad:
 
         Parameters
         ----------
+        period : float or quantity
+            The load's period, s.
         harmonics : dict of order h ≥ 1 → complex amplitude A_h
             A 6-vector (N, N·m) or a scalar for Fz alone; ``|A_h|`` is the amplitude, arg A_h the phase.
         mean : 6-vector or scalar, optional
@@ -203,15 +219,34 @@ class PeriodicLoad:
         return self.n_samples or max(16 * self.n_harmonics, 64)
 
     def time(self, n: int | None = None) -> np.ndarray:
-        """(n,) equally spaced times over one period from 0, s (by default :attr:`default_samples`)."""
+        """(n,) equally spaced times over one period from 0, s (by default :attr:`default_samples`).
+
+        Parameters
+        ----------
+        n : int, optional
+            How many.
+        """
         n = n or self.default_samples
         return self.period * np.arange(n) / n
 
     def value(self, t: Any) -> np.ndarray:
-        """(…, 6) the load at times t, s."""
+        """(…, 6) the load at times t, s.
+
+        Parameters
+        ----------
+        t : float or ndarray
+            Times, s.
+        """
         return series(self.coefficients, self.period, t)
 
     def scaled(self, factor: float) -> PeriodicLoad:
+        """The same load multiplied by ``factor``.
+
+        Parameters
+        ----------
+        factor : float
+            Dimensionless.
+        """
         return PeriodicLoad(self.period, self.coefficients * factor, self.angle, self.n_samples)
 
 
@@ -277,6 +312,13 @@ class Placement:
         """The drawing in the machine's x–z plane with the mechanism's output axis pointing up (+z).
 
         Without a prismatic output the drawing's y axis points up.
+
+        Parameters
+        ----------
+        mechanism : mechdyn.mechanism.Mechanism
+            The mechanism.
+        origin : sequence of float
+            Where its drawing's origin sits in the machine, m.
         """
         j = mechanism.output_joint()
         a = j.axis if j is not None else math.pi / 2

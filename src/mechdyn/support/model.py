@@ -159,6 +159,19 @@ class Mount:
         """A mount whose local axes are the machine axes turned by angles (z, y′, x″), rad or quantities.
 
         The intrinsic z–y–x (yaw, pitch, roll) sequence of :class:`scipy.spatial.transform.Rotation`.
+
+        Parameters
+        ----------
+        name : str
+            The mount's name.
+        position : sequence of float or quantity
+            Where it acts on the machine, m.
+        stiffness : sequence of float or quantity
+            Along its local axes (shear, shear, compression), N/m.
+        angles : sequence of float or quantity
+            The three rotations, rad.
+        **kw
+            Further :class:`Mount` fields (``damping``, ``anchored``).
         """
         from scipy.spatial.transform import Rotation
 
@@ -243,6 +256,17 @@ class MountedMachine:
         """The published one-degree-of-freedom model: mass m on a support of stiffness k, damping ratio ζ.
 
         c = 2 ζ √(k m) (e.g. Rao, *Mechanical Vibrations*, §2.6).
+
+        Parameters
+        ----------
+        mass : float or quantity
+            m, kg.
+        stiffness : float or quantity
+            k, N/m.
+        damping_ratio : float
+            ζ, dimensionless.
+        name : str
+            The machine's name.
         """
         body = RigidBody(mass)
         k = si_field("support", "stiffness", stiffness, "N/m")
@@ -262,7 +286,13 @@ class MountedMachine:
         return np.eye(6)[:, [DOFS.index(d) for d in self.dofs]]
 
     def mount_transform(self, mount: Mount) -> np.ndarray:
-        """3×n T with u = T q: the body's displacement at the mount from the kept coordinates."""
+        """3×n T with u = T q: the body's displacement at the mount from the kept coordinates.
+
+        Parameters
+        ----------
+        mount : Mount
+            One of the machine's mounts.
+        """
         r = mount.position - self.body.center_of_mass
         return np.hstack([np.eye(3), -_skew(r)]) @ self._select
 
@@ -347,7 +377,13 @@ class MountedMachine:
 
     # -- variants ----------------------------------------------------------------------------
     def scaled(self, stiffness: float = 1.0, damping: float = 1.0) -> MountedMachine:
-        """The same machine with every mount's stiffness and damping multiplied by the factors."""
+        """The same machine with every mount's stiffness and damping multiplied by the factors.
+
+        Parameters
+        ----------
+        stiffness, damping : float
+            The factors, dimensionless.
+        """
         mounts = tuple(
             replace(m, stiffness=m.stiffness * stiffness, damping=m.damping * damping) for m in self.mounts
         )

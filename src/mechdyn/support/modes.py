@@ -32,7 +32,8 @@ class SupportModes(Result, Modes):
     omega : ndarray
         (n,) natural circular frequencies, rad/s, ascending (``frequencies_hz`` in Hz).
     shapes : ndarray
-        (n, n) mass-normalised mode shapes as columns, in the kept coordinates.
+        (n, n) mass-normalised mode shapes as columns, in the kept coordinates (m and rad per unit
+        modal amplitude).
     """
 
     machine: MountedMachine
@@ -90,6 +91,11 @@ class SupportModes(Result, Modes):
 def modes(machine: MountedMachine) -> SupportModes:
     """Natural frequencies and mass-normalised mode shapes of the machine on its mounts.
 
+    Parameters
+    ----------
+    machine : MountedMachine
+        The machine on its mounts.
+
     The generalised symmetric eigenproblem K φ = ω² M φ, solved by the shared core
     (:func:`mechdyn.vibration.solve_eigen`; LAPACK ``sygvd`` for the full rigid-body mass matrix).
 
@@ -111,6 +117,11 @@ def elastic_centre(machine: MountedMachine) -> tuple[np.ndarray, float] | None:
     Moving the reference point to p changes the coupling block of the stiffness matrix to
     K_tr(p) = K_tr(0) + K_tt [p]× (K_tt = Σ k_i, K_tr(0) = −Σ k_i [r_i]×); p is chosen to make it
     vanish in the kept coordinates (least squares).
+
+    Parameters
+    ----------
+    machine : MountedMachine
+        The machine on its mounts.
 
     Returns
     -------

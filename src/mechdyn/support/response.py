@@ -88,7 +88,13 @@ class SupportResponse(Result):
         return self.floor_force[:, 2]
 
     def coordinate(self, name: str) -> np.ndarray:
-        """(N,) one of the kept coordinates (``"z"``, ``"ry"``, …), zero when it is not kept."""
+        """(N,) one of the kept coordinates (``"z"``, ``"ry"``, …), zero when it is not kept.
+
+        Parameters
+        ----------
+        name : str
+            ``x``, ``y``, ``z`` (m) or ``rx``, ``ry``, ``rz`` (rad).
+        """
         if name not in DOFS:
             raise KeyError(name)
         d = self.machine.dofs
@@ -100,7 +106,13 @@ class SupportResponse(Result):
         return self.coordinate("z")
 
     def displacement_at(self, point: Any) -> np.ndarray:
-        """(N, 3) displacement of a point of the machine (machine coordinates, m)."""
+        """(N, 3) displacement of a point of the machine (machine coordinates, m).
+
+        Parameters
+        ----------
+        point : sequence of float
+            The point, m, in machine coordinates.
+        """
         from mechdyn.support.model import Mount
 
         probe = Mount("probe", point, (0.0, 0.0, 0.0))
@@ -180,6 +192,13 @@ def harmonic_response(machine: MountedMachine, load: PeriodicLoad) -> np.ndarray
 
     (K − (hΩ)² M + i hΩ C) X_h = B c_h, one small complex solve per harmonic
     (:func:`mechdyn.vibration.harmonic_solve`).
+
+    Parameters
+    ----------
+    machine : MountedMachine
+        The machine on its mounts.
+    load : PeriodicLoad
+        The periodic load.
     """
     from mechdyn.vibration.harmonic import harmonic_solve
 

@@ -57,10 +57,10 @@ def solve_eigen(
     Parameters
     ----------
     K : sparse array or ndarray
-        Stiffness, (n, n), symmetric positive semi-definite.
+        Stiffness, (n, n), symmetric positive semi-definite, in the model's SI units (N/m, N·m/rad).
     mass : ndarray
-        Diagonal of M, (n,), all positive; or the full (n, n) symmetric positive-definite M, which
-        is solved densely (LAPACK ``sygvd``/``sygvx``).
+        Diagonal of M, (n,), all positive, in the model's SI units (kg, kg·m²); or the full (n, n)
+        symmetric positive-definite M, which is solved densely (LAPACK ``sygvd``/``sygvx``).
     n_modes : int, optional
         Number of lowest eigenpairs; all when None.
     solver : {"auto", "dense", "banded", "sparse"}
