@@ -22,28 +22,26 @@ from mechdyn.gears.schema import GearTable, pair_from_tables
 from mechdyn.gears.schema import MaterialTable as GearMaterialTable
 from mechdyn.io.fields import (
     Angle,
+    AngularSpeed,
     Density,
     Dimensionless,
     FileModel,
     Frequency,
+    Inertia,
     Length,
+    LinearDamping,
     LinearStiffness,
     ModelTableBase,
+    PerSecond,
     Pressure,
-    quantity,
+    Time,
+    Torque,
+    TorsionalDamping,
+    TorsionalStiffness,
 )
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 
 __all__ = ["CampbellSettings", "DrivetrainFile", "ResponseSettings", "build", "settings"]
-
-Inertia = quantity("kg*m^2")
-TorsionalStiffness = quantity("N*m/rad")
-TorsionalDamping = quantity("N*m*s/rad")
-LinearDamping = quantity("N*s/m")
-Speed = quantity("rad/s")
-Torque = quantity("N*m")
-PerSecond = quantity("1/s")
-Seconds = quantity("s")
 
 
 class ModelTable(ModelTableBase):
@@ -183,7 +181,7 @@ class GroundDamperTable(FileModel):
 
 
 class CampbellTable(FileModel):
-    speed_range: tuple[Speed, Speed]
+    speed_range: tuple[AngularSpeed, AngularSpeed]
     """Lowest and highest speed of the reference disk for ``mechdyn campbell``."""
     reference_disk: str | None = None
     """The disk whose speed is the abscissa (default: the first disk)."""
@@ -205,7 +203,7 @@ class ExcitationTable(FileModel):
 class RayleighTable(FileModel):
     alpha: PerSecond = 0.0
     """Mass-proportional coefficient α of Rayleigh damping, C = α M + β K."""
-    beta: Seconds = 0.0
+    beta: Time = 0.0
     """Stiffness-proportional coefficient β of Rayleigh damping, C = α M + β K."""
 
 

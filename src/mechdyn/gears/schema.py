@@ -13,7 +13,14 @@ from pydantic import Field
 from mechdyn.gears.geometry import SpurGear
 from mechdyn.gears.mesh import GearPair
 from mechdyn.gears.tooth import TruncatedTooth
-from mechdyn.io.fields import Angle, FileModel, Length, ModelTableBase, Pressure, quantity
+from mechdyn.io.fields import (
+    Angle,
+    FileModel,
+    Length,
+    LineLoad,
+    ModelTableBase,
+    Pressure,
+)
 from mechdyn.io.fields import LinearStiffness as Stiffness
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 
@@ -25,8 +32,6 @@ __all__ = [
     "build_gear_pair",
     "build_tooth_pair",
 ]
-
-LineLoad = quantity("N/mm")
 
 
 class MaterialTable(FileModel):

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated, Any
+from typing import Annotated, Any, TypeAlias
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict
 
@@ -12,16 +12,30 @@ from mechdyn.units import to_si
 __all__ = [
     "DEFAULT_LIMIT",
     "MAGNITUDE_LIMITS",
+    "Acceleration",
     "Angle",
+    "AngularSpeed",
+    "Area",
     "Density",
     "Dimensionless",
     "FileModel",
+    "Force",
     "Frequency",
+    "Inertia",
     "Length",
+    "LineLoad",
+    "LinearDamping",
     "LinearStiffness",
+    "Mass",
     "ModelTableBase",
+    "PerSecond",
     "Pressure",
+    "Time",
+    "Torque",
+    "TorsionalDamping",
+    "TorsionalStiffness",
     "Unit",
+    "Velocity",
     "quantity",
     "within_limits",
 ]
@@ -31,13 +45,25 @@ def quantity(unit: str) -> Any:
     """A pydantic field type that reads a quantity and holds its magnitude in ``unit`` (SI).
 
     ``quantity("N*m/rad")`` accepts ``"0.95e6 N*m/rad"`` or ``"950 kN*m/rad"`` and stores
-    ``950000.0``; a bare number is refused unless ``unit`` is dimensionless or angular.
+    ``950000.0``; a bare number is refused unless ``unit`` is dimensionless or angular. The named
+    types below (:data:`Length`, :data:`Torque`, ...) are the same for the units model files use;
+    a type checker sees those as ``float``.
+
+    Parameters
+    ----------
+    unit : str
+        The SI unit the value is held in, as pint spells it.
     """
+    return Annotated[float, Unit(unit), _in_si(unit)]
+
+
+def _in_si(unit: str) -> BeforeValidator:
+    """The validator that converts a file's value to ``unit`` and checks its magnitude."""
 
     def convert(value: Any) -> float:
         return within_limits(value, to_si(value, unit), unit)
 
-    return Annotated[float, Unit(unit), BeforeValidator(convert)]
+    return BeforeValidator(convert)
 
 
 @dataclass(frozen=True)
@@ -101,14 +127,30 @@ class FileModel(BaseModel):
     )
 
 
-# The field types every model file uses; a capability declares its own beside them.
-Length = quantity("m")
-Angle = quantity("rad")
-Pressure = quantity("Pa")
-Density = quantity("kg/m^3")
-Frequency = quantity("Hz")
-LinearStiffness = quantity("N/m")
-Dimensionless = quantity("")
+# The field types of model files: a float in SI, read from a quantity with its unit (the Unit marker
+# tells the documentation the unit; the validator converts and bounds the value).
+Length: TypeAlias = Annotated[float, Unit("m"), _in_si("m")]
+Area: TypeAlias = Annotated[float, Unit("m^2"), _in_si("m^2")]
+Angle: TypeAlias = Annotated[float, Unit("rad"), _in_si("rad")]
+Mass: TypeAlias = Annotated[float, Unit("kg"), _in_si("kg")]
+Inertia: TypeAlias = Annotated[float, Unit("kg*m^2"), _in_si("kg*m^2")]
+Density: TypeAlias = Annotated[float, Unit("kg/m^3"), _in_si("kg/m^3")]
+Pressure: TypeAlias = Annotated[float, Unit("Pa"), _in_si("Pa")]
+Force: TypeAlias = Annotated[float, Unit("N"), _in_si("N")]
+Torque: TypeAlias = Annotated[float, Unit("N*m"), _in_si("N*m")]
+Time: TypeAlias = Annotated[float, Unit("s"), _in_si("s")]
+Frequency: TypeAlias = Annotated[float, Unit("Hz"), _in_si("Hz")]
+PerSecond: TypeAlias = Annotated[float, Unit("1/s"), _in_si("1/s")]
+AngularSpeed: TypeAlias = Annotated[float, Unit("rad/s"), _in_si("rad/s")]
+Velocity: TypeAlias = Annotated[float, Unit("m/s"), _in_si("m/s")]
+Acceleration: TypeAlias = Annotated[float, Unit("m/s^2"), _in_si("m/s^2")]
+LinearStiffness: TypeAlias = Annotated[float, Unit("N/m"), _in_si("N/m")]
+TorsionalStiffness: TypeAlias = Annotated[float, Unit("N*m/rad"), _in_si("N*m/rad")]
+LinearDamping: TypeAlias = Annotated[float, Unit("N*s/m"), _in_si("N*s/m")]
+TorsionalDamping: TypeAlias = Annotated[float, Unit("N*m*s/rad"), _in_si("N*m*s/rad")]
+# ISO 6336's line load F_t/b is conventionally in N/mm
+LineLoad: TypeAlias = Annotated[float, Unit("N/mm"), _in_si("N/mm")]
+Dimensionless: TypeAlias = Annotated[float, Unit(""), _in_si("")]
 
 
 class ModelTableBase(FileModel):

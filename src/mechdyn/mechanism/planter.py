@@ -26,7 +26,18 @@ from pydantic import Field
 from scipy.optimize import minimize_scalar
 
 from mechdyn.errors import ModelError
-from mechdyn.io.fields import Angle, Dimensionless, FileModel, Length, ModelTableBase, quantity
+from mechdyn.io.fields import (
+    Acceleration,
+    Angle,
+    AngularSpeed,
+    Dimensionless,
+    FileModel,
+    Inertia,
+    Length,
+    Mass,
+    ModelTableBase,
+    Velocity,
+)
 from mechdyn.mechanism.kinematics import kinematics
 from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Revolute
 from mechdyn.mechanism.pitch import closing_centre_distance, eccentric_circle, pitch_law
@@ -232,7 +243,6 @@ def planter(design: PlanterDesign | None = None, name: str = "planting mechanism
 # -- the model file: [model] type = "planting_mechanism" -----------------------------------------
 
 
-_Mass, _Inertia = quantity("kg"), quantity("kg*m^2")
 _D = PlanterDesign()
 
 
@@ -260,21 +270,21 @@ class DesignTable(FileModel):
     """γ, the fork's angle on the planet."""
     com_offset: Length = _D.com_offset
     """d, from the planet's pivot to the centre of mass of planet and fork (not published: chosen)."""
-    arm_mass: _Mass = _D.arm_mass
+    arm_mass: Mass = _D.arm_mass
     """Mass of the carrier arm."""
-    idler_mass: _Mass = _D.idler_mass
+    idler_mass: Mass = _D.idler_mass
     """Mass of each idler."""
-    planet_mass: _Mass = _D.planet_mass
+    planet_mass: Mass = _D.planet_mass
     """Mass of each planet with its fork."""
-    arm_inertia: _Inertia = _D.arm_inertia
+    arm_inertia: Inertia = _D.arm_inertia
     """Moment of inertia of the carrier about the sun's axis (not published: chosen)."""
-    idler_inertia: _Inertia = _D.idler_inertia
+    idler_inertia: Inertia = _D.idler_inertia
     """Moment of inertia of each idler about its pivot."""
-    planet_inertia: _Inertia = _D.planet_inertia
+    planet_inertia: Inertia = _D.planet_inertia
     """Moment of inertia of each planet with its fork about its pivot."""
-    speed: quantity("rad/s") = _D.speed  # type: ignore[valid-type]
+    speed: AngularSpeed = _D.speed
     """Carrier speed."""
-    gravity: quantity("m/s^2") = _D.gravity  # type: ignore[valid-type]
+    gravity: Acceleration = _D.gravity
     """Gravity, acting down the drawing's y axis."""
 
 
@@ -285,7 +295,7 @@ class SettingsTable(FileModel):
     """Carrier angles per revolution."""
     trace: list[str] = Field(default_factory=list)
     """Points whose paths are drawn (e.g. the fork tips)."""
-    field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
+    field_velocity: tuple[Velocity, Velocity] | None = None
     """Velocity of the machine over the ground, [v_x, v_y], for the paths over the field."""
 
 

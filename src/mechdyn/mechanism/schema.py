@@ -21,17 +21,21 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
-from mechdyn.io.fields import Angle, FileModel, Length, ModelTableBase, quantity
+from mechdyn.io.fields import (
+    Acceleration,
+    Angle,
+    AngularSpeed,
+    FileModel,
+    Inertia,
+    Length,
+    Mass,
+    ModelTableBase,
+    Velocity,
+)
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Prismatic, ProcessForce, Revolute
 
 __all__ = ["MechanismFile", "MechanismSpec", "build"]
-
-Mass = quantity("kg")
-Inertia = quantity("kg*m^2")
-Speed = quantity("rad/s")
-Acceleration = quantity("m/s^2")
-Force = quantity("N")
 
 
 class ModelTable(ModelTableBase):
@@ -104,7 +108,7 @@ class DriverTable(FileModel):
     """The crank's fixed pivot."""
     tip: str
     """A second point of the crank; the crank angle is that of pivot → tip from the x axis."""
-    speed: Speed
+    speed: AngularSpeed
     """Crank speed (constant unless ``speed_profile`` is given)."""
     speed_profile: list[tuple[str, str]] | None = None
     """Crank speed against crank angle, rows [angle, speed] from 0° up to below 360°, interpolated; the
@@ -122,7 +126,7 @@ class SettingsTable(FileModel):
     """The output: [body, point] whose motion is reported (default: the slide of a prismatic joint)."""
     trace: list[str] = Field(default_factory=list)
     """Points whose paths are drawn."""
-    field_velocity: tuple[quantity("m/s"), quantity("m/s")] | None = None  # type: ignore[valid-type]
+    field_velocity: tuple[Velocity, Velocity] | None = None
     """Velocity of the machine over the ground, [v_x, v_y], for the paths over the field."""
 
     @field_validator("angle_datum", mode="before")

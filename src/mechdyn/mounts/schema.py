@@ -19,7 +19,17 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, model_validator
 
-from mechdyn.io.fields import Angle, FileModel, Frequency, Length, LinearStiffness, ModelTableBase, quantity
+from mechdyn.io.fields import (
+    Angle,
+    Area,
+    FileModel,
+    Force,
+    Frequency,
+    Length,
+    LinearStiffness,
+    ModelTableBase,
+    Pressure,
+)
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 from mechdyn.mounts.bolted import BoltedJoint, Layer
 from mechdyn.mounts.materials import Material, MaterialDatabase, default_materials
@@ -27,10 +37,6 @@ from mechdyn.mounts.pad import ElastomerPad
 from mechdyn.mounts.types import DampingPad, LevellingWedge, ScrewFoot, SpringIsolator
 
 __all__ = ["MountFile", "MountSpec", "build"]
-
-Area = quantity("m^2")
-Force = quantity("N")
-Pressure = quantity("Pa")
 
 
 class ModelTable(ModelTableBase):

@@ -22,13 +22,18 @@ from pydantic import Field, model_validator
 
 from mechdyn.errors import ModelFileError
 from mechdyn.io.fields import (
+    Acceleration,
     Angle,
     Dimensionless,
     FileModel,
+    Force,
+    Inertia,
     Length,
+    LinearDamping,
     LinearStiffness,
+    Mass,
     ModelTableBase,
-    quantity,
+    Time,
 )
 from mechdyn.io.modelfile import (
     ModelSource,
@@ -44,11 +49,6 @@ from mechdyn.units import STANDARD_GRAVITY
 
 __all__ = ["MechanismExcitation", "PlacedEstimate", "SupportFile", "SupportSpec", "build"]
 
-Mass = quantity("kg")
-Inertia = quantity("kg*m^2")
-Damping = quantity("N*s/m")
-Time = quantity("s")
-Force = quantity("N")
 Vector3 = tuple[float, float, float]
 
 
@@ -102,7 +102,7 @@ class MountTable(FileModel):
         default="as drawn",
         description='"stored": apply the latest calibration of this estimate kept in the results database',
     )
-    damping: tuple[Damping, Damping, Damping] | None = Field(
+    damping: tuple[LinearDamping, LinearDamping, LinearDamping] | None = Field(
         default=None,
         description="along the local axes; by default 0, or from an estimate's loss factor",
     )
@@ -174,7 +174,7 @@ class AnalysisTable(FileModel):
     start_up_method: Literal["DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "duhamel"] = "DOP853"
     """Time integrator of the start-up: a ``scipy.integrate.solve_ivp`` method or ``duhamel`` (the convolution
     in state-space form)."""
-    gravity: quantity("m/s^2") = STANDARD_GRAVITY  # type: ignore[valid-type]
+    gravity: Acceleration = STANDARD_GRAVITY
     """Gravity, for the mounts' static deflection."""
 
     @model_validator(mode="before")
