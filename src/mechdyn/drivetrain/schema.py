@@ -9,12 +9,13 @@ tables for those analyses. Every dimensional value carries its unit. See ``examp
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from mechdyn.drivetrain.elements import Disk, GearMesh, GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.elements import Disk, Element, GearMesh, GroundDamper, GroundSpring, Shaft
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
 from mechdyn.errors import ModelFileError, ModelWarning
@@ -280,7 +281,7 @@ def _check_names(source: ModelSource, f: DrivetrainFile) -> None:
                 )
             seen[row.name] = where
     known = {d.name: None for d in f.disks}  # ordered, for the message; a dict for O(1) look-ups
-    tables = (
+    tables: tuple[tuple[str, Sequence[Any], str], ...] = (
         ("shafts", f.shafts, "disks"),
         ("meshes", f.meshes, "disks"),
         ("ground_springs", f.ground_springs, "disk"),
@@ -325,7 +326,7 @@ def build(source: ModelSource) -> Drivetrain:
                         density=rho,
                     )
                 )
-    elements = []
+    elements: list[Element] = []
     rows = {s.name: _where("shafts", i, s.name) for i, s in enumerate(f.shafts)}
     with field_context(source, "[[shafts]]", rows):
         for s in f.shafts:
@@ -333,8 +334,8 @@ def build(source: ModelSource) -> Drivetrain:
             if s.stiffness is not None:
                 elements.append(Shaft(s.name, s.disks, s.stiffness, s.damping))
             else:
-                g = s.shear_modulus if s.shear_modulus is not None else mat.shear_modulus
-                g = _need(source, where, "shear_modulus", g, "material")
+                shear = s.shear_modulus if s.shear_modulus is not None else mat.shear_modulus
+                shear_modulus = _need(source, where, "shear_modulus", shear, "material")
                 elements.append(
                     Shaft.from_geometry(
                         s.name,
@@ -342,7 +343,7 @@ def build(source: ModelSource) -> Drivetrain:
                         length=s.length,
                         diameter=s.diameter,
                         inner_diameter=s.inner_diameter,
-                        shear_modulus=g,
+                        shear_modulus=shear_modulus,
                         damping=s.damping,
                     )
                 )
@@ -382,12 +383,12 @@ def build(source: ModelSource) -> Drivetrain:
                     damping=m.damping,
                 )
             )
-    for i, g in enumerate(f.ground_springs):
-        with field_context(source, _where("ground_springs", i, g.name)):
-            elements.append(GroundSpring(g.name, g.disk, g.stiffness))
-    for i, g in enumerate(f.ground_dampers):
-        with field_context(source, _where("ground_dampers", i, g.name)):
-            elements.append(GroundDamper(g.name, g.disk, g.damping))
+    for i, spring in enumerate(f.ground_springs):
+        with field_context(source, _where("ground_springs", i, spring.name)):
+            elements.append(GroundSpring(spring.name, spring.disk, spring.stiffness))
+    for i, damper in enumerate(f.ground_dampers):
+        with field_context(source, _where("ground_dampers", i, damper.name)):
+            elements.append(GroundDamper(damper.name, damper.disk, damper.damping))
     tables = {
         row.name: _where(table, i, row.name)
         for table in ("disks", "shafts", "meshes", "ground_springs", "ground_dampers")
@@ -438,7 +439,7 @@ def settings(
         c = f.campbell
         check("[campbell] → reference_disk", c.reference_disk)
         camp = CampbellSettings(
-            tuple(c.speed_range), c.reference_disk, tuple(c.shaft_orders), tuple(c.mesh_orders)
+            c.speed_range, c.reference_disk, tuple(c.shaft_orders), tuple(c.mesh_orders)
         )
     resp = None
     if f.response is not None:
@@ -453,5 +454,5 @@ def settings(
             damping: ModalDamping | RayleighDamping = RayleighDamping(r.rayleigh.alpha, r.rayleigh.beta)
         else:
             damping = ModalDamping(0.02 if r.modal_damping is None else r.modal_damping)
-        resp = ResponseSettings(exc, tuple(r.frequency_range), r.points, tuple(r.outputs), damping)
+        resp = ResponseSettings(exc, r.frequency_range, r.points, tuple(r.outputs), damping)
     return camp, resp

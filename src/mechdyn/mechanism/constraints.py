@@ -59,7 +59,7 @@ class Evaluation:
     force_ground_jacobian: np.ndarray | None = None
 
     @property
-    def load_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
+    def load_jacobian(self) -> tuple[np.ndarray, np.ndarray | None]:
         """(Φ_q, frame part) whose transpose times λ gives the joint loads: the Jacobian itself,
         except that a gear pair's row is its mesh force at the pitch point along the line of
         action (the same constraint on the motions the other joints allow, so the same motion and
@@ -81,7 +81,7 @@ class JointTerms:
     equations: tuple[str, ...] = ()
     load_dependent = False  # the force row depends on the sign of the joint's own multiplier
 
-    def evaluate(self, body, rate, res, jac, gam, r0: int) -> None:  # pragma: no cover - abstract
+    def evaluate(self, body, rate, res, jac, gam, r0: Any) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def force_rows(self, body, fjac, r0: int, side) -> bool:
@@ -98,7 +98,7 @@ class JointTerms:
 class _One:
     """One joint's terms at its rows."""
 
-    def __init__(self, r0: int, terms: JointTerms):
+    def __init__(self, r0: int | np.ndarray, terms: JointTerms):
         self.r0, self.terms = r0, terms
 
     def evaluate(self, body, rate, res, jac, gam) -> None:
@@ -246,7 +246,7 @@ class ConstraintSet:
 
         self._terms: list[tuple[int, JointTerms]] = []
         self.rows: list[tuple[str, str]] = []  # (element name, equation) per row, for messages
-        kinds: dict[type, list[tuple[int, JointTerms]]] = {}
+        kinds: dict[type[JointTerms], list[tuple[int, JointTerms]]] = {}
         for j, rows in zip(mechanism.joints, mechanism.joint_rows, strict=True):
             t = j.terms(mechanism, slot)
             self._terms.append((rows.start, t))
@@ -299,7 +299,7 @@ class ConstraintSet:
             k = 0
             changed = False
             for r0, t in self._terms:
-                side = 1.0
+                side: float | np.ndarray = 1.0
                 if t.load_dependent:
                     side = 1.0 if flank is None else np.asarray(flank)[..., k, None]
                     k += 1

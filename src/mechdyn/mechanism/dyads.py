@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -80,7 +80,7 @@ def plan(mechanism: Mechanism) -> list[Step]:
     steps = [Step("crank", tuple(sorted(pts_of[d.body] - {d.pivot})), (d.pivot,), d.body)]
     known |= pts_of[d.body]
     done_bodies = {d.body}
-    sliders = {j.bodies[0]: j for j in m.joints if j.slides}
+    sliders = {j.bodies[0]: cast(Prismatic, j) for j in m.joints if j.slides}
     revolutes = [j for j in m.joints if j.pins]
     while len(done_bodies) < len(m.bodies):
         progress = False
@@ -254,7 +254,8 @@ class CycleBatch(Result):
         if j.pins:
             return rows
         # a slider on a frame guide: the normal force λ₂ n on the guide (−λ₂ n on the slider)
-        n = np.array([-math.sin(j.axis), math.cos(j.axis)])
+        axis = cast(Prismatic, j).axis
+        n = np.array([-math.sin(axis), math.cos(axis)])
         return rows[..., 1:2] * n
 
     @property
@@ -330,7 +331,7 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return a.real * b.imag - a.imag * b.real
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _dot(a: np.ndarray, b: np.ndarray | complex) -> np.ndarray:
     return a.real * b.real + a.imag * b.imag
 
 
@@ -492,7 +493,7 @@ def cycle(
         else sorted(
             {pf.point for pf in m.process_forces}
             | {f"__com__{pf.body}" for pf in m.process_forces}
-            | ({m.driver.pivot, *m.output_link()} if m.output_link() else set())  # for layout_figures
+            | ({m.driver.pivot, *link} if (link := m.output_link()) else set())  # for layout_figures
         )
     )
     keep = np.array([slot[n] for n in wanted], dtype=np.int64)
@@ -560,9 +561,8 @@ def cycle(
         if s_out.size:
             s_out[v] = np.nan
     z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(wanted)}
-    if j is None:
-        s_out = None
-    angle = crank_angles(m, theta_draw, step, s_out, N)
+    stroke = None if j is None else s_out
+    angle = crank_angles(m, theta_draw, step, stroke, N)
     body_rates = (
         {b.name: (rates[..., i, 0], rates[..., i, 1], rates[..., i, 2]) for i, b in enumerate(m.bodies)}
         if store_points
@@ -573,7 +573,7 @@ def cycle(
         angle,
         torque,
         moment,
-        s_out,
+        stroke,
         force,
         inertia_force,
         z,
@@ -808,7 +808,8 @@ class DesignBatch(Result):
             The motion solver (see :func:`~mechdyn.mechanism.inverse_dynamics`)."""
         from mechdyn.mechanism.dynamics import inverse_dynamics
 
-        results, status = [], []
+        results: list[Any] = []
+        status: list[str] = []
         for i, m in enumerate(models):
             try:
                 results.append(inverse_dynamics(m, n_angles, method))
@@ -881,6 +882,7 @@ def _encode_loads(m: Mechanism, steps: list[Step], slot: dict[str, int]):
     for st in reversed(steps):
         row = [0] * 16
         if st.kind == "rrr":
+            assert isinstance(st.target, str)  # an RRR dyad finds one point
             p = st.target
             k1, k2 = st.known
             kp = next(
@@ -895,7 +897,9 @@ def _encode_loads(m: Mechanism, steps: list[Step], slot: dict[str, int]):
             row[12:14] = [kp, 1 if joints[kp].bodies[1] == b2 else -1]
             kf.append((0.0, 0.0))
         elif st.kind == "rrp":
-            p, (k1,), sl = st.target, st.known, st.body
+            target, (k1,), sl = st.target, st.known, st.body
+            assert isinstance(target, str) and sl is not None and st.guide is not None  # one point
+            p = target
             kg = joints.index(st.guide)
             kp = joint_at(p, sl)
             b1 = joints[kp].bodies[0] if joints[kp].bodies[1] == sl else joints[kp].bodies[1]
@@ -929,8 +933,9 @@ def _encode_loads(m: Mechanism, steps: list[Step], slot: dict[str, int]):
             gops.append((0, k, 1 if jt.bodies[1] == GROUND else -1, slot[jt.point]))
             gf.append((0.0, 0.0))
         else:  # a slider on a frame guide (the planner allows no other)
+            axis = cast(Prismatic, jt).axis
             gops.append((1, k, 0, slot[jt.point]))
-            gf.append((-math.sin(jt.axis), math.cos(jt.axis)))
+            gf.append((-math.sin(axis), math.cos(axis)))
     return (
         np.array(kops, dtype=np.int64).reshape(-1, 16),
         np.array(kf, dtype=float).reshape(-1, 2),

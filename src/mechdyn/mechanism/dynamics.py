@@ -12,13 +12,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
 from mechdyn.mechanism.linalg import solve_with_det
-from mechdyn.mechanism.model import GROUND, Mechanism
+from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
 from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
@@ -213,7 +213,7 @@ class DynamicsResult(Result):
         from mechdyn.mechanism.pitch import report
 
         m = self.mechanism
-        joints = {j.name: j for j in m.joints}
+        joints = {j.name: cast(GearJoint, j) for j in m.joints if j.name in m.gear_laws}
         return {name: report(law, joints[name].pressure_angle) for name, law in m.gear_laws.items()}
 
     @property
@@ -301,10 +301,11 @@ class DynamicsResult(Result):
         s = self.output_position
         if s is not None:
             k = self.kinematics
-            j = self.mechanism.output_joint()
-            moving = j.bodies[1] if j.bodies[0] == GROUND else j.bodies[0]  # type: ignore[union-attr]
-            _, v, a = k.point(moving, j.point)  # type: ignore[union-attr]
-            u = np.array([math.cos(j.axis), math.sin(j.axis)])  # type: ignore[union-attr]
+            slide = self.mechanism.output_joint()
+            assert slide is not None  # an output position comes from a slide
+            moving = slide.bodies[1] if slide.bodies[0] == GROUND else slide.bodies[0]
+            _, v, a = k.point(moving, slide.point)
+            u = np.array([math.cos(slide.axis), math.sin(slide.axis)])
             cols.update(
                 output_position_m=s, output_velocity_m_per_s=v @ u, output_acceleration_m_per_s2=a @ u
             )

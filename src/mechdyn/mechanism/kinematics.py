@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -79,7 +79,7 @@ class KinematicsResult:
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
-    dyads: object = None
+    dyads: Any = None
 
     @cached_property
     def constraints(self) -> ConstraintSet:
@@ -264,6 +264,7 @@ def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
         rhs_v[-1] = wk[k]
         V[k] = _solve(ev.jacobian, rhs_v)
         ev = cs.evaluate(q, np.asarray(th), V[k])
+        assert ev.gamma is not None  # velocities were given
         ev.gamma[-1] = ak[k]  # the driver: φ̈_crank = θ̈
         A[k] = _solve(ev.jacobian, ev.gamma)
     # one more step must bring the mechanism back to where it started: the branch was kept
@@ -321,6 +322,7 @@ def _advance(
     rhs[-1] = w[1]
     v1 = _solve(ev.jacobian, rhs)
     ev = cs.evaluate(q1, np.asarray(th), v1)
+    assert ev.gamma is not None  # velocities were given
     ev.gamma[-1] = a[1]
     return q1, v1, _solve(ev.jacobian, ev.gamma)
 
@@ -339,7 +341,7 @@ def _raise_lost(
     lo: float,
     hi: float,
     scale: float,
-) -> None:
+) -> NoReturn:
     """The loops stop closing between θ = lo (solved) and hi: bisect to ANGLE_TOL and name the joint."""
     from mechdyn.mechanism.screening import ANGLE_TOL
 

@@ -15,7 +15,7 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any, ClassVar
+from typing import Any, ClassVar, cast
 
 import numpy as np
 
@@ -567,8 +567,8 @@ class Mechanism:
                     f"point {p!r} is not on the crank {d.body!r}", element="driver", field="pivot"
                 )
         if self.output is not None:
-            b, p = self.output
-            if b not in names or p not in self.bodies[names[b]].points:
+            out_body, out_point = self.output
+            if out_body not in names or out_point not in self.bodies[names[out_body]].points:
                 raise ModelError(
                     f"output {self.output!r} must be a body and one of its points", element="output"
                 )
@@ -592,7 +592,10 @@ class Mechanism:
 
         grid = 2 * np.pi * np.arange(720) / 720
         for body in self.bodies:
-            meshes = [j for j in self.joints if j.name in self.gear_laws and body.name in j.bodies]
+            # the gear pairs are the joints with a rolling law (typed so for the checker)
+            meshes = [
+                cast(GearJoint, j) for j in self.joints if j.name in self.gear_laws and body.name in j.bodies
+            ]
             if len(meshes) < 2:
                 continue
             curves = []
@@ -726,7 +729,7 @@ class Mechanism:
 
     def output_joint(self) -> Prismatic | None:
         """The prismatic joint whose motion is the stroke."""
-        prismatic = [j for j in self.joints if j.slides]
+        prismatic = [cast(Prismatic, j) for j in self.joints if j.slides]
         if self.output is None:
             return prismatic[0] if prismatic else None
         for j in prismatic:
