@@ -385,3 +385,18 @@ def test_without_a_bore_the_foundation_is_not_rigid_and_the_guess_is_said():
     assert 0.9 < per_face / iso < 1.3
     assert len(solid.warnings) == 2 and all("no bore_diameter" in w for w in solid.warnings)
     assert not bored.warnings
+
+
+def test_the_gear_command_runs_with_the_involute_tooth_model(tmp_path, capsys):
+    """The geometry table shows the truncated-triangle dimensions whichever model computes the
+    stiffness (it raised AttributeError with ``tooth_model = "involute"``, found by the type checker)."""
+    from mechdyn.cli.main import main
+
+    path = tmp_path / "involute.toml"
+    path.write_text(
+        '[model]\ntype = "gear_pair"\n[pinion]\nteeth = 20\nmodule = "2 mm"\nface_width = "20 mm"\n'
+        '[gear]\nteeth = 40\nmodule = "2 mm"\nface_width = "20 mm"\n[mesh]\ntooth_model = "involute"\n'
+    )
+    assert main(["gear", str(path), "--db", str(tmp_path / "r.db")]) == 0
+    out = capsys.readouterr().out
+    assert "truncated-triangle tooth" in out and "mesh stiffness" in out

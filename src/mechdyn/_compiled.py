@@ -22,7 +22,7 @@ def is_cached(dispatcher: Any) -> bool:
         return True
     cache = getattr(dispatcher, "_cache", None)
     index = getattr(getattr(cache, "_cache_file", None), "_index_path", None)
-    return bool(index) and os.path.exists(index)
+    return index is not None and os.path.exists(index)
 
 
 def announce(*dispatchers: Any) -> None:

@@ -99,7 +99,7 @@ class Result:
         """File name → callable drawing one figure and returning its matplotlib axes."""
         return {}
 
-    def plot(self, **display_units: str) -> Any:
+    def plot(self, **display_units: Any) -> Any:
         """Draw the first of :meth:`plots` and return its axes (None when the result has no plot)."""
         plots = self.plots(**display_units)
         return next(iter(plots.values()))() if plots else None

@@ -41,7 +41,7 @@ def registry() -> pint.UnitRegistry:
     """The package-wide :class:`pint.UnitRegistry` (``mechdyn.units.ureg``), made on first use."""
     import pint
 
-    reg = pint.UnitRegistry()
+    reg: Any = pint.UnitRegistry()
     reg.formatter.default_format = "~P"
     # The press literature quotes forces in metric tonnes-force (1000 kgf), written "tf" or "tonf";
     # pint knows only the short and long ton-force, so the metric one is defined here.
@@ -81,7 +81,7 @@ def _coerce(value: Any, unit: str) -> pint.Quantity:
         if not text:
             raise UnitError(f"empty text; expected a quantity in {unit}, e.g. '1 {unit}'")
         try:
-            q = ureg.Quantity(text)
+            q: Any = ureg.Quantity(text)
         except (pint.errors.PintError, ValueError, AttributeError, TypeError, SyntaxError) as exc:
             expected = (
                 "a plain number, e.g. 0.05"

@@ -133,6 +133,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     for n in notes:
         print(f"warning: {n}", file=sys.stderr)
     source = loaded.source
+    assert source is not None  # the command line loads a file
     parameters = {k: v for k, v in options.items() if v is not None and v is not False}
     with ResultStore(args.db) as store:
         run_id = store.record(

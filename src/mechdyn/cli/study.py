@@ -28,7 +28,8 @@ def _run(args: argparse.Namespace) -> int:
         return 0
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
-    from mechdyn.studies import load_studies, run_study
+    from mechdyn.studies.run import run_study
+    from mechdyn.studies.study import load_studies
 
     studies = load_studies(args.file)
     if args.samples is not None:  # a quick form of the study, stored under its own name
@@ -43,7 +44,7 @@ def _run(args: argparse.Namespace) -> int:
             )
             for s in studies
         ]
-    results = []
+    results: list[Any] = []
     with ResultStore(args.db) as store:
         for study in studies:
             if results and results[-1].findings.get("best"):  # a wider box starts from the last optimum

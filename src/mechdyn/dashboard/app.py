@@ -57,13 +57,15 @@ def _line_figures(
     from mechdyn.studies.plots import choose_curves
 
     x, names = choose_curves([c for _, c in curves], limit)
+    if x is None:  # no curve kept
+        return []
     figures = []
     for name in names:
         unit = curves[0][1][name][1]
         data = [
             {
-                "x": np.asarray(c[x][0], dtype=float).tolist(),
-                "y": np.asarray(c[name][0], dtype=float).tolist(),
+                "x": np.asarray(c[x][0], dtype=np.float64).tolist(),
+                "y": np.asarray(c[name][0], dtype=np.float64).tolist(),
                 "name": label,
                 "mode": "lines",
                 "type": "scatter",

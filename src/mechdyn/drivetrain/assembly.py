@@ -101,12 +101,12 @@ def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
     if not links:
         return sp.csr_array(sp.identity(n, format="csr")), drivetrain.disk_names
     group, amp, locked = drivetrain._propagate(links)
-    for e in locked:
-        if e is not None:
+    for bad in locked:
+        if bad is not None:
             raise ModelCheckError(
                 "closes a loop of rigid gear meshes whose ratios disagree, so the train cannot turn; "
                 "make one mesh of the loop flexible or correct the ratios",
-                element=e.name,
+                element=bad.name,
             )
     n_groups = int(group.max()) + 1
     T = sp.csr_array((amp, (np.arange(n), group)), shape=(n, n_groups))

@@ -80,10 +80,10 @@ class Drivetrain:
             if isinstance(e, Disk):
                 raise ModelError("a disk belongs in `disks`, not `elements`", element=e.name)
         for e, b in self.element_blocks:
-            for d in b.disks:
-                if d not in known:
+            for disk_name in b.disks:
+                if disk_name not in known:
                     raise ModelError(
-                        f"refers to disk {d!r}, which is not defined; "
+                        f"refers to disk {disk_name!r}, which is not defined; "
                         f"defined disks: {', '.join(self.disk_names)}",
                         element=e.name,
                         field="disks",
@@ -240,7 +240,7 @@ class Drivetrain:
         disk, following shaft (1) and mesh (∓ratio) transmissions.
         """
         group, amp, locked = self._components
-        grounded = set()
+        grounded: set[int] = set()
         for _, b in self.element_blocks:
             if b.grounds:
                 grounded.update(group[self.disk_index[d]] for d in b.disks)

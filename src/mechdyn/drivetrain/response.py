@@ -196,7 +196,7 @@ class FRFResult(Result):
             cols[f"{n}_{suffix.get(u, u)}"] = np.abs(self.element_loads[:, j])
         return pd.DataFrame(cols)
 
-    def plot(self, outputs: Sequence[str] | None = None, ax: Any = None) -> Any:
+    def plot(self, outputs: Sequence[str] | None = None, ax: Any = None, **display_units: Any) -> Any:
         """Plot magnitudes against frequency (log scale); returns the matplotlib axes.
 
         Parameters
@@ -205,6 +205,8 @@ class FRFResult(Result):
             Disks and elements to draw (default: every disk).
         ax : matplotlib.axes.Axes, optional
             Axes to draw on (default: a new figure).
+        **display_units : str
+            Display units (unused: angles in rad, loads in N·m or N).
         """
         from mechdyn.drivetrain.plots import plot_frf
 

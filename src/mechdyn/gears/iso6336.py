@@ -131,7 +131,7 @@ def iso_stiffness(
         blanks.append(("the blank", rim_thickness_ratio, web_width_ratio))
     else:
         for gear in (p, g):
-            if gear.rim_thickness is not None:
+            if gear.rim_thickness is not None and gear.web_width is not None:  # given together
                 face = gear.face_width
                 blanks.append((gear.name, gear.rim_thickness / gear.module, gear.web_width / face))
     C_R = 1.0

@@ -75,6 +75,7 @@ class GearPair:
             alpha_w = inverse_involute(inv_w)
             object.__setattr__(self, "center_distance", (p.base_radius + g.base_radius) / math.cos(alpha_w))
         a = self.center_distance
+        assert a is not None  # set just above when not given
         if not p.base_radius + g.base_radius < a < p.tip_radius + g.tip_radius:
             raise ModelError(
                 f"centre distance {a:g} m does not let the gears mesh",

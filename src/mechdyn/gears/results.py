@@ -8,7 +8,7 @@ over a mesh cycle (in both tooth models) and ISO 6336-1 Method B's c′ and c_γ
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -142,7 +142,8 @@ class GearPairResult(Result):
                     L(t.root_thickness),
                     "elastic (Sainsot)" if t.root_radius is not None else "rigid",
                 ]
-                for gear, t in zip((pair.pinion, pair.gear), pair.teeth, strict=True)
+                # the truncated-triangle dimensions, whichever tooth model computes the stiffness
+                for gear, t in ((g, g.tooth()) for g in (pair.pinion, pair.gear))
             ],
         )
         k_pitch = 1.0 / self.pitch["total"]
@@ -198,7 +199,7 @@ def gear_pair_stiffness(pair: GearPair, points: int = 400, specific_load: float 
     -------
     GearPairResult
     """
-    other = "involute" if pair.tooth_model == "truncated" else "truncated"
+    other: Literal["truncated", "involute"] = "involute" if pair.tooth_model == "truncated" else "truncated"
     return GearPairResult(
         pair,
         pair.mesh_cycle(points),

@@ -152,8 +152,8 @@ class MountResult(Result):
         pad = getattr(mount, "pad", mount) if self.kind in ("pad", "damping_pad") else None
         if pad is not None:
             out["pad_curve.png"] = lambda: mp.plot_pad_curve(pad)
-        if self.fe_levels:
-            est = mount.member_stiffness() if isinstance(mount, BoltedJoint) else pad.compression_stiffness
+        if self.fe_levels:  # an FE reference is made for a bolted joint or a pad
+            est = _estimate(mount, pad)
             out["fe_convergence.png"] = lambda: mp.plot_convergence(list(self.fe_levels), est)
         if self.anchor is not None:
             out["contact_pressure.png"] = lambda: mp.plot_contact_pressure(
@@ -173,6 +173,19 @@ def _pad_of(mount: Any) -> ElastomerPad | None:
     if isinstance(mount, DampingPad):
         return mount.pad
     return None
+
+
+def _estimate(mount: Any, pad: ElastomerPad | None) -> float:
+    """The estimate an FE reference checks: a bolted joint's members, or a pad in compression, N/m."""
+    return mount.member_stiffness() if isinstance(mount, BoltedJoint) else _pad(pad).compression_stiffness
+
+
+def _pad(pad: ElastomerPad | None) -> ElastomerPad:
+    """The pad where an FE reference or a calibration needs one (only pads and bolted joints get
+    them, and a bolted joint is taken first)."""
+    if pad is None:  # pragma: no cover - the schema allows [fe] and [calibration] on these alone
+        raise ModelError("an FE reference and a calibration are made for a pad or a bolted joint")
+    return pad
 
 
 def _fe(spec: Any, mount: Any, report: _Draft) -> float | None:
@@ -290,7 +303,7 @@ def analyse(spec: Any, store: Any = None) -> MountResult:
             }
             for n, r in zip(report.refinements, report.fe_levels, strict=True)
         ]
-        estimate = mount.member_stiffness() if isinstance(mount, BoltedJoint) else pad.compression_stiffness
+        estimate = _estimate(mount, pad)
         s["estimate_to_fe"] = estimate / fe_k
         if pad is not None:  # the FE solid is the k = 1 law's; the table's k < 1 is the filled rubber's
             s["ideal_solid_estimate_to_fe"] = pad.ideal_compression_stiffness / fe_k
@@ -316,14 +329,14 @@ def analyse(spec: Any, store: Any = None) -> MountResult:
         report.calibration = (
             fit_cone_angle(mount, fe_k, provenance)
             if isinstance(mount, BoltedJoint)
-            else fit_pad_factor(pad, fe_k, provenance)
+            else fit_pad_factor(_pad(pad), fe_k, provenance)
         )
     elif cal.reference == "measured":
         target = cal.measured_stiffness
         if isinstance(mount, BoltedJoint):  # the test sees bolt and members in parallel
             report.calibration = fit_cone_angle(mount, target - mount.bolt_stiffness, provenance)
         else:
-            report.calibration = fit_pad_factor(pad, target, provenance)
+            report.calibration = fit_pad_factor(_pad(pad), target, provenance)
     elif cal.reference == "frf":
         f, H, kind = read_frf_csv(Path(spec.directory) / cal.frf_csv)
         fit = fit_frf(f, H, kind)

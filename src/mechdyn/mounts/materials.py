@@ -252,7 +252,7 @@ class MaterialDatabase:
         """
         table = sorted(
             (m for m in self.materials.values() if m.kind == "rubber" and m.shore_a is not None),
-            key=lambda m: m.shore_a,
+            key=lambda m: float(m.shore_a or 0.0),
         )
         h = np.array([m.shore_a for m in table], dtype=float)
         if not table or not h[0] <= shore_a <= h[-1]:

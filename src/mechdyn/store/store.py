@@ -252,8 +252,8 @@ class ResultStore:
                 f"cannot open the results database {shown}: {exc.__class__.__name__}: {exc.args[0]}"
             ) from None
         except DatabaseError as exc:  # e.g. a text file given as the SQLite file
-            url = make_url(self.url)
-            shown = url.database if url.get_backend_name() == "sqlite" else self.where
+            parsed = make_url(self.url)
+            shown = (parsed.database or "") if parsed.get_backend_name() == "sqlite" else self.where
             raise StoreError(
                 f"{shown} is not a results database ({getattr(exc, 'orig', exc)}); give the path of a "
                 "new or existing results database (--db, or MECHDYN_DB)"

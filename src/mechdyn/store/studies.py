@@ -27,6 +27,7 @@ from sqlalchemy import (
     String,
     Text,
     UniqueConstraint,
+    delete,
     select,
 )
 from sqlalchemy.dialects.postgresql import insert as pg_insert
@@ -147,7 +148,7 @@ class StoredVariant:
 def _flat(d: Mapping[str, Any], names: Sequence[str]) -> list[Any]:
     """The values of a mapping in the order of ``names``, as JSON values (floats, text, None: the
     common case, fast; anything else through :func:`jsonable`)."""
-    out = []
+    out: list[Any] = []
     for k in names:
         v = d.get(k)
         if type(v) is float:
@@ -276,9 +277,9 @@ class StudyStore:
         with Session(self._engine) as s, s.begin():
             ids = [v for (v,) in s.execute(select(_Variant.id).where(_Variant.study_id == study.id))]
             if ids:
-                s.execute(_Curve.__table__.delete().where(_Curve.variant_id.in_(ids)))
-            s.execute(_Variant.__table__.delete().where(_Variant.study_id == study.id))
-            s.execute(_Study.__table__.delete().where(_Study.id == study.id))
+                s.execute(delete(_Curve).where(_Curve.variant_id.in_(ids)))
+            s.execute(delete(_Variant).where(_Variant.study_id == study.id))
+            s.execute(delete(_Study).where(_Study.id == study.id))
         return len(ids)
 
     @property

@@ -33,7 +33,8 @@ def oat(runner: Any) -> Findings:
     """The base, then each parameter at each level with the others at base."""
     st = runner.study
     base = runner.base_row()
-    rows, labels = [base], [None]
+    rows = [base]  # the base first: the changes are measured from it
+    labels: list[tuple[int, float]] = []
     for j, p in enumerate(st.parameters):
         for level in p.levels or (p.low, p.high):
             r = base.copy()
@@ -43,7 +44,7 @@ def oat(runner: Any) -> Findings:
     variants = runner.evaluate(np.array(rows))
     b = variants[0]
     table = []
-    for lab, v in zip(labels[1:], variants[1:], strict=True):
+    for lab, v in zip(labels, variants[1:], strict=True):
         j, level = lab
         p = st.parameters[j]
         rel = p.relative(level)
@@ -99,7 +100,8 @@ def _sweep(st: Any, variants: list[StoredVariant]) -> Findings:
 
     ok = [v for v in variants if v.status == "ok"]
     X = np.array([[v.parameters[p.name] for p in st.parameters] for v in ok]) if ok else np.zeros((0, 0))
-    spread, corr = {}, {}
+    spread: dict[str, Any] = {}
+    corr: dict[str, Any] = {}
     for w in st.watched:
         y = np.array([_value(v, w.key) for v in ok])
         good = np.isfinite(y)
@@ -343,7 +345,7 @@ def synthesis(runner: Any) -> Findings:
 
     def objective_outputs(outputs: dict[str, Any]) -> float:
         return sum(
-            ((outputs.get(t.output.key) - t.equals) / t.tolerance) ** 2  # type: ignore[operator]
+            ((outputs[t.output.key] - t.equals) / t.tolerance) ** 2
             if outputs.get(t.output.key) is not None
             else math.inf
             for t in st.targets
@@ -449,7 +451,7 @@ def from_stored(study: Any, variants: list[StoredVariant]) -> Findings:
         best = _best(study, variants)
     else:
         feasible = [v for v in variants if _feasible(study, v) and v.objective is not None]
-        best = min(feasible, key=lambda v: v.objective) if feasible else None
+        best = min(feasible, key=lambda v: v.objective or 0.0) if feasible else None
     findings["best"] = _describe(study, best) if best is not None else None
     if study.kind == "optimize" and best is not None and base is not None:
         o = study.objectives[0]

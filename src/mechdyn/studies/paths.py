@@ -151,7 +151,7 @@ class ModelTree:
 
     def paths(self) -> list[str]:
         """Every path of a value a study can vary (vectors also by component)."""
-        out = []
+        out: list[str] = []
         for words, _files, _keys, value in self._walk(self.source.data, (), (), ()):
             path = ".".join(f'"{w}"' if "." in w else w for w in words)
             if _vector(value):

@@ -144,7 +144,7 @@ class Runner:
         results: Sequence[Evaluation],
         objective: Callable[[dict[str, Any]], float] | None,
     ) -> None:
-        rows = []
+        rows: list[dict[str, Any]] = []
         for (key, x), ev in zip(block, results, strict=True):
             rows.append(
                 {
@@ -220,7 +220,7 @@ class Runner:
         from mechdyn.studies.kinds import KIND_RUNNERS
         from mechdyn.studies.result import StudyResult
 
-        bar = nullcontext()
+        bar: Any = nullcontext()
         if self.progress:
             from rich.console import Console
             from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeRemainingColumn

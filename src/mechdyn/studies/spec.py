@@ -57,7 +57,7 @@ def _si(value: Any, unit: str) -> tuple[float, float]:
     ureg = registry()
     if not isinstance(value, str):
         return float(value), 1.0
-    q = ureg.Quantity(value)
+    q: Any = ureg.Quantity(value)
     if not hasattr(q, "to_base_units"):
         return float(q), 1.0
     base = q.to_base_units()
@@ -208,9 +208,9 @@ class Parameter:
                 )
             lv = tuple(r if (r := relative(q)) is not None else absolute(q, "level") for q in levels)
         else:
-            r = parse_relative(range_)
-            if r is not None:
-                if r[0] != "±":
+            rel = parse_relative(range_)
+            if rel is not None:
+                if rel[0] != "±":
                     raise StudyError(
                         f'{where}: range {range_!r} for {name!r}: a relative range is written "±10 %"'
                     )
@@ -219,7 +219,7 @@ class Parameter:
                         f"{where}: {name!r} is 0 in the model, so {range_!r} of it is empty; give an "
                         f'absolute range with units, e.g. ["-0.1 {unit or "m"}", "0.1 {unit or "m"}"]'
                     )
-                a, b = base * (1 - r[1]), base * (1 + r[1])
+                a, b = base * (1 - rel[1]), base * (1 + rel[1])
                 low, high = min(a, b), max(a, b)
             elif isinstance(range_, (list, tuple)) and len(range_) == 2:
                 low, high = (absolute(q, "range bound") for q in range_)
@@ -328,7 +328,7 @@ def _coordinates(tree: ModelTree, locations: Sequence[Location]) -> bool:
     first = tree.value(locations[0])
     if not isinstance(first, str):
         return False
-    q = registry().Quantity(first)
+    q: Any = registry().Quantity(first)
     return hasattr(q, "dimensionality") and str(q.dimensionality) == "[length]"
 
 

@@ -348,7 +348,7 @@ def load_studies(path: str | Path) -> list[Study]:
     src = read_toml(path, "a .toml study file")
     table = src.data.get("study")
     boxes = table.get("boxes") if isinstance(table, dict) else None
-    if not boxes:
+    if not boxes or not isinstance(table, dict):
         return [study_from_data(src.path, src.data)]
     rows = src.data.get("parameters") or []
     if not any(isinstance(r, dict) and r.get("range") == "box" for r in rows):

@@ -478,12 +478,12 @@ def _placed(row: MountTable, source: ModelSource, where: str) -> PlacedEstimate:
             spec = build_mount(inline)
         except ModelFileError as exc:
 
-            def inline(loc: str) -> str:
+            def located(loc: str) -> str:
                 return f"{where} → estimate" + (f" → {loc}" if loc else "")
 
-            problems = [(inline(loc), msg) for loc, msg in exc.problems]
+            problems = [(located(loc), msg) for loc, msg in exc.problems]
             raise ModelFileError(
-                source.path, inline(exc.location), exc.detail, exc.value, problems=problems
+                source.path, located(exc.location), exc.detail, exc.value, problems=problems
             ) from None
         origin = f"{source.path}: {where}"
     estimate = spec.mount

@@ -9,7 +9,7 @@ tridiagonal); the sparse path (shift-invert Lanczos, ARPACK) returns the lowest 
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import scipy.linalg as sla
@@ -35,6 +35,11 @@ def _standard(K: sp.csr_array, mass: np.ndarray) -> tuple[sp.csr_array, np.ndarr
 def _bandwidth(A: sp.csr_array) -> int:
     coo = A.tocoo()
     return int(np.abs(coo.row - coo.col).max()) if coo.nnz else 0
+
+
+def _dense_array(A: Any) -> np.ndarray:
+    """A sparse or dense matrix as a dense float array."""
+    return A.toarray() if sp.issparse(A) else np.asarray(A, dtype=float)
 
 
 def _dense(A: np.ndarray, k: int, B: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -87,14 +92,14 @@ def solve_eigen(
     k = n if n_modes is None else max(1, min(int(n_modes), n))
     if mass.ndim == 2:
         if np.count_nonzero(mass - np.diag(np.diagonal(mass))):
-            Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
+            Kd = _dense_array(K)
             lam, Q = _dense(Kd, k, mass)
             return np.asarray(lam), Q, "dense"
         mass = np.diagonal(mass).copy()
     if n <= _DENSE_LIMIT and solver in ("auto", "dense"):
         # small models: no sparse round trip (it costs more than the solve below ~50 coordinates)
         d = 1.0 / np.sqrt(mass)
-        Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
+        Kd = _dense_array(K)
         lam, Y = _dense(d[:, None] * Kd * d[None, :], k)
         return np.asarray(lam), d[:, None] * Y, "dense"
     A, d = _standard(sp.csr_array(K), mass)

@@ -20,7 +20,7 @@ _DENSE_LIMIT = 200
 _BLOCK_ENTRIES = 1 << 18  # 4 MiB of complex entries
 
 
-def dynamic_stiffness(K: Any, C: Any, M: Any, omega: float) -> Any:
+def dynamic_stiffness(K: Any, C: Any, M: Any, omega: float | np.ndarray) -> Any:
     """The dynamic stiffness Z(ω) = K + iωC − ω²M (sparse in, sparse out).
 
     Parameters
