@@ -5,7 +5,70 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["new_axes", "save_figure"]
+__all__ = ["dead_centre_marks", "display_unit", "new_axes", "save_figure"]
+
+# SI units and their larger display units, smallest first
+_LADDERS = {
+    "N": ("N", "kN", "MN"),
+    "N*m": ("N*m", "kN*m", "MN*m"),
+    "N/m": ("N/m", "N/mm", "N/µm"),
+}
+_SHOWN = {"N*m": "N·m", "kN*m": "kN·m", "MN*m": "MN·m"}
+
+
+def display_unit(values: Any, unit: str) -> tuple[str, float]:
+    """The display unit for values of one quantity and the factor from SI to it: the largest unit of
+    the ladder in which the largest magnitude is still at least 1 (torques of hundreds of thousands
+    of N·m are shown in kN·m).
+
+    Parameters
+    ----------
+    values : array_like
+        The values, in ``unit``.
+    unit : str
+        Their SI unit: ``"N"``, ``"N*m"`` or ``"N/m"`` (others are shown as they are).
+
+    Returns
+    -------
+    (str, float)
+        The unit as a label shows it (``"kN·m"``) and the factor to multiply the values by.
+    """
+    import numpy as np
+
+    from mechdyn.units import convert
+
+    ladder = _LADDERS.get(unit, (unit,))
+    peak = float(np.nanmax(np.abs(values))) if np.size(values) else 0.0
+    chosen = ladder[0]
+    for candidate in ladder:
+        if peak * convert(1.0, unit, candidate) >= 1.0:
+            chosen = candidate
+    return _SHOWN.get(chosen, chosen), float(convert(1.0, unit, chosen))
+
+
+def dead_centre_marks(ax: Any, angles_deg: dict[str, float]) -> None:
+    """Vertical lines at the dead centres, labelled inside the axes at the top (never over a title).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Axes with the crank angle, deg, on x.
+    angles_deg : dict of str to float
+        Label → crank angle, deg (e.g. ``{"BDC": 0.0, "TDC": 128.9}``).
+    """
+    for label, angle in angles_deg.items():
+        ax.axvline(angle, color="0.5", ls=":", lw=1)
+        ax.annotate(
+            label,
+            (angle, 0.98),
+            xycoords=("data", "axes fraction"),
+            xytext=(3, 0),
+            textcoords="offset points",
+            fontsize="small",
+            va="top",
+            color="0.3",
+            bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1},
+        )
 
 
 def new_axes(ax: Any = None, *, figsize: tuple[float, float] = (7.0, 4.5)) -> Any:

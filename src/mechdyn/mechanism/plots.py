@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import new_axes
+from mechdyn.plotting import dead_centre_marks, display_unit, new_axes
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -26,11 +26,7 @@ __all__ = [
 def _dead_centres(ax: Any, result: DynamicsResult) -> None:
     s = result.summary()
     if "bdc_deg" in s:
-        for key, label in (("bdc_deg", "BDC"), ("tdc_deg", "TDC")):
-            ax.axvline(s[key], color="0.5", ls=":", lw=1)
-            ax.annotate(
-                label, (s[key], 1.0), xycoords=("data", "axes fraction"), fontsize="small", va="bottom"
-            )
+        dead_centre_marks(ax, {"BDC": s["bdc_deg"], "TDC": s["tdc_deg"]})
 
 
 def plot_output_motion(result: DynamicsResult, ax: Any = None) -> Any:
@@ -80,91 +76,164 @@ def plot_inertia_forces(result: DynamicsResult, ax: Any = None) -> Any:
 
 
 def plot_torque(result: DynamicsResult, ax: Any = None) -> Any:
-    """Driving torque (the torque the motor applies to the crank), N·m."""
+    """Driving torque (the torque the motor applies to the crank), in N·m or kN·m by its size."""
     ax = new_axes(ax)
     deg = np.degrees(result.angle)
-    T = result.driving_torque
+    unit, factor = display_unit(result.driving_torque, "N*m")
+    T = result.driving_torque * factor
     ax.plot(deg, T, color="C3")
     ax.axhline(float(np.sqrt(np.mean(T**2))), color="0.5", ls="--", lw=1, label="RMS")
     _dead_centres(ax, result)
     ax.set_xlabel("crank angle (deg)")
-    ax.set_ylabel("driving torque (N·m)")
+    ax.set_ylabel(f"driving torque ({unit})")
     ax.set_title(f"{result.mechanism.name}: driving torque")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return ax
 
 
+def _pitch_circles(result: DynamicsResult, i: int) -> list[tuple[np.ndarray, float, float]]:
+    """Each gear pair at frame ``i``: (centre, mean pitch radius) of both gears, m, from the rolling
+    law at the drawing's centre distance."""
+    m, k = result.mechanism, result.kinematics
+    out = []
+    grid = 2 * np.pi * np.arange(360) / 360
+    for j in m.joints:
+        law = m.gear_laws.get(j.name)
+        if law is None:
+            continue
+        pivots = getattr(j, "points", ())
+        carrier = getattr(j, "carrier", "ground")
+        centres = [
+            np.asarray(m.points[p], dtype=float) if carrier == "ground" else k.point(carrier, p)[0][i]
+            for p in pivots
+        ]
+        r1 = float(np.mean(law.contact_radius(grid)[0]))
+        a = float(np.linalg.norm(np.asarray(m.points[pivots[1]]) - np.asarray(m.points[pivots[0]])))
+        internal = bool(getattr(j, "internal", False))
+        r2 = r1 + a if internal else a - r1
+        out += [(centres[0], r1, 0.0), (centres[1], r2, 0.0)]
+    return out
+
+
 def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any:
-    """An animation frame sheet: the mechanism drawn at equally spaced crank angles."""
+    """The mechanism drawn at equally spaced crank angles: each link in its colour (legend), the
+    frame's pivots (▲) and guides (dashed), the gears' pitch circles (dotted), lengths in mm.
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle.
+    frames : int
+        How many crank angles.
+    ax : matplotlib.axes.Axes, optional
+        Unused: the sheet makes its own figure.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The first panel (its ``figure`` holds them all).
+    """
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
     m, k = result.mechanism, result.kinematics
     cols = 4
     rows = int(np.ceil(frames / cols))
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.6 * rows), layout="constrained")
+    fig, axes = plt.subplots(
+        rows, cols, figsize=(3.2 * cols, 2.8 * rows + 0.8), layout="constrained", sharex=True, sharey=True
+    )
     idx = np.linspace(0, len(k.angle), frames, endpoint=False).astype(int)
-    # every body's points over the cycle, to fix the view
-    tracks = {(b.name, p): k.point(b.name, p)[0] for b in m.bodies for p in b.points}
-    allpts = np.concatenate([*list(tracks.values()), np.array(list(m.points.values()))])
+    # every body's points over the cycle, to fix the view (mm)
+    tracks = {(b.name, p): 1e3 * k.point(b.name, p)[0] for b in m.bodies for p in b.points}
+    allpts = np.concatenate([*list(tracks.values()), 1e3 * np.array(list(m.points.values()))])
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
     pad = 0.08 * (hi - lo).max()
+    theta = np.linspace(0, 2 * np.pi, 120)
     for a, i in zip(np.ravel(axes), idx, strict=False):
         for n, b in enumerate(m.bodies):
             pts = np.array([tracks[(b.name, p)][i] for p in b.points])
             closed = np.vstack([pts, pts[:1]]) if len(pts) > 2 else pts
-            a.plot(closed[:, 0], closed[:, 1], "-o", color=f"C{n}", ms=3, lw=2)
+            a.plot(closed[:, 0], closed[:, 1], "-o", color=f"C{n % 10}", ms=3, lw=2)
+        for centre, radius, _ in _pitch_circles(result, i):
+            c = 1e3 * centre
+            a.plot(
+                c[0] + 1e3 * radius * np.cos(theta),
+                c[1] + 1e3 * radius * np.sin(theta),
+                ":",
+                color="0.4",
+                lw=0.9,
+            )
         for j in m.joints:
-            if "ground" not in j.bodies:
+            if "ground" not in j.bodies or getattr(j, "point", None) is None:
                 continue
-            p = np.asarray(m.points[j.point])
-            if hasattr(j, "axis"):  # a guide: its line on the frame
-                u = np.array([np.cos(j.axis), np.sin(j.axis)]) * (hi - lo).max()
+            p = 1e3 * np.asarray(m.points[j.point])
+            if j.slides:  # a guide: its line on the frame
+                axis = getattr(j, "axis", 0.0)
+                u = np.array([np.cos(axis), np.sin(axis)]) * (hi - lo).max()
                 a.plot(*np.stack([p - u, p + u]).T, "k--", lw=0.8)
             else:
                 a.plot(p[0], p[1], "k^", ms=6)
         a.set_xlim(lo[0] - pad, hi[0] + pad)
         a.set_ylim(lo[1] - pad, hi[1] + pad)
         a.set_aspect("equal")
-        a.set_title(f"{np.degrees(k.angle[i]):.0f}°", fontsize="small")
-        a.set_xticks([])
-        a.set_yticks([])
+        a.set_title(f"crank at {np.degrees(k.angle[i]):.0f}°", fontsize="small")
+        a.tick_params(labelsize="x-small")
+        a.grid(alpha=0.2)
     for a in np.ravel(axes)[len(idx) :]:
         a.axis("off")
-    fig.suptitle(f"{m.name}: frames over one revolution")
+    for a in axes[-1, :]:
+        a.set_xlabel("x (mm)", fontsize="small")
+    for a in axes[:, 0]:
+        a.set_ylabel("y (mm)", fontsize="small")
+    handles = [Line2D([], [], color=f"C{n % 10}", lw=2, marker="o", ms=3) for n in range(len(m.bodies))]
+    labels = [b.name for b in m.bodies]
+    handles.append(Line2D([], [], color="k", marker="^", ls="none"))
+    labels.append("frame pivot")
+    if m.gear_laws:
+        handles.append(Line2D([], [], color="0.4", ls=":"))
+        labels.append("pitch circle (mean)")
+    fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 6), fontsize="small")
+    fig.suptitle(f"{m.name}: the mechanism over one revolution")
     return np.ravel(axes)[0]
 
 
 def plot_joint_forces(result: DynamicsResult, joints: list[str] | None = None, ax: Any = None) -> Any:
-    """Magnitude of each joint's force over the cycle (on the joint's second body), N."""
+    """Magnitude of each joint's force over the cycle (on the joint's second body), N or kN or MN;
+    with gear pairs, their tooth forces too."""
     ax = new_axes(ax)
     deg = np.degrees(result.angle)
     m = result.mechanism
-    for j in m.joints:
-        if joints is not None and j.name not in joints:
-            continue
-        f = np.linalg.norm(result.joint_load(j.name, j.bodies[1])[:, :2], axis=1)
-        ax.plot(deg, f, lw=1.2, label=j.name)
+    forces = {
+        j.name: np.linalg.norm(result.joint_load(j.name, j.bodies[1])[:, :2], axis=1)
+        for j in m.joints
+        if joints is None or j.name in joints
+    }
+    unit, factor = display_unit(np.concatenate([*forces.values(), [0.0]]), "N")
+    for name, f in forces.items():
+        ax.plot(deg, f * factor, lw=1.2, label=name)
+    teeth = bool(m.gear_laws)
     ax.set_xlabel("crank angle (deg)")
-    ax.set_ylabel("joint force (N)")
-    ax.set_title(f"{m.name}: joint and tooth forces")
+    ax.set_ylabel(f"{'joint and tooth force' if teeth else 'joint force'} ({unit})")
+    ax.set_title(f"{m.name}: {'joint and tooth forces' if teeth else 'joint forces'}")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small", ncols=2)
     return ax
 
 
 def plot_shaking_polar(result: DynamicsResult, ax: Any = None) -> Any:
-    """The shaking force vector over the cycle: its tip traced in the (Fx, Fy) plane, N."""
-    ax = new_axes(ax, figsize=(5.5, 5.5))
-    F = result.shaking_force
+    """The shaking force vector over the cycle: its tip traced in the (Fx, Fy) plane, N or kN."""
+    ax = new_axes(ax, figsize=(6.0, 6.0))
+    unit, factor = display_unit(result.shaking_force, "N")
+    F = result.shaking_force * factor
     ax.plot(F[:, 0], F[:, 1], lw=1.5)
     ax.plot([0], [0], "k+", ms=10)
     for k in range(0, len(F), max(1, len(F) // 12)):
         ax.annotate(f"{np.degrees(result.angle[k]):.0f}°", F[k], fontsize="x-small")
-    ax.set_xlabel("shaking force Fx (N)")
-    ax.set_ylabel("shaking force Fy (N)")
+    ax.set_xlabel(f"shaking force Fx ({unit})")
+    ax.set_ylabel(f"shaking force Fy ({unit})")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_title(f"{result.mechanism.name}: shaking force (on the frame)")
+    ax.set_title(f"{result.mechanism.name}:\nshaking force on the frame", fontsize=11)
     ax.grid(alpha=0.3)
     return ax
 
