@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["dead_centre_marks", "display_unit", "new_axes", "save_figure"]
+__all__ = ["dead_centre_marks", "display_unit", "fit_titles", "new_axes", "save_figure"]
 
 # SI units and their larger display units, smallest first
 _LADDERS = {
@@ -44,6 +44,37 @@ def display_unit(values: Any, unit: str) -> tuple[str, float]:
         if peak * convert(1.0, unit, candidate) >= 1.0:
             chosen = candidate
     return _SHOWN.get(chosen, chosen), float(convert(1.0, unit, chosen))
+
+
+def fit_titles(fig: Any) -> None:
+    """Shrink, then wrap, every title that reaches past the figure's edge, so that none is clipped.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, about to be saved.
+    """
+    import textwrap
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    width = fig.bbox.width
+    texts = [a.title for a in fig.axes] + [t for a in fig.axes for t in (a._left_title, a._right_title)]
+    if fig._suptitle is not None:
+        texts.append(fig._suptitle)
+    for t in texts:
+        if not t.get_text():
+            continue
+        for _ in range(4):
+            box = t.get_window_extent(renderer)
+            if box.x0 >= 0 and box.x1 <= width:
+                break
+            if t.get_fontsize() > 8:
+                t.set_fontsize(t.get_fontsize() - 1)
+            else:
+                text = t.get_text().replace("\n", " ")
+                t.set_text(textwrap.fill(text, max(20, len(text) * 2 // 3)))
+        fig.canvas.draw()
 
 
 def dead_centre_marks(ax: Any, angles_deg: dict[str, float]) -> None:
@@ -106,6 +137,7 @@ def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     fig = ax.figure if hasattr(ax, "figure") else ax
+    fit_titles(fig)
     fig.savefig(p, dpi=dpi)
     plt.close(fig)
     return p

@@ -52,7 +52,7 @@ def plot_pad_curve(pad: Any, ax: Any = None) -> Any:
     )
     ax.set_xlabel("deflection (mm)")
     ax.set_ylabel("compressive force (kN)")
-    kc = show(pad.compression_stiffness, "N/m", "kN/mm", ".3g")
+    kc = show(pad.compression_stiffness, "N/m", "kN/mm", ".4g")
     ax.set_title(f"{pad.name}: S = {pad.shape_factor:.2f}, K_c = {kc}")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")

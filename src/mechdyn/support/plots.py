@@ -81,7 +81,7 @@ def plot_transmitted_vs_exciting(r: SupportResponse, ax: Any = None, force_unit:
     ax.plot(lim, lim, color="0.5", ls=":", lw=1, label="F_T = F")
     ax.set_xlabel(f"exciting force F ({unit})")
     ax.set_ylabel(f"transmitted force F_T ({unit})")
-    ax.set_title("transmitted against exciting force")
+    ax.set_title(f"{r.machine.name}: transmitted against exciting force")
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
@@ -96,8 +96,8 @@ def plot_mount_forces(r: SupportResponse, ax: Any = None, force_unit: str | None
     for i, m in enumerate(r.machine.mounts):
         ax.plot(x, r.mount_forces[:, i, 2] / scale, lw=1.2, label=m.name)
     ax.set_xlabel(label)
-    ax.set_ylabel(f"vertical mount force on the floor ({unit})")
-    ax.set_title(f"{r.machine.name}: mount forces, steady state")
+    ax.set_ylabel(f"vertical mount force, dynamic part ({unit})")
+    ax.set_title(f"{r.machine.name}: mount forces on the floor, steady state, without the weight")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return ax

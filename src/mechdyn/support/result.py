@@ -183,8 +183,9 @@ class SupportAnalysis(Result):
             "displacement.png": lambda: sp.plot_displacement(self.startup, self.steady),
             "forces.png": lambda: sp.plot_forces(self.steady, force_unit=display_units.get("force_unit")),
             "transmitted_vs_exciting.png": lambda: sp.plot_transmitted_vs_exciting(self.steady),
-            "modes.png": lambda: sp.plot_modes(self.modes),
         }
+        if len(self.modes.omega) > 1:  # one degree of freedom: a single full bar would say nothing
+            out["modes.png"] = lambda: sp.plot_modes(self.modes)
         if len(self.machine.mounts) > 1:
             out["mount_forces.png"] = lambda: sp.plot_mount_forces(self.steady)
             out["mode_shapes.png"] = lambda: sp.plot_mode_shapes(self.modes)

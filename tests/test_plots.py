@@ -1,0 +1,139 @@
+"""Plots read right the first time: one panel per mode with a break at every gear mesh, titles that
+tell rigid from flexible meshes and fit in the figure, units chosen by size, dead-centre labels
+clear of the title, no plot that shows a single full bar."""
+
+from __future__ import annotations
+
+import warnings
+
+import matplotlib
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES
+from mechdyn.errors import ModelWarning
+from mechdyn.io import load_model
+from mechdyn.registry import get
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+
+@pytest.fixture(autouse=True)
+def _close():
+    yield
+    plt.close("all")
+
+
+def _run(name, example, **options):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        return get(name).run(load_model(EXAMPLES / example), **options)
+
+
+def _inside(fig, text) -> bool:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig)  # a saved figure is closed: give it a canvas again to measure it
+    fig.canvas.draw()
+    box = text.get_window_extent(fig.canvas.get_renderer())
+    return box.x0 >= -1 and box.x1 <= fig.bbox.width + 1 and box.y1 <= fig.bbox.height + 1
+
+
+def test_mode_shapes_have_one_panel_per_mode_and_break_at_each_mesh():
+    result = _run("modal", "turret_indexing.toml", compare_rigid=True)
+    ax = result.plots()["mode_shapes.png"]()
+    fig = ax.figure
+    panels = [a for a in fig.axes if a.get_title(loc="left")]
+    assert len(panels) == len(result.flexible.frequencies_hz)  # five flexible modes, five panels
+    # disks 1-2, 3-4 and 5-6 are three shaft lines joined by two meshes: three lines per panel
+    for panel in panels:
+        assert len([ln for ln in panel.get_lines() if ln.get_marker() == "o"]) == 3
+    titles = " ".join(p.get_title(loc="left") for p in panels)
+    assert "e+" not in titles and "16022 Hz" in titles  # plain numbers
+    assert "mesh 1 (ratio" in " ".join(t.get_text() for t in panels[0].texts)
+    flexible = fig._suptitle.get_text()
+    rigid = result.plots()["mode_shapes_rigid.png"]().figure._suptitle.get_text()
+    assert "flexible meshes" in flexible and "rigid gears" in rigid and flexible != rigid
+
+
+def test_large_torques_and_forces_are_shown_in_kilo_or_mega_units():
+    result = _run("mechanism", "press_link_drive.toml", angles=72)
+    plots = result.plots()
+    assert "kN·m" in plots["driving_torque.png"]().get_ylabel()
+    forces = plots["joint_forces.png"]()
+    assert forces.get_ylabel().endswith("(MN)") and forces.get_title().endswith(": joint forces")
+    small = _run("mechanism", "slider_crank.toml", angles=36).plots()["driving_torque.png"]()
+    assert small.get_ylabel() == "driving torque (N·m)"
+
+
+def test_tooth_forces_are_named_only_with_gears():
+    result = _run("mechanism", "transplanter_rp1_design.toml", angles=36)
+    assert result.plots()["joint_forces.png"]().get_title().endswith("joint and tooth forces")
+
+
+def test_dead_centre_labels_stay_clear_of_the_title():
+    result = _run("mechanism", "press_link_drive.toml", angles=72)
+    ax = result.plots()["output_motion.png"]()
+    fig = ax.figure
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    title = ax.title.get_window_extent(renderer)
+    labels = [t for t in ax.texts if t.get_text() in ("BDC", "TDC")]
+    assert len(labels) == 2
+    for t in labels:
+        assert not t.get_window_extent(renderer).overlaps(title), t.get_text()
+        assert t.get_window_extent(renderer).y1 <= ax.get_window_extent(renderer).y1 + 1
+
+
+def test_the_frame_sheet_has_axes_in_mm_a_legend_of_the_links_and_the_gears():
+    press = _run("mechanism", "press_link_drive.toml", angles=72)
+    ax = press.plots()["frames.png"]()
+    fig = ax.figure
+    assert any(a.get_xlabel() == "x (mm)" for a in fig.axes)
+    legend = fig.legends[0]
+    assert {t.get_text() for t in legend.get_texts()} >= {b.name for b in press.mechanism.bodies}
+    rp1 = _run("mechanism", "transplanter_rp1_design.toml", angles=36)
+    sheet = rp1.plots()["frames.png"]().figure
+    assert "pitch circle (mean)" in {t.get_text() for t in sheet.legends[0].get_texts()}
+    dotted = [ln for ln in sheet.axes[0].get_lines() if ln.get_linestyle() == ":"]
+    assert len(dotted) == 2 * len(rp1.mechanism.gear_laws)  # both gears of every pair
+
+
+def test_a_one_degree_of_freedom_support_has_no_single_bar_plot():
+    one = _run("support", "press_on_support.toml", cycles=1)
+    assert "modes.png" not in one.plots()
+    six = _run("support", "press_on_mounts.toml", cycles=1)
+    assert "modes.png" in six.plots()
+    label = six.plots()["mount_forces.png"]().get_ylabel()
+    assert "dynamic part" in label
+
+
+@pytest.mark.parametrize(
+    ("analysis", "example", "options"),
+    [
+        ("support", "press_on_mounts.toml", {"cycles": 1}),
+        ("mechanism", "press_link_drive.toml", {"angles": 36}),
+        ("modal", "turret_milling.toml", {"compare_rigid": True}),
+    ],
+)
+def test_no_title_is_clipped_when_the_figure_is_saved(analysis, example, options, tmp_path):
+    from mechdyn.plotting import save_figure
+
+    for name, make in _run(analysis, example, **options).plots().items():
+        ax = make()
+        fig = ax.figure
+        save_figure(ax, tmp_path / name)
+        titles = [a.title for a in fig.axes] + ([fig._suptitle] if fig._suptitle is not None else [])
+        for t in titles:
+            if t.get_text():
+                assert _inside(fig, t), f"{name}: {t.get_text()!r} is clipped"
+
+
+def test_display_unit_picks_the_largest_unit_that_keeps_a_number_above_one():
+    from mechdyn.plotting import display_unit
+
+    assert display_unit(np.array([2e5, -3.5e5]), "N*m") == ("kN·m", 1e-3)
+    assert display_unit(np.array([50.0]), "N*m") == ("N·m", 1.0)
+    assert display_unit(np.array([1.8e6]), "N") == ("MN", 1e-6)
+    assert display_unit(np.array([]), "N") == ("N", 1.0)
