@@ -48,7 +48,8 @@ def test_an_analysis_writes_its_report(tmp_path, capsys):
                  "[excitation]", "mechdyn"):  # fmt: skip
         assert text in html, text
     images = _images(html)
-    assert len(images) >= 4 and all(i.startswith(b"\x89PNG") and len(i) > 5000 for i in images)
+    # displacement, forces, transmitted against exciting (a one-degree-of-freedom support has no modes plot)
+    assert len(images) >= 3 and all(i.startswith(b"\x89PNG") and len(i) > 5000 for i in images)
 
 
 def test_a_stored_run_is_reported_from_what_is_stored(tmp_path, capsys):
