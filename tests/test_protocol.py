@@ -166,7 +166,7 @@ def test_a_new_analysis_is_one_function_and_one_registration(monkeypatch, tmp_pa
     J = _loaded("drivetrain").model.inertias.sum()
     assert doc["total_inertia_kg_m2"] == pytest.approx(2 * J) and doc["parameters"] == {"scale": 2.0}
     assert csv.read_text().startswith("total_inertia_kg_m2")
-    assert main(argv) == 0 and "total_inertia_kg_m2" in capsys.readouterr().out
+    assert main(argv) == 0 and "total inertia" in capsys.readouterr().out  # the summary in words
 
 
 def test_analyses_command_lists_names_options_and_units(capsys):
@@ -342,5 +342,6 @@ def test_tables_take_display_units_as_keywords():
     assert rows["bed displacement max"][3] == pytest.approx(s["displacement_max_m"])
     mount = get("mount").run(_loaded("mount"))
     first = mount.tables(stiffness_unit="kN/mm")[0]
-    label, value = first.rows[0]
-    assert label.endswith("[kN/mm]") and value == pytest.approx(mount.summary()["stiffness_N_per_m"] / 1e6)
+    label, value, unit = first.rows[0]
+    assert label == "stiffness along the main axis"
+    assert unit == "kN/mm" and value == pytest.approx(mount.summary()["stiffness_N_per_m"] / 1e6)

@@ -35,7 +35,7 @@ if TYPE_CHECKING:
     import numpy as np
     import pandas as pd
 
-__all__ = ["Result", "Table", "frame_arrays"]
+__all__ = ["Result", "Table", "frame_arrays", "summary_table"]
 
 
 @dataclass(frozen=True)
@@ -69,6 +69,26 @@ def frame_arrays(frame: pd.DataFrame) -> dict[str, tuple[np.ndarray, str]]:
     return {str(c): (frame[c].to_numpy(), key_unit(str(c)) or "") for c in frame.columns}
 
 
+def summary_table(summary: dict[str, Any], skip: tuple[str, ...] = ()) -> Table:
+    """The scalars of a summary as a table: each key in words, its value, its unit.
+
+    Parameters
+    ----------
+    summary : dict
+        A result's summary (SI values, keys ending with their unit).
+    skip : tuple of str
+        Keys to leave out.
+    """
+    from mechdyn.units import key_label
+
+    rows = []
+    for k, v in summary.items():
+        if isinstance(v, (int, float, str)) and not isinstance(v, bool) and k not in skip:
+            label, unit = key_label(k)
+            rows.append([label, v, unit])
+    return Table("summary", ["quantity", "value", "unit"], rows)
+
+
 class Result:
     """Mixin of the result protocol; subclasses are frozen dataclasses.
 
@@ -86,14 +106,7 @@ class Result:
 
     def tables(self, **display_units: str) -> list[Table]:
         """Titled tables for the terminal; the default lists the summary's scalars with units."""
-        from mechdyn.units import key_unit
-
-        rows = [
-            [k, v, key_unit(k) or ""]
-            for k, v in self.summary().items()
-            if isinstance(v, (int, float, str)) and not isinstance(v, bool)
-        ]
-        return [Table("summary", ["quantity", "value", "unit"], rows)]
+        return [summary_table(self.summary())]
 
     def plots(self, **display_units: str) -> dict[str, Callable[[], Any]]:
         """File name → callable drawing one figure and returning its matplotlib axes."""

@@ -25,6 +25,8 @@ __all__ = [  # noqa: F822
     "STANDARD_GRAVITY",
     "UnitError",
     "convert",
+    "key_label",
+    "key_suffix",
     "key_unit",
     "show",
     "si_field",
@@ -295,6 +297,9 @@ def convert(value: Any, unit: str, display: str) -> Any:
 # key's end says, in pint's spelling. Results name their keys this way so that a key is its own unit.
 _KEY_UNITS: tuple[tuple[str, str], ...] = (
     ("_N_per_mm_um", "N/(mm*um)"),
+    ("_Nm_s_per_rad", "N*m*s/rad"),
+    ("_Nm_per_rad", "N*m/rad"),
+    ("_kg_m2", "kg*m^2"),
     ("_N_s_per_m", "N*s/m"),
     ("_N_per_m", "N/m"),
     ("_m_per_N", "m/N"),
@@ -331,6 +336,94 @@ def key_unit(key: str) -> str | None:
     Dimensionless ratios end in ``_relative`` or ``_ratio`` and give ``"1"``.
     """
     return next((u for suffix, u in _KEY_UNITS if key.endswith(suffix)), None)
+
+
+def key_suffix(unit: str) -> str:
+    """The key suffix of a quantity's SI unit, so that a name built with it reads back its unit with
+    :func:`key_unit`: ``"MN/m"`` gives ``"N_per_m"``, ``"mm"`` gives ``"m"``; ``""`` for a number
+    without unit (or a unit no suffix names).
+
+    Parameters
+    ----------
+    unit : str
+        Any unit pint reads.
+    """
+    if not unit or unit in ("1", "dimensionless"):
+        return ""
+    quantity = registry().Quantity(1.0, unit)
+    # pint takes the radian as dimensionless: whether a unit is angular is read from its name
+    angular = any(word in unit for word in ("rad", "rpm", "deg", "rev", "°"))
+    for suffix, si in _SUFFIXES[0] if angular else _SUFFIXES[1]:
+        if quantity.is_compatible_with(si):
+            return suffix
+    return ""
+
+
+# (suffix, SI unit), angular then the others; the first of the right dimension names a column
+_SUFFIXES = (
+    (("Nm_per_rad", "N*m/rad"), ("Nm_s_per_rad", "N*m*s/rad"), ("rad_s", "rad/s"), ("rad", "rad")),
+    (
+        ("N_per_mm_um", "N/(mm*um)"),
+        ("N_s_per_m", "N*s/m"),
+        ("N_per_m", "N/m"),
+        ("m_per_N", "m/N"),
+        ("m_per_s2", "m/s^2"),
+        ("m_per_s", "m/s"),
+        ("Hz", "Hz"),
+        ("Nm", "N*m"),
+        ("Pa", "Pa"),
+        ("kg_m2", "kg*m^2"),
+        ("kg", "kg"),
+        ("m", "m"),
+        ("N", "N"),
+        ("s", "s"),
+        ("W", "W"),
+    ),
+)
+
+
+_SHOWN_UNITS = {
+    "kg*m^2": "kg·m²",
+    "N*m/rad": "N·m/rad",
+    "N*m*s/rad": "N·m·s/rad",
+    "N*s/m": "N·s/m",
+    "N*m": "N·m",
+    "m/s^2": "m/s²",
+    "N/(mm*um)": "N/(mm·µm)",
+    "1": "",
+}
+
+
+def key_label(key: str) -> tuple[str, str]:
+    """A result key as a table shows it: words, and the unit its suffix names.
+
+    ``"bolt_stiffness_vdi2230_N_per_m"`` gives ``("bolt stiffness vdi2230", "N/m")``;
+    ``"load_factor"`` gives ``("load factor", "")``.
+
+    Parameters
+    ----------
+    key : str
+        A summary or breakdown key.
+
+    Returns
+    -------
+    (str, str)
+        The words and the unit as shown (``"N·m"``, ``""`` for none or a ratio).
+
+    Examples
+    --------
+    >>> from mechdyn.units import key_label
+    >>> key_label("member_stiffness_N_per_m")
+    ('member stiffness', 'N/m')
+    """
+    for suffix, unit in _KEY_UNITS:
+        if key.endswith(suffix) and len(key) > len(suffix):
+            stem = key[: -len(suffix)]
+            shown = _SHOWN_UNITS.get(unit, unit)
+            if unit == "1":  # a ratio keeps its word
+                stem = key
+            return stem.replace("_", " "), shown
+    return key.replace("_", " "), ""
 
 
 def show(value: float, unit: str, display: str, spec: str = "g") -> str:

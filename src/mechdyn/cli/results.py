@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from mechdyn.cli.common import Table, print_table
+from mechdyn.cli.common import Table, print_table, write_csv
 
 __all__ = ["register"]
 
@@ -201,7 +201,7 @@ def _export(args: argparse.Namespace) -> int:
         rows.append(row)
     frame = pd.DataFrame(rows)
     if args.csv:
-        frame.to_csv(args.csv, index=False, float_format="%.10g")
+        write_csv(frame, args.csv)
         print(f"wrote {args.csv} ({len(frame)} variants)")
     if args.parquet:
         frame.to_parquet(args.parquet, index=False)

@@ -152,7 +152,9 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         with _writing(args.csv, "the table", run_id, failed):
             path = Path(args.csv)
             path.parent.mkdir(parents=True, exist_ok=True)
-            result.to_frame().to_csv(path, index=False, float_format="%.10g")
+            from mechdyn.cli.common import write_csv
+
+            write_csv(result.to_frame(), path)
     plot_files: list[str] = []
     if args.plots:
         from mechdyn.plotting import save_figure

@@ -74,8 +74,10 @@ def _run(args: argparse.Namespace) -> int:
     if args.csv:
         import pandas as pd
 
+        from mechdyn.cli.common import write_csv
+
         frames = [r.to_frame().assign(study=r.study.name) for r in results]
-        pd.concat(frames).to_csv(args.csv, index=False, float_format="%.10g")
+        write_csv(pd.concat(frames), args.csv)
     if args.json:
         if len(results) == 1:
             doc = results[0].summary()

@@ -122,11 +122,27 @@ class CampbellResult(Result):
                 ],
             ),
             Table(
-                f"crossings with natural frequencies between {lo:.0f} and {hi:.0f} rpm",
+                f"crossings with natural frequencies between {lo:.0f} and {hi:.0f} rpm"
+                + ("" if self.crossings else f": none ({self._why_no_crossing()})"),
                 ["line", "mode", "frequency [Hz]", "speed [rpm]"],
                 [[x["line"], x["mode"], x["frequency_hz"], x["speed_rpm"]] for x in self.crossings],
             ),
         ]
+
+    def _why_no_crossing(self) -> str:
+        """Why no excitation line meets a natural frequency in the speed range, in words."""
+        freqs = self.modal.frequencies_hz
+        if not freqs.size:
+            return "the model has no flexible mode"
+        top = max((float(ln.frequency_hz(self.speed_range[1])) for ln in self.lines), default=0.0)
+        reason = (
+            f"the highest line reaches {top:.4g} Hz, below the lowest natural frequency, {freqs[0]:.4g} Hz"
+        )
+        meshes = [e for e in self.modal.drivetrain.elements if hasattr(e, "teeth")]
+        untoothed = [e.name for e in meshes if e.teeth is None]
+        if untoothed and not any(ln.kind == "mesh" for ln in self.lines):
+            reason += f"; no gear-mesh orders: {', '.join(untoothed)} give no teeth"
+        return reason
 
     def plots(self, **display_units: str) -> dict[str, Any]:
         """``campbell.png``."""

@@ -142,14 +142,20 @@ class FRFResult(Result):
         }
 
     def tables(self, **display_units: str) -> list[Table]:
-        """The largest steady-state amplitude of every output and element."""
+        """The resonance peak of every output and element (see :meth:`peak`)."""
+        shown = {"N*m": "N·m"}
         rows = [
-            [("disk " if p["unit"] == "rad" else "") + n, p["peak"], p["unit"], p["frequency_hz"]]
+            [
+                ("disk " if p["unit"] == "rad" else "") + n,
+                p["peak"],
+                shown.get(p["unit"], p["unit"]),
+                p["frequency_hz"],
+            ]
             for n, p in self.peaks.items()
         ]
         return [
             Table(
-                "largest steady-state amplitudes over the frequency range",
+                "resonance peaks: largest local maximum of each amplitude over the frequency range",
                 ["output", "peak", "unit", "at [Hz]"],
                 rows,
             )
@@ -168,7 +174,12 @@ class FRFResult(Result):
         }
 
     def peak(self, name: str) -> tuple[float, float]:
-        """Largest magnitude of a disk angle or element load, and its frequency (Hz).
+        """The resonance peak of a disk angle or element load: the largest local maximum of its
+        magnitude over the frequency range, and its frequency (Hz). Where the magnitude has no
+        local maximum (it only falls or only rises), its largest value at either end of the range.
+
+        The rigid-body motion of a free drivetrain is largest at the lowest frequency and falls
+        from there; it is not a resonance and is not reported as the peak.
 
         Parameters
         ----------
@@ -181,7 +192,8 @@ class FRFResult(Result):
             y = np.abs(self.element_loads[:, self.element_names.index(name)])
         else:
             raise KeyError(name)
-        i = int(np.argmax(y))
+        inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1  # local maxima
+        i = int(inner[np.argmax(y[inner])]) if inner.size else int(np.argmax(y))
         return float(y[i]), float(self.frequencies_hz[i])
 
     def to_frame(self) -> pd.DataFrame:

@@ -16,7 +16,7 @@ from mechdyn.gears.iso6336 import IsoStiffness, iso_stiffness
 from mechdyn.gears.mesh import GearPair, MeshCycle
 from mechdyn.gears.tooth import TruncatedTooth, pair_compliance
 from mechdyn.results import Result, Table
-from mechdyn.units import convert
+from mechdyn.units import convert, key_label
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -36,7 +36,7 @@ def _terms_table(title: str, rows: dict[str, float]) -> Table:
     return Table(
         title,
         ["term", "compliance [m/N]", "share [%]"],
-        [[k, v, 100 * v / total] for k, v in rows.items()],
+        [[key_label(k)[0], v, 100 * v / total] for k, v in rows.items()],
     )
 
 

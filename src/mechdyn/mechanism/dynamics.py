@@ -230,17 +230,13 @@ class DynamicsResult(Result):
 
         ``length_unit`` (default ``"mm"``) shows the gears' centre distances.
         """
-        from mechdyn.units import convert, key_unit
+        from mechdyn.results import summary_table
+        from mechdyn.units import convert
 
         length = display_units.get("length_unit", "mm")
         summary = self.summary()
-        rows = [
-            [k, v, key_unit(k) or ""]
-            for k, v in summary.items()
-            if isinstance(v, (int, float)) and not isinstance(v, bool) and k != "n_angles"
-        ]
         tables = [
-            Table("summary", ["quantity", "value", "unit"], rows),
+            summary_table({k: v for k, v in summary.items() if not isinstance(v, str)}, skip=("n_angles",)),
             Table(
                 "joint forces (largest over the cycle)",
                 ["joint", "force [N]"],

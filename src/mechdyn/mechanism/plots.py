@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -11,6 +11,7 @@ from mechdyn.units import convert
 
 if TYPE_CHECKING:
     from mechdyn.mechanism.dynamics import DynamicsResult
+    from mechdyn.mechanism.model import GearJoint
 
 __all__ = [
     "plot_frames",
@@ -92,6 +93,10 @@ def plot_torque(result: DynamicsResult, ax: Any = None) -> Any:
     return ax
 
 
+def _mm(value: Any) -> Any:
+    return convert(value, "m", "mm")
+
+
 def _pitch_circles(result: DynamicsResult, i: int) -> list[tuple[np.ndarray, float, float]]:
     """Each gear pair at frame ``i``: (centre, mean pitch radius) of both gears, m, from the rolling
     law at the drawing's centre distance."""
@@ -102,7 +107,7 @@ def _pitch_circles(result: DynamicsResult, i: int) -> list[tuple[np.ndarray, flo
         law = m.gear_laws.get(j.name)
         if law is None:
             continue
-        pivots = getattr(j, "points", ())
+        pivots = cast("GearJoint", j).points  # a joint with a rolling law is a gear pair
         carrier = getattr(j, "carrier", "ground")
         centres = [
             np.asarray(m.points[p], dtype=float) if carrier == "ground" else k.point(carrier, p)[0][i]
@@ -145,8 +150,8 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
     )
     idx = np.linspace(0, len(k.angle), frames, endpoint=False).astype(int)
     # every body's points over the cycle, to fix the view (mm)
-    tracks = {(b.name, p): 1e3 * k.point(b.name, p)[0] for b in m.bodies for p in b.points}
-    allpts = np.concatenate([*list(tracks.values()), 1e3 * np.array(list(m.points.values()))])
+    tracks = {(b.name, p): _mm(k.point(b.name, p)[0]) for b in m.bodies for p in b.points}
+    allpts = np.concatenate([*list(tracks.values()), _mm(np.array(list(m.points.values())))])
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
     pad = 0.08 * (hi - lo).max()
     theta = np.linspace(0, 2 * np.pi, 120)
@@ -156,10 +161,10 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
             closed = np.vstack([pts, pts[:1]]) if len(pts) > 2 else pts
             a.plot(closed[:, 0], closed[:, 1], "-o", color=f"C{n % 10}", ms=3, lw=2)
         for centre, radius, _ in _pitch_circles(result, i):
-            c = 1e3 * centre
+            c = _mm(centre)
             a.plot(
-                c[0] + 1e3 * radius * np.cos(theta),
-                c[1] + 1e3 * radius * np.sin(theta),
+                c[0] + _mm(radius) * np.cos(theta),
+                c[1] + _mm(radius) * np.sin(theta),
                 ":",
                 color="0.4",
                 lw=0.9,
@@ -167,7 +172,7 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
         for j in m.joints:
             if "ground" not in j.bodies or getattr(j, "point", None) is None:
                 continue
-            p = 1e3 * np.asarray(m.points[j.point])
+            p = _mm(np.asarray(m.points[j.point]))
             if j.slides:  # a guide: its line on the frame
                 axis = getattr(j, "axis", 0.0)
                 u = np.array([np.cos(axis), np.sin(axis)]) * (hi - lo).max()

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from mechdyn.results import Table
-from mechdyn.units import convert
+from mechdyn.units import convert, key_label
 
 if TYPE_CHECKING:
     from mechdyn.mounts.analysis import MountResult
@@ -13,13 +13,17 @@ if TYPE_CHECKING:
 __all__ = ["mount_tables"]
 
 
-def _rows(d: dict[str, Any], prefix: str = "") -> list[list[Any]]:
-    """The scalar and text parts of a breakdown as (quantity, value) rows."""
-    return [
-        [prefix + k, v]
-        for k, v in d.items()
-        if (isinstance(v, (int, float)) and not isinstance(v, bool)) or isinstance(v, str)
-    ]
+def _rows(d: dict[str, Any]) -> list[list[Any]]:
+    """The scalar and text parts of a breakdown as (quantity, value, unit) rows, in words."""
+    rows = []
+    for k, v in d.items():
+        if isinstance(v, bool):
+            v = "yes" if v else "no"
+        elif not isinstance(v, (int, float, str)):
+            continue
+        label, unit = key_label(k)
+        rows.append([label, v, unit])
+    return rows
 
 
 def mount_tables(
@@ -41,11 +45,10 @@ def mount_tables(
     tables = [
         Table(
             f"{result.name} ({result.kind})",
-            ["quantity", "value"],
+            ["quantity", "value", "unit"],
             [
-                [f"stiffness along the main axis [{stiffness_unit}]", K(s["stiffness_N_per_m"])],
-                ["adjusts height", s["adjusts_height"]],
-                ["damps", s["damps"]],
+                ["stiffness along the main axis", K(s["stiffness_N_per_m"]), stiffness_unit],
+                *_rows({"adjusts_height": s["adjusts_height"], "damps": s["damps"]}),
                 *_rows(s["breakdown"]),
             ],
         )
@@ -101,9 +104,9 @@ def mount_tables(
             )
         )
     if "calibration" in s:
-        tables.append(Table("calibration", ["quantity", "value"], _rows(s["calibration"])))
+        tables.append(Table("calibration", ["quantity", "value", "unit"], _rows(s["calibration"])))
     if "frf_fit" in s:
-        tables.append(Table("fit to the measured FRF", ["quantity", "value"], _rows(s["frf_fit"])))
+        tables.append(Table("fit to the measured FRF", ["quantity", "value", "unit"], _rows(s["frf_fit"])))
     if "isolation" in s:
         iso = s["isolation"]
         T = iso["transmissibility"]
@@ -113,6 +116,6 @@ def mount_tables(
             else f"amplifies: the floor gets {T:.2f} times the disturbing force (the disturbing frequency "
             "is below √2 times the natural frequency; a softer mount would isolate)"
         )
-        rows = [*_rows(iso), ["verdict", verdict]]
-        tables.append(Table("isolation on the given load", ["quantity", "value"], rows))
+        rows = [*_rows(iso), ["verdict", verdict, ""]]
+        tables.append(Table("isolation on the given load", ["quantity", "value", "unit"], rows))
     return tables

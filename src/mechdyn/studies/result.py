@@ -78,7 +78,7 @@ class StudyResult(Result):
         for v in self.variants:
             row: dict[str, Any] = {"variant": v.id, "status": v.status}
             row |= {_column(p.name, _si_unit(p)): v.parameters.get(p.name) for p in self.study.parameters}
-            row |= {_column(w.key, w.unit): v.outputs.get(w.key) for w in self.study.watched}
+            row |= {_column(w.key, _key_suffix(w.unit)): v.outputs.get(w.key) for w in self.study.watched}
             row["error"] = v.error
             rows.append(row)
         return pd.DataFrame(rows)
@@ -202,19 +202,23 @@ class StudyResult(Result):
 
 
 def _si_unit(p: Any) -> str:
-    from mechdyn.units import registry
-
-    if not p.unit:
-        return ""
-    return f"{registry().Quantity(1.0, p.unit).to_base_units().units:~}"
+    return _key_suffix(p.unit)
 
 
-def _column(name: str, unit: str) -> str:
+def _key_suffix(unit: str) -> str:
+    from mechdyn.units import key_suffix
+
+    return key_suffix(unit)
+
+
+def _column(name: str, suffix: str) -> str:
+    """A column name without spaces that ends with its SI unit (``support.stiffness_N_per_m``)."""
     from mechdyn.units import key_unit
 
-    if key_unit(name) is not None or not unit:
+    name = name.replace(" ", "_")
+    if key_unit(name) is not None or not suffix:
         return name
-    return f"{name} [{unit}]"
+    return f"{name}_{suffix}"
 
 
 def _safe(key: str) -> str:

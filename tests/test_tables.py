@@ -1,0 +1,114 @@
+"""Tables a person reads without a second look: rows labelled in words, one number format per column,
+right-aligned numbers, no negative zero, CSV columns without spaces, and results that would mislead
+on their own (a free drivetrain's frequency response, an empty list of crossings) saying what they
+mean."""
+
+from __future__ import annotations
+
+import io
+import re
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from conftest import EXAMPLES
+from mechdyn.cli.common import _column_spec, _fmt, print_table, write_csv
+from mechdyn.errors import ModelWarning
+from mechdyn.io import load_model
+from mechdyn.registry import get
+from mechdyn.results import Table
+
+SNAKE = re.compile(r"^[a-z0-9]+(?:_[a-z0-9]+)+$")
+CASES = [
+    ("modal", "turret_milling.toml", {"compare_rigid": True}),
+    ("campbell", "turret_indexing.toml", {}),
+    ("frf", "turret_milling.toml", {"points": 200}),
+    ("mechanism", "press_link_drive.toml", {"angles": 72}),
+    ("support", "press_on_mounts.toml", {"cycles": 1}),
+    ("mount", "anchor_concrete.toml", {}),
+    ("mount", "pad_shore60.toml", {}),
+    ("gear", "spur_pair.toml", {}),
+    ("gear", "tooth_pair1_published.toml", {}),
+]
+
+
+def _run(name, example, store=None, **options):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        kw = {"store": store} if get(name).uses_store else {}
+        return get(name).run(load_model(EXAMPLES / example), **kw, **options)
+
+
+@pytest.mark.parametrize(("name", "example", "options"), CASES, ids=lambda c: str(c))
+def test_rows_are_labelled_in_words_and_every_number_column_has_one_format(name, example, options, tmp_path):
+    from mechdyn.store import ResultStore
+
+    with ResultStore(str(tmp_path / "r.db")) as store:
+        tables = _run(name, example, store, **options).tables()
+    for t in tables:
+        for row in t.rows:
+            assert not (isinstance(row[0], str) and SNAKE.match(row[0])), f"{t.title}: row label {row[0]!r}"
+        out = io.StringIO()
+        print_table(t, file=out)
+        text = out.getvalue()
+        assert not re.search(r"(?<![\w.])-0(?:\.0*)?(?:e[+-]00)?(?![\w.])", text), text
+        for i in range(len(t.columns)):
+            spec = _column_spec([r[i] for r in t.rows])
+            if spec is None:
+                continue
+            shown = [_fmt(r[i], spec) for r in t.rows if r[i] is not None and not isinstance(r[i], int)]
+            decimals = {len(s.split("e")[0].split(".")[1]) if "." in s else 0 for s in shown if s != "—"}
+            assert len(decimals) <= 1, f"{t.title}, column {t.columns[i]!r}: {shown}"
+
+
+def test_a_column_keeps_one_precision_and_negative_zero_prints_as_zero():
+    assert _column_spec([20.0, 10.0, 30.0]) == ".2f"
+    assert _column_spec([792.34, 5658.6, 52363.0]) == ".1f"  # four digits for the smallest
+    assert [_fmt(v, ".3f") for v in (20.0, 10.0, -0.0001)] == ["20.000", "10.000", "0.000"]
+    assert _fmt(-0.0) == "0" and _fmt(-1e-20, ".4f") == "0.0000"
+    assert _column_spec([1e-9, 500.0]) == ".1f"  # below a thousandth of the largest: shown near zero
+    assert _column_spec([2.5e8, 7.1e8]) == ".4e"  # beyond seven digits: exponents for the column
+    assert _column_spec(["no", 3.0]) is None  # rows of different quantities format on their own
+    t = Table("t", ["a", "b [mm]"], [["x", 1.5], ["y", -0.0]])
+    out = io.StringIO()
+    print_table(t, file=out)
+    assert "-0" not in out.getvalue()
+
+
+def test_csv_columns_have_no_spaces(tmp_path):
+    frame = _run("frf", "turret_milling.toml", points=50).to_frame()
+    assert any(" " in c for c in frame.columns)  # element names have spaces ...
+    write_csv(frame, tmp_path / "f.csv")
+    header = (tmp_path / "f.csv").read_text().splitlines()[0].split(",")
+    assert not any(" " in c for c in header)  # ... the CSV's columns do not
+    assert "shaft_1_Nm" in header and "mesh_1_N" in header
+    back = pd.read_csv(tmp_path / "f.csv")
+    np.testing.assert_allclose(back["frequency_hz"], frame["frequency_hz"], rtol=1e-9)
+
+
+def test_a_free_drivetrains_frequency_response_reports_its_resonance_peaks():
+    """A free chain's angles are largest at the lowest frequency (rigid-body motion, ∝ 1/ω²): the
+    reported peak is the resonance, at a natural frequency, to the frequency grid's resolution."""
+    result = _run("frf", "turret_milling.toml", points=2000)
+    f = result.frequencies_hz
+    natural = result.natural_frequencies_hz
+    for disk in ("1", "4", "7"):
+        y = np.abs(result.angles[:, result.disk_names.index(disk)])
+        assert np.argmax(y) == 0  # the raw maximum is the rigid-body response at the bottom
+        amp, at = result.peak(disk)
+        k = np.searchsorted(f, at)
+        step = f[min(k + 1, f.size - 1)] - f[max(k - 1, 0)]
+        assert np.min(np.abs(natural - at)) <= step, (disk, at, natural)
+        assert amp < y[0]
+    table = result.tables()[0]
+    assert table.title.startswith("resonance peaks")
+
+
+def test_an_empty_crossings_table_says_why():
+    result = _run("campbell", "turret_indexing.toml")
+    crossings = result.tables()[1]
+    assert crossings.rows == []
+    assert "none (" in crossings.title and "below the lowest natural frequency" in crossings.title
+    assert "no gear-mesh orders: mesh 1, mesh 2 give no teeth" in crossings.title
