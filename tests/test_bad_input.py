@@ -267,3 +267,25 @@ def test_a_database_path_that_is_not_a_database_is_one_line(tmp_path, capsys):
     assert err.startswith("error: ") and err.strip().count("\n") == 0, err
     assert f"{text} is not a results database" in err
     assert text.read_text() == "these are my notes\n" * 100  # untouched
+
+
+@pytest.mark.parametrize(
+    ("example", "line", "replacement", "field"),
+    [
+        ("anchor_concrete.toml", "concrete_radius = ", 'concrete_radius = "0 mm"', "concrete_radius"),
+        ("turret_milling.toml", "shaft_orders = ", "shaft_orders = [1, inf]", "shaft_orders"),
+        ("turret_milling.toml", "mesh_orders = ", "mesh_orders = [-1]", "mesh_orders"),
+    ],
+)
+def test_nonsense_values_once_accepted_are_refused_at_the_field(example, line, replacement, field, tmp_path):
+    """A concrete block of radius 0 (taken as "not given") and an infinite or negative excitation
+    order (silently dropped) were accepted."""
+    from mechdyn.errors import ModelFileError
+    from mechdyn.io import load_model
+
+    lines = (EXAMPLES / example).read_text().splitlines()
+    lines = [replacement if ln.startswith(line) else ln for ln in lines]
+    target = tmp_path / example
+    target.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ModelFileError, match=field):
+        load_model(target)

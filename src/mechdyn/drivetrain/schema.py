@@ -11,7 +11,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
@@ -43,6 +43,10 @@ from mechdyn.io.fields import (
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 
 __all__ = ["CampbellSettings", "DrivetrainFile", "ResponseSettings", "build", "settings"]
+
+
+# an excitation order: cycles per revolution, a positive finite number
+Order = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 
 
 class ModelTable(ModelTableBase):
@@ -186,9 +190,9 @@ class CampbellTable(FileModel):
     """Lowest and highest speed of the reference disk for ``mechdyn campbell``."""
     reference_disk: str | None = None
     """The disk whose speed is the abscissa (default: the first disk)."""
-    shaft_orders: list[float] = Field(default_factory=lambda: [1.0])
+    shaft_orders: list[Order] = Field(default_factory=lambda: [1.0])
     """Excitation orders per revolution of each shaft line, at its own speed."""
-    mesh_orders: list[float] = Field(default_factory=lambda: [1.0])
+    mesh_orders: list[Order] = Field(default_factory=lambda: [1.0])
     """Multiples of each mesh's tooth-passing frequency (teeth × shaft speed); needs ``teeth``."""
 
 

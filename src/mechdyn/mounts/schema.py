@@ -164,9 +164,9 @@ class FETable(FileModel):
     """Preloads at which an anchor's contact pressure is computed."""
     pressure_threshold: Pressure | None = None
     """Contact pressure to compare with (the published anchor: 1.7 MPa)."""
-    plate_radius: Length | None = None
+    plate_radius: Length | None = Field(default=None, gt=0)
     """Radius of the base plate in the axisymmetric model (default: 2.5 × the head diameter)."""
-    concrete_radius: Length | None = None
+    concrete_radius: Length | None = Field(default=None, gt=0)
     """Radius of the concrete block in the axisymmetric model (default: 6 × the head diameter)."""
 
 
