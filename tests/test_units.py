@@ -52,3 +52,13 @@ def test_a_speed_given_for_a_frequency_counts_cycles():
     assert to_si("314.159265 rad/s", "Hz") == pytest.approx(50.0)
     assert to_si("2 kHz", "Hz") == 2000.0
     assert to_si("1500 rpm", "rad/s") == pytest.approx(157.0796, rel=1e-6)
+
+
+def test_an_angle_where_a_frequency_goes_is_refused_as_an_angle():
+    """'0 deg' for a frequency reached pint's DimensionalityError (a traceback), found by the property
+    test of tests/test_bad_input.py; an angular speed ('900 rpm') is still read as cycles."""
+    from mechdyn.units import UnitError, to_si
+
+    with pytest.raises(UnitError, match=r"'0\.0 deg' is an angle; expected a quantity of 1 / \[time\]"):
+        to_si("0.0 deg", "Hz")
+    assert to_si("900 rpm", "Hz") == pytest.approx(15.0)

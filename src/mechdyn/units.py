@@ -172,13 +172,14 @@ def _slow_to_si(value: Any, unit: str) -> float:
     if (
         _angular(q)
         and not _angular(target)
-        and target.dimensionality == ureg.Quantity(1.0, "Hz").dimensionality
+        and q.dimensionality == target.dimensionality == ureg.Quantity(1.0, "Hz").dimensionality
     ):
         # a speed asked for as a frequency: "1500 rpm" is 25 Hz (cycles), not 157 1/s (radians)
         q = q.to("turn/s").magnitude * ureg.Quantity(1.0, "1/s")
     if q.dimensionless and not target.dimensionless:
+        what = "is an angle" if _angular(q) else "has no unit"
         raise UnitError(
-            f"{value!r} has no unit; expected a quantity of {_dimension_text(unit)}, "
+            f"{value!r} {what}; expected a quantity of {_dimension_text(unit)}, "
             f"e.g. '{_example(value)} {unit}'"
         )
     if q.dimensionality != target.dimensionality:

@@ -58,6 +58,10 @@ def _fmt(v: Any, spec: str | None = None) -> str:
     return str(v)
 
 
+# values below this fraction of a column's largest are shown as near zero, not given digits of their own
+_MATTERS = 1e-3
+
+
 def _column_spec(values: list[Any]) -> str | None:
     """One number format for a column of numbers: fixed point with four significant digits for the
     smallest magnitude that matters (at least a thousandth of the largest; smaller ones show as
@@ -70,7 +74,7 @@ def _column_spec(values: list[Any]) -> str | None:
     largest = max(abs(x) for x in numbers)
     if largest == 0:
         return ".0f"
-    smallest = min(abs(x) for x in numbers if abs(x) >= 1e-3 * largest)
+    smallest = min(abs(x) for x in numbers if abs(x) >= _MATTERS * largest)
     decimals = max(0, 3 - math.floor(math.log10(smallest)))
     digits = math.floor(math.log10(largest)) + 1 + decimals
     if largest < 1e7 and digits <= 9 and decimals <= 6:
