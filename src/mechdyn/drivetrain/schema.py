@@ -442,9 +442,7 @@ def settings(
     if f.campbell is not None:
         c = f.campbell
         check("[campbell] → reference_disk", c.reference_disk)
-        camp = CampbellSettings(
-            c.speed_range, c.reference_disk, tuple(c.shaft_orders), tuple(c.mesh_orders)
-        )
+        camp = CampbellSettings(c.speed_range, c.reference_disk, tuple(c.shaft_orders), tuple(c.mesh_orders))
     resp = None
     if f.response is not None:
         r = f.response
