@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import warnings
 
@@ -400,3 +401,75 @@ def test_the_gear_command_runs_with_the_involute_tooth_model(tmp_path, capsys):
     assert main(["gear", str(path), "--db", str(tmp_path / "r.db")]) == 0
     out = capsys.readouterr().out
     assert "truncated-triangle tooth" in out and "mesh stiffness" in out
+
+
+# -- the published tooth model (SPEC §4), term by term -------------------------------------------
+
+PUBLISHED_PAIRS = {  # h_a, h_b, h_c, t_a, t_b (m), SPEC §4
+    1: (0.004025, 0.000525, 0.002275, 0.002749, 0.003073),
+    2: (0.0046, 0.0006, 0.0026, 0.003146, 0.006144),
+}
+
+
+def _published_by_quadrature(ha, hb, hc, ta, tb, E=206e9, nu=0.3, phi_deg=20.0, f=0.05):
+    """The published deflections integrated numerically over the whole tooth from the root: a
+    uniform segment of t_b up to h_b, then the linear taper (an independent reference)."""
+    from scipy.integrate import quad
+
+    def t(y):
+        return tb if y < hb else tb + (ta - tb) * (y - hb) / (ha - hb)
+
+    G, phi = E / (2 * (1 + nu)), math.radians(phi_deg)
+    c, s, e = math.cos(phi), math.sin(phi), t(hc) / 2
+
+    def integral(g):
+        return quad(g, 0.0, hc, points=[hb], limit=200, epsabs=0, epsrel=1e-12)[0]
+
+    return {
+        "bending_transverse": integral(lambda y: 12 * c * c * (hc - y) ** 2 / (E * f * t(y) ** 3)),
+        "bending_radial": integral(
+            lambda y: 12 * (s * s * e * e - 2 * s * c * e * (hc - y)) / (E * f * t(y) ** 3)
+        ),
+        "shear": integral(lambda y: 1.2 * c * c / (G * f * t(y))),
+        "foundation": 24 * c * c * hc**2 / (math.pi * E * f * tb**2),
+        "hertz": 4 * (1 - nu**2) / (math.pi * E * f),
+    }
+
+
+@pytest.mark.parametrize("pair", [1, 2])
+def test_the_published_tooth_formulas_against_quadrature(pair):
+    ha, hb, hc, ta, tb = PUBLISHED_PAIRS[pair]
+    tooth = TruncatedTooth(
+        tip_height=ha, root_height=hb, tip_thickness=ta, root_thickness=tb, face_width=0.05,
+        youngs_modulus=206e9, poisson_ratio=0.3,
+    )  # fmt: skip
+    terms = tooth.published_compliances(hc, math.radians(20.0))
+    reference = _published_by_quadrature(ha, hb, hc, ta, tb)
+    assert set(terms) == set(reference)
+    for k, v in reference.items():
+        assert terms[k] == pytest.approx(v, rel=1e-9), k
+
+
+def test_one_tooth_of_published_pair_2_gives_the_value_printed_for_pair_1(tmp_path, capsys):
+    """SPEC §4: with steel and a 50 mm face, a single pair-2 tooth gives the k_c printed for pair 1
+    (2.7082e9 N/m): the published table's mix-up, shown by the command."""
+    from mechdyn.cli.main import main
+
+    assert (
+        main(["gear", str(EXAMPLES / "tooth_pair2_published.toml"), "--json", "--db", str(tmp_path / "r.db")])
+        == 0
+    )
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["formulas"] == "published"
+    assert doc["tooth_stiffness_N_per_m"][0] == pytest.approx(2.7082e9, rel=0.01)
+    # the refined model of before stays as a named option, with its own numbers
+    text = (
+        (EXAMPLES / "tooth_pair1_published.toml")
+        .read_text()
+        .replace('face_width = "50 mm"', 'face_width = "50 mm"\nformulas = "refined"')
+    )
+    (tmp_path / "refined.toml").write_text(text)
+    assert main(["gear", str(tmp_path / "refined.toml"), "--json", "--db", str(tmp_path / "r.db")]) == 0
+    refined = json.loads(capsys.readouterr().out)
+    assert refined["formulas"] == "refined"
+    assert refined["pair_stiffness_N_per_m"] == pytest.approx(2.0534e9, rel=1e-4)

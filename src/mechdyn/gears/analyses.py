@@ -20,7 +20,9 @@ def _gear(loaded: Any) -> Any:
         return gear_pair_stiffness(loaded.model, spec.points, spec.specific_load)
     if spec is None:
         raise MechdynError("a tooth pair runs from its file (it gives the load heights and angle)")
-    return tooth_pair_stiffness(loaded.model, spec.load_heights, spec.load_angle, spec.published_stiffness)
+    return tooth_pair_stiffness(
+        loaded.model, spec.load_heights, spec.load_angle, spec.published_stiffness, spec.formulas
+    )
 
 
 register(
@@ -48,6 +50,8 @@ register(
             Output("teeth", "tooth numbers of pinion and gear", ""),
             Output("pair_stiffness_N_per_m", "tooth pair, Hertz counted once (tooth pairs)"),
             Output("pair_stiffness_hertz_twice_N_per_m", "tooth pair, Hertz per tooth"),
+            Output("tooth_stiffness_N_per_m", "one tooth of each gear alone, with its Hertz term"),
+            Output("formulas", "the tooth model: published or refined (tooth pairs)", ""),
             Output("compliance_terms_m_per_N", "compliance terms of the tooth pair"),
             Output("apex_height_m", "apex height w of each truncated triangle"),
             Output("published_mesh_stiffness_N_per_m", "the published pair stiffness, if given"),

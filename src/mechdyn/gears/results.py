@@ -223,26 +223,41 @@ class ToothPairResult(Result):
         Pressure angle of the load, rad.
     published_stiffness : float, optional
         The published pair stiffness to compare with, N/m.
+    formulas : {"published", "refined"}
+        ``"published"``: the published tooth model term by term
+        (:meth:`~mechdyn.gears.TruncatedTooth.published_compliances`: the whole tooth from the root,
+        the published foundation term); ``"refined"``: bending and shear from the root section h_b
+        up, axial compression, the foundation of Sainsot et al. (2004) where root and bore radii are
+        given (:meth:`~mechdyn.gears.TruncatedTooth.compliances`).
     """
 
     teeth: tuple[TruncatedTooth, TruncatedTooth]
     load_heights: tuple[float, float]
     load_angle: float
     published_stiffness: float | None = None
+    formulas: str = "published"
 
     @property
     def _loads(self) -> tuple[tuple[float, float], tuple[float, float]]:
         return ((self.load_heights[0], self.load_angle), (self.load_heights[1], self.load_angle))
 
+    def _tooth_terms(self, i: int) -> dict[str, float]:
+        """The terms of tooth ``i`` without any Hertz term, m/N, by the chosen formulas."""
+        tooth, load = self.teeth[i], self._loads[i]
+        if self.formulas == "published":
+            terms = tooth.published_compliances(*load)
+            del terms["hertz"]
+            return terms
+        return tooth.compliances(*load)
+
     @property
     def compliance_terms(self) -> dict[str, float]:
         """Every term of both teeth and the one Hertz term, m/N, and their total."""
         t1, t2 = self.teeth
-        l1, l2 = self._loads
-        once = pair_compliance(t1, l1, t2, l2)
-        terms = {f"pinion_{k}": v for k, v in t1.compliances(*l1).items()}
-        terms |= {f"gear_{k}": v for k, v in t2.compliances(*l2).items()}
-        return terms | {"hertz": once["hertz"], "total": once["total"]}
+        hertz = pair_compliance(t1, self._loads[0], t2, self._loads[1])["hertz"]
+        terms = {f"pinion_{k}": v for k, v in self._tooth_terms(0).items()}
+        terms |= {f"gear_{k}": v for k, v in self._tooth_terms(1).items()}
+        return terms | {"hertz": hertz, "total": sum(terms.values()) + hertz}
 
     @property
     def stiffness(self) -> float:
@@ -252,9 +267,17 @@ class ToothPairResult(Result):
     @property
     def stiffness_hertz_twice(self) -> float:
         """Pair stiffness with a Hertz term per tooth (as the published formulas count it), N/m."""
-        t1, t2 = self.teeth
-        l1, l2 = self._loads
-        return 1.0 / pair_compliance(t1, l1, t2, l2, hertz_per_tooth=True)["total"]
+        return 1.0 / (self.compliance_terms["total"] + self.compliance_terms["hertz"])
+
+    @property
+    def tooth_stiffness(self) -> tuple[float, float]:
+        """One tooth of each gear alone, with its own Hertz term as the published model counts it,
+        N/m (the published formulas' stiffness of one tooth)."""
+        h = self.compliance_terms["hertz"]
+        return (
+            1.0 / (sum(self._tooth_terms(0).values()) + h),
+            1.0 / (sum(self._tooth_terms(1).values()) + h),
+        )
 
     def summary(self) -> dict[str, Any]:
         """Pair stiffness (Hertz once and twice), compliance terms, apex heights, published value."""
@@ -262,6 +285,8 @@ class ToothPairResult(Result):
         return {
             "pair_stiffness_N_per_m": self.stiffness,
             "pair_stiffness_hertz_twice_N_per_m": self.stiffness_hertz_twice,
+            "tooth_stiffness_N_per_m": list(self.tooth_stiffness),
+            "formulas": self.formulas,
             "compliance_terms_m_per_N": self.compliance_terms,
             "apex_height_m": [t1.apex_height, t2.apex_height],
             "published_mesh_stiffness_N_per_m": self.published_stiffness,
@@ -282,9 +307,12 @@ class ToothPairResult(Result):
         lu = display_units.get("length_unit", "mm")
         k1, k2 = self.stiffness, self.stiffness_hertz_twice
         w1, w2 = (float(convert(t.apex_height, "m", lu)) for t in self.teeth)
+        s1, s2 = self.tooth_stiffness
         rows: list[list[Any]] = [
             ["one tooth pair, Hertz once", k1, "N/m"],
             ["one tooth pair, Hertz per tooth (counted twice)", k2, "N/m"],
+            ["one pinion tooth alone, with its Hertz term", s1, "N/m"],
+            ["one gear tooth alone, with its Hertz term", s2, "N/m"],
             ["apex height w, pinion / gear", f"{w1:.5g} / {w2:.5g}", lu],
         ]
         if self.published_stiffness is not None:
@@ -295,7 +323,10 @@ class ToothPairResult(Result):
                 ["published / Hertz twice", k / k2, ""],
             ]
         return [
-            _terms_table("compliance of the tooth pair at the load point", self.compliance_terms),
+            _terms_table(
+                f"compliance of the tooth pair at the load point ({self.formulas} formulas)",
+                self.compliance_terms,
+            ),
             Table("stiffness along the line of action", ["quantity", "value", "unit"], rows),
         ]
 
@@ -308,6 +339,7 @@ def tooth_pair_stiffness(
     load_heights: tuple[float, float],
     load_angle: float,
     published_stiffness: float | None = None,
+    formulas: str = "published",
 ) -> ToothPairResult:
     """Stiffness of two truncated-triangle teeth in series (see :class:`ToothPairResult`).
 
@@ -320,5 +352,9 @@ def tooth_pair_stiffness(
         Pressure angle of the load, rad.
     published_stiffness : float, optional
         A published pair stiffness to compare with, N/m.
+    formulas : {"published", "refined"}
+        The tooth model (see :class:`ToothPairResult`).
     """
-    return ToothPairResult(tuple(teeth), tuple(load_heights), load_angle, published_stiffness)  # type: ignore[arg-type]
+    if formulas not in ("published", "refined"):
+        raise ValueError(f"formulas {formulas!r}: expected 'published' or 'refined'")
+    return ToothPairResult(tuple(teeth), tuple(load_heights), load_angle, published_stiffness, formulas)  # type: ignore[arg-type]

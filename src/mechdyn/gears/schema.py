@@ -179,6 +179,11 @@ class LoadTable(FileModel):
     """Angle φ between the normal force and the perpendicular to the tooth's centre line."""
     face_width: Length
     """Face width f of the teeth."""
+    formulas: Literal["published", "refined"] = "published"
+    """``published``: the published tooth model term by term (bending and shear of the whole tooth
+    from the root, the published foundation term); ``refined``: bending and shear from the root
+    section up, axial compression, and the foundation of Sainsot et al. (2004) when root and bore
+    radii are given."""
 
 
 class PublishedTable(FileModel):
@@ -216,6 +221,7 @@ class ToothPairSpec:
     load_angle: float
     published_stiffness: float | None
     published_note: str
+    formulas: str = "published"
 
 
 def build_tooth_pair(source: ModelSource) -> ToothPairSpec:
@@ -245,4 +251,5 @@ def build_tooth_pair(source: ModelSource) -> ToothPairSpec:
         f.load.load_angle,
         f.published.mesh_stiffness,
         f.published.note,
+        f.load.formulas,
     )
