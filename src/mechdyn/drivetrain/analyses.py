@@ -6,10 +6,13 @@ Each function takes the model a ``type = "drivetrain"`` file builds (its optiona
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from mechdyn.errors import MechdynError
 from mechdyn.registry import Analysis, Option, Output, register
+
+if TYPE_CHECKING:  # the numerical modules are imported when an analysis runs, not for --help
+    from mechdyn.vibration.eigen import Solver
 
 __all__: list[str] = []
 
@@ -27,7 +30,7 @@ def _modal(
     rigid_gears: bool = False,
     compare_rigid: bool = False,
     modes: int | None = None,
-    solver: str = "auto",
+    solver: Solver = "auto",
 ) -> Any:
     from mechdyn.drivetrain.compare import compare_rigid as compare
     from mechdyn.drivetrain.modal import modal
@@ -37,7 +40,7 @@ def _modal(
     if compare_rigid:
         return compare(loaded.model)
     modes = _default_modes(loaded.model, modes, "--modes N")
-    return modal(loaded.model, rigid_gears=rigid_gears, n_modes=modes, solver=solver)  # type: ignore[arg-type]
+    return modal(loaded.model, rigid_gears=rigid_gears, n_modes=modes, solver=solver)
 
 
 def _default_modes(model: Any, modes: int | None, how: str) -> int | None:

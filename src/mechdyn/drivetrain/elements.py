@@ -444,7 +444,9 @@ class GearMesh(Element):
         if self.rigid:
             # θ_a ∓ n θ_b = 0, written as c·θ = 0
             return ElementBlocks(self.disks, constraint=np.array([1.0, self._sign * self._rigid_ratio]))
-        ra, rb = self.base_radii  # type: ignore[misc]
+        radii = self.base_radii
+        assert radii is not None  # a flexible mesh has them (__post_init__)
+        ra, rb = radii
         v = np.array([ra, self._sign * rb])
         outer = np.outer(v, v)
         return ElementBlocks(
@@ -459,7 +461,9 @@ class GearMesh(Element):
     def transmission(self) -> float:
         if self.rigid:
             return -self._sign / self._rigid_ratio
-        ra, rb = self.base_radii  # type: ignore[misc]
+        radii = self.base_radii
+        assert radii is not None  # a flexible mesh has them (__post_init__)
+        ra, rb = radii
         return -self._sign * ra / rb
 
 

@@ -101,12 +101,16 @@ class GearPair:
     @property
     def working_pressure_angle(self) -> float:
         """α_w = acos((r_b1 + r_b2)/a), rad."""
-        return math.acos((self.pinion.base_radius + self.gear.base_radius) / self.center_distance)  # type: ignore[operator]
+        a = self.center_distance
+        assert a is not None  # set in __post_init__ when not given
+        return math.acos((self.pinion.base_radius + self.gear.base_radius) / a)
 
     @property
     def line_of_action(self) -> float:
         """T₁T₂ = a sin α_w, m."""
-        return self.center_distance * math.sin(self.working_pressure_angle)  # type: ignore[operator]
+        a = self.center_distance
+        assert a is not None  # set in __post_init__ when not given
+        return a * math.sin(self.working_pressure_angle)
 
     @property
     def path_start(self) -> float:

@@ -357,4 +357,5 @@ def tooth_pair_stiffness(
     """
     if formulas not in ("published", "refined"):
         raise ValueError(f"formulas {formulas!r}: expected 'published' or 'refined'")
-    return ToothPairResult(tuple(teeth), tuple(load_heights), load_angle, published_stiffness, formulas)  # type: ignore[arg-type]
+    (t1, t2), (h1, h2) = teeth, load_heights  # a pair each, as lists or tuples
+    return ToothPairResult((t1, t2), (h1, h2), load_angle, published_stiffness, formulas)

@@ -134,7 +134,7 @@ def pair_from_tables(
     gear: GearTable,
     material: MaterialTable,
     center_distance: float | None,
-    tooth_model: str = "truncated",
+    tooth_model: Literal["truncated", "involute"] = "truncated",
 ) -> GearPair:
     """Build a :class:`GearPair` from gear tables, errors located at ``where``."""
     with field_context(source, f"{where} → pinion"):
@@ -142,7 +142,7 @@ def pair_from_tables(
     with field_context(source, f"{where} → gear"):
         g = gear.build("gear", material)
     with field_context(source, where):
-        return GearPair(p, g, center_distance, tooth_model)  # type: ignore[arg-type]
+        return GearPair(p, g, center_distance, tooth_model)
 
 
 def build_gear_pair(source: ModelSource) -> GearPairSpec:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -117,7 +117,8 @@ class RevoluteTerms(JointTerms):
     @classmethod
     def stack(cls, members: list[tuple[int, JointTerms]]) -> list[Any]:
         rows = np.array([r0 for r0, _ in members], dtype=int)
-        ts: list[RevoluteTerms] = [t for _, t in members]  # type: ignore[misc]
+        # the assembler stacks the members of one kind: type(t) is cls for each
+        ts = cast("list[RevoluteTerms]", [t for _, t in members])
         group = cls(
             np.array([t.ia for t in ts], dtype=int),
             np.array([t.ib for t in ts], dtype=int),

@@ -205,7 +205,8 @@ class CycleBatch(Result):
             A point of the drawing; m, m/s and m/s² in the drawing's axes.
         """
         self._stored(name)
-        return tuple(np.stack([z.real, z.imag], axis=-1) for z in self._z[name])  # type: ignore[return-value]
+        p, v, a = (np.stack([z.real, z.imag], axis=-1) for z in self._z[name])
+        return p, v, a
 
     def coordinates(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Body coordinates q, q̇, q̈, each (V, N, n), as in
@@ -363,7 +364,8 @@ def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
     for st in steps:
         bi = m.body_index[st.body] if st.body is not None else -1
         if st.kind in ("rrr", "rrp"):
-            t, k1 = slot[st.target], slot[st.known[0]]  # type: ignore[index]
+            assert isinstance(st.target, str)  # a dyad finds one point
+            t, k1 = slot[st.target], slot[st.known[0]]
             d1 = dz[:, t] - dz[:, k1]
             fdata[:, o, 0] = np.abs(d1)
             if st.kind == "rrr":
@@ -372,7 +374,8 @@ def _encode(m: Mechanism, steps: list[Step], draw: dict[str, np.ndarray]):
                 fdata[:, o, 1] = np.abs(dz[:, t] - dz[:, k2])
                 fdata[:, o, 2] = np.sign(_cross(dz[:, k2] - dz[:, k1], d1))
             else:
-                u = complex(math.cos(st.guide.axis), math.sin(st.guide.axis))  # type: ignore[union-attr]
+                assert st.guide is not None  # an RRP dyad slides on its guide
+                u = complex(math.cos(st.guide.axis), math.sin(st.guide.axis))
                 ops[o] = (_RRP, t, k1, -1, -1, dyad)
                 fdata[:, o, 1] = np.where(_dot(d1, u) >= 0, 1.0, -1.0)
                 fdata[:, o, 2:] = u.real, u.imag

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, get_args
 
 import numpy as np
 
@@ -20,7 +20,8 @@ from mechdyn.units import si_field
 
 __all__ = ["Material", "MaterialDatabase", "default_materials", "save_materials"]
 
-KINDS = ("steel", "cast_iron", "concrete", "rubber", "other")
+_Kind = Literal["steel", "cast_iron", "concrete", "rubber", "other"]
+KINDS: tuple[str, ...] = get_args(_Kind)
 
 
 @dataclass(frozen=True)
@@ -161,15 +162,13 @@ def _materials_schema() -> Any:
     """The schema of a materials file (built on first use: pydantic is not imported before)."""
     global _SCHEMA
     if _SCHEMA is None:
-        from typing import Literal
-
         from pydantic import Field
 
         from mechdyn.io.fields import Density, Dimensionless, FileModel, Pressure
 
         class MaterialRow(FileModel):
             name: str = Field(min_length=1)
-            kind: Literal[KINDS]  # type: ignore[valid-type]
+            kind: _Kind
             youngs_modulus: Pressure
             poissons_ratio: Dimensionless | None = None
             shear_modulus: Pressure | None = None

@@ -281,7 +281,9 @@ def build(source: ModelSource) -> MountSpec:
     kind = next(k for k in MOUNT_TABLES if getattr(f, k) is not None)
     with field_context(source, f"[{kind}]"):
         if kind == "pad":
-            mount: Any = _pad(name, f.pad, db)  # type: ignore[arg-type]
+            pad = f.pad
+            assert pad is not None  # kind names the table that is given
+            mount: Any = _pad(name, pad, db)
         elif kind == "bolted":
             b = f.bolted
             assert b is not None
