@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
+import re
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -207,14 +210,15 @@ def test_mesh_cycle_is_the_sum_of_pair_stiffnesses():
 def test_standard_steel_pair_lands_near_iso():
     # SPEC §4: ISO 6336-1 c′ of a standard steel spur pair is about 12–14 N/(mm·µm) and a pair of
     # teeth in series with one Hertz term should land near it. ISO Method B is a regression; we
-    # accept 25 % either way, and record the figures (14.4 against 12.7, 20.6 against 18.7).
+    # accept 25 % either way, and record the figures (10.7 against 12.7, 15.6 against 18.7: the whole
+    # tooth from the root circle; clamped at the base circle it was 14.4 and 20.6).
     pair = _standard()
     iso = iso_stiffness(pair)
     assert 12 <= iso.c_prime <= 14
     per_width = pair.pair_stiffness(pair.pitch_point) / 0.02 * 1e-9
     mean = pair.mesh_cycle(400).mean / 0.02 * 1e-9
-    assert per_width == pytest.approx(14.42, abs=0.01)
-    assert mean == pytest.approx(20.57, abs=0.02)
+    assert per_width == pytest.approx(10.75, abs=0.01)
+    assert mean == pytest.approx(15.57, abs=0.02)
     assert 0.75 < per_width / iso.c_prime < 1.25 and 0.75 < mean / iso.c_gamma_alpha < 1.25
 
 
@@ -383,7 +387,7 @@ def test_without_a_bore_the_foundation_is_not_rigid_and_the_guess_is_said():
     iso = bored.iso.c_gamma_alpha  # N/(mm·µm)
     per_face = solid.cycle.mean / bored.face_width / 1e9
     assert per_face == pytest.approx(bored.cycle.mean / bored.face_width / 1e9, rel=0.05)
-    assert 0.9 < per_face / iso < 1.3
+    assert 0.75 < per_face / iso < 1.25
     assert len(solid.warnings) == 2 and all("no bore_diameter" in w for w in solid.warnings)
     assert not bored.warnings
 
@@ -473,3 +477,53 @@ def test_one_tooth_of_published_pair_2_gives_the_value_printed_for_pair_1(tmp_pa
     refined = json.loads(capsys.readouterr().out)
     assert refined["formulas"] == "refined"
     assert refined["pair_stiffness_N_per_m"] == pytest.approx(2.0534e9, rel=1e-4)
+
+
+# -- the whole tooth from the root circle: trends with tooth count, module and profile shift ----
+
+
+def _bored_pair(z1, z2, m=0.003, b=0.03, x=0.0, model="truncated"):
+    gears = [  # bores of half the root diameter
+        SpurGear(z, m, b, profile_shift=x, bore_diameter=m * (z / 2 - 1.25 + x), name=f"z{z}")
+        for z in (z1, z2)
+    ]
+    return GearPair(gears[0], gears[1], tooth_model=model)
+
+
+def _mean_and_iso(pair, b=0.03):
+    with warnings.catch_warnings():  # z = 16: the Sainsot fit is extrapolated a little (said so)
+        warnings.simplefilter("ignore", ModelWarning)
+        return pair.mesh_cycle(400).mean / b / 1e9, iso_stiffness(pair).c_gamma_alpha
+
+
+def _stated_table(page):
+    """A page's table of standard pairs: {(z1, z2): (truncated, involute, ISO, ratio)}."""
+    text = (Path(__file__).parents[1] / page).read_text(encoding="utf-8")
+    rows = re.findall(r"^\| (\d+)/(\d+) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|$", text, re.M)
+    return {(int(z1), int(z2)): tuple(map(float, v)) for z1, z2, *v in rows}
+
+
+def test_mesh_stiffness_follows_iso_with_tooth_count_module_and_profile_shift():
+    """Issue: clamped at max(r_b, r_f), the tooth lost the part between root and base circles and the
+    mean mesh stiffness fell 16 % from z 16/32 to 45/90 where ISO c_γα·b rises 34 % (and the
+    potential-energy method of a rotordynamics package 18 %). With the whole tooth it rises."""
+    counts = [(16, 32), (20, 40), (25, 50), (30, 60), (45, 90)]
+    means, isos = zip(*(_mean_and_iso(_bored_pair(z1, z2)) for z1, z2 in counts), strict=True)
+    involute = [_mean_and_iso(_bored_pair(z1, z2, model="involute"))[0] for z1, z2 in counts]
+    # the README and the gear page state this table: every number is recomputed here
+    for page in ("README.md", "docs/capabilities/gears.md"):
+        table = _stated_table(page)
+        assert sorted(table) == counts, page
+        for (z, row), k, ki, iso in zip(table.items(), means, involute, isos, strict=True):
+            assert row == pytest.approx((k, ki, iso, k / iso), abs=0.051), (page, z)
+    assert all(a < b for a, b in itertools.pairwise(means))  # rises with tooth count, as ISO
+    assert all(a < b for a, b in itertools.pairwise(involute))  # and so does the potential-energy model
+    assert 1.2 < means[-1] / means[0] < 1.4 and isos[-1] / isos[0] == pytest.approx(1.343, abs=0.005)
+    ratios = [k / i for k, i in zip(means, isos, strict=True)]
+    assert all(0.78 < r < 0.85 for r in ratios), ratios
+    # per unit face width it does not depend on the module (nor does ISO's)
+    per_module = [_mean_and_iso(_bored_pair(20, 40, m=m))[0] for m in (0.002, 0.003, 0.005)]
+    assert max(per_module) / min(per_module) < 1 + 1e-6
+    # a positive profile shift stiffens the mesh, as ISO says
+    shifted = [_mean_and_iso(_bored_pair(20, 40, x=x)) for x in (0.0, 0.3, 0.5)]
+    assert shifted[0][0] < shifted[1][0] < shifted[2][0] and shifted[0][1] < shifted[1][1] < shifted[2][1]

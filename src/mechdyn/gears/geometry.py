@@ -250,14 +250,15 @@ class SpurGear:
     def profile_tooth(self) -> ProfileTooth:
         """The tooth with its true involute thickness, for the potential-energy alternative.
 
-        Same root section, heights and foundation as :meth:`tooth`; only the thickness profile
-        differs (involute instead of a straight taper).
+        The whole tooth from the root circle, as :meth:`tooth`, with the same foundation; only the
+        thickness profile differs (the involute above its start instead of a straight taper; below
+        it, the thickness at the start of the involute).
         """
         t = self.tooth()
-        r_f = self.root_radius
+        r_f, r_0 = self.root_radius, self.form_radius
         return ProfileTooth(
-            thickness=lambda y: self.chordal_thickness_array(r_f + np.asarray(y)),
-            root_height=t.root_height,
+            thickness=lambda y: self.chordal_thickness_array(np.maximum(r_f + np.asarray(y), r_0)),
+            root_height=0.0,
             tip_height=t.tip_height,
             face_width=t.face_width,
             youngs_modulus=t.youngs_modulus,
@@ -283,10 +284,14 @@ class SpurGear:
         )
 
     def tooth(self) -> TruncatedTooth:
-        """The truncated-triangle tooth of this gear, heights from the root circle."""
+        """The truncated-triangle tooth of this gear, heights from the root circle: tapering from the
+        start of the involute (max(r_b, r_f)) to the tip, and below it, down to the root circle, a
+        segment of the thickness there (the part of the tooth between the root and base circles),
+        on the foundation of Sainsot et al. (2004) at the root circle."""
         r0 = self.form_radius
-        foundation = {"root_radius": r0, "bore_radius": self.bore_radius}
+        foundation = {"root_radius": self.root_radius, "bore_radius": self.bore_radius}
         return TruncatedTooth(
+            root_segment=True,
             tip_height=self.tip_radius - self.root_radius,
             root_height=r0 - self.root_radius,
             tip_thickness=self.chordal_thickness(self.tip_radius),

@@ -83,8 +83,14 @@ class ProfileTooth:
         arm = hc - y
         foundation = 0.0
         if self.root_radius is not None:
+            if self.bore_radius is None:
+                raise ModelError(
+                    "give both root_radius and bore_radius (foundation), or neither",
+                    element=self.name,
+                    field="bore_radius",
+                )
             t0 = float(np.asarray(self.thickness(np.array([h0])))[0])
-            h_f = self.root_radius / self.bore_radius  # type: ignore[operator]
+            h_f = self.root_radius / self.bore_radius
             foundation = foundation_compliance(hc - h0, t0, h_f, t0 / (2.0 * self.root_radius), phi, E, f)
         return {
             "bending_transverse": float(np.sum(w * cos**2 * arm**2 / (E * inertia))),

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from mechdyn.errors import ModelError, ModelWarning
@@ -77,6 +77,11 @@ class TruncatedTooth:
         Sainsot et al. (2004) is included; without, the foundation is rigid.
     name : str
         For messages.
+    root_segment : bool
+        The tooth continues below the root section, at the root thickness t_b, down to height 0
+        (a gear's tooth between its root circle and the start of the involute): its bending, shear
+        and compression are added, and the foundation sits at height 0 (``root_radius`` is then the
+        radius at height 0). Off: the tooth is clamped at h_b.
     """
 
     tip_height: float
@@ -89,6 +94,7 @@ class TruncatedTooth:
     root_radius: float | None = None
     bore_radius: float | None = None
     name: str = "tooth"
+    root_segment: bool = False
 
     def __post_init__(self) -> None:
         n = self.name
@@ -133,8 +139,8 @@ class TruncatedTooth:
                 element=n,
                 field="bore_radius",
             )
-        if self.root_radius is not None:
-            if not 0 < self.bore_radius < self.root_radius:  # type: ignore[operator]
+        if self.root_radius is not None and self.bore_radius is not None:  # both or neither (above)
+            if not 0 < self.bore_radius < self.root_radius:
                 raise ModelError(
                     f"bore radius {self.bore_radius:g} m must be positive and below the root radius "
                     f"{self.root_radius:g} m",
@@ -155,7 +161,9 @@ class TruncatedTooth:
     @property
     def _foundation_parameters(self) -> tuple[float, float]:
         """h_f = r_root / r_bore and θ_f = t_b / (2 r_root) of the Sainsot fit."""
-        return self.root_radius / self.bore_radius, self.root_thickness / (2.0 * self.root_radius)  # type: ignore[operator]
+        r_root, r_bore = self.root_radius, self.bore_radius
+        assert r_root is not None and r_bore is not None  # asked for only when there is a foundation
+        return r_root / r_bore, self.root_thickness / (2.0 * r_root)
 
     # -- geometry ----------------------------------------------------------------------------
     @property
@@ -233,6 +241,12 @@ class TruncatedTooth:
         i0 = ub / tb**3 * x * (2.0 - x) / (2.0 * (1.0 - x) ** 2)
         j0 = ub / tb * -math.log1p(-x)
         e = 0.5 * tb * (1.0 - x)  # half the thickness at the load point
+        if self.root_segment:  # the uniform segment [0, h_b] below the root section, thickness t_b
+            hb = self.root_height
+            i2 += (hc**3 - (hc - hb) ** 3) / 3.0 / tb**3
+            i1 += (hc * hb - 0.5 * hb**2) / tb**3
+            i0 += hb / tb**3
+            j0 += hb / tb
         cos, sin = math.cos(phi), math.sin(phi)
         return {
             "bending_transverse": 12.0 * cos**2 * i2 / (E * f),
@@ -276,7 +290,7 @@ class TruncatedTooth:
             ``bending_transverse``, ``bending_radial``, ``shear``, ``foundation``, ``hertz``.
         """
         hc, phi = self._load(load_height, load_angle)
-        refined = self.compliances(hc, phi)  # the taper from h_b to h_c
+        refined = replace(self, root_segment=False).compliances(hc, phi)  # the taper from h_b to h_c
         E, f, tb, hb, nu = (
             self.youngs_modulus,
             self.face_width,
@@ -304,7 +318,7 @@ class TruncatedTooth:
             return 0.0
         h_f, theta_f = self._foundation_parameters
         return foundation_compliance(
-            hc - self.root_height,
+            hc if self.root_segment else hc - self.root_height,
             self.root_thickness,
             h_f,
             theta_f,
