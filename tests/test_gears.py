@@ -32,20 +32,29 @@ def _tooth(n=2, f=0.05, **kw):
 @pytest.mark.parametrize("n", [1, 2])
 @pytest.mark.parametrize("phi_deg", [-8.0, 0.0, 14.0, 20.0, 30.0])
 @pytest.mark.parametrize("hc_frac", [0.2, 0.5, 1.0])
-def test_every_term_equals_the_castigliano_integral(n, phi_deg, hc_frac):
-    # the closed forms against numerical quadrature of the strain-energy integrals
-    t = _tooth(n)
+@pytest.mark.parametrize("segment", [False, True])
+def test_every_term_equals_the_castigliano_integral(n, phi_deg, hc_frac, segment):
+    # the closed forms against numerical quadrature of the strain-energy integrals; with the root
+    # segment (a gear's whole tooth), from height 0 with the root thickness t_b up to h_b
+    t = _tooth(n, root_segment=segment)
     hc = t.root_height + hc_frac * (t.tip_height - t.root_height)
     phi = math.radians(phi_deg)
     c = t.compliances(hc, phi)
     f, G = t.face_width, t.shear_modulus
-    inertia = lambda y: f * t.thickness(y) ** 3 / 12  # noqa: E731
-    area = lambda y: f * t.thickness(y)  # noqa: E731
+
+    def thickness(y):
+        return t.root_thickness if y < t.root_height else t.thickness(y)
+
+    inertia = lambda y: f * thickness(y) ** 3 / 12  # noqa: E731
+    area = lambda y: f * thickness(y)  # noqa: E731
     e = t.thickness(hc) / 2
     cos, sin = math.cos(phi), math.sin(phi)
+    start = 0.0 if segment else t.root_height
 
     def integral(fn):
-        return quad(fn, t.root_height, hc, epsabs=0, epsrel=1e-12, limit=200)[0]
+        return quad(
+            fn, start, hc, points=[t.root_height] if segment else None, epsabs=0, epsrel=1e-12, limit=200
+        )[0]
 
     assert c["bending_transverse"] == pytest.approx(
         integral(lambda y: cos**2 * (hc - y) ** 2 / (E * inertia(y))), rel=1e-10
