@@ -165,6 +165,8 @@ class GearPairTable(FileModel):
     """The gear, by gear data."""
     center_distance: Length | None = None
     """Operating centre distance (default: the standard one for the profile shifts)."""
+    tooth_model: Literal["truncated", "involute"] = "involute"
+    """The tooth model of the mesh stiffness, as in a gear-pair file's ``[mesh]``."""
 
 
 class GroundSpringTable(FileModel):
@@ -354,7 +356,9 @@ def build(source: ModelSource) -> Drivetrain:
     pairs = {}
     for i, gp in enumerate(f.gear_pairs):
         where = _where("gear_pairs", i, gp.name)
-        pair = pair_from_tables(source, where, gp.pinion, gp.gear, f.gear_material, gp.center_distance)
+        pair = pair_from_tables(
+            source, where, gp.pinion, gp.gear, f.gear_material, gp.center_distance, gp.tooth_model
+        )
         pairs[gp.name] = pair
         with field_context(source, where):  # a mesh stiffness from guessed inputs says so
             for note in (*pair.pinion.guesses, *pair.gear.guesses):

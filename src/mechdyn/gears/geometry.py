@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -77,6 +78,9 @@ class SpurGear:
         s_R and b_s of a rim-and-web gear blank, m (ISO 6336-1 gear blank factor C_R); None for a
         solid blank.
     name : str
+    fillet_radius : float
+        ρ_fP* of the basic rack's tip rounding, in modules (0.38 by default, ISO 53 profile A): the
+        cutter's rounded tip generates the tooth's root fillet (:meth:`generated_thickness_array`).
     """
 
     teeth: int
@@ -92,6 +96,7 @@ class SpurGear:
     name: str = "gear"
     rim_thickness: float | None = None
     web_width: float | None = None
+    fillet_radius: float = 0.38
 
     def __post_init__(self) -> None:
         n = self.name
@@ -107,7 +112,7 @@ class SpurGear:
             if v <= 0:
                 raise ModelError(f"{v:g} must be positive", element=n, field=f)
             object.__setattr__(self, f, v)
-        for f in ("profile_shift", "addendum", "dedendum", "poisson_ratio"):
+        for f in ("profile_shift", "addendum", "dedendum", "poisson_ratio", "fillet_radius"):
             object.__setattr__(self, f, _q(n, f, getattr(self, f), ""))
         if not math.radians(10) <= self.pressure_angle <= math.radians(35):
             raise ModelError(
@@ -135,6 +140,15 @@ class SpurGear:
                 "give both rim_thickness and web_width of a rim-and-web blank, or neither (solid)",
                 element=n,
                 field="rim_thickness",
+            )
+        a = self.pressure_angle
+        rho_max = (math.pi / 4 - self.dedendum * math.tan(a)) * math.cos(a) / (1 - math.sin(a))
+        if not 0 <= self.fillet_radius <= rho_max:
+            raise ModelError(
+                f"fillet radius {self.fillet_radius:g} modules must lie between 0 and {rho_max:.4g} (the "
+                "full rounding of the basic rack's tip for this dedendum and pressure angle)",
+                element=n,
+                field="fillet_radius",
             )
         if self.thickness(self.tip_radius) <= 0:
             raise ModelError(
@@ -238,26 +252,110 @@ class SpurGear:
             Radii on the involute, m.
         """
         r = np.asarray(radius, dtype=float)
+        return 2.0 * r * np.sin(self.arc_thickness_array(r) / (2.0 * r))
+
+    # -- the generated tooth: the fillet cut by the rack's rounded tip, then the involute ----------
+    @cached_property
+    def _fillet(self) -> tuple[np.ndarray, np.ndarray]:
+        """Radius and space half-angle along the fillet, from the root circle to the involute.
+
+        The basic rack (reference line at r + x m, tip at the root circle) rolls on the pitch circle;
+        the centre of its tip rounding (radius ρ = ρ_fP* m, tangent to the tip line and to the flank)
+        sits at v_c = r_f + ρ and u_c = π m/4 − (h_fP − ρ) tan α − ρ/cos α from the space's centre
+        line (ISO 6336-3's E). At rack position u = −r φ the rounding cuts the gear where its normal
+        passes through the pitch point (the envelope condition); rotating that point back by φ gives
+        the fillet in the gear's frame (a trochoid's offset; e.g. Litvin & Fuentes, *Gear Geometry
+        and Applied Theory*, 2004, ch. 10), from φ₀ = u_c/r (the root circle) to where the rounding
+        meets the rack's straight flank (the involute's start).
+        """
+        m, a, r = self.module, self.pressure_angle, self.pitch_radius
+        rho = self.fillet_radius * m
+        vc = self.root_radius + rho
+        if vc >= r:
+            raise ModelError(
+                f"profile shift {self.profile_shift:g} lifts the rack's tip rounding to the pitch line: the "
+                "generated fillet is not modelled; use tooth_model = 'truncated'",
+                element=self.name,
+                field="profile_shift",
+            )
+        uc = math.pi * m / 4 - (self.dedendum * m - rho) * math.tan(a) - rho / math.cos(a)
+        phi0, phi1 = uc / r, (uc - (r - vc) / math.tan(a)) / r
+        s = np.linspace(0.0, 1.0, 801)
+        phi = phi0 + (phi1 - phi0) * s**2  # dense near the root, where the fillet turns fastest
+        du, dv = uc - r * phi, vc - r
+        length = np.hypot(du, dv)
+        pu, pv = uc - r * phi + rho * du / length, vc + rho * dv / length
+        x = pu * np.cos(phi) + pv * np.sin(phi)
+        y = -pu * np.sin(phi) + pv * np.cos(phi)
+        return np.hypot(x, y), np.arctan2(x, y)
+
+    @cached_property
+    def _fillet_by_radius(self) -> tuple[np.ndarray, np.ndarray]:
+        """The fillet's space half-angle on a grid of radii (dense near the root circle), rad: where
+        the fillet turns back (undercut), the largest of its branches at each radius."""
+        r_fil, psi_fil = self._fillet
+        grid = r_fil[0] + (r_fil.max() - r_fil[0]) * np.linspace(0.0, 1.0, 1201) ** 2
+        r0, r1, p0, p1 = r_fil[:-1], r_fil[1:], psi_fil[:-1], psi_fil[1:]
+        g = grid[:, None]
+        crosses = (g >= np.minimum(r0, r1)) & (g <= np.maximum(r0, r1)) & (r0 != r1)
+        w = (g - r0) / np.where(r0 != r1, r1 - r0, 1.0)
+        return grid, np.where(crosses, p0 + w * (p1 - p0), -np.inf).max(axis=1)
+
+    @property
+    def involute_start_radius(self) -> float:
+        """Where the generated fillet meets the involute, m (ISO 21771's form radius r_Ff when the
+        teeth are not undercut)."""
+        return float(self._fillet[0][-1])
+
+    def generated_thickness_array(self, radius: np.ndarray) -> np.ndarray:
+        """Chordal thickness of the tooth that the basic rack generates, m: from the root circle, the
+        fillet cut by the rack's rounded tip (:attr:`_fillet`), then the involute to the tip circle;
+        where the fillet undercuts the involute, the deeper cut.
+
+        Parameters
+        ----------
+        radius : ndarray
+            Radii between the root and tip circles, m.
+        """
+        r_fil = self._fillet[0]
+        r = np.clip(np.asarray(radius, dtype=float), r_fil[0], self.tip_radius)
+        grid, fillet = self._fillet_by_radius
+        space = np.where(r <= grid[-1], np.interp(r, grid, fillet), -np.inf)
+        on_involute = r >= max(self.base_radius, r_fil[-1] * (1 - 1e-12))
+        if np.any(on_involute):
+            ri = r[on_involute]
+            half = 0.5 * self.arc_thickness_array(ri) / ri
+            space[on_involute] = np.maximum(space[on_involute], math.pi / self.teeth - half)
+        return 2.0 * r * np.sin(math.pi / self.teeth - space)
+
+    def arc_thickness_array(self, radius: np.ndarray) -> np.ndarray:
+        """Arc tooth thickness on the involute (vectorised :meth:`thickness`), m.
+
+        Parameters
+        ----------
+        radius : ndarray
+            Radii on the involute, m (r ≥ r_b).
+        """
+        r = np.asarray(radius, dtype=float)
         s = self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
         alpha_y = np.arccos(np.minimum(1.0, self.base_radius / r))
-        arc = (
+        return (
             2.0
             * r
             * (s / (2.0 * self.pitch_radius) + involute(self.pressure_angle) - (np.tan(alpha_y) - alpha_y))
         )
-        return 2.0 * r * np.sin(arc / (2.0 * r))
 
     def profile_tooth(self) -> ProfileTooth:
-        """The tooth with its true involute thickness, for the potential-energy alternative.
+        """The tooth as generated, for the potential-energy model (``tooth_model = "involute"``).
 
-        The whole tooth from the root circle, as :meth:`tooth`, with the same foundation; only the
-        thickness profile differs (the involute above its start instead of a straight taper; below
-        it, the thickness at the start of the involute).
+        The whole tooth from the root circle to the tip: the fillet that the basic rack's rounded
+        tip cuts, then the true involute (:meth:`generated_thickness_array`), on the foundation of
+        Sainsot et al. (2004) at the root circle with the tooth's chord there.
         """
         t = self.tooth()
-        r_f, r_0 = self.root_radius, self.form_radius
+        r_f = self.root_radius
         return ProfileTooth(
-            thickness=lambda y: self.chordal_thickness_array(np.maximum(r_f + np.asarray(y), r_0)),
+            thickness=lambda y: self.generated_thickness_array(r_f + np.asarray(y)),
             root_height=0.0,
             tip_height=t.tip_height,
             face_width=t.face_width,
@@ -266,6 +364,7 @@ class SpurGear:
             root_radius=t.root_radius,
             bore_radius=t.bore_radius,
             name=f"{self.name} involute tooth",
+            breaks=(self.involute_start_radius - r_f,),
         )
 
     @property

@@ -40,16 +40,17 @@ class GearPair:
         Equal module and pressure angle.
     center_distance : float or quantity, optional
         a, m; by default the zero-backlash distance for the profile shifts.
-    tooth_model : {"truncated", "involute"}
-        ``truncated``: the published truncated-triangle tooth (closed forms). ``involute``: the
-        same potential-energy terms over the true involute thickness
-        (:class:`~mechdyn.gears.profile.ProfileTooth`).
+    tooth_model : {"involute", "truncated"}
+        ``involute`` (default): the tooth as the basic rack generates it, root fillet and involute,
+        with the potential-energy terms integrated over its thickness
+        (:meth:`SpurGear.profile_tooth`). ``truncated``: the published truncated-triangle tooth
+        (closed forms), the fillet taken at the thickness where the involute starts.
     """
 
     pinion: SpurGear
     gear: SpurGear
     center_distance: float | None = None
-    tooth_model: Literal["truncated", "involute"] = "truncated"
+    tooth_model: Literal["truncated", "involute"] = "involute"
 
     def __post_init__(self) -> None:
         p, g = self.pinion, self.gear

@@ -10,6 +10,7 @@ truncated-triangle closed forms, which the tests use as a check.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -42,6 +43,9 @@ class ProfileTooth:
     root_radius, bore_radius : float, optional
         For the Sainsot foundation (rigid without them).
     name : str
+    breaks : tuple of float
+        Heights, m, where the profile has a kink (e.g. where a gear's fillet meets its involute):
+        the quadrature is split there, so that each piece is smooth.
     """
 
     thickness: Callable[[np.ndarray], np.ndarray]
@@ -53,6 +57,7 @@ class ProfileTooth:
     root_radius: float | None = None
     bore_radius: float | None = None
     name: str = "tooth"
+    breaks: tuple[float, ...] = ()
 
     @property
     def shear_modulus(self) -> float:
@@ -68,9 +73,10 @@ class ProfileTooth:
                 element=self.name,
                 field="load_height",
             )
-        half = 0.5 * (hc - h0)
-        y = half * _NODES + 0.5 * (hc + h0)
-        w = half * _WEIGHTS
+        edges = [h0, *sorted(b for b in self.breaks if h0 < b < hc), hc]
+        halves = [0.5 * (b - a) for a, b in itertools.pairwise(edges)]
+        y = np.concatenate([h * _NODES + a + h for a, h in zip(edges, halves, strict=False)])
+        w = np.concatenate([h * _WEIGHTS for h in halves])
         t = np.asarray(self.thickness(y), dtype=float)
         if np.any(t <= 0):
             raise ModelError(

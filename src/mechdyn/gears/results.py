@@ -23,6 +23,9 @@ if TYPE_CHECKING:
 
 __all__ = ["GearPairResult", "ToothPairResult", "gear_pair_stiffness", "tooth_pair_stiffness"]
 
+_MODEL_WORDS = {"involute": "generated tooth: fillet and involute", "truncated": "truncated-triangle tooth"}
+"""How a table names each tooth model."""
+
 _PER_WIDTH = "N/(mm*um)"
 
 
@@ -126,8 +129,22 @@ class GearPairResult(Result):
             return float(convert(v, "m", lu))
 
         geometry = Table(
-            f"gears (radii in {lu}; truncated-triangle tooth, heights from the root circle, {lu})",
-            ["", "teeth", "module", "r_base", "r_tip", "r_root", "h_a", "h_b", "t_a", "t_b", "foundation"],
+            f"gears (radii in {lu}; r_form: where the fillet meets the involute; truncated-triangle "
+            f"tooth h_a … t_b, heights from the root circle, {lu})",
+            [
+                "",
+                "teeth",
+                "module",
+                "r_base",
+                "r_tip",
+                "r_root",
+                "r_form",
+                "h_a",
+                "h_b",
+                "t_a",
+                "t_b",
+                "foundation",
+            ],
             [
                 [
                     gear.name,
@@ -136,6 +153,7 @@ class GearPairResult(Result):
                     L(gear.base_radius),
                     L(gear.tip_radius),
                     L(gear.root_radius),
+                    L(gear.involute_start_radius),
                     L(t.tip_height),
                     L(t.root_height),
                     L(t.tip_thickness),
@@ -149,7 +167,7 @@ class GearPairResult(Result):
         k_pitch = 1.0 / self.pitch["total"]
         kmin, kmax = float(cycle.stiffness.min()), float(cycle.stiffness.max())
         stiffness = Table(
-            f"stiffness along the line of action ({pair.tooth_model} tooth model)",
+            f"stiffness along the line of action ({_MODEL_WORDS[pair.tooth_model]})",
             ["quantity", "value", "unit", "per face width [N/(mm·µm)]"],
             [
                 ["contact ratio ε_α", pair.contact_ratio, "", None],
@@ -159,7 +177,7 @@ class GearPairResult(Result):
                 ["mesh stiffness, max", kmax, "N/m", _per_width(kmax, b)],
                 ["fluctuation (max − min)/mean", cycle.fluctuation, "", None],
                 [
-                    f"mesh stiffness, mean ({self.other_model} tooth model)",
+                    f"mesh stiffness, mean ({_MODEL_WORDS[self.other_model]})",
                     self.other.mean,
                     "N/m",
                     _per_width(self.other.mean, b),

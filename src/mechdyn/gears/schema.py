@@ -58,6 +58,8 @@ class GearTable(FileModel):
     """Addendum coefficient h_a* (in modules): tip radius = m (z/2 + h_a* + x)."""
     dedendum: float = 1.25
     """Dedendum coefficient h_f* (in modules): root radius = m (z/2 − h_f* + x)."""
+    fillet_radius: float = 0.38
+    """Tip rounding ρ_fP* of the basic rack (in modules; ISO 53 profile A), which cuts the root fillet."""
     bore_diameter: Length | None = None
     """Diameter of the gear's bore, for the foundation of the teeth. Without it the gear is taken as solid to
     half its root diameter, and the result says so."""
@@ -85,15 +87,16 @@ class GearTable(FileModel):
             name=name,
             rim_thickness=self.rim_thickness,
             web_width=self.web_width,
+            fillet_radius=self.fillet_radius,
         )
 
 
 class MeshSettings(FileModel):
     center_distance: Length | None = None
     """Operating centre distance (default: from the profile shifts)."""
-    tooth_model: Literal["truncated", "involute"] = "truncated"
-    """``truncated`` (truncated-triangle tooth, closed form) or ``involute`` (potential energy integrated over
-    the involute thickness)."""
+    tooth_model: Literal["truncated", "involute"] = "involute"
+    """``involute`` (the tooth as the rack generates it, root fillet and involute, potential energy integrated
+    over its thickness) or ``truncated`` (truncated-triangle tooth, closed form)."""
     points: int = Field(default=400, ge=4, le=100_000)
     """Positions over one mesh cycle at which the mesh stiffness is computed."""
     specific_load: LineLoad = 100.0  # N/mm, for the ISO load correction
@@ -134,7 +137,7 @@ def pair_from_tables(
     gear: GearTable,
     material: MaterialTable,
     center_distance: float | None,
-    tooth_model: Literal["truncated", "involute"] = "truncated",
+    tooth_model: Literal["truncated", "involute"] = "involute",
 ) -> GearPair:
     """Build a :class:`GearPair` from gear tables, errors located at ``where``."""
     with field_context(source, f"{where} → pinion"):
