@@ -1,4 +1,4 @@
-"""Involute spur gears from ordinary gear data, and their truncated-triangle teeth.
+"""Involute spur gears from ordinary gear data, their generated teeth and truncated-triangle teeth.
 
 Standard involute geometry (e.g. ISO 21771:2007; Niemann & Winter, *Maschinenelemente* II):
 pitch radius r = m z/2, base radius r_b = r cos α, tip radius r_a = r + m (h_a* + x), root radius
@@ -6,12 +6,16 @@ r_f = r − m (h_f* − x), tooth thickness on the pitch circle s = m (π/2 + 2 
 r_y ≥ r_b the arc thickness s_y = 2 r_y (s/(2 r) + inv α − inv α_y), inv α = tan α − α,
 cos α_y = r_b / r_y.
 
-The truncated triangle of a gear tooth (heights from the root circle): the root section at the
-start of the involute, max(r_b, r_f), the tip at r_a, with the chordal thicknesses there. Below the
-root section lies the fillet, which the foundation term of Sainsot et al. (2004) represents. The load
-angle at a contact radius r_c is α_c − γ_c (pressure angle there minus the half tooth angle
-γ_c = s_c / (2 r_c)), the angle between the line of action and the perpendicular to the tooth's
-centre line (ISO 6336-3 uses the same construction for α_Fen).
+The generated tooth (the default model of a gear pair): from the root circle, the fillet that the
+basic rack's rounded tip (ρ_fP) cuts as it rolls, then the involute to the tip (ISO 6336-3's E, G, H
+construction of the same fillet gives its root chord s_Fn, which the tests compare). The truncated
+triangle of a gear tooth (heights from the root circle): the root section at the start of the
+involute, max(r_b, r_f), the tip at r_a, with the chordal thicknesses there, and below the root
+section a segment of the thickness there down to the root circle. Both stand on the foundation of
+Sainsot et al. (2004) at the root circle. The load angle at a contact radius r_c is α_c − γ_c
+(pressure angle there minus the half tooth angle γ_c = s_c / (2 r_c)), the angle between the line of
+action and the perpendicular to the tooth's centre line (ISO 6336-3 uses the same construction for
+α_Fen).
 """
 
 from __future__ import annotations
@@ -309,7 +313,7 @@ class SpurGear:
 
     def generated_thickness_array(self, radius: np.ndarray) -> np.ndarray:
         """Chordal thickness of the tooth that the basic rack generates, m: from the root circle, the
-        fillet cut by the rack's rounded tip (:attr:`_fillet`), then the involute to the tip circle;
+        fillet cut by the rack's rounded tip, then the involute to the tip circle;
         where the fillet undercuts the involute, the deeper cut.
 
         Parameters
