@@ -24,6 +24,11 @@ PUBLISHED = {  # SPEC §4, m: h_a, h_b, h_c, t_a, t_b, printed k_c (N/m)
     2: (0.0046, 0.0006, 0.0026, 0.003146, 0.006144, 3.8805e9),
 }
 
+# a pinion of fewer than about 25 teeth has its root-circle half-angle θ_f above the range of the
+# Sainsot fit, and says so (test_small_pinions_say_their_foundation_is_extrapolated); the other
+# tests here check numbers, not that warning
+pytestmark = pytest.mark.filterwarnings("ignore:.*range of the Sainsot fit:mechdyn.errors.ModelWarning")
+
 
 def _tooth(n=2, f=0.05, **kw):
     ha, hb, _, ta, tb, _ = PUBLISHED[n]
@@ -646,3 +651,13 @@ def test_drivetrain_meshes_from_gear_data_take_the_generated_tooth_or_the_named_
         expected = GearPair(gear, gear, tooth_model=model).mesh_cycle(400).mean
         assert mesh.stiffness == pytest.approx(expected, rel=1e-12), model
     assert default.stiffness / truncated.stiffness == pytest.approx(1.22, abs=0.01)
+
+
+def test_small_pinions_say_their_foundation_is_extrapolated():
+    # θ_f at the root circle of the generated tooth: 0.150 rad at z = 20, above the fit's 0.12; at
+    # z = 40 on a bore of half the root diameter (h_f = 2) both parameters lie inside
+    with pytest.warns(ModelWarning, match=r"pinion generated tooth: .*θ_f = 0.15 rad lie outside"):
+        SpurGear(20, 0.002, 0.02, bore_diameter=0.0175, name="pinion").profile_tooth()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        SpurGear(40, 0.002, 0.02, bore_diameter=0.0375).profile_tooth()

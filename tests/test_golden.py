@@ -32,6 +32,7 @@ CASES = {
     "B_turret_indexing": ("modal", "turret_indexing.toml", {"compare_rigid": True}, 1e-9),
     "C_turret_milling": ("modal", "turret_milling.toml", {"compare_rigid": True}, 1e-9),
     "C_turret_milling_gear_data": ("modal", "turret_milling_gear_data.toml", {"compare_rigid": True}, 1e-9),
+    "B_turret_indexing_gear_data": ("modal", "turret_indexing_gear_data.toml", {"compare_rigid": True}, 1e-9),
     "D_transplanter_rp1": ("mechanism", "transplanter_rp1.toml", {}, 1e-9),
     "gear_spur_pair": ("gear", "spur_pair.toml", {}, 1e-9),
     "gear_tooth_pair1_published": ("gear", "tooth_pair1_published.toml", {}, 1e-9),

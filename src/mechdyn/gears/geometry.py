@@ -356,18 +356,17 @@ class SpurGear:
         tip cuts, then the true involute (:meth:`generated_thickness_array`), on the foundation of
         Sainsot et al. (2004) at the root circle with the tooth's chord there.
         """
-        t = self.tooth()
         r_f = self.root_radius
         return ProfileTooth(
             thickness=lambda y: self.generated_thickness_array(r_f + np.asarray(y)),
             root_height=0.0,
-            tip_height=t.tip_height,
-            face_width=t.face_width,
-            youngs_modulus=t.youngs_modulus,
-            poisson_ratio=t.poisson_ratio,
-            root_radius=t.root_radius,
-            bore_radius=t.bore_radius,
-            name=f"{self.name} involute tooth",
+            tip_height=self.tip_radius - r_f,
+            face_width=self.face_width,
+            youngs_modulus=self.youngs_modulus,
+            poisson_ratio=self.poisson_ratio,
+            root_radius=r_f,
+            bore_radius=self.bore_radius,
+            name=f"{self.name} generated tooth",
             breaks=(self.involute_start_radius - r_f,),
         )
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.gears.tooth import SHEAR_COEFFICIENT, foundation_compliance
+from mechdyn.gears.tooth import SHEAR_COEFFICIENT, foundation_compliance, warn_outside_sainsot_range
 
 __all__ = ["ProfileTooth"]
 
@@ -59,6 +59,18 @@ class ProfileTooth:
     name: str = "tooth"
     breaks: tuple[float, ...] = ()
 
+    def __post_init__(self) -> None:
+        if self.root_radius is not None and self.bore_radius is not None:
+            warn_outside_sainsot_range(self.name, *self._foundation_parameters, stacklevel=4)
+
+    @property
+    def _foundation_parameters(self) -> tuple[float, float]:
+        """h_f = r_root / r_bore and θ_f = t(h_0) / (2 r_root) of the Sainsot fit."""
+        r_root, r_bore = self.root_radius, self.bore_radius
+        assert r_root is not None and r_bore is not None  # asked for only when there is a foundation
+        t0 = float(np.asarray(self.thickness(np.array([self.root_height])))[0])
+        return r_root / r_bore, t0 / (2.0 * r_root)
+
     @property
     def shear_modulus(self) -> float:
         return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
@@ -75,7 +87,7 @@ class ProfileTooth:
             )
         edges = [h0, *sorted(b for b in self.breaks if h0 < b < hc), hc]
         halves = [0.5 * (b - a) for a, b in itertools.pairwise(edges)]
-        y = np.concatenate([h * _NODES + a + h for a, h in zip(edges, halves, strict=False)])
+        y = np.concatenate([h * _NODES + a + h for a, h in zip(edges[:-1], halves, strict=True)])
         w = np.concatenate([h * _WEIGHTS for h in halves])
         t = np.asarray(self.thickness(y), dtype=float)
         if np.any(t <= 0):
@@ -95,9 +107,9 @@ class ProfileTooth:
                     element=self.name,
                     field="bore_radius",
                 )
-            t0 = float(np.asarray(self.thickness(np.array([h0])))[0])
-            h_f = self.root_radius / self.bore_radius
-            foundation = foundation_compliance(hc - h0, t0, h_f, t0 / (2.0 * self.root_radius), phi, E, f)
+            h_f, theta_f = self._foundation_parameters
+            t0 = 2.0 * theta_f * self.root_radius
+            foundation = foundation_compliance(hc - h0, t0, h_f, theta_f, phi, E, f)
         return {
             "bending_transverse": float(np.sum(w * cos**2 * arm**2 / (E * inertia))),
             "bending_radial": float(np.sum(w * (sin**2 * e**2 - 2.0 * sin * cos * e * arm) / (E * inertia))),

@@ -147,16 +147,7 @@ class TruncatedTooth:
                     element=n,
                     field="bore_radius",
                 )
-            h_f, theta_f = self._foundation_parameters
-            (lo_h, hi_h), (lo_t, hi_t) = SAINSOT_RANGE["h_f"], SAINSOT_RANGE["theta_f"]
-            if not (lo_h <= h_f <= hi_h and lo_t <= theta_f <= hi_t):
-                warnings.warn(
-                    f"{n}: foundation parameters h_f = {h_f:.3g}, θ_f = {theta_f:.3g} rad lie outside the "
-                    f"range of the Sainsot fit (h_f {lo_h}–{hi_h}, θ_f {lo_t}–{hi_t} rad); the foundation "
-                    "term is extrapolated",
-                    ModelWarning,
-                    stacklevel=3,
-                )
+            warn_outside_sainsot_range(n, *self._foundation_parameters, stacklevel=4)
 
     @property
     def _foundation_parameters(self) -> tuple[float, float]:
@@ -350,6 +341,32 @@ class TruncatedTooth:
             Load angle φ, rad.
         """
         return 1.0 / self.compliance(load_height, load_angle)
+
+
+def warn_outside_sainsot_range(name: str, h_f: float, theta_f: float, stacklevel: int = 2) -> None:
+    """Warn (``ModelWarning``) when h_f = r_root/r_bore or θ_f = S_f/(2 r_root) lies outside the range
+    of the Sainsot fit (:data:`SAINSOT_RANGE`), where :func:`foundation_compliance` extrapolates.
+
+    Parameters
+    ----------
+    name : str
+        The tooth, for the message.
+    h_f : float
+        r_root / r_bore.
+    theta_f : float
+        Half the tooth's angle at the root circle, rad.
+    stacklevel : int
+        As for :func:`warnings.warn`, counted from the caller.
+    """
+    (lo_h, hi_h), (lo_t, hi_t) = SAINSOT_RANGE["h_f"], SAINSOT_RANGE["theta_f"]
+    if not (lo_h <= h_f <= hi_h and lo_t <= theta_f <= hi_t):
+        warnings.warn(
+            f"{name}: foundation parameters h_f = {h_f:.3g}, θ_f = {theta_f:.3g} rad lie outside the "
+            f"range of the Sainsot fit (h_f {lo_h}–{hi_h}, θ_f {lo_t}–{hi_t} rad); the foundation "
+            "term is extrapolated",
+            ModelWarning,
+            stacklevel=stacklevel + 1,
+        )
 
 
 def foundation_compliance(
