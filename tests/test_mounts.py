@@ -413,6 +413,16 @@ def test_the_anchor_fe_reference_refines_until_converged_and_the_calibration_use
     assert s["fe_stiffness_N_per_m"] == pytest.approx(396e6, rel=0.006)
     assert s["fe_finest_mesh_N_per_m"] > s["fe_stiffness_N_per_m"]  # converging from above
     assert s["calibration"]["target_N_per_m"] == pytest.approx(s["fe_stiffness_N_per_m"], rel=1e-12)
+    # the published contact pressure (SPEC §5: highest at the bolt, against a 1.7 MPa threshold at 2,
+    # 4 and 6 kN), as the validation page states it: frictionless contact with one active set scales
+    # with the preload, so the peaks stand 1 : 2 : 3
+    rows = s["contact"]
+    assert [r["preload_N"] for r in rows] == [2000.0, 4000.0, 6000.0]
+    peaks = [r["pressure_max_Pa"] / 1e6 for r in rows]
+    assert peaks == pytest.approx([1.099, 2.198, 3.297], abs=1e-3)
+    assert peaks[2] / peaks[0] == pytest.approx(3.0, rel=1e-9)
+    assert [r["radius_above_threshold_m"] * 1e3 for r in rows] == pytest.approx([0.0, 14.1, 21.4], abs=0.05)
+    assert s["contact_lift_off_radius_m"] == pytest.approx(0.040, abs=5e-4)
     # a tolerance the allowed meshes cannot reach is said, not hidden
     text = (
         (EXAMPLES / "anchor_concrete.toml")
