@@ -53,6 +53,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     except MechdynError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except Exception as exc:  # the database library's errors, wherever they come from: one line
+        from sqlalchemy.exc import SQLAlchemyError
+
+        if not isinstance(exc, SQLAlchemyError):
+            raise
+        from mechdyn.store.database import describe
+        from mechdyn.store.store import resolve_url
+
+        print(f"error: {describe(exc, resolve_url(getattr(args, 'db', None)))}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":  # pragma: no cover

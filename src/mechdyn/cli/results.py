@@ -17,7 +17,7 @@ def _list(args: argparse.Namespace) -> int:
 
     if args.study:
         return _list_study(args)
-    with ResultStore(args.db) as store:
+    with ResultStore(args.db, read_only=True) as store:
         runs = store.runs(analysis=args.analysis, limit=args.limit)
     if args.json:
         print(
@@ -44,7 +44,7 @@ def _list(args: argparse.Namespace) -> int:
     ]
     print_table(
         Table(
-            f"runs in {store.url.split('@')[-1]}",
+            f"runs in {store.where}",
             ["id", "time (UTC)", "analysis", "model", "file", "sha256"],
             rows,
         )
@@ -56,7 +56,7 @@ def _show(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
 
-    with ResultStore(args.db) as store:
+    with ResultStore(args.db, read_only=True) as store:
         r = store.get(args.id)
     if args.json:
         doc = {k: v for k, v in r.__dict__.items() if k != "arrays"}
@@ -106,7 +106,7 @@ def _list_study(args: argparse.Namespace) -> int:
     from mechdyn.store.store import jsonable
     from mechdyn.store.studies import StudyStore
 
-    with ResultStore(args.db) as store:
+    with ResultStore(args.db, read_only=True) as store:
         studies = StudyStore(store)
         st = studies.study(args.study)
         variants = studies.variants(args.study, limit=args.limit)
@@ -137,7 +137,7 @@ def _compare(args: argparse.Namespace) -> int:
     from mechdyn.store.studies import StudyStore
     from mechdyn.units import key_unit
 
-    with ResultStore(args.db) as store:
+    with ResultStore(args.db, read_only=not args.plots) as store:  # --plots keeps the curves it computes
         studies = StudyStore(store)
         variants = [studies.variant(i) for i in args.ids]
         if args.plots:  # a selected variant keeps its curves: computed once, from what is stored
@@ -191,7 +191,7 @@ def _export(args: argparse.Namespace) -> int:
         from mechdyn.errors import MechdynError
 
         raise MechdynError("give --csv FILE or --parquet FILE (or both)")
-    with ResultStore(args.db) as store:
+    with ResultStore(args.db, read_only=True) as store:
         variants = StudyStore(store).variants(args.study)
     rows = []
     for v in variants:
@@ -219,6 +219,56 @@ def _delete(args: argparse.Namespace) -> int:
     return 0
 
 
+def _studies(args: argparse.Namespace) -> int:
+    from mechdyn.store import ResultStore
+    from mechdyn.store.studies import StudyStore
+
+    with ResultStore(args.db, read_only=True) as store:
+        studies = StudyStore(store)
+        rows = []
+        for st in studies.studies():
+            n = studies.counts(st.id)
+            rows.append([st.name, st.kind, st.analysis, st.model_path, n["variants"], n["failed"],
+                         st.created_at.strftime("%Y-%m-%d %H:%M:%S")])  # fmt: skip
+        where = store.where
+    if args.json:
+        keys = ["name", "kind", "analysis", "model", "variants", "failed", "created_utc"]
+        print(json.dumps([dict(zip(keys, r, strict=True)) for r in rows], indent=2))
+        return 0
+    print_table(
+        Table(
+            f"studies in {where}",
+            ["study", "kind", "analysis", "model", "variants", "failed", "created (UTC)"],
+            rows,
+        )
+    )
+    return 0
+
+
+def _upgrade(args: argparse.Namespace) -> int:
+    from mechdyn.store import ResultStore, resolve_url
+    from mechdyn.store.database import shown
+
+    before, after = ResultStore.upgrade(args.db)
+    where = shown(resolve_url(args.db))
+    if before == after:
+        print(f"{where} has schema {after} already: nothing to do")
+    else:
+        print(f"upgraded {where} from schema {before or '(before versions)'} to {after}")
+    return 0
+
+
+def _import(args: argparse.Namespace) -> int:
+    from mechdyn.store import ResultStore
+    from mechdyn.store.unsaved import import_unsaved
+
+    with ResultStore(args.db) as store:
+        for path in args.files:
+            what = import_unsaved(store, path)
+            print(f"{path}: stored {what} in {store.where}")
+    return 0
+
+
 _EXAMPLES = {
     "list": "  mechdyn results list --limit 10\n"
     "  mechdyn results list --study press-support-influence --json",
@@ -226,6 +276,9 @@ _EXAMPLES = {
     "compare": "  mechdyn results compare 4 7 --plots plots",
     "export": "  mechdyn results export --study press-sobol --parquet sobol.parquet",
     "delete": "  mechdyn results delete --study press-sobol",
+    "studies": "  mechdyn results studies",
+    "upgrade": "  mechdyn results upgrade --db old.db",
+    "import": "  mechdyn results import mechdyn-unsaved-20261125-101500-4242-run.json",
 }
 
 
@@ -236,13 +289,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog="examples:\n" + "\n".join(_EXAMPLES.values()),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    rs = p.add_subparsers(dest="results_command", required=True, metavar="{list,show,compare,export,delete}")
+    rs = p.add_subparsers(
+        dest="results_command",
+        required=True,
+        metavar="{list,show,compare,export,delete,studies,upgrade,import}",
+    )
     for name, func, hlp in (
         ("list", _list, "list stored runs, newest first, or a study's variants (--study)"),
         ("show", _show, "show one stored run"),
         ("compare", _compare, "study variants side by side, with their curves overlaid"),
         ("export", _export, "a study's variants as CSV or Parquet (one row per variant)"),
-        ("delete", _delete, "remove a study and its variants"),
+        ("delete", _delete, "remove a study with all of it (variants, curves, optimizer trials)"),
+        ("studies", _studies, "list the studies of the database"),
+        ("upgrade", _upgrade, "bring a database written by an older mechdyn to this one's schema"),
+        ("import", _import, "store results that were kept in a file because the database refused them"),
     ):
         q = rs.add_parser(
             name,
@@ -252,7 +312,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         )
         q.add_argument("--db", metavar="URL", help="results database (default: $MECHDYN_DB, else mechdyn.db)")
         q.set_defaults(func=func)
-        if name in ("list", "show", "compare"):
+        if name in ("list", "show", "compare", "studies"):
             q.add_argument("--json", action="store_true", help="machine-readable output")
         if name == "list":
             q.add_argument("--analysis", help="only runs of this analysis")
@@ -267,7 +327,9 @@ def register(sub: argparse._SubParsersAction) -> None:
             )
             q.add_argument("--plots", metavar="DIR", help="write the overlaid curves here")
             q.add_argument("--curve", action="append", help="which stored curve to overlay (repeatable)")
-        else:
+        elif name == "import":
+            q.add_argument("files", nargs="+", metavar="FILE", help="mechdyn-unsaved-….json files")
+        elif name in ("delete", "export"):
             q.add_argument("--study", required=True, help="the study's name")
             if name == "export":
                 q.add_argument("--csv", metavar="FILE")

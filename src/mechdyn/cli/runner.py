@@ -112,42 +112,44 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     from mechdyn.errors import MechdynError, ModelFileError
     from mechdyn.io.modelfile import load_model
     from mechdyn.store import ResultStore
-    from mechdyn.store.store import StoreError, jsonable
+    from mechdyn.store.store import StoreError, check_name, jsonable
 
     options = {o.name: getattr(args, o.name) for o in analysis.options}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         loaded = load_model(args.file)
-        try:
-            if analysis.uses_store:
-                with ResultStore(args.db) as store:
-                    result = analysis.run(loaded, store=store, **options)
-            else:
-                result = analysis.run(loaded, **options)
-            summary = result.summary()
-        except (ModelFileError, StoreError):
-            raise
-        except MechdynError as exc:  # found while analysing the file's model: name the file
-            raise MechdynError(f"{args.file}: {exc}") from None
+        check_name("[model] name", loaded.name, args.file)
+        # the database is checked before the work: a wrong --db costs nothing
+        with ResultStore(args.db) as store:
+            label = store.label
+            try:
+                extra = {"store": store} if analysis.uses_store else {}
+                result = analysis.run(loaded, **extra, **options)
+                summary = result.summary()
+            except (ModelFileError, StoreError):
+                raise
+            except MechdynError as exc:  # found while analysing the file's model: name the file
+                raise MechdynError(f"{args.file}: {exc}") from None
     notes = list(dict.fromkeys([str(w.message) for w in caught] + list(result.warnings)))
     for n in notes:
         print(f"warning: {n}", file=sys.stderr)
     source = loaded.source
     assert source is not None  # the command line loads a file
     parameters = {k: v for k, v in options.items() if v is not None and v is not False}
-    with ResultStore(args.db) as store:
-        run_id = store.record(
-            analysis=analysis.name,
-            model_name=loaded.name,
-            model_path=source.path,
-            model_text=source.text,
-            model_sha256=source.sha256,
-            parameters=jsonable(parameters),
-            scalars={**summary, "warnings": notes},
-            arrays=result.arrays(),
-        )
-    # the run is stored; a file that cannot be written is an error that loses nothing
     failed: list[str] = []
+    run_id = _store_run(
+        args.db,
+        failed,
+        analysis=analysis.name,
+        model_name=loaded.name,
+        model_path=source.path,
+        model_text=source.text,
+        model_sha256=source.sha256,
+        parameters=jsonable(parameters),
+        scalars={**summary, "warnings": notes},
+        arrays=result.arrays(),
+    )
+    # the run is stored (or kept in a file); a file that cannot be written is an error that loses nothing
     if args.csv:
         with _writing(args.csv, "the table", run_id, failed):
             path = Path(args.csv)
@@ -166,8 +168,6 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     if args.report:
         from mechdyn.reports.html import run_report, write
 
-        with ResultStore(args.db) as store:
-            where = store.label
         report = run_report(
             result,
             analysis=analysis.name,
@@ -178,7 +178,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
             options=parameters,
             warnings=notes,
             run_id=run_id,
-            database=where,
+            database=label,
         )
         with _writing(args.report, "the report", run_id, failed):
             report_file = str(write(report, args.report))
@@ -206,14 +206,35 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         print(f"plot: {p}")
     if report_file:
         print(f"report: {report_file}")
-    with ResultStore(args.db) as store:
-        label = store.label
-    print(f"stored as run {run_id} in the {label}  (mechdyn results show {run_id})")
+    if run_id is not None:
+        print(f"stored as run {run_id} in the {label}  (mechdyn results show {run_id})")
     return 2 if failed else 0
 
 
+def _store_run(db: str | None, failed: list[str], **run: Any) -> int | None:
+    """Store the run; returns its id. A run the database refuses (server
+    gone, disk full, …) is kept in a file beside it, with a line that says how to import it."""
+    from mechdyn.store import ResultStore, resolve_url
+    from mechdyn.store.store import StoreError
+    from mechdyn.store.unsaved import keep_unsaved
+
+    try:
+        with ResultStore(db) as store:
+            return store.record(**run)
+    except StoreError as exc:
+        url = resolve_url(db)
+        kept = keep_unsaved(url, "run", run)
+        print(
+            f"error: the run could not be stored ({exc}); it is kept in {kept}: "
+            f"`mechdyn results import {kept}{'' if db is None else f' --db {db}'}` stores it",
+            file=sys.stderr,
+        )
+        failed.append(str(kept))
+        return None
+
+
 @contextmanager
-def _writing(path: str, what: str, run_id: int, failed: list[str]) -> Iterator[None]:
+def _writing(path: str, what: str, run_id: int | None, failed: list[str]) -> Iterator[None]:
     """Write an output file; if it cannot be written, say so in one line naming the path (the run is
     already stored) and note the failure, so that the command ends with status 2."""
     try:
@@ -226,7 +247,8 @@ def _writing(path: str, what: str, run_id: int, failed: list[str]) -> Iterator[N
             if exc.filename and str(exc.filename) != str(path):
                 reason += f" ({exc.filename})"
         print(
-            f"error: cannot write {what} to {path}: {reason}; the analysis is stored as run {run_id}",
+            f"error: cannot write {what} to {path}: {reason}; the analysis is "
+            + (f"stored as run {run_id}" if run_id is not None else "kept in the file named above"),
             file=sys.stderr,
         )
         failed.append(path)

@@ -10,84 +10,71 @@ from __future__ import annotations
 import io
 import math
 import os
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
+from functools import wraps
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
-from sqlalchemy import (
-    JSON,
-    DateTime,
-    ForeignKey,
-    Integer,
-    LargeBinary,
-    String,
-    Text,
-    create_engine,
-    event,
-    select,
-    text,
-)
+from sqlalchemy import select
 from sqlalchemy.engine import make_url
-from sqlalchemy.exc import ArgumentError, DatabaseError, OperationalError
-from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column, relationship
+from sqlalchemy.exc import ArgumentError, DatabaseError
+from sqlalchemy.orm import Session
 
-from mechdyn.errors import MechdynError
+from mechdyn.store import database
+from mechdyn.store.database import StoreError, database_errors
+from mechdyn.store.schema import NAME_LENGTH
+from mechdyn.store.schema import Array as _Array
+from mechdyn.store.schema import Record as _Record
+from mechdyn.store.schema import Run as _Run
 
-__all__ = ["DEFAULT_DB", "ENV_VAR", "ResultStore", "StoredRecord", "StoredRun", "resolve_url"]
+__all__ = [
+    "DEFAULT_DB",
+    "ENV_VAR",
+    "ResultStore",
+    "StoreError",
+    "StoredRecord",
+    "StoredRun",
+    "check_name",
+    "resolve_url",
+]
 
 ENV_VAR = "MECHDYN_DB"
-_SCHEMA_LOCK = 0x6D656368  # "mech": the advisory lock held while tables are created
 DEFAULT_DB = "mechdyn.db"
+F = TypeVar("F", bound=Callable[..., Any])
 
 
-class StoreError(MechdynError):
-    """The results database cannot be opened or does not hold what was asked for."""
+def guarded(method: F) -> F:
+    """A store method whose database errors become one line naming the database and the fix."""
+
+    @wraps(method)
+    def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
+        with database_errors(self.url):
+            return method(self, *args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]
 
 
-class _Base(DeclarativeBase):
-    pass
+def check_name(what: str, name: str, where: str = "") -> None:
+    """Refuse a name the database cannot hold (on every backend alike), before any work is done.
 
-
-class _Run(_Base):
-    __tablename__ = "mechdyn_runs"
-    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
-    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
-    analysis: Mapped[str] = mapped_column(String(64), index=True)
-    model_name: Mapped[str] = mapped_column(String(256))
-    model_path: Mapped[str] = mapped_column(Text)
-    model_sha256: Mapped[str] = mapped_column(String(64), index=True)
-    model_text: Mapped[str] = mapped_column(Text)
-    parameters: Mapped[dict[str, Any]] = mapped_column(JSON)
-    scalars: Mapped[dict[str, Any]] = mapped_column(JSON)
-    package_version: Mapped[str] = mapped_column(String(64))
-    arrays: Mapped[list[_Array]] = relationship(back_populates="run", cascade="all, delete-orphan")
-
-
-class _Array(_Base):
-    __tablename__ = "mechdyn_arrays"
-    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
-    run_id: Mapped[int] = mapped_column(ForeignKey("mechdyn_runs.id", ondelete="CASCADE"), index=True)
-    name: Mapped[str] = mapped_column(String(256))
-    unit: Mapped[str] = mapped_column(String(64))
-    data: Mapped[bytes] = mapped_column(LargeBinary)
-    run: Mapped[_Run] = relationship(back_populates="arrays")
-
-
-class _Record(_Base):
-    """A named, reusable value with its provenance: a material, a calibrated parameter."""
-
-    __tablename__ = "mechdyn_records"
-    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
-    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
-    kind: Mapped[str] = mapped_column(String(64), index=True)
-    name: Mapped[str] = mapped_column(String(256), index=True)
-    data: Mapped[dict[str, Any]] = mapped_column(JSON)
-    provenance: Mapped[str] = mapped_column(Text)
-    package_version: Mapped[str] = mapped_column(String(64))
+    Parameters
+    ----------
+    what : str
+        What is named (``"[model] name"``, ``"[study] name"``).
+    name : str
+        The name.
+    where : str
+        The file it comes from, for the message.
+    """
+    if len(name) > NAME_LENGTH:
+        raise StoreError(
+            f"{where + ': ' if where else ''}{what} is {len(name)} characters long "
+            f"({name[:40]!r}…); the results database keeps names of up to {NAME_LENGTH}: shorten it"
+        )
 
 
 @dataclass(frozen=True)
@@ -164,16 +151,6 @@ def jsonable(value: Any) -> Any:
     return str(value)
 
 
-def _sqlite_pragmas(conn: Any, _record: Any) -> None:
-    """Write-ahead log: readers (a report, a dashboard) do not block a running study, and a commit
-    costs no full sync; a committed transaction survives the process being killed (SQLite's WAL with
-    synchronous = NORMAL loses at most the last commits on a power cut, never a process kill)."""
-    cur = conn.cursor()
-    cur.execute("PRAGMA journal_mode=WAL")
-    cur.execute("PRAGMA synchronous=NORMAL")
-    cur.close()
-
-
 def _pack(a: np.ndarray) -> bytes:
     buf = io.BytesIO()
     np.save(buf, np.asarray(a), allow_pickle=False)
@@ -224,70 +201,82 @@ class StoredRun:
 class ResultStore:
     """A results database (SQLite file or server URL).
 
+    Opening checks the schema's version (:mod:`mechdyn.store.database`): a new database is created
+    (safely when several processes start together), an older one is refused with the command that
+    upgrades it, a newer one with the advice to upgrade mechdyn, another application's SQLite file
+    is refused and left untouched.
+
     Parameters
     ----------
     url : str or path, optional
         See :func:`resolve_url`.
     read_only : bool
-        Open an existing database for reading only (a dashboard): nothing is created or written.
+        Open an existing database for reading only (listing, showing, exporting, a dashboard):
+        nothing is created or written, and a database that is not there is an error.
     """
 
     def __init__(self, url: str | os.PathLike[str] | None = None, *, read_only: bool = False):
         self.url = resolve_url(url)
         self.read_only = read_only
-        if read_only:
-            self._open_read_only()
-            return
-        import mechdyn.store.studies  # noqa: F401  (its tables live in the same database)
-
+        if read_only and database.is_sqlite(self.url):
+            path = database.sqlite_path(self.url)
+            if not path or not Path(path).is_file():
+                raise StoreError(f"no results database at {path!r}; run an analysis or a study first")
         try:
-            self._engine = create_engine(self.url)
-            if self._engine.dialect.name == "sqlite":
-                event.listen(self._engine, "connect", _sqlite_pragmas)
-            with self.schema_lock():
-                _Base.metadata.create_all(self._engine)
-        except (OperationalError, ArgumentError) as exc:
-            shown = self.where
-            raise StoreError(
-                f"cannot open the results database {shown}: {exc.__class__.__name__}: {exc.args[0]}"
-            ) from None
-        except DatabaseError as exc:  # e.g. a text file given as the SQLite file
-            parsed = make_url(self.url)
-            shown = (parsed.database or "") if parsed.get_backend_name() == "sqlite" else self.where
-            raise StoreError(
-                f"{shown} is not a results database ({getattr(exc, 'orig', exc)}); give the path of a "
-                "new or existing results database (--db, or MECHDYN_DB)"
-            ) from None
+            self._engine = database.open_engine(self.url, read_only=read_only)
+            database.ensure_schema(self._engine, self.url, read_only=read_only)
+        except StoreError:
+            self._dispose()
+            raise
         except ModuleNotFoundError as exc:
             raise StoreError(
                 f"the database driver for {self.url.split(':')[0]} is not installed ({exc})"
             ) from None
+        except ArgumentError as exc:
+            raise StoreError(f"cannot open the results database {self.where}: {exc}") from None
+        except DatabaseError as exc:
+            self._dispose()
+            text = str(getattr(exc, "orig", exc))
+            if database.is_sqlite(self.url) and "not a database" in text:
+                raise StoreError(
+                    f"{database.sqlite_path(self.url)} is not a results database ({text}); give the path "
+                    "of a new or existing results database (--db, or MECHDYN_DB)"
+                ) from None
+            raise StoreError(f"cannot open {database.describe(exc, self.url)}") from exc
 
-    def _open_read_only(self) -> None:
-        """Open for reading only: SQLite by a read-only URI (the file must exist), PostgreSQL with
-        read-only transactions; no table is created."""
-        url = make_url(self.url)
-        if url.get_backend_name() == "sqlite":
-            path = url.database or ""
-            if not path or not Path(path).is_file():
-                raise StoreError(f"no results database at {path!r}; run an analysis or a study first")
-            self._engine = create_engine(
-                f"sqlite:///file:{path}?mode=ro&uri=true", connect_args={"check_same_thread": False}
-            )
-        else:
-            self._engine = create_engine(
-                self.url, connect_args={"options": "-c default_transaction_read_only=on"}
-            )
+    def _dispose(self) -> None:
+        engine = getattr(self, "_engine", None)
+        if engine is not None:
+            engine.dispose()
+
+    @classmethod
+    def upgrade(cls, url: str | os.PathLike[str] | None = None) -> tuple[str | None, str]:
+        """Bring a database written by an older mechdyn to this one's schema (Alembic migrations).
+
+        Parameters
+        ----------
+        url : str or path, optional
+            See :func:`resolve_url`.
+
+        Returns
+        -------
+        (str or None, str)
+            The schema version before (None: older than schema versions) and after.
+        """
+        resolved = resolve_url(url)
+        if database.is_sqlite(resolved) and not Path(database.sqlite_path(resolved)).is_file():
+            raise StoreError(f"no results database at {database.sqlite_path(resolved)!r} to upgrade")
+        engine = database.open_engine(resolved, read_only=False)
         try:
-            with self._engine.connect() as conn:
-                conn.execute(text("SELECT 1"))
-        except OperationalError as exc:
-            raise StoreError(f"cannot open the results database {self.where}: {exc.args[0]}") from None
+            with database_errors(resolved):
+                return database.upgrade(engine, resolved)
+        finally:
+            engine.dispose()
 
     @property
     def where(self) -> str:
-        """The database's URL as it may be shown (without a password)."""
-        return make_url(self.url).render_as_string(hide_password=True)
+        """The database as it may be shown: a SQLite file's path, a server's URL (no password)."""
+        return database.shown(self.url)
 
     @property
     def label(self) -> str:
@@ -299,22 +288,15 @@ class ResultStore:
 
     @contextmanager
     def schema_lock(self) -> Iterator[None]:
-        """Hold the database's schema lock (PostgreSQL: an advisory lock) while tables are created,
-        so that processes starting together on one server do not create them twice."""
-        if self._engine.dialect.name != "postgresql":
+        """Hold the database's schema lock while a library creates its own tables through
+        connections of its own (Optuna's storage), so that processes starting together on one
+        database do not create them twice."""
+        with database_errors(self.url), database.file_lock(self.url, self._engine):
             yield
-            return
-        with self._engine.connect() as conn:
-            conn.execute(text("SELECT pg_advisory_lock(:k)"), {"k": _SCHEMA_LOCK})
-            try:
-                yield
-            finally:
-                conn.execute(text("SELECT pg_advisory_unlock(:k)"), {"k": _SCHEMA_LOCK})
-                conn.commit()
 
     def close(self) -> None:
         """Release the database connections (a ``with`` block does it on leaving)."""
-        self._engine.dispose()
+        self._dispose()
 
     def __enter__(self) -> ResultStore:
         return self
@@ -322,6 +304,7 @@ class ResultStore:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
+    @guarded
     def record(
         self,
         *,
@@ -370,6 +353,7 @@ class ResultStore:
             s.flush()
             return int(run.id)
 
+    @guarded
     def runs(self, *, analysis: str | None = None, limit: int | None = None) -> list[StoredRun]:
         """Recorded runs, newest first, without their arrays.
 
@@ -388,6 +372,7 @@ class ResultStore:
         with Session(self._engine) as s:
             return [self._summary(r) for r in s.scalars(q)]
 
+    @guarded
     def get(self, run_id: int) -> StoredRun:
         """One run with its arrays.
 
@@ -406,6 +391,7 @@ class ResultStore:
             arrays = {a.name: (_unpack(a.data), a.unit) for a in r.arrays}
         return StoredRun(**{**base.__dict__, "arrays": arrays})
 
+    @guarded
     def put_record(self, kind: str, name: str, data: Mapping[str, Any], provenance: str) -> int:
         """Store a named record (e.g. ``kind="material"`` or ``"calibration"``); returns its id.
 
@@ -440,6 +426,7 @@ class ResultStore:
             s.flush()
             return int(rec.id)
 
+    @guarded
     def records(self, kind: str, name: str | None = None) -> list[StoredRecord]:
         """Records of a kind (and name), newest first.
 

@@ -17,71 +17,22 @@ from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
-from sqlalchemy import (
-    JSON,
-    DateTime,
-    Float,
-    ForeignKey,
-    Integer,
-    LargeBinary,
-    String,
-    Text,
-    UniqueConstraint,
-    delete,
-    select,
-)
+from sqlalchemy import delete, func, inspect, select
 from sqlalchemy.dialects.postgresql import insert as pg_insert
 from sqlalchemy.dialects.sqlite import insert as sqlite_insert
-from sqlalchemy.orm import Mapped, Session, mapped_column
+from sqlalchemy.orm import Session
 
-from mechdyn.store.store import ResultStore, StoreError, _Base, _pack, _unpack, jsonable
+from mechdyn.store.schema import Curve as _Curve
+from mechdyn.store.schema import Study as _Study
+from mechdyn.store.schema import Variant as _Variant
+from mechdyn.store.store import ResultStore, StoreError, _pack, _unpack, check_name, guarded, jsonable
 
-__all__ = ["StoredStudy", "StoredVariant", "StudyStore", "variant_key"]
-
-
-class _Study(_Base):
-    __tablename__ = "mechdyn_studies"
-    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
-    name: Mapped[str] = mapped_column(String(256), unique=True)
-    kind: Mapped[str] = mapped_column(String(32))
-    analysis: Mapped[str] = mapped_column(String(64))
-    definition: Mapped[dict[str, Any]] = mapped_column(JSON)
-    definition_sha256: Mapped[str] = mapped_column(String(64))
-    model_path: Mapped[str] = mapped_column(Text)
-    model_sha256: Mapped[str] = mapped_column(String(64))
-    model_files: Mapped[dict[str, Any]] = mapped_column(JSON)
-    columns: Mapped[dict[str, Any]] = mapped_column(JSON)  # parameter and output names, in order
-    package_version: Mapped[str] = mapped_column(String(64))
-    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+__all__ = ["StoredStudy", "StoredVariant", "StudyStore", "optuna_name", "variant_key"]
 
 
-class _Variant(_Base):
-    __tablename__ = "mechdyn_variants"
-    __table_args__ = (UniqueConstraint("study_id", "key", name="uq_mechdyn_variant_key"),)
-    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
-    study_id: Mapped[int] = mapped_column(ForeignKey("mechdyn_studies.id", ondelete="CASCADE"), index=True)
-    key: Mapped[str] = mapped_column(String(64))
-    position: Mapped[int] = mapped_column(Integer)
-    # values in the order of the study's columns (names are stored once, with the study)
-    parameters: Mapped[list[Any]] = mapped_column(JSON)
-    given: Mapped[list[Any]] = mapped_column(JSON)
-    outputs: Mapped[list[Any]] = mapped_column(JSON)
-    status: Mapped[str] = mapped_column(String(16), index=True)
-    error: Mapped[str | None] = mapped_column(Text, nullable=True)
-    objective: Mapped[float | None] = mapped_column(Float, nullable=True)
-    model_sha256: Mapped[str] = mapped_column(String(64))
-    package_version: Mapped[str] = mapped_column(String(64))
-    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
-
-
-class _Curve(_Base):
-    __tablename__ = "mechdyn_variant_curves"
-    __table_args__ = (UniqueConstraint("variant_id", "name", name="uq_mechdyn_curve_name"),)
-    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
-    variant_id: Mapped[int] = mapped_column(ForeignKey("mechdyn_variants.id", ondelete="CASCADE"), index=True)
-    name: Mapped[str] = mapped_column(String(256))
-    unit: Mapped[str] = mapped_column(String(64))
-    data: Mapped[bytes] = mapped_column(LargeBinary)
+def optuna_name(study: str) -> str:
+    """The name of an optimization study's Optuna study (its trials), in the same database."""
+    return f"mechdyn:{study}"
 
 
 def variant_key(values: Sequence[float]) -> str:
@@ -125,6 +76,7 @@ class StoredVariant:
     package_version: str
     created_at: datetime
     curves: dict[str, tuple[np.ndarray, str]] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
 
     def describe(self) -> dict[str, Any]:
         """JSON-ready: ``id``, ``status``, ``parameters`` in SI, ``outputs`` in SI, and the rest."""
@@ -141,6 +93,7 @@ class StoredVariant:
             "model_sha256": self.model_sha256,
             "package_version": self.package_version,
             "created_at": self.created_at.isoformat(),
+            "warnings": list(self.warnings),
             "curves": sorted(self.curves),
         }
 
@@ -206,38 +159,43 @@ class StudyStore:
         """
         from mechdyn import __version__
 
+        check_name("the study's name", name)
         plain = jsonable(dict(definition))
         digest = hashlib.sha256(json.dumps(plain, sort_keys=True).encode()).hexdigest()
+        row = {
+            "name": name,
+            "kind": kind,
+            "analysis": analysis,
+            "definition": plain,
+            "definition_sha256": digest,
+            "model_path": model_path,
+            "model_sha256": model_sha256,
+            "model_files": dict(model_files),
+            "columns": {"parameters": list(parameters), "outputs": list(outputs)},
+            "package_version": __version__,
+            "created_at": datetime.now(UTC),
+        }
+        # insert-or-read: processes that open one new study together create it once, and each
+        # learns whether it was there before
+        stmt = (
+            self._insert(_Study.__table__)
+            .values(**row)
+            .on_conflict_do_nothing(index_elements=["name"])
+            .returning(_Study.__table__.c.id)
+        )
         with Session(self._engine) as s, s.begin():
-            row = s.scalars(select(_Study).where(_Study.name == name)).first()
-            if row is None:
-                row = _Study(
-                    name=name,
-                    kind=kind,
-                    analysis=analysis,
-                    definition=plain,
-                    definition_sha256=digest,
-                    model_path=model_path,
-                    model_sha256=model_sha256,
-                    model_files=dict(model_files),
-                    columns={"parameters": list(parameters), "outputs": list(outputs)},
-                    package_version=__version__,
-                    created_at=datetime.now(UTC),
+            created = s.execute(stmt).scalar()
+            found = s.scalars(select(_Study).where(_Study.name == name)).one()
+            if created is None and (found.definition_sha256 != digest or found.model_sha256 != model_sha256):
+                what = "definition" if found.definition_sha256 != digest else "model files"
+                raise StoreError(
+                    f"a study named {name!r} is already stored with other {what} "
+                    f"({self.where}); give this one another name ([study] name), or remove the "
+                    f"old one with `mechdyn results delete --study {name}`"
                 )
-                s.add(row)
-                s.flush()
-                existed = False
-            else:
-                existed = True
-                if row.definition_sha256 != digest or row.model_sha256 != model_sha256:
-                    what = "definition" if row.definition_sha256 != digest else "model files"
-                    raise StoreError(
-                        f"a study named {name!r} is already stored with other {what} "
-                        f"({self.where}); give this one another name ([study] name), or remove the "
-                        f"old one with `mechdyn results delete --study {name}`"
-                    )
-            return self._study(row), existed
+            return self._study(found), created is None
 
+    @guarded
     def study(self, name: str) -> StoredStudy:
         with Session(self._engine) as s:
             row = s.scalars(select(_Study).where(_Study.name == name)).first()
@@ -248,16 +206,16 @@ class StudyStore:
                 )
             return self._study(row)
 
+    @guarded
     def study_by_id(self, study_id: int) -> StoredStudy | None:
         """The study with this id, or None."""
         with Session(self._engine) as s:
             row = s.get(_Study, study_id)
             return None if row is None else self._study(row)
 
+    @guarded
     def counts(self, study_id: int) -> dict[str, int]:
         """How many variants a study holds, and how many of them failed."""
-        from sqlalchemy import func
-
         with Session(self._engine) as s:
             q = (
                 select(_Variant.status, func.count())
@@ -267,24 +225,48 @@ class StudyStore:
             by = dict(s.execute(q).all())
         return {"variants": int(sum(by.values())), "failed": int(sum(n for k, n in by.items() if k != "ok"))}
 
+    @guarded
     def studies(self) -> list[StoredStudy]:
         with Session(self._engine) as s:
             return [self._study(r) for r in s.scalars(select(_Study).order_by(_Study.id))]
 
+    @guarded
     def delete(self, name: str) -> int:
-        """Remove a study with its variants and curves; returns how many variants went."""
+        """Remove a study with all of it: its variants, their curves and, for an optimization, its
+        Optuna trials; returns how many variants went."""
         study = self.study(name)
         with Session(self._engine) as s, s.begin():
             ids = [v for (v,) in s.execute(select(_Variant.id).where(_Variant.study_id == study.id))]
-            if ids:
-                s.execute(delete(_Curve).where(_Curve.variant_id.in_(ids)))
+            for i in range(0, len(ids), 500):
+                s.execute(delete(_Curve).where(_Curve.variant_id.in_(ids[i : i + 500])))
             s.execute(delete(_Variant).where(_Variant.study_id == study.id))
             s.execute(delete(_Study).where(_Study.id == study.id))
+        if study.kind == "optimize":
+            self._delete_trials(name)
+        self._names.pop(study.id, None)
         return len(ids)
+
+    def _delete_trials(self, name: str) -> None:
+        import optuna
+
+        if not inspect(self._engine).has_table("studies"):  # no optimization ever ran here
+            return
+        storage = optuna.storages.RDBStorage(self.store.url, skip_table_creation=True)
+        try:
+            optuna.delete_study(study_name=optuna_name(name), storage=storage)
+        except KeyError:  # never asked a trial
+            pass
+        finally:
+            storage.remove_session()
+            storage.engine.dispose()
 
     @property
     def where(self) -> str:
         return self.store.where
+
+    @property
+    def url(self) -> str:
+        return self.store.url
 
     @staticmethod
     def _study(r: _Study) -> StoredStudy:
@@ -304,12 +286,14 @@ class StudyStore:
         )
 
     # -- variants -----------------------------------------------------------------------------
+    @guarded
     def stored(self, study_id: int) -> dict[str, StoredVariant]:
         """Every stored variant of a study by key (without curves)."""
         with Session(self._engine) as s:
             rows = s.scalars(select(_Variant).where(_Variant.study_id == study_id).order_by(_Variant.id))
             return {r.key: self._variant(r) for r in rows}
 
+    @guarded
     def by_ids(self, ids: Sequence[int]) -> list[StoredVariant]:
         """Stored variants by id, in the order given (without curves)."""
         found: dict[int, StoredVariant] = {}
@@ -319,6 +303,7 @@ class StudyStore:
                     found[r.id] = self._variant(r)
         return [found[i] for i in ids if i in found]
 
+    @guarded
     def ids(self, study_id: int, keys: Sequence[str]) -> dict[str, int]:
         """The ids of a study's stored variants with these keys."""
         out: dict[str, int] = {}
@@ -330,6 +315,7 @@ class StudyStore:
                 out.update(dict(s.execute(q).all()))
         return out
 
+    @guarded
     def add(self, study_id: int, rows: Iterable[Mapping[str, Any]]) -> None:
         """Store a block of variants in one transaction; a key already stored (by another process
         on the same study) is left as it is.
@@ -358,6 +344,7 @@ class StudyStore:
                 "model_sha256": r["model_sha256"],
                 "package_version": __version__,
                 "created_at": now,
+                "warnings": list(r.get("warnings") or ()) or None,
             }
             for r in rows
         ]
@@ -376,6 +363,7 @@ class StudyStore:
                 )
                 self._put_curves(s, [(ids[r["key"]], r["curves"]) for r in with_curves])
 
+    @guarded
     def with_curves(self, study_id: int) -> set[int]:
         """Ids of the study's variants that have curves kept."""
         q = (
@@ -387,6 +375,7 @@ class StudyStore:
         with Session(self._engine) as s:
             return {i for (i,) in s.execute(q)}
 
+    @guarded
     def add_curves(self, variant_id: int, curves: Mapping[str, tuple[np.ndarray, str]]) -> None:
         """Keep a stored variant's curves (those it already has are left)."""
         with Session(self._engine) as s, s.begin():
@@ -411,6 +400,7 @@ class StudyStore:
             )
             s.execute(stmt, rows)
 
+    @guarded
     def variants(
         self, study: str, *, status: str | None = None, limit: int | None = None, curves: bool = False
     ) -> list[StoredVariant]:
@@ -425,6 +415,7 @@ class StudyStore:
             out = [self._variant(r) for r in s.scalars(q)]
         return [self.variant(v.id) for v in out] if curves else out
 
+    @guarded
     def variant(self, variant_id: int) -> StoredVariant:
         """One variant with its curves."""
         with Session(self._engine) as s:
@@ -465,4 +456,5 @@ class StudyStore:
             r.model_sha256,
             r.package_version,
             _utc(r.created_at),
+            warnings=tuple(r.warnings or ()),
         )

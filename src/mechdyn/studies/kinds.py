@@ -8,9 +8,12 @@ variants whose curves are always kept.
 from __future__ import annotations
 
 import math
+import os
+import threading
 import time
 import warnings
 from collections.abc import Callable
+from datetime import datetime
 from typing import Any
 
 import numpy as np
@@ -199,6 +202,8 @@ def optimize(runner: Any) -> Findings:
     """Optuna: one objective (TPE) or several (NSGA-II, the Pareto front), in batches of trials."""
     import optuna
 
+    from mechdyn.store.studies import optuna_name
+
     st = runner.study
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     multi = len(st.objectives) > 1
@@ -208,13 +213,17 @@ def optimize(runner: Any) -> Findings:
     )
     with runner.store.store.schema_lock(), warnings.catch_warnings():  # Optuna's tables, once
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        # a trial whose process died (kill -9) has no heartbeat after HEARTBEAT_GRACE s: failed then
+        # a trial whose process died (kill -9) has no heartbeat after HEARTBEAT_GRACE s: it is
+        # failed then, marked abandoned and asked again (_retry)
         storage = optuna.storages.RDBStorage(
-            runner.store.store.url, heartbeat_interval=HEARTBEAT, grace_period=HEARTBEAT_GRACE
+            runner.store.store.url,
+            heartbeat_interval=HEARTBEAT,
+            grace_period=HEARTBEAT_GRACE,
+            heartbeat_stale_trial_callback=_retry,
         )
     try:
         study = optuna.create_study(
-            study_name=f"mechdyn:{st.name}",
+            study_name=optuna_name(st.name),
             storage=storage,
             sampler=sampler,
             directions=[o.sense for o in st.objectives],
@@ -253,10 +262,107 @@ def optimize(runner: Any) -> Findings:
     return findings, variants, best
 
 
+_ABANDONED = "mechdyn:abandoned"  # a trial failed because its process died: not an evaluation
+_OWNER = "mechdyn:owner"  # host:pid of the process that asked a trial
+
+
+def _retry(study: Any, trial: Any) -> None:
+    """A trial whose process died is marked abandoned (it counts for nothing) and asked again with
+    the same parameters (a variant that process stored is then reused, not recomputed)."""
+    import optuna
+
+    study._storage.set_trial_system_attr(trial._trial_id, _ABANDONED, True)
+    study.add_trial(
+        optuna.create_trial(
+            state=optuna.trial.TrialState.WAITING,
+            params=trial.params,
+            distributions=trial.distributions,
+            system_attrs={"mechdyn:retry_of": trial.number},
+        )
+    )
+
+
+def _owner() -> str:
+    import socket
+
+    return f"{socket.gethostname()}:{os.getpid()}"
+
+
+def _dead(owner: str | None) -> bool:
+    """Whether the process that asked a trial is known to be gone (on this host)."""
+    import socket
+
+    if not owner:
+        return False
+    host, _, pid = owner.rpartition(":")
+    if host != socket.gethostname() or not pid.isdigit() or int(pid) == os.getpid():
+        return False
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:
+        return False
+    return False
+
+
+def _fail_abandoned(study: Any, storage: Any) -> None:
+    """Fail (and ask again) the running trials whose process is gone: those whose heartbeat is stale
+    (Optuna), those asked on this host by a process that no longer runs, and those that never got a
+    heartbeat within the grace period (killed between ``ask`` and the first heartbeat)."""
+    import optuna
+    from sqlalchemy import text
+
+    optuna.storages.fail_stale_trials(study)
+    running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
+    if not running:
+        return
+    with storage.engine.connect() as conn:
+        beating = {tid for (tid,) in conn.execute(text("SELECT trial_id FROM trial_heartbeats"))}
+    now = datetime.now()
+    for t in running:
+        silent = (
+            t._trial_id not in beating
+            and t.datetime_start is not None
+            and ((now - t.datetime_start).total_seconds() > HEARTBEAT_GRACE)
+        )
+        if silent or _dead(t.system_attrs.get(_OWNER)):
+            try:
+                if storage.set_trial_state_values(t._trial_id, state=optuna.trial.TrialState.FAIL):
+                    _retry(study, storage.get_trial(t._trial_id))
+            except optuna.exceptions.UpdateFinishedTrialError:  # another process was first
+                pass
+
+
+class _Heartbeat:
+    """Record the heartbeats of a batch's trials every ``HEARTBEAT`` s while it is evaluated, so a
+    block that takes longer than the grace period is not taken for a dead process's."""
+
+    def __init__(self, storage: Any, trial_ids: list[int]):
+        self.storage, self.trial_ids = storage, trial_ids
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._beat, daemon=True)
+
+    def _beat(self) -> None:
+        while not self.stop.wait(HEARTBEAT):
+            for tid in self.trial_ids:
+                self.storage.record_heartbeat(tid)
+
+    def __enter__(self) -> _Heartbeat:
+        for tid in self.trial_ids:
+            self.storage.record_heartbeat(tid)
+        self.thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop.set()
+        self.thread.join()
+
+
 def _optimize(runner: Any, study: Any, storage: Any) -> list[int]:
     """Ask batches of trials, evaluate each batch as one block, tell the results; stop when the
-    study holds ``samples`` finished trials (counting those of other processes on the same study).
-    Returns the variant ids of the finished trials."""
+    study holds ``samples`` evaluated trials (counting those of other processes on the same study,
+    never those abandoned by a process that died). Returns the variant ids of the evaluated trials."""
     import optuna
 
     st = runner.study
@@ -265,31 +371,44 @@ def _optimize(runner: Any, study: Any, storage: Any) -> list[int]:
         p.name: optuna.distributions.FloatDistribution(float(p.low), float(p.high)) for p in st.parameters
     }
     State = optuna.trial.TrialState
+    owner = _owner()
+
+    def evaluated() -> list[Any]:
+        done = study.get_trials(deepcopy=False, states=(State.COMPLETE, State.FAIL))
+        return [t for t in done if not t.system_attrs.get(_ABANDONED) and "variant" in t.user_attrs]
+
     while True:
-        optuna.storages.fail_stale_trials(study)
-        finished = len(study.get_trials(deepcopy=False, states=(State.COMPLETE, State.FAIL)))
+        _fail_abandoned(study, storage)
+        finished = len(evaluated())
         running = len(study.get_trials(deepcopy=False, states=(State.RUNNING,)))
         if finished >= n_trials:
             break
         n = min(st.batch, n_trials - finished - running)
-        if n <= 0:  # the rest is being evaluated by another process (or will be failed as stale)
+        if n <= 0:  # the rest is being evaluated by another process (or will be failed as abandoned)
             time.sleep(0.5)
             continue
-        trials = [study.ask(dists) for _ in range(n)]
-        for t in trials:
-            storage.record_heartbeat(t._trial_id)
+        trials = []
+        for _ in range(n):
+            t = study.ask(dists)
+            storage.set_trial_system_attr(t._trial_id, _OWNER, owner)
+            trials.append(t)
         X = np.array([[t.params[p.name] for p in st.parameters] for t in trials])
-        variants = runner.evaluate(X, objective=_objective(st))
+        with _Heartbeat(storage, [t._trial_id for t in trials]):
+            variants = runner.evaluate(X, objective=_objective(st))
         for t, v in zip(trials, variants, strict=True):
-            t.set_user_attr("variant", v.id)
-            if v.status != "ok" or not all(math.isfinite(_value(v, o.output.key)) for o in st.objectives):
-                study.tell(t, state=State.FAIL)
+            try:
+                t.set_user_attr("variant", v.id)
+                if v.status != "ok" or not all(math.isfinite(_value(v, o.output.key)) for o in st.objectives):
+                    study.tell(t, state=State.FAIL)
+                    continue
+                for i, c in enumerate(st.constraints):  # feasible where ≤ 0 (Optuna's convention)
+                    t.set_constraint(f"{i + 1}: {c.describe()}", c.violation(v.outputs.get(c.output.key)))
+                study.tell(t, [_value(v, o.output.key) for o in st.objectives])
+            except (optuna.exceptions.UpdateFinishedTrialError, RuntimeError, ValueError):
+                # failed meanwhile by another process that took this one for dead: the trial is
+                # asked again, and its variant is stored, so nothing is lost or recomputed
                 continue
-            for i, c in enumerate(st.constraints):  # feasible where ≤ 0 (Optuna's convention)
-                t.set_constraint(f"{i + 1}: {c.describe()}", c.violation(v.outputs.get(c.output.key)))
-            study.tell(t, [_value(v, o.output.key) for o in st.objectives])
-    done = study.get_trials(deepcopy=False, states=(State.COMPLETE, State.FAIL))
-    return [t.user_attrs["variant"] for t in done if "variant" in t.user_attrs]
+    return [t.user_attrs["variant"] for t in evaluated()]
 
 
 def _objective(st: Any) -> Callable[[dict[str, Any]], float] | None:

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn import __version__
+from mechdyn.store.store import StoreError
 from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.evaluate import Evaluation, Evaluator
 from mechdyn.studies.spec import StudyError
@@ -161,10 +162,21 @@ class Runner:
                     if objective is not None and ev.status == "ok"
                     else None,
                     "model_sha256": self.model_sha256,
+                    "warnings": list(ev.warnings),
                 }
             )
             self.position += 1
-        self.store.add(self.stored.id, rows)
+        try:
+            self.store.add(self.stored.id, rows)
+        except StoreError as exc:  # the block is computed: keep it in a file, say how to import it
+            from mechdyn.store.unsaved import keep_unsaved
+
+            kept = keep_unsaved(self.store.url, "variants", {"study": self.study.name, "rows": rows})
+            raise StoreError(
+                f"{exc}; the {len(rows)} variants just computed are kept in {kept} "
+                f"(`mechdyn results import {kept}` stores them; the variants stored before are safe, "
+                "and running the study again goes on from there)"
+            ) from None
         self.evaluated += len(rows)
         ids = self.store.ids(self.stored.id, [r["key"] for r in rows])
         now = datetime.now(UTC)
@@ -173,6 +185,7 @@ class Runner:
                 ids[r["key"]], self.study.name, r["key"], r["position"], r["parameters"], r["given"],
                 {k: (v if v is None or math.isfinite(v) else None) for k, v in r["outputs"].items()},
                 r["status"], r["error"], r["objective"], r["model_sha256"], __version__, now,
+                warnings=tuple(r["warnings"]),
             )  # fmt: skip
 
     def all_variants(self) -> list[StoredVariant]:
