@@ -435,50 +435,6 @@ def test_kill_9_loses_nothing_and_the_finished_study_equals_an_uninterrupted_one
     assert [v.outputs for v in resumed.variants] == [v.outputs for v in uninterrupted.variants]
 
 
-@pytest.mark.postgres
-def test_two_processes_share_one_optimization_on_postgresql(tmp_path, postgres_url):
-    store_url = postgres_url
-    path = write_study(
-        tmp_path,
-        """
-        [study]
-        name = "shared-opt"
-        kind = "optimize"
-        model = "press_on_support.toml"
-        analysis = "support"
-        samples = 40
-        batch = 4
-
-        [[parameters]]
-        path = "support.stiffness"
-        range = "±30 %"
-
-        [[objectives]]
-        output = "displacement_max_m"
-        """,
-    )
-    code = (
-        "from mechdyn.studies import load_study, run_study\n"
-        f"run_study(load_study({str(path)!r}), {store_url!r})\n"
-    )
-    procs = [subprocess.Popen([sys.executable, "-c", code], cwd=tmp_path) for _ in range(2)]
-    assert [p.wait(timeout=300) for p in procs] == [0, 0]
-    import optuna
-
-    storage = optuna.storages.RDBStorage(store_url.replace("postgresql://", "postgresql+psycopg://"))
-    trials = optuna.load_study(study_name="mechdyn:shared-opt", storage=storage).trials
-    storage.engine.dispose()
-    finished = [t for t in trials if t.state.is_finished()]
-    assert 40 <= len(finished) <= 40 + 4  # the two may each ask one last batch at the same time
-    numbers = [t.number for t in trials]
-    assert len(numbers) == len(set(numbers))
-    with ResultStore(store_url) as store:
-        vs = StudyStore(store).variants("shared-opt")
-    assert len(vs) == len({v.key for v in vs})
-    ids = {t.user_attrs["variant"] for t in finished}
-    assert ids <= {v.id for v in vs}
-
-
 # -- Dask ----------------------------------------------------------------------------------------
 
 

@@ -67,29 +67,33 @@ def shown(url: str) -> str:
 
 
 def _sqlite_on_connect(conn: Any, _record: Any) -> None:
-    """Write-ahead log: readers (a report, a dashboard) do not block a running study, and a commit
-    costs no full sync; a committed transaction survives the process being killed (SQLite's WAL with
-    synchronous = NORMAL loses at most the last commits on a power cut, never a process kill).
+    """A commit costs no full sync in the write-ahead log (SQLite's WAL with synchronous = NORMAL
+    loses at most the last commits on a power cut, never a process kill)."""
+    conn.execute("PRAGMA synchronous=NORMAL")
 
-    The log mode is kept in the file: it is set once, by the first connection to a new file. That
-    change answers "locked" at once (without waiting) while another process holds the file, so it is
-    tried again until it is made, by this process or another."""
+
+def _use_wal(conn: Connection) -> None:
+    """Write-ahead log: readers (a report, a dashboard) do not block a running study. The mode is
+    kept in the file, so it is set once, when mechdyn creates its tables there (never in a file that
+    is not mechdyn's). Changing it answers "locked" at once, without waiting, while another process
+    holds the file: it is tried again until it is made, by this process or another."""
     import sqlite3
     import time
 
-    cur = conn.cursor()
+    if conn.dialect.name != "sqlite":
+        return
+    raw = conn.connection.dbapi_connection
+    assert raw is not None
     deadline = time.monotonic() + SQLITE_BUSY_TIMEOUT
     while True:
         try:
-            if cur.execute("PRAGMA journal_mode").fetchone()[0] != "wal":
-                cur.execute("PRAGMA journal_mode=WAL")
-            break
+            if raw.execute("PRAGMA journal_mode").fetchone()[0] != "wal":
+                raw.execute("PRAGMA journal_mode=WAL")
+            return
         except sqlite3.OperationalError as exc:
             if "locked" not in str(exc) or time.monotonic() > deadline:
                 raise
             time.sleep(0.02)
-    cur.execute("PRAGMA synchronous=NORMAL")
-    cur.close()
 
 
 def open_engine(url: str, *, read_only: bool) -> Engine:
@@ -210,6 +214,8 @@ def ensure_schema(engine: Engine, url: str, *, read_only: bool) -> None:
         if not _check(conn, url, writing=not read_only):
             return
     with engine.connect() as conn:
+        _use_wal(conn)
+        conn.rollback()
         exclusive(conn)
         if _check(conn, url, writing=True):
             Base.metadata.create_all(conn)

@@ -262,24 +262,28 @@ def optimize(runner: Any) -> Findings:
     return findings, variants, best
 
 
-_ABANDONED = "mechdyn:abandoned"  # a trial failed because its process died: not an evaluation
+_RETRY_OF = "mechdyn:retry_of"  # a trial asked again for one whose process died
 _OWNER = "mechdyn:owner"  # host:pid of the process that asked a trial
 
 
 def _retry(study: Any, trial: Any) -> None:
-    """A trial whose process died is marked abandoned (it counts for nothing) and asked again with
-    the same parameters (a variant that process stored is then reused, not recomputed)."""
+    """A trial whose process died is asked again with the same parameters (a variant that process
+    stored is then reused, not recomputed); the failed one counts for nothing (:func:`_abandoned`)."""
     import optuna
 
-    study._storage.set_trial_system_attr(trial._trial_id, _ABANDONED, True)
     study.add_trial(
         optuna.create_trial(
             state=optuna.trial.TrialState.WAITING,
             params=trial.params,
             distributions=trial.distributions,
-            system_attrs={"mechdyn:retry_of": trial.number},
+            system_attrs={_RETRY_OF: trial.number},
         )
     )
+
+
+def _abandoned(trials: list[Any]) -> set[int]:
+    """The numbers of the trials that were failed because their process died (asked again since)."""
+    return {t.system_attrs[_RETRY_OF] for t in trials if _RETRY_OF in t.system_attrs}
 
 
 def _owner() -> str:
@@ -374,8 +378,11 @@ def _optimize(runner: Any, study: Any, storage: Any) -> list[int]:
     owner = _owner()
 
     def evaluated() -> list[Any]:
-        done = study.get_trials(deepcopy=False, states=(State.COMPLETE, State.FAIL))
-        return [t for t in done if not t.system_attrs.get(_ABANDONED) and "variant" in t.user_attrs]
+        trials = study.get_trials(deepcopy=False)
+        gone = _abandoned(trials)
+        return [
+            t for t in trials if t.state.is_finished() and "variant" in t.user_attrs and t.number not in gone
+        ]
 
     while True:
         _fail_abandoned(study, storage)
