@@ -162,7 +162,7 @@ def test_an_optimization_killed_at_any_moment_resumes_and_counts_only_its_evalua
         tmp_path,
     )
     assert resumed.returncode == 0, resumed.stderr
-    evaluated, reused, counted = map(int, resumed.stdout.split())
+    _, reused, counted = map(int, resumed.stdout.split())
     trials = _trials(store_url)
     assert len(_evaluated(trials)) == counted == 12  # exactly the samples asked for
     abandoned = _abandoned(trials)

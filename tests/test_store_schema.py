@@ -44,66 +44,133 @@ def _legacy_database(url: str) -> None:
     row, no records table, a study whose variants keep their values as name → value objects."""
     md = sa.MetaData()
     runs = sa.Table(
-        "mechdyn_runs", md,
-        sa.Column("id", sa.Integer, primary_key=True), sa.Column("created_at", sa.DateTime(timezone=True)),
-        sa.Column("analysis", sa.String(64)), sa.Column("model_name", sa.String(256)),
-        sa.Column("model_path", sa.Text), sa.Column("model_sha256", sa.String(64)),
-        sa.Column("model_text", sa.Text), sa.Column("parameters", sa.JSON), sa.Column("scalars", sa.JSON),
+        "mechdyn_runs",
+        md,
+        sa.Column("id", sa.Integer, primary_key=True),
+        sa.Column("created_at", sa.DateTime(timezone=True)),
+        sa.Column("analysis", sa.String(64)),
+        sa.Column("model_name", sa.String(256)),
+        sa.Column("model_path", sa.Text),
+        sa.Column("model_sha256", sa.String(64)),
+        sa.Column("model_text", sa.Text),
+        sa.Column("parameters", sa.JSON),
+        sa.Column("scalars", sa.JSON),
         sa.Column("package_version", sa.String(64)),
-    )  # fmt: skip
+    )
     sa.Table(
-        "mechdyn_arrays", md,
-        sa.Column("id", sa.Integer, primary_key=True), sa.Column("run_id", sa.ForeignKey("mechdyn_runs.id")),
-        sa.Column("name", sa.String(256)), sa.Column("unit", sa.String(64)), sa.Column("data", sa.LargeBinary),
-    )  # fmt: skip
+        "mechdyn_arrays",
+        md,
+        sa.Column("id", sa.Integer, primary_key=True),
+        sa.Column("run_id", sa.ForeignKey("mechdyn_runs.id")),
+        sa.Column("name", sa.String(256)),
+        sa.Column("unit", sa.String(64)),
+        sa.Column("data", sa.LargeBinary),
+    )
     studies = sa.Table(
-        "mechdyn_studies", md,
-        sa.Column("id", sa.Integer, primary_key=True), sa.Column("name", sa.String(256), unique=True),
-        sa.Column("kind", sa.String(32)), sa.Column("analysis", sa.String(64)), sa.Column("definition", sa.JSON),
-        sa.Column("definition_sha256", sa.String(64)), sa.Column("model_path", sa.Text),
-        sa.Column("model_sha256", sa.String(64)), sa.Column("model_files", sa.JSON),
-        sa.Column("package_version", sa.String(64)), sa.Column("created_at", sa.DateTime(timezone=True)),
-    )  # fmt: skip
+        "mechdyn_studies",
+        md,
+        sa.Column("id", sa.Integer, primary_key=True),
+        sa.Column("name", sa.String(256), unique=True),
+        sa.Column("kind", sa.String(32)),
+        sa.Column("analysis", sa.String(64)),
+        sa.Column("definition", sa.JSON),
+        sa.Column("definition_sha256", sa.String(64)),
+        sa.Column("model_path", sa.Text),
+        sa.Column("model_sha256", sa.String(64)),
+        sa.Column("model_files", sa.JSON),
+        sa.Column("package_version", sa.String(64)),
+        sa.Column("created_at", sa.DateTime(timezone=True)),
+    )
     variants = sa.Table(
-        "mechdyn_variants", md,
-        sa.Column("id", sa.Integer, primary_key=True), sa.Column("study_id", sa.ForeignKey("mechdyn_studies.id")),
-        sa.Column("key", sa.String(64)), sa.Column("position", sa.Integer), sa.Column("parameters", sa.JSON),
-        sa.Column("given", sa.JSON), sa.Column("outputs", sa.JSON), sa.Column("status", sa.String(16)),
-        sa.Column("error", sa.Text), sa.Column("objective", sa.Float), sa.Column("model_sha256", sa.String(64)),
-        sa.Column("package_version", sa.String(64)), sa.Column("created_at", sa.DateTime(timezone=True)),
+        "mechdyn_variants",
+        md,
+        sa.Column("id", sa.Integer, primary_key=True),
+        sa.Column("study_id", sa.ForeignKey("mechdyn_studies.id")),
+        sa.Column("key", sa.String(64)),
+        sa.Column("position", sa.Integer),
+        sa.Column("parameters", sa.JSON),
+        sa.Column("given", sa.JSON),
+        sa.Column("outputs", sa.JSON),
+        sa.Column("status", sa.String(16)),
+        sa.Column("error", sa.Text),
+        sa.Column("objective", sa.Float),
+        sa.Column("model_sha256", sa.String(64)),
+        sa.Column("package_version", sa.String(64)),
+        sa.Column("created_at", sa.DateTime(timezone=True)),
         sa.UniqueConstraint("study_id", "key"),
-    )  # fmt: skip
+    )
     sa.Table(
-        "mechdyn_variant_curves", md,
-        sa.Column("id", sa.Integer, primary_key=True), sa.Column("variant_id", sa.ForeignKey("mechdyn_variants.id")),
-        sa.Column("name", sa.String(256)), sa.Column("unit", sa.String(64)), sa.Column("data", sa.LargeBinary),
+        "mechdyn_variant_curves",
+        md,
+        sa.Column("id", sa.Integer, primary_key=True),
+        sa.Column("variant_id", sa.ForeignKey("mechdyn_variants.id")),
+        sa.Column("name", sa.String(256)),
+        sa.Column("unit", sa.String(64)),
+        sa.Column("data", sa.LargeBinary),
         sa.UniqueConstraint("variant_id", "name"),
-    )  # fmt: skip
+    )
     now = datetime.now(UTC)
     with _engine(url) as engine, engine.begin() as conn:
         md.create_all(conn)
-        conn.execute(runs.insert().values(
-            id=1, created_at=now, analysis="modal", model_name="old turret", model_path="t.toml",
-            model_sha256="c" * 64, model_text="[model]", parameters={}, scalars={"x_m": 2.5},
-            package_version="0.0.9",
-        ))  # fmt: skip
-        conn.execute(studies.insert().values(
-            id=1, name="old-study", kind="oat", analysis="support", definition={}, definition_sha256="d" * 64,
-            model_path="p.toml", model_sha256="e" * 64, model_files={}, package_version="0.0.9", created_at=now,
-        ))  # fmt: skip
-        for i, (k, y) in enumerate([(1.0e6, 3.0), (2.0e6, 1.5)]):
-            conn.execute(variants.insert().values(
-                study_id=1, key=f"k{i}", position=i, parameters={"support.stiffness": k},
-                given={"support.stiffness": f"{k / 1e6:g} MN/m"}, outputs={"force_N": y, "disp_m": y / k},
-                status="ok", error=None, objective=None, model_sha256="e" * 64, package_version="0.0.9",
+        conn.execute(
+            runs.insert().values(
+                id=1,
                 created_at=now,
-            ))  # fmt: skip
+                analysis="modal",
+                model_name="old turret",
+                model_path="t.toml",
+                model_sha256="c" * 64,
+                model_text="[model]",
+                parameters={},
+                scalars={"x_m": 2.5},
+                package_version="0.0.9",
+            )
+        )
+        conn.execute(
+            studies.insert().values(
+                id=1,
+                name="old-study",
+                kind="oat",
+                analysis="support",
+                definition={},
+                definition_sha256="d" * 64,
+                model_path="p.toml",
+                model_sha256="e" * 64,
+                model_files={},
+                package_version="0.0.9",
+                created_at=now,
+            )
+        )
+        for i, (k, y) in enumerate([(1.0e6, 3.0), (2.0e6, 1.5)]):
+            conn.execute(
+                variants.insert().values(
+                    study_id=1,
+                    key=f"k{i}",
+                    position=i,
+                    parameters={"support.stiffness": k},
+                    given={"support.stiffness": f"{k / 1e6:g} MN/m"},
+                    outputs={"force_N": y, "disp_m": y / k},
+                    status="ok",
+                    error=None,
+                    objective=None,
+                    model_sha256="e" * 64,
+                    package_version="0.0.9",
+                    created_at=now,
+                )
+            )
 
 
 def test_a_new_database_carries_the_schema_version(store_url):
     with ResultStore(store_url) as store:
-        store.record(analysis="modal", model_name="m", model_path="p", model_text="t",
-                     model_sha256="a" * 64, parameters={}, scalars={})  # fmt: skip
+        store.record(
+            analysis="modal",
+            model_name="m",
+            model_path="p",
+            model_text="t",
+            model_sha256="a" * 64,
+            parameters={},
+            scalars={},
+        )
     assert _version(store_url) == SCHEMA_VERSION
     with ResultStore(store_url, read_only=True) as store:  # and reads back as it is
         assert len(store.runs()) == 1
@@ -153,10 +220,31 @@ def test_a_database_of_schema_0001_gets_the_variant_warnings_column(tmp_path):
         ResultStore(url)
     assert ResultStore.upgrade(url) == ("0001", SCHEMA_VERSION)
     with ResultStore(url) as store:
-        st, _ = StudyStore(store).open("s", kind="oat", analysis="modal", definition={}, model_path="p",
-                                       model_sha256="b" * 64, model_files={}, parameters=["p"], outputs=["y"])  # fmt: skip
-        StudyStore(store).add(st.id, [{"key": "k", "position": 0, "parameters": {"p": 1.0}, "outputs": {"y": 2.0},
-                                       "status": "ok", "model_sha256": "b" * 64, "warnings": ["near a toggle"]}])  # fmt: skip
+        st, _ = StudyStore(store).open(
+            "s",
+            kind="oat",
+            analysis="modal",
+            definition={},
+            model_path="p",
+            model_sha256="b" * 64,
+            model_files={},
+            parameters=["p"],
+            outputs=["y"],
+        )
+        StudyStore(store).add(
+            st.id,
+            [
+                {
+                    "key": "k",
+                    "position": 0,
+                    "parameters": {"p": 1.0},
+                    "outputs": {"y": 2.0},
+                    "status": "ok",
+                    "model_sha256": "b" * 64,
+                    "warnings": ["near a toggle"],
+                }
+            ],
+        )
         assert StudyStore(store).variants("s")[0].warnings == ("near a toggle",)
 
 
@@ -227,9 +315,16 @@ def test_reading_commands_open_read_only(tmp_path, capsys):
     url = str(tmp_path / "r.db")
     assert main(["modal", TURRET, "--db", url, "--json"]) == 0
     capsys.readouterr()
-    with ResultStore(url, read_only=True) as store, pytest.raises(StoreError, match="readonly|read-only"):
-        store.record(analysis="x", model_name="m", model_path="p", model_text="t", model_sha256="a" * 64,
-                     parameters={}, scalars={})  # fmt: skip
+    with ResultStore(url, read_only=True) as store, pytest.raises(StoreError, match=r"readonly|read-only"):
+        store.record(
+            analysis="x",
+            model_name="m",
+            model_path="p",
+            model_text="t",
+            model_sha256="a" * 64,
+            parameters={},
+            scalars={},
+        )
 
 
 def _refuse_inserts(url: str, table: str, message: str) -> None:
@@ -237,14 +332,19 @@ def _refuse_inserts(url: str, table: str, message: str) -> None:
     backend, at the moment a result is stored."""
     with _engine(url) as engine, engine.begin() as conn:
         if conn.dialect.name == "sqlite":
-            conn.execute(sa.text(
-                f"CREATE TRIGGER refuse BEFORE INSERT ON {table} BEGIN SELECT RAISE(ABORT, '{message}'); END"
-            ))  # fmt: skip
+            conn.execute(
+                sa.text(
+                    f"CREATE TRIGGER refuse BEFORE INSERT ON {table} "
+                    f"BEGIN SELECT RAISE(ABORT, '{message}'); END"
+                )
+            )
         else:
-            conn.execute(sa.text(
-                f"CREATE FUNCTION refuse() RETURNS trigger AS $$ BEGIN RAISE EXCEPTION '{message}'; END $$ "
-                "LANGUAGE plpgsql"
-            ))  # fmt: skip
+            conn.execute(
+                sa.text(
+                    "CREATE FUNCTION refuse() RETURNS trigger AS "
+                    f"$$ BEGIN RAISE EXCEPTION '{message}'; END $$ LANGUAGE plpgsql"
+                )
+            )
             conn.execute(
                 sa.text(
                     f"CREATE TRIGGER refuse BEFORE INSERT ON {table} FOR EACH ROW EXECUTE FUNCTION refuse()"
@@ -270,8 +370,11 @@ def test_a_run_the_database_refuses_is_kept_in_a_file_and_imported_later(
     out, err = capsys.readouterr()
     assert json.loads(out)["run_id"] is None  # the result is still printed
     assert "the disk is full" in err and "mechdyn results import" in err and "Traceback" not in err
-    (kept,) = (tmp_path.glob("mechdyn-unsaved-*-run.json") if "://" in store_url
-               else Path(store_url).parent.glob("mechdyn-unsaved-*-run.json"))  # fmt: skip
+    (kept,) = (
+        tmp_path.glob("mechdyn-unsaved-*-run.json")
+        if "://" in store_url
+        else Path(store_url).parent.glob("mechdyn-unsaved-*-run.json")
+    )
     _accept_inserts(store_url, "mechdyn_runs")
     assert main(["results", "import", str(kept), "--db", store_url]) == 0
     imported = int(re.search(r"stored run (\d+) in", capsys.readouterr().out).group(1))
@@ -333,8 +436,17 @@ def test_names_longer_than_the_database_holds_are_refused_before_the_work(store_
         ResultStore(store_url) as store,
         pytest.raises(StoreError, match="the study's name is 257 characters"),
     ):
-        StudyStore(store).open("s" * 257, kind="oat", analysis="modal", definition={}, model_path="p",
-                               model_sha256="b" * 64, model_files={}, parameters=[], outputs=[])  # fmt: skip
+        StudyStore(store).open(
+            "s" * 257,
+            kind="oat",
+            analysis="modal",
+            definition={},
+            model_path="p",
+            model_sha256="b" * 64,
+            model_files={},
+            parameters=[],
+            outputs=[],
+        )
 
 
 def test_an_unreachable_server_is_one_line(capsys):
