@@ -18,6 +18,18 @@ from conftest import EXAMPLES
 from mechdyn.cli.main import main
 
 
+@pytest.fixture(autouse=True, scope="module")
+def _wait_for_what_the_page_shows():
+    """Playwright's checks wait for the page to show what they expect; on a loaded two-core machine
+    that can take longer than its 5 s default, so the ceiling is a minute (a passing check returns
+    as soon as the page shows it: no fixed wait)."""
+    from playwright.sync_api import expect
+
+    expect.set_options(timeout=60_000)
+    yield
+    expect.set_options(timeout=5_000)
+
+
 def _chromium() -> str:
     path = os.environ.get("MECHDYN_TEST_CHROMIUM") or shutil.which("chromium")
     if path:
@@ -97,12 +109,91 @@ def server(database):
         yield address
 
 
-def _get(url: str) -> tuple[int, str]:
+def _get(url: str, headers: dict[str, str] | None = None) -> tuple[int, str]:
     try:
-        with urllib.request.urlopen(url) as r:
+        with urllib.request.urlopen(urllib.request.Request(url, headers=headers or {})) as r:
             return r.status, r.read().decode()
     except urllib.error.HTTPError as e:
         return e.code, e.read().decode()
+
+
+def test_only_trusted_host_names_are_answered(database):
+    from mechdyn.dashboard.app import create_app
+
+    with _serving(create_app(database, allowed_hosts=["lab-pc.example.org"])) as address:
+        port = address.rsplit(":", 1)[1]
+        assert _get(address + "/")[0] == 200
+        assert _get(address + "/", {"Host": f"localhost:{port}"})[0] == 200
+        assert _get(address + "/", {"Host": f"lab-pc.example.org:{port}"})[0] == 200
+        # a page whose DNS name was rebound to 127.0.0.1 sends its own name: refused
+        status, body = _get(address + "/runs/1", {"Host": f"attacker.example.com:{port}"})
+        assert status == 400 and "turret" not in body.lower()
+
+
+@pytest.mark.parametrize(
+    "path", ["/runs/99999999999999999999", "/studies/2147483648", "/api/studies/99999999999999/count",
+             "/compare?run=99999999999999999999", "/compare?variant=-3"]
+)  # fmt: skip
+def test_ids_that_no_database_holds_are_404(server, path):
+    status, body = _get(server + path)
+    assert status == 404 and "Traceback" not in body
+
+
+def test_a_file_that_is_no_mechdyn_database_is_refused_at_start(tmp_path, capsys):
+    notes = tmp_path / "notes.db"
+    notes.write_text("my notes\n" * 50)
+    assert main(["dashboard", "--db", str(notes), "--port", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "is not a results database" in err and err.count("\n") == 1
+    assert main(["dashboard", "--db", str(tmp_path / "typo.db"), "--port", "1"]) == 2
+    assert "no results database at" in capsys.readouterr().err and not (tmp_path / "typo.db").exists()
+
+
+def test_listening_beyond_this_machine_is_announced_loudly(database):
+    import subprocess
+    import sys
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    argv = ["dashboard", "--db", database, "--host", "0.0.0.0", "--port", str(port)]
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "mechdyn", *argv], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    try:
+        warning = proc.stderr.readline()  # the first line, before it serves
+    finally:
+        proc.terminate()
+        proc.wait(30)
+        proc.stdout.close()
+        proc.stderr.close()
+    assert warning.startswith("WARNING: listening on 0.0.0.0, beyond this machine")
+    assert "--allowed-host" in warning
+
+
+def test_a_slow_study_page_does_not_hold_up_a_run_page(database):
+    """20 study pages at once (the first draws the study's findings, which takes a while; the others
+    wait for that drawing) and then a run page: the run page is answered while the study pages are
+    still being drawn, not after all of them (the handlers do their blocking work in a thread pool,
+    not in the event loop). A fresh server: nothing is drawn yet."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from mechdyn.dashboard.app import create_app
+
+    finished: list[str] = []
+    lock = threading.Lock()
+
+    def get(address: str, path: str, tag: str) -> None:
+        assert _get(address + path)[0] == 200
+        with lock:
+            finished.append(tag)
+
+    with _serving(create_app(database)) as address, ThreadPoolExecutor(24) as pool:
+        studies = [pool.submit(get, address, "/studies/1", "study") for _ in range(20)]
+        pool.submit(get, address, "/runs/2", "run").result()
+        for f in studies:
+            f.result()
+    assert len(finished) == 21 and finished.index("run") < 20, finished
 
 
 def test_missing_pages_are_404_pages_and_user_text_is_escaped(server):
@@ -115,6 +206,17 @@ def test_missing_pages_are_404_pages_and_user_text_is_escaped(server):
     assert status == 200 and "<script>alert(1)</script>" not in body and "&lt;script&gt;" in body
     status, js = _get(server + "/static/plotly.min.js")
     assert status == 200 and len(js) > 1_000_000  # served from the installed package, no CDN
+
+
+def test_pages_name_the_database_without_its_location(postgres_url):
+    from mechdyn.dashboard.app import create_app
+
+    assert main(["modal", str(EXAMPLES / "turret_indexing.toml"), "--db", postgres_url, "--json"]) == 0
+    with _serving(create_app(postgres_url)) as address:
+        status, body = _get(address + "/")
+    host = postgres_url.split("@")[1].split("/")[0]
+    assert status == 200 and host not in body and "mechdyn@" not in body and "postgresql://" not in body
+    assert "postgresql database mechdyn_test_" in body
 
 
 def test_the_database_is_opened_read_only(database):
@@ -217,7 +319,7 @@ def test_a_study_page_reloads_while_the_study_adds_variants(server, database):
                 "model_sha256": st.model_sha256,
             }
             studies.add(st.id, [row])
-        expect(page.locator("#count")).to_contain_text("8 (1 failed)", timeout=15_000)
+        expect(page.locator("#count")).to_contain_text("8 (1 failed)")
         browser.close()
 
 

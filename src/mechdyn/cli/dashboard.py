@@ -7,14 +7,15 @@ import argparse
 __all__ = ["register"]
 
 EXAMPLES = (
-    "examples:\n  mechdyn dashboard\n  mechdyn dashboard --db postgresql://me@db-host/mechdyn --port 8060"
+    "examples:\n  mechdyn dashboard\n  mechdyn dashboard --db postgresql://me@db-host/mechdyn --port 8060\n"
+    "  mechdyn dashboard --host 0.0.0.0 --allowed-host lab-pc.example.org"
 )
 
 
 def _serve(args: argparse.Namespace) -> int:
     from mechdyn.dashboard.app import serve
 
-    serve(args.db, host=args.host, port=args.port)
+    serve(args.db, host=args.host, port=args.port, allowed_hosts=args.allowed_host or ())
     return 0
 
 
@@ -33,4 +34,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1, this machine only)"
     )
     p.add_argument("--port", type=int, default=8050, help="port (default: 8050)")
+    p.add_argument(
+        "--allowed-host",
+        action="append",
+        metavar="NAME",
+        help="a host name the dashboard answers besides the loopback names (repeatable), e.g. the "
+        "machine's name when it listens beyond it with --host",
+    )
     p.set_defaults(func=_serve)

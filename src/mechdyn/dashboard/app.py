@@ -2,15 +2,24 @@
 
 Starlette (a small, maintained ASGI toolkit) with Jinja2 templates, served by uvicorn; interactive
 plots by Plotly.js, served from the installed ``plotly`` package (never a CDN: the machines that run
-it may have no internet). The database is opened read-only; a request reaches it only as integer
-ids and filter values bound as SQL parameters, never as a file path; every value from the database
-is escaped by the templates; a missing run or study is a 404 page.
+it may have no internet).
+
+- The database is opened read-only, and checked at start (a mechdyn database of this schema).
+- A request reaches it only as integer ids and filter values bound as SQL parameters, never as a
+  file path; every value from the database is escaped by the templates; a missing run or study,
+  or an id no database column can hold, is a 404 page.
+- Requests are answered only for trusted host names (loopback by default), so a page that rebinds
+  its DNS name to this machine cannot read it; pages name the database, never its location.
+- The handlers are plain functions, run in Starlette's thread pool: a slow page never stalls the
+  others; a study's findings and pictures are drawn once per stored state and kept.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import threading
+from collections.abc import Sequence
 from datetime import date, datetime
 from pathlib import Path
 from typing import Any
@@ -24,6 +33,8 @@ __all__ = ["create_app"]
 MAX_POINTS = 20_000  # variants drawn in a study's plots
 MAX_ROWS = 200  # variants listed in a study's table
 MAX_RUNS = 500
+MAX_ID = 2**31 - 1  # the largest id an integer column holds on every backend
+LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "::1", "[::1]")
 
 
 def _plotly_js() -> Path:
@@ -82,13 +93,25 @@ def _line_figures(
     return figures
 
 
-def create_app(url: str | None = None) -> Any:
+def _loopback(host: str) -> bool:
+    import ipaddress
+
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return host == "localhost"
+
+
+def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any:
     """The dashboard application over the results database at ``url`` (opened read-only).
 
     Parameters
     ----------
     url : str, optional
         A SQLite file or a SQLAlchemy URL (default: ``MECHDYN_DB``, else ``mechdyn.db``).
+    allowed_hosts : sequence of str
+        Host names (``Host`` header) answered besides the loopback names; a request for any other
+        host gets HTTP 400.
 
     Returns
     -------
@@ -97,6 +120,8 @@ def create_app(url: str | None = None) -> Any:
     from jinja2 import Environment, PackageLoader, select_autoescape
     from starlette.applications import Starlette
     from starlette.exceptions import HTTPException
+    from starlette.middleware import Middleware
+    from starlette.middleware.trustedhost import TrustedHostMiddleware
     from starlette.requests import Request
     from starlette.responses import FileResponse, HTMLResponse, JSONResponse
     from starlette.routing import Route
@@ -115,7 +140,27 @@ def create_app(url: str | None = None) -> Any:
     def missing(message: str) -> HTMLResponse:
         return page("missing.html.j2", 404, message=message)
 
-    async def index(request: Request) -> HTMLResponse:
+    drawing = threading.Lock()  # matplotlib's figures are drawn one at a time
+    kept: dict[tuple[int, int], tuple[list[Any], list[Any], str]] = {}
+
+    def drawn(st: Any, n_variants: int) -> tuple[list[Any], list[Any], str]:
+        """A study's findings tables and pictures, drawn once for each number of stored variants
+        (a running study adds variants; a finished one is drawn once)."""
+        from mechdyn.reports.html import _figures, _table
+        from mechdyn.studies.run import stored_result
+        from mechdyn.studies.spec import StudyError
+
+        key = (st.id, n_variants)
+        with drawing:
+            if key not in kept:
+                try:
+                    result = stored_result(store, st.name)
+                    kept[key] = ([_table(t) for t in result.tables()], _figures(result.plots()), "")
+                except (StudyError, StoreError) as exc:
+                    kept[key] = ([], [], f"The findings appear when every variant is stored: {exc}")
+            return kept[key]
+
+    def index(request: Request) -> HTMLResponse:
         q = request.query_params
         filters = {k: q.get(k, "") for k in ("analysis", "model", "since", "until", "study")}
         since, until = _date(filters["since"]), _date(filters["until"])
@@ -171,8 +216,10 @@ def create_app(url: str | None = None) -> Any:
             truncated=len(runs) >= MAX_RUNS,
         )
 
-    async def run_page(request: Request) -> HTMLResponse:
+    def run_page(request: Request) -> HTMLResponse:
         run_id = request.path_params["run_id"]
+        if run_id > MAX_ID:
+            return missing(f"There is no run {run_id} in this database.")
         try:
             run = store.get(run_id)
         except StoreError:
@@ -192,13 +239,15 @@ def create_app(url: str | None = None) -> Any:
             figures=figures,
         )
 
-    async def compare(request: Request) -> HTMLResponse:
+    def compare(request: Request) -> HTMLResponse:
         q = request.query_params
         try:
             run_ids = [int(x) for x in q.getlist("run")]
             variant_ids = [int(x) for x in q.getlist("variant")]
         except ValueError:
             return missing("Runs and variants are given by their numbers.")
+        if any(not 0 < i <= MAX_ID for i in (*run_ids, *variant_ids)):
+            return missing("There is no run or variant of that number in this database.")
         from mechdyn.units import key_unit
 
         columns: list[str] = []
@@ -237,9 +286,9 @@ def create_app(url: str | None = None) -> Any:
             figures=_line_figures(curves) if len(curves) == len(columns) else [],
         )
 
-    async def study_page(request: Request) -> HTMLResponse:
+    def study_page(request: Request) -> HTMLResponse:
         study_id = request.path_params["study_id"]
-        st = studies.study_by_id(study_id)
+        st = studies.study_by_id(study_id) if study_id <= MAX_ID else None
         if st is None:
             return missing(f"There is no study {study_id} in this database.")
         variants = studies.variants(st.name)
@@ -269,17 +318,7 @@ def create_app(url: str | None = None) -> Any:
             }
             for v in variants[:MAX_ROWS]
         ]
-        from mechdyn.reports.html import _figures, _table
-        from mechdyn.studies.run import stored_result
-        from mechdyn.studies.spec import StudyError
-
-        try:
-            result = stored_result(store, st.name)
-            findings = [_table(t) for t in result.tables()]
-            figures = _figures(result.plots())
-            note = ""
-        except (StudyError, StoreError) as exc:
-            findings, figures, note = [], [], f"The findings appear when every variant is stored: {exc}"
+        findings, figures, note = drawn(st, len(variants))
         return page(
             "study.html.j2",
             findings=findings,
@@ -295,19 +334,22 @@ def create_app(url: str | None = None) -> Any:
             definition=json.dumps(st.definition, indent=2, default=str, ensure_ascii=False),
         )
 
-    async def study_count(request: Request) -> JSONResponse:
-        st = studies.study_by_id(request.path_params["study_id"])
+    def study_count(request: Request) -> JSONResponse:
+        study_id = request.path_params["study_id"]
+        st = studies.study_by_id(study_id) if study_id <= MAX_ID else None
         if st is None:
             raise HTTPException(404)
         return JSONResponse(studies.counts(st.id))
 
-    async def static_plotly(request: Request) -> FileResponse:
+    def static_plotly(request: Request) -> FileResponse:
         return FileResponse(plotly_js, media_type="application/javascript")
 
     async def not_found(request: Request, exc: Exception) -> HTMLResponse:
         return missing(f"There is nothing at {request.url.path}.")
 
+    hosts = [*LOOPBACK_HOSTS, *allowed_hosts]
     app = Starlette(
+        middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=hosts)],
         routes=[
             Route("/", index),
             Route("/runs/{run_id:int}", run_page),
@@ -319,14 +361,39 @@ def create_app(url: str | None = None) -> Any:
         exception_handlers={404: not_found},
     )
     app.state.store = store
+    app.state.allowed_hosts = hosts
     return app
 
 
-def serve(url: str | None = None, host: str = "127.0.0.1", port: int = 8050) -> None:
-    """Serve the dashboard until interrupted (``mechdyn dashboard``)."""
+def serve(
+    url: str | None = None, host: str = "127.0.0.1", port: int = 8050, allowed_hosts: Sequence[str] = ()
+) -> None:
+    """Serve the dashboard until interrupted (``mechdyn dashboard``).
+
+    Parameters
+    ----------
+    url : str, optional
+        The results database (default: ``MECHDYN_DB``, else ``mechdyn.db``).
+    host : str
+        The address to listen on; anything but a loopback address is announced with a warning.
+    port : int
+        The port.
+    allowed_hosts : sequence of str
+        Host names answered besides the loopback names (what a browser elsewhere calls this machine).
+    """
+    import sys
+
     import uvicorn
 
-    app = create_app(url)
+    app = create_app(url, allowed_hosts)
     where = app.state.store.where
+    if not _loopback(host):
+        names = ", ".join(allowed_hosts) or "none but this machine's loopback names"
+        print(
+            f"WARNING: listening on {host}, beyond this machine: anyone who reaches {host}:{port} can "
+            f"read every model and result in the database. Answered host names: {names} "
+            "(--allowed-host NAME adds one).",
+            file=sys.stderr,
+        )
     print(f"mechdyn dashboard on http://{host}:{port}/ over {where} (read-only); Ctrl-C stops it")
     uvicorn.run(app, host=host, port=port, log_level="warning")

@@ -280,11 +280,12 @@ class ResultStore:
 
     @property
     def label(self) -> str:
-        """A short name for reports and pages: a SQLite file's name, a server's URL (no password)."""
+        """A short name for reports and pages: a SQLite file's name, a server database's name (never
+        its host or user: pages and reports travel)."""
         url = make_url(self.url)
         if url.get_backend_name() == "sqlite":
             return f"SQLite file {Path(url.database or '').name}"
-        return self.where
+        return f"{url.get_backend_name()} database {url.database or ''}".strip()  # no host, no user
 
     @contextmanager
     def schema_lock(self) -> Iterator[None]:
