@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["dead_centre_marks", "display_unit", "fit_titles", "new_axes", "save_figure"]
+__all__ = ["dead_centre_marks", "display_unit", "fit_titles", "new_axes", "plain_text", "save_figure"]
 
 # SI units and their larger display units, smallest first
 _LADDERS = {
@@ -44,6 +44,22 @@ def display_unit(values: Any, unit: str) -> tuple[str, float]:
         if peak * convert(1.0, unit, candidate) >= 1.0:
             chosen = candidate
     return _SHOWN.get(chosen, chosen), float(convert(1.0, unit, chosen))
+
+
+def plain_text(fig: Any) -> None:
+    """Show every text of a figure as written: a ``$`` in a study's, a parameter's or a body's name is
+    a dollar sign, never the start of mathtext (which would draw it as a formula, or fail to draw).
+    mechdyn writes no mathtext of its own.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, about to be drawn.
+    """
+    from matplotlib.text import Text
+
+    for t in fig.findobj(Text):
+        t.set_parse_math(False)
 
 
 def fit_titles(fig: Any) -> None:
@@ -137,6 +153,7 @@ def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     fig = ax.figure if hasattr(ax, "figure") else ax
+    plain_text(fig)
     fit_titles(fig)
     fig.savefig(p, dpi=dpi)
     plt.close(fig)

@@ -24,6 +24,11 @@ _Kind = Literal["steel", "cast_iron", "concrete", "rubber", "other"]
 KINDS: tuple[str, ...] = get_args(_Kind)
 
 
+_SOFTEST = 1e3  # Pa: the least Young's modulus of a material a machine stands on
+# Poisson's ratios a material of each kind can have (rubber and "other": the whole physical range)
+_POISSON = {"steel": (0.2, 0.4), "cast_iron": (0.15, 0.35), "concrete": (0.1, 0.3)}
+
+
 @dataclass(frozen=True)
 class Material:
     """A linear-elastic material.
@@ -33,9 +38,10 @@ class Material:
     name : str
     kind : {"steel", "cast_iron", "concrete", "rubber", "other"}
     youngs_modulus : float or quantity
-        E, Pa.
+        E, Pa, at least 1 kPa.
     poissons_ratio : float, optional
-        ν, −1 < ν < 0.5. For rubber it follows from E and the bulk modulus when not given.
+        ν: 0.2–0.4 for steel, 0.15–0.35 for cast iron, 0.1–0.3 for concrete, −1 < ν < 0.5 for rubber
+        and other materials. For rubber it follows from E and the bulk modulus when not given.
     shear_modulus : float or quantity, optional
         G, Pa; by default E / (2 (1 + ν)).
     bulk_modulus : float or quantity, optional
@@ -45,7 +51,7 @@ class Material:
     shore_a : float, optional
         Hardness (rubber).
     density : float or quantity, optional
-        kg/m³.
+        kg/m³, between 1 and 25 000.
     source : str
         Where the values come from.
     """
@@ -65,8 +71,13 @@ class Material:
         if self.kind not in KINDS:
             raise ModelError(f"{self.kind!r} must be one of {KINDS}", element=self.name, field="kind")
         E = si_field(self.name, "youngs_modulus", self.youngs_modulus, "Pa")
-        if not E > 0:
-            raise ModelError(f"{E:g} Pa must be positive", element=self.name, field="youngs_modulus")
+        if not E >= _SOFTEST:
+            raise ModelError(
+                f"{E:g} Pa: give a Young's modulus of at least {_SOFTEST:g} Pa (the softest foam rubber is "
+                "about 1e5 Pa); check the number and its unit",
+                element=self.name,
+                field="youngs_modulus",
+            )
         object.__setattr__(self, "youngs_modulus", E)
         B = (
             None
@@ -90,6 +101,14 @@ class Material:
                 element=self.name,
                 field="poissons_ratio",
             )
+        lo, hi = _POISSON.get(self.kind, (-1.0, 0.5))
+        if not lo <= nu <= hi:
+            raise ModelError(
+                f"{nu:g} is no Poisson's ratio of a {self.kind.replace('_', ' ')} (between {lo:g} and "
+                f"{hi:g}; only rubber comes near 0.5)",
+                element=self.name,
+                field="poissons_ratio",
+            )
         object.__setattr__(self, "poissons_ratio", nu)
         G = (
             E / (2 * (1 + nu))
@@ -105,7 +124,14 @@ class Material:
             raise ModelError(f"{k:g} must lie in (0, 1]", element=self.name, field="compression_coefficient")
         object.__setattr__(self, "compression_coefficient", k)
         if self.density is not None:
-            object.__setattr__(self, "density", si_field(self.name, "density", self.density, "kg/m^3"))
+            rho = si_field(self.name, "density", self.density, "kg/m^3")
+            if not 1.0 <= rho <= 25_000.0:
+                raise ModelError(
+                    f"{rho:g} kg/m³: give a density between 1 and 25000 kg/m³ (steel: 7850)",
+                    element=self.name,
+                    field="density",
+                )
+            object.__setattr__(self, "density", rho)
 
     def as_dict(self) -> dict[str, Any]:
         """SI values, JSON-ready."""
@@ -147,12 +173,21 @@ class Material:
 
 def _read(path: str | Path) -> list[Material]:
     """The materials of a ``[[materials]]`` file, validated like a model file."""
+    from mechdyn.errors import ModelFileError
     from mechdyn.io.modelfile import field_context, read_toml, validate
 
     source = read_toml(path, "a .toml materials file ([[materials]] rows, as shipped)")
     f = validate(_materials_schema(), source)
     out = []
+    names = [row.name for row in f.materials]
     for i, row in enumerate(f.materials):
+        if names.index(row.name) != i:
+            raise ModelFileError(
+                source.path,
+                f"[[materials]] #{i + 1} (name = {row.name!r})",
+                f"the name is given to [[materials]] #{names.index(row.name) + 1} too; give each material "
+                "a name of its own",
+            )
         with field_context(source, f"[[materials]] #{i + 1} (name = {row.name!r})"):
             out.append(Material(**row.model_dump()))
     return out

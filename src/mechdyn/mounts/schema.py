@@ -150,7 +150,7 @@ class SpringTable(FileModel):
 
 
 class FETable(FileModel):
-    refinements: list[int] = Field(
+    refinements: list[Annotated[int, Field(ge=1, le=1024)]] = Field(
         default=[4, 8, 16],
         min_length=1,
         description="the first meshes (elements through the thickness); refined by 2 from the last until "

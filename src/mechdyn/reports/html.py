@@ -101,8 +101,11 @@ def _png(make: Callable[[], Any]) -> str:
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
+    from mechdyn.plotting import plain_text
+
     ax = make()
     fig = ax.figure if hasattr(ax, "figure") else ax
+    plain_text(fig)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110)
     plt.close(fig)

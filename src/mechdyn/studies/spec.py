@@ -214,6 +214,8 @@ class Parameter:
                     raise StudyError(
                         f'{where}: range {range_!r} for {name!r}: a relative range is written "±10 %"'
                     )
+                if rel[1] == 0:
+                    raise StudyError(f'{where}: range {range_!r} for {name!r} is empty; give e.g. "±10 %"')
                 if base == 0:
                     raise StudyError(
                         f"{where}: {name!r} is 0 in the model, so {range_!r} of it is empty; give an "

@@ -32,6 +32,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from mechdyn.io.modelfile import ModelSource, read
+from mechdyn.store.schema import NAME_LENGTH
 from mechdyn.studies.paths import ModelTree, PathError
 from mechdyn.studies.spec import Constraint, Objective, Parameter, StudyError, Watched
 
@@ -45,7 +46,7 @@ class _Row(BaseModel):
 
 
 class _StudyTable(_Row):
-    name: str
+    name: str = Field(min_length=1, max_length=NAME_LENGTH - 16)  # room for a box: "NAME ±10 %"
     """The study's name in the results database; running a study of a stored name resumes it."""
     kind: Literal["oat", "factorial", "lhs", "sobol", "optimize", "synthesis"]
     """``oat`` (one at a time), ``factorial``, ``lhs`` (Latin hypercube), ``sobol`` (Sobol indices),
@@ -58,15 +59,22 @@ class _StudyTable(_Row):
     samples: int | None = Field(
         default=None,
         ge=1,
+        le=10_000_000,
         description="lhs: variants; sobol: base samples N (N·(P+2) variants); optimize: trials; "
         "synthesis: generations",
     )
-    seed: int = 1
-    """Seed of the samplers and optimizers, so that a study can be repeated."""
-    curves: int = Field(default=20, ge=0, description="keep every variant's curves up to this study size")
-    chunk: int = Field(default=2048, ge=1, description="variants per evaluation block (and per Dask task)")
-    population: int | None = Field(default=None, ge=4, description="synthesis: population per generation")
-    batch: int = Field(default=16, ge=1, description="optimize: trials asked for at once")
+    seed: int = Field(default=1, ge=0, le=2**32 - 1)
+    """Seed of the samplers and optimizers (0 to 2³²−1), so that a study can be repeated."""
+    curves: int = Field(
+        default=20, ge=0, le=1_000_000, description="keep every variant's curves up to this study size"
+    )
+    chunk: int = Field(
+        default=2048, ge=1, le=1_000_000, description="variants per evaluation block (and per Dask task)"
+    )
+    population: int | None = Field(
+        default=None, ge=4, le=100_000, description="synthesis: population per generation"
+    )
+    batch: int = Field(default=16, ge=1, le=100_000, description="optimize: trials asked for at once")
     boxes: list[str] = Field(
         default_factory=list,
         description='one study per box: parameters with range = "box" take each ("±10 %", "±20 %")',
@@ -78,7 +86,7 @@ class _ParameterRow(_Row):
     """The model value, as the model file spells it: ``support.stiffness``, ``points.C.y``,
     ``bodies.slide.mass``, ``mounts.*.stiffness``; through a referenced file:
     ``excitation.mechanism.points.C``."""
-    name: str | None = None
+    name: str | None = Field(default=None, min_length=1, max_length=200)
     """The parameter's name in tables (default: the path)."""
     range: str | list[Any] | None = None
     """Low and high with units (``["1.2 m", "1.6 m"]``), relative (``"±10 %"``), or ``"box"`` (each of the
@@ -124,7 +132,7 @@ class StudyFile(_Row):
     """Schema of a study file."""
 
     study: _StudyTable
-    parameters: list[_ParameterRow]
+    parameters: list[_ParameterRow] = Field(min_length=1)
     outputs: list[_OutputRow] = Field(default_factory=list)
     objectives: list[_GoalRow] = Field(default_factory=list)
     constraints: list[_ConstraintRow] = Field(default_factory=list)
@@ -291,6 +299,17 @@ def _constraint(analysis: Any, row: _ConstraintRow, where: str, target: bool = F
         )
     if c.max is None and c.min is None and c.equals is None:
         raise StudyError(f"{where}: give max, min, or equals (with a tolerance)")
+    if c.tolerance is not None and not c.tolerance > 0:
+        raise StudyError(f"{where}: tolerance {row.tolerance!r} must be above zero")
+    if c.equals is not None and c.tolerance is None:
+        raise StudyError(
+            f"{where}: equals {row.equals!r} needs a tolerance (an output computed in floating point never "
+            'holds a value exactly), e.g. tolerance = "1 mm"'
+        )
+    if c.equals is not None and (c.min is not None or c.max is not None):
+        raise StudyError(f"{where}: give equals (with a tolerance) or min/max, not both")
+    if c.min is not None and c.max is not None and not c.min < c.max:
+        raise StudyError(f"{where}: min {row.min!r} must be below max {row.max!r}")
     return c
 
 
@@ -346,6 +365,10 @@ def load_studies(path: str | Path) -> list[Study]:
     from mechdyn.studies.spec import parse_relative
 
     src = read_toml(path, "a .toml study file")
+    try:  # the file as a whole first: a box's study is then built from valid rows
+        StudyFile.model_validate(src.data)
+    except ValidationError as exc:
+        raise _validation_error(src.path, exc) from None
     table = src.data.get("study")
     boxes = table.get("boxes") if isinstance(table, dict) else None
     if not boxes or not isinstance(table, dict):
@@ -429,6 +452,22 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
             raise StudyError(f"{where}: {exc}") from None
     if not params:
         raise StudyError(f"{src_path}: give at least one [[parameters]] row")
+    seen: dict[str, int] = {}
+    for p in params:
+        if p.name in seen:
+            raise StudyError(
+                f"{src_path}: [[parameters]]: {p.name!r} is named twice; each parameter needs a name of its "
+                'own (give the second a different path, or name = "...")'
+            )
+        seen[p.name] = 1
+    moved = [loc for p in params for loc in p.locations]
+    for loc in moved:
+        if moved.count(loc) > 1:
+            owners = [p.name for p in params if loc in p.locations]
+            raise StudyError(
+                f"{src_path}: [[parameters]]: {loc.path!r} is set by more than one parameter "
+                f"({', '.join(owners)}); a model value can follow one parameter only"
+            )
     outputs = tuple(
         _watched(analysis, o.output, o.unit, f"{src_path}: [[outputs]] #{i + 1}")
         for i, o in enumerate(f.outputs)
@@ -480,16 +519,46 @@ def _options(analysis: Any, given: Mapping[str, Any], where: str) -> dict[str, A
                 f"{', '.join(known) or 'none'}"
             )
         o = known[k]
+        here = f"{where}: [study] → options → {k}"
+        values = v if isinstance(v, list) and o.kind != "names" else [v]
+        if o.nargs and (not isinstance(v, list) or len(v) != o.nargs):
+            raise StudyError(f"{here}: give {o.nargs} values in a list (got {v!r})")
+        if not o.nargs and isinstance(v, list) and o.kind != "names":
+            raise StudyError(f"{here}: give one value (got {v!r})")
         if o.kind == "quantity":
             try:
-                out[k] = (
-                    [to_si(x, o.unit or "") for x in v] if isinstance(v, list) else to_si(v, o.unit or "")
-                )
+                got = [to_si(x, o.unit or "") for x in values]
             except UnitError as exc:
-                raise StudyError(f"{where}: [study] → options → {k}: {exc}") from None
+                raise StudyError(f"{here}: {exc}") from None
         else:
-            out[k] = v
+            got = [_option_value(o, x, here) for x in values]
+        out[k] = got if o.nargs else got[0]
     return out
+
+
+def _option_value(o: Any, v: Any, here: str) -> Any:
+    """A non-quantity option from a study file, checked as its command-line flag would be."""
+    import math
+
+    if o.kind == "flag":
+        if not isinstance(v, bool):
+            raise StudyError(f"{here}: give true or false (got {v!r})")
+    elif o.kind in ("int", "float"):
+        number = isinstance(v, int) if o.kind == "int" else isinstance(v, (int, float))
+        if isinstance(v, bool) or not number or not math.isfinite(v):
+            wanted = "a whole number" if o.kind == "int" else "a number"
+            raise StudyError(f"{here}: give {wanted} (got {v!r})")
+        if o.minimum is not None and v < o.minimum:
+            raise StudyError(f"{here}: {v!r} is below the least value, {o.minimum:g}")
+    elif o.kind == "choice":
+        if v not in o.choices:
+            raise StudyError(f"{here}: {v!r} is not one of {', '.join(map(repr, o.choices))}")
+    elif o.kind == "names":
+        if not isinstance(v, list) or not all(isinstance(x, str) and x for x in v):
+            raise StudyError(f"{here}: give a list of names (got {v!r})")
+    elif not isinstance(v, str):
+        raise StudyError(f"{here}: give text (got {v!r})")
+    return v
 
 
 def check(study: Study) -> None:
