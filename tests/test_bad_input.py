@@ -289,3 +289,41 @@ def test_nonsense_values_once_accepted_are_refused_at_the_field(example, line, r
     target.write_text("\n".join(lines) + "\n")
     with pytest.raises(ModelFileError, match=field):
         load_model(target)
+
+
+# -- requests out of proportion ----------------------------------------------------------------------
+
+
+def _chain(path: Path, n: int, shaft_field: str = "disks") -> Path:
+    lines = ["[model]", 'type = "drivetrain"', 'name = "chain"']
+    for i in range(n):
+        lines += ["[[disks]]", f'name = "d{i}"', 'inertia = "1 kg*m^2"']
+    for i in range(n - 1):
+        lines += [
+            "[[shafts]]",
+            f'name = "s{i}"',
+            f'{shaft_field} = ["d{i}", "d{i + 1}"]',
+            'stiffness = "1e5 N*m/rad"',
+        ]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_more_mode_shapes_than_a_run_can_keep_are_refused_before_the_work(tmp_path, capsys):
+    path = _chain(tmp_path / "chain.toml", 2000)
+    assert main(["modal", str(path), "--modes", "1000", "--db", str(tmp_path / "r.db")]) == 2
+    out, err = capsys.readouterr()
+    assert "1000 modes of a 2000-disk model are 2,000,000 shape values" in err and "at most 500" in err
+    assert out == ""
+    assert main(["modal", str(path), "--modes", "500", "--db", str(tmp_path / "r.db"), "--json"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["frequencies_hz"]) == 500
+
+
+def test_a_file_with_thousands_of_problems_lists_the_first_and_counts_the_rest(tmp_path, capsys):
+    from mechdyn.errors import SHOWN_PROBLEMS
+
+    path = _chain(tmp_path / "chain.toml", 300, shaft_field="between")
+    assert main(["modal", str(path), "--db", str(tmp_path / "r.db")]) == 2
+    err = capsys.readouterr().err
+    assert f"{2 * 299} problems" in err and err.count("\n  - ") == SHOWN_PROBLEMS
+    assert err.rstrip().endswith(f"… and {2 * 299 - SHOWN_PROBLEMS} more")

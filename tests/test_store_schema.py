@@ -453,3 +453,21 @@ def test_an_unreachable_server_is_one_line(capsys):
     assert main(["modal", TURRET, "--db", "postgresql://nobody@127.0.0.1:1/none"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: cannot open the results database postgresql") and err.count("\n") == 1
+
+
+def test_a_server_that_drops_the_connection_is_one_line_and_the_next_call_reconnects(postgres_url):
+    with ResultStore(postgres_url) as store:
+        assert store.runs() == []
+        with _engine(postgres_url) as engine, engine.connect() as conn:  # as a server restart does
+            conn.execute(
+                sa.text(
+                    "SELECT pg_terminate_backend(pid) FROM pg_stat_activity "
+                    "WHERE datname = current_database() AND pid <> pg_backend_pid()"
+                )
+            )
+        with pytest.raises(StoreError) as info:
+            store.runs()
+        message = str(info.value)
+        assert message.startswith(f"the results database {store.where}:") and "\n" not in message
+        assert "the server cannot be reached" in message
+        assert store.runs() == []  # the pool has let the dead connection go

@@ -52,6 +52,9 @@ class ModelCheckError(ModelError):
     """An assembled model fails a physical check (symmetry, semi-definiteness, rigid-body modes)."""
 
 
+SHOWN_PROBLEMS = 20  # problems of a model file listed in its error; the rest are counted
+
+
 class ModelFileError(MechdynError, ValueError):
     """A model file cannot be read or is invalid.
 
@@ -84,7 +87,11 @@ class ModelFileError(MechdynError, ValueError):
         self.detail = message
         self.problems = list(problems) if problems else [(location, message)]
         if len(self.problems) > 1:
-            lines = "\n".join(f"  - {loc}: {msg}" if loc else f"  - {msg}" for loc, msg in self.problems)
+            shown = self.problems[:SHOWN_PROBLEMS]
+            lines = "\n".join(f"  - {loc}: {msg}" if loc else f"  - {msg}" for loc, msg in shown)
+            more = len(self.problems) - len(shown)
+            if more:  # a generated file with one slip repeated: the first few say what it is
+                lines += f"\n  … and {more} more"
             super().__init__(f"{self.path}: {len(self.problems)} problems:\n{lines}")
             return
         loc = f" {location}:" if location else ""

@@ -44,8 +44,16 @@ def _modal(
 
 
 def _default_modes(model: Any, modes: int | None, how: str) -> int | None:
-    """All modes of a small model; the lowest _DEFAULT_MODES of a large one, said on stderr."""
+    """All modes of a small model; the lowest _DEFAULT_MODES of a large one, said on stderr. A number
+    of modes whose shapes the run could not keep (its memory and its stored summary grow with modes ×
+    disks) is refused before the work, with the number that fits."""
     n = len(model.disks)
+    if modes is not None and modes * n > _MAX_SHAPE_VALUES:
+        raise MechdynError(
+            f"{modes} modes of a {n}-disk model are {modes * n:,} shape values (about "
+            f"{modes * n * 200 / 1e9:.1f} GB while the run is stored); ask for at most "
+            f"{max(1, _MAX_SHAPE_VALUES // n)} ({how})"
+        )
     if modes is not None or n <= _ALL_MODES_UP_TO:
         return modes
     # all modes of a 10⁴-disk chain are 10⁸ numbers (GBs); nobody reads past the lowest few
@@ -64,6 +72,8 @@ def _default_modes(model: Any, modes: int | None, how: str) -> int | None:
 # a model with more disks than this gets its lowest _DEFAULT_MODES modes unless --modes says otherwise
 _ALL_MODES_UP_TO = 200
 _DEFAULT_MODES = 20
+# the most mode-shape values one run keeps (every mode of a 1000-disk model); beyond, --modes is refused
+_MAX_SHAPE_VALUES = 1_000_000
 
 
 def _where(loaded: Any) -> str:
