@@ -34,7 +34,7 @@ def _worker(target: Callable[..., Any], queue: Any, barrier: Any, *args: Any) ->
 
 
 def open_record_and_open_study(barrier: Any, url: str) -> Any:
-    """Open a (new) database, store a run, open a (new) study."""
+    """Open a (new) database and store a run, all at once; then open a (new) study, all at once."""
     from mechdyn.store import ResultStore
     from mechdyn.store.studies import StudyStore
 
@@ -49,6 +49,7 @@ def open_record_and_open_study(barrier: Any, url: str) -> Any:
             parameters={},
             scalars={"x_m": 1.0},
         )
+        barrier.wait()  # and all open the new study at once
         _, existed = StudyStore(store).open(
             "shared",
             kind="oat",
