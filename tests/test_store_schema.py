@@ -293,6 +293,36 @@ def test_a_file_that_is_no_database_is_refused(tmp_path, capsys):
     assert path.read_text().startswith("these are my notes")
 
 
+def test_a_damaged_sqlite_file_is_refused_before_the_work(tmp_path, capsys):
+    """SQLite goes on appending to a file with a broken page; mechdyn checks the pages when it opens
+    a file to write, so nothing is computed for a file that a later read could not give back."""
+    path = tmp_path / "results.db"
+    store = ResultStore(path)
+    for i in range(60):
+        store.record(
+            analysis="modal",
+            model_name=f"m{i}",
+            model_path="m.toml",
+            model_text="x" * 2000,
+            model_sha256="0" * 64,
+            parameters={},
+            scalars={"x_m": float(i)},
+        )
+    store.close()
+    data = bytearray(path.read_bytes())
+    middle = len(data) // 2 // 4096 * 4096
+    data[middle : middle + 4096] = b"\xff" * 4096
+    path.write_bytes(bytes(data))
+    assert main(["modal", TURRET, "--db", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "is damaged" in err and ".recover" in err and str(path) in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["results.db"]  # refused at open: nothing kept
+    with pytest.raises(StoreError, match="is damaged"):
+        ResultStore(path)
+    assert main(["results", "list", "--db", str(path)]) == 2
+    assert "damaged" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize(
     "argv",
     [

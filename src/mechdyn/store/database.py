@@ -207,11 +207,29 @@ def _check(conn: Connection, url: str, *, writing: bool) -> bool:
     )
 
 
+def _intact(conn: Connection, url: str) -> None:
+    """Refuse a damaged SQLite file before anything is computed for it: SQLite itself goes on
+    appending to a file with a broken page, and only a later read fails (``PRAGMA quick_check``
+    reads every page once: about a second per few hundred MB)."""
+    if conn.dialect.name != "sqlite":
+        return
+    found = conn.exec_driver_sql("PRAGMA quick_check(1)").scalar()
+    if found != "ok":
+        first = str(found).replace("*** in database main ***", "").strip().splitlines()[0]
+        raise StoreError(
+            f"the results database {shown(url)} is damaged ({first}); restore it from a copy, or "
+            f"recover what it holds with `sqlite3 {shown(url)} .recover | sqlite3 NEW.db`, or give "
+            "another --db"
+        )
+
+
 def ensure_schema(engine: Engine, url: str, *, read_only: bool) -> None:
     """Check the schema and, writing, create it where the database has none: the check is made
     again under the schema lock, so processes that open a new database together create it once."""
     with engine.connect() as conn:
         if not _check(conn, url, writing=not read_only):
+            if not read_only:
+                _intact(conn, url)
             return
     with engine.connect() as conn:
         _use_wal(conn)
