@@ -224,3 +224,31 @@ def test_a_speed_profile_in_python_is_checked_or_derived():
         Driver("crank", "O", "A", W, lambda psi: W * (1 + 0.01 * psi))
     # clockwise: θ̈ = |θ̇| dθ̇/dψ with θ̇ < 0
     Driver("crank", "O", "A", -W, lambda psi: (-speed(psi), speed(psi) * W * 0.6 * np.sin(2 * psi)))
+
+
+def test_power_balance_of_a_balanced_rotor_reads_as_round_off():
+    """A rotor turning about its centre of mass (the mean of three symmetric points, so off the pivot by
+    a round-off) at constant speed: every power term is a round-off, and the residual once read as
+    their ratio (1.0). Judged against the power that flows (at least the kinetic energy per radian)
+    it is round-off."""
+    from mechdyn.mechanism.model import Body, Driver, Mechanism, Revolute
+
+    rotor = Mechanism(
+        points={
+            "A": (-0.8958109936825358, 1.8939466929405893),
+            "O": (-1.021609701005447, 1.7305722205704264),
+            "B": (-1.1474084083283582, 1.5671977482002635),
+        },
+        bodies=(Body("rotor", ("A", "O", "B"), 3.0, 0.01),),
+        joints=(Revolute("O", ("ground", "rotor"), "O"),),
+        driver=Driver("rotor", "O", "A", 1.5708),
+    )
+    r = inverse_dynamics(rotor, 72)
+    assert np.abs(r.driving_torque).max() < 1e-12
+    # at least E ω = ½ I ω² ω (the centre of mass is on the pivot to round-off)
+    assert r.power_scale == pytest.approx(0.5 * 0.01 * 1.5708**3, rel=1e-9)
+    assert r.summary()["power_balance_residual_relative"] < 1e-14
+    # an unbalanced one is judged against the power that flows, and stays round-off too
+    loaded = inverse_dynamics(slider_crank(), 120)
+    assert loaded.power_scale >= np.abs(loaded.driving_torque * loaded.crank_speed).max()
+    assert loaded.summary()["power_balance_residual_relative"] < 1e-12

@@ -149,6 +149,30 @@ class DynamicsResult(Result):
         return self.driving_torque * self.crank_speed + np.sum(self.applied * k.qd, axis=1) - dE
 
     @property
+    def power_scale(self) -> float:
+        """The power the balance is judged against, W: the largest power that flows.
+
+        The largest over the cycle of |T θ̇| + Σ|F·v| + Σ|m v·a| (each term of
+        :attr:`power_balance_residual` taken apart, so that terms cancelling each other do not hide
+        their size), and at least the kinetic energy times the crank's angular speed, the power a
+        round-off of the energy makes in one radian: a balanced rotor at constant speed, where every
+        term is zero, gets a residual relative to that and reads as round-off (about 1e-16), not as
+        the ratio of two round-offs.
+        """
+        k, m = self.kinematics, self.mechanism
+        nb = len(m.bodies)
+        mass = np.repeat(m.masses, 3).reshape(nb, 3)
+        mass[:, 2] = m.inertias
+        terms = (
+            np.abs(self.driving_torque * self.crank_speed)
+            + np.sum(np.abs(self.applied * k.qd), axis=1)
+            + np.sum(np.abs(mass.ravel() * k.qd * k.qdd), axis=1)
+        )
+        energy = 0.5 * np.sum(mass.ravel() * k.qd**2, axis=1)
+        floor = float(np.max(energy * np.abs(self.crank_speed)))
+        return max(float(terms.max()), floor, 1e-300)
+
+    @property
     def crank_speed(self) -> np.ndarray:
         """θ̇ at every angle, rad/s."""
         return self.kinematics.qd[:, 3 * self.mechanism.body_index[self.mechanism.driver.body] + 2]
@@ -165,12 +189,11 @@ class DynamicsResult(Result):
 
         deg = np.degrees(self.angle)
         T = self.driving_torque
-        power = np.abs(T * self.crank_speed).max()
         out: dict[str, Any] = {
             key: float(v) for key, v in load_figures(T, self.shaking_force, self.shaking_moment()).items()
         }
         out["power_balance_residual_relative"] = float(
-            np.abs(self.power_balance_residual).max() / max(power, 1e-300)
+            np.abs(self.power_balance_residual).max() / self.power_scale
         )
         s = self.output_position
         j = self.mechanism.output_joint()
