@@ -252,3 +252,49 @@ def test_power_balance_of_a_balanced_rotor_reads_as_round_off():
     loaded = inverse_dynamics(slider_crank(), 120)
     assert loaded.power_scale >= np.abs(loaded.driving_torque * loaded.crank_speed).max()
     assert loaded.summary()["power_balance_residual_relative"] < 1e-12
+
+
+def _lone_rotor(force=None):
+    """A rotor pivoted at O = (0.4, 0.1), its centre of mass G a distance d along O→T, at constant ω."""
+    from mechdyn.mechanism.model import Body, Driver, Mechanism, ProcessForce, Revolute
+
+    o, t, d = np.array([0.4, 0.1]), np.array([0.7, 0.5]), 0.2  # |OT| = 0.5
+    g = o + d * (t - o) / 0.5
+    return Mechanism(
+        points={"O": tuple(o), "T": tuple(t)},
+        bodies=(Body("rotor", ("O", "T"), 2.0, 0.03, tuple(g)),),
+        joints=(Revolute("O", ("ground", "rotor"), "O"),),
+        driver=Driver("rotor", "O", "T", 3.0),
+        process_forces=() if force is None else (ProcessForce("rotor", "T", force),),
+    )
+
+
+@pytest.mark.parametrize("method", ["dyads", "newton"])
+def test_a_process_force_away_from_the_centre_of_mass_brings_its_moment(method):
+    """F = (Fx, Fy) at T, 0.5 m from the pivot: the motor holds T_drive = −(r_T − r_O) × F (constant ω),
+    the frame takes F − m a_G and, about O, the motor's reaction −T_drive."""
+    fx, fy = 1200.0, -800.0
+    rotor = _lone_rotor(lambda th, s: (np.full_like(th, fx), np.full_like(th, fy)))
+    r = inverse_dynamics(rotor, 36, method=method)
+    g = r.kinematics.q[:, :2]  # the centre of mass, on O→T
+    phi = np.arctan2(g[:, 1] - 0.1, g[:, 0] - 0.4)  # direction O→T
+    arm = 0.5 * np.stack([np.cos(phi), np.sin(phi)], -1)
+    torque = -(arm[:, 0] * fy - arm[:, 1] * fx)
+    np.testing.assert_allclose(r.driving_torque, torque, atol=1e-9 * 600)
+    centripetal = -(3.0**2) * 0.2 * np.stack([np.cos(phi), np.sin(phi)], -1)  # a_G
+    np.testing.assert_allclose(r.shaking_force, np.array([fx, fy]) - 2.0 * centripetal, atol=1e-9 * 1200)
+    np.testing.assert_allclose(r.shaking_moment(about=(0.4, 0.1)), -torque, atol=1e-9 * 600)
+
+
+def test_shaking_moment_about_a_point_moves_with_the_point():
+    """An unbalanced rotor at constant ω: the frame takes the centrifugal force m ω² (G − O) at O and
+    no torque, so its moment about any point P is (O − P) × m ω² (G − O): zero about O."""
+    r = inverse_dynamics(_lone_rotor(), 36)
+    g = r.kinematics.q[:, :2]
+    phi = np.arctan2(g[:, 1] - 0.1, g[:, 0] - 0.4)
+    f = 2.0 * 3.0**2 * 0.2 * np.stack([np.cos(phi), np.sin(phi)], -1)
+    np.testing.assert_allclose(r.shaking_force, f, atol=1e-12 * 3.6)
+    for p in [(0.0, 0.0), (0.4, 0.1), (-0.5, 0.8), (2.0, -1.0)]:
+        lever = np.array([0.4, 0.1]) - np.array(p)
+        expected = lever[0] * f[:, 1] - lever[1] * f[:, 0]
+        np.testing.assert_allclose(r.shaking_moment(about=p), expected, atol=1e-12 * 10)
