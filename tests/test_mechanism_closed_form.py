@@ -298,3 +298,61 @@ def test_shaking_moment_about_a_point_moves_with_the_point():
         lever = np.array([0.4, 0.1]) - np.array(p)
         expected = lever[0] * f[:, 1] - lever[1] * f[:, 0]
         np.testing.assert_allclose(r.shaking_moment(about=p), expected, atol=1e-12 * 10)
+
+
+def _quick_return(output=None, ram=False):
+    """An inverted slider-crank: the crank pin's block slides in a slot of a rocker (a moving guide);
+    with ``ram``, a second slider on the frame driven by the rocker's tip."""
+    from mechdyn.mechanism.model import Body, Driver, Mechanism, Prismatic, Revolute
+
+    pts = {"O": (0.0, 0.0), "A": (0.1, 0.0), "O4": (0.0, -0.3), "R": (0.2, 0.3), "S": (0.5, 0.4)}
+    bodies = [
+        Body("crank", ("O", "A"), 1.0, 0.01),
+        Body("block", ("A",), 0.5, 0.001),
+        Body("rocker", ("O4", "A", "R"), 3.0, 0.05),
+    ]
+    joints = [
+        Revolute("O", ("ground", "crank"), "O"),
+        Revolute("A", ("crank", "block"), "A"),
+        Prismatic("slot", ("block", "rocker"), "A", math.atan2(0.3, 0.1)),
+        Revolute("O4", ("rocker", "ground"), "O4"),
+    ]
+    if ram:
+        bodies += [Body("link", ("R", "S"), 1.0, 0.01), Body("ram", ("S",), 20.0, 0.1)]
+        joints += [
+            Revolute("R", ("rocker", "link"), "R"),
+            Revolute("S", ("link", "ram"), "S"),
+            Prismatic("ways", ("ram", "ground"), "S", 0.0),
+        ]
+    return Mechanism(
+        points=pts,
+        bodies=tuple(bodies),
+        joints=tuple(joints),
+        driver=Driver("crank", "O", "A", 5.0),
+        output=output,
+    )
+
+
+def test_a_slider_on_a_moving_guide_is_not_taken_for_the_stroke():
+    """The block in the rocker's slot once became the "stroke" (0.2 m, no word) when no output was set."""
+    m = _quick_return()
+    assert m.output_joint() is None
+    assert "stroke_m" not in inverse_dynamics(m, 72).summary()
+    # named, it is the output; a slider on the frame is the default one
+    assert _quick_return(output=("block", "A")).output_joint().name == "slot"
+    shaper = _quick_return(ram=True)
+    assert shaper.output_joint().name == "ways"
+    s = inverse_dynamics(shaper, 180).summary()
+    assert s["stroke_m"] > 0 and s["return_stroke_deg"] < s["working_stroke_deg"]  # a quick return
+
+
+def test_several_sliders_on_the_frame_ask_which_is_the_stroke():
+    from dataclasses import replace
+
+    from mechdyn.errors import ModelError
+    from mechdyn.mechanism.model import Prismatic
+
+    m = slider_crank()
+    second = Prismatic("second", ("slider", "ground"), "B", 0.0)
+    with pytest.raises(ModelError, match=r"2 sliders run on the frame .*output = \[body, point\]"):
+        replace(m, joints=(*m.joints, second), output=None)

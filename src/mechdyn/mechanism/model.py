@@ -498,7 +498,9 @@ class Mechanism:
         m/s² (e.g. ``(0, -9.81)``); none by default.
     process_forces : sequence of ProcessForce
     output : (body, point), optional
-        Whose motion along its prismatic axis is the stroke; by default the first prismatic joint.
+        Whose motion along its prismatic axis is the stroke; by default the one prismatic joint
+        whose guide is the frame (a slider on a moving guide, as in a quick-return linkage, is never
+        taken for the stroke unless named here; with several sliders on the frame it must be named).
         The axis points *up*: bottom dead centre is the lowest position along it, and inertia
         forces along it are positive upward (the press convention).
     angle_datum : float or "bdc"
@@ -572,6 +574,14 @@ class Mechanism:
                 raise ModelError(
                     f"output {self.output!r} must be a body and one of its points", element="output"
                 )
+        on_frame = self._sliders_on_frame()
+        if self.output is None and len(on_frame) > 1:
+            raise ModelError(
+                f"{len(on_frame)} sliders run on the frame ({', '.join(repr(j.name) for j in on_frame)}); "
+                "say which one is the stroke: output = [body, point], e.g. "
+                f"[{on_frame[0].bodies[0]!r}, {on_frame[0].point!r}]",
+                element="output",
+            )
         self._check_count()
         self.gear_laws  # noqa: B018 - a gear pair that cannot close is refused here
         self._check_gear_bodies()
@@ -727,11 +737,16 @@ class Mechanism:
         far = [p for p in self.bodies[self._index[link]].points if p != r.point]
         return (far[0], r.point) if far else None
 
+    def _sliders_on_frame(self) -> list[Prismatic]:
+        return [cast(Prismatic, j) for j in self.joints if j.slides and GROUND in j.bodies]
+
     def output_joint(self) -> Prismatic | None:
-        """The prismatic joint whose motion is the stroke."""
+        """The prismatic joint whose motion is the stroke: the one named by ``output``, else the one
+        slider whose guide is the frame (None without one)."""
         prismatic = [cast(Prismatic, j) for j in self.joints if j.slides]
         if self.output is None:
-            return prismatic[0] if prismatic else None
+            on_frame = self._sliders_on_frame()
+            return on_frame[0] if len(on_frame) == 1 else None
         for j in prismatic:
             if self.output[0] in j.bodies:
                 return j

@@ -123,7 +123,9 @@ class SettingsTable(FileModel):
     n_angles: int = Field(default=360, ge=8, le=100_000)
     """Crank angles per revolution."""
     output: tuple[str, str] | None = None
-    """The output: [body, point] whose motion is reported (default: the slide of a prismatic joint)."""
+    """The output: [body, point] whose motion is reported (default: the one slider whose guide is the
+    frame; a slider on a moving guide is the stroke only when named here, and with several sliders on
+    the frame one must be named)."""
     trace: list[str] = Field(default_factory=list)
     """Points whose paths are drawn."""
     field_velocity: tuple[Velocity, Velocity] | None = None
