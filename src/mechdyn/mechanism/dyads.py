@@ -744,7 +744,8 @@ def variants(
     for k, b in enumerate(base.bodies):
         if any(m.bodies[k].mass != b.mass for m in models):
             masses[b.name] = np.array([m.bodies[k].mass for m in models])
-        if any(m.bodies[k].inertia != b.inertia for m in models):
+        # each model's own inertia, also where only the mass changes (cycle() would scale it)
+        if b.name in masses or any(m.bodies[k].inertia != b.inertia for m in models):
             inertias[b.name] = np.array([m.bodies[k].inertia for m in models])
     if len(models) > 1 and not (points or masses or inertias):  # identical variants: still one each
         points = {p: np.array([base.points[p]] * len(models)) for p in list(base.points)[:1]}
