@@ -142,3 +142,52 @@ def test_a_stored_calibration_is_applied_when_asked(tmp_path):
     k = {m.name: m.stiffness[2] for m in result.machine.mounts}
     assert k["front left"] == pytest.approx(target, rel=1e-9)
     assert k["front right"] == pytest.approx(pad.compression_stiffness, rel=1e-12)
+
+
+def _rx(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def _ry(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def _rz(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+@pytest.mark.parametrize(
+    "angles",
+    [(30.0, 0.0, 0.0), (0.0, 30.0, 0.0), (0.0, 0.0, 30.0), (20.0, -35.0, 50.0)],
+)
+def test_a_mount_orientation_from_a_file_turns_about_x_then_y_then_z(tmp_path, angles):
+    """`orientation = [about x, about y, about z]` as documented: axes = R_z R_y R_x, built by hand
+    here. It was applied as z–y′–x″ with the angles in the given order, so ["30 deg", 0, 0] yawed
+    the mount and left its compression axis at (0, 0, 1)."""
+    orientation = ", ".join(f'"{a} deg"' for a in angles)
+    rows = "".join(
+        f'[[mounts]]\nname = "m{i}"\nposition = ["{x} m", "{y} m", "0 m"]\n'
+        f'stiffness = ["1e5 N/m", "2e5 N/m", "1e6 N/m"]\norientation = [{orientation}]\nanchored = true\n'
+        for i, (x, y) in enumerate([(-1, -1), (1, -1), (-1, 1), (1, 1)])
+    )
+    path = tmp_path / "tilted.toml"
+    path.write_text(
+        '[model]\ntype = "support"\n[machine]\nmass = "2 t"\ncenter_of_mass = ["0 m", "0 m", "0.5 m"]\n'
+        'inertia = ["1 t*m^2", "1.5 t*m^2", "2 t*m^2"]\n'
+        + rows
+        + '[excitation]\nperiod = "0.1 s"\nharmonics = [[1, "1 kN", "0 deg"]]\n'
+    )
+    machine = mechdyn.load(path).model
+    ax, ay, az = np.radians(angles)
+    expected = _rz(az) @ _ry(ay) @ _rx(ax)
+    for mount in machine.mounts:
+        np.testing.assert_allclose(mount.axes, expected, atol=1e-15)
+        # its stiffness in machine axes, assembled by hand: R diag(k) Rᵀ
+        np.testing.assert_allclose(
+            mount.stiffness_matrix, expected @ np.diag([1e5, 2e5, 1e6]) @ expected.T, rtol=1e-14, atol=1e-9
+        )
+    if angles == (30.0, 0.0, 0.0):  # tilted about x: the compression axis leans towards −y
+        np.testing.assert_allclose(machine.mounts[0].axes[:, 2], [0.0, -0.5, math.sqrt(3) / 2], atol=1e-15)

@@ -156,9 +156,13 @@ class Mount:
 
     @classmethod
     def with_orientation(cls, name: str, position: Any, stiffness: Any, angles: Any, **kw: Any) -> Mount:
-        """A mount whose local axes are the machine axes turned by angles (z, y′, x″), rad or quantities.
+        """A mount whose local axes are the machine axes turned by angles [about x, about y, about z].
 
-        The intrinsic z–y–x (yaw, pitch, roll) sequence of :class:`scipy.spatial.transform.Rotation`.
+        The axes are turned first about the machine's x axis by ``angles[0]``, then about the machine's
+        y axis by ``angles[1]``, then about its z axis by ``angles[2]`` (fixed axes, right-hand rule):
+        ``axes`` = R_z R_y R_x, the same as turning about z, then the new y′, then the new x″ by the
+        angles in reverse order. A mount tilted by ``[30°, 0, 0]`` has its compression axis (the third
+        local axis) at (0, −sin 30°, cos 30°). The model file's ``orientation`` is read the same way.
 
         Parameters
         ----------
@@ -169,14 +173,15 @@ class Mount:
         stiffness : sequence of float or quantity
             Along its local axes (shear, shear, compression), N/m.
         angles : sequence of float or quantity
-            The three rotations, rad.
+            [about x, about y, about z], rad.
         **kw
             Further :class:`Mount` fields (``damping``, ``anchored``).
         """
         from scipy.spatial.transform import Rotation
 
         a = _vector(name, "orientation", angles, "rad")
-        return cls(name, position, stiffness, axes=Rotation.from_euler("ZYX", a).as_matrix(), **kw)
+        # lower-case axes: rotations about the fixed (extrinsic) axes, in the order given
+        return cls(name, position, stiffness, axes=Rotation.from_euler("xyz", a).as_matrix(), **kw)
 
     @property
     def stiffness_matrix(self) -> np.ndarray:

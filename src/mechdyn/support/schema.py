@@ -107,8 +107,9 @@ class MountTable(FileModel):
         description="along the local axes; by default 0, or from an estimate's loss factor",
     )
     orientation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
-    """Rotations of the mount's local axes [about x, about y, about z]; the third local axis is its
-    compression axis."""
+    """Rotations of the mount's local axes [about x, about y, about z], applied in that order about the
+    machine's fixed axes (axes = R_z R_y R_x); the third local axis is its compression axis, so
+    ["30 deg", 0, 0] tilts it to (0, −sin 30°, cos 30°)."""
     anchored: bool = False
     """Whether the mount is bolted to the floor (it may then pull); a free-standing mount that the machine's
     weight would have to pull is refused."""
