@@ -1,14 +1,25 @@
-"""Symmetric eigen solvers for K q = ω² M q (dense, banded and sparse paths).
+"""Symmetric eigen solvers for K q = ω² M q (dense, banded and sparse paths, and accurate ones).
 
 A full mass matrix (a rigid machine on mounts, its inertia tensor coupling the coordinates) goes to LAPACK's
 generalised solver. With M diagonal (a drivetrain), the problem becomes the standard one A y = λ y with A =
 M^-½ K M^-½. A chain of disks gives a tridiagonal A and a geared tree a narrow band after reverse
 Cuthill–McKee ordering, so the banded path avoids the dense O(n³) reduction (divide and conquer on the
 tridiagonal); the sparse path (shift-invert Lanczos, ARPACK) returns the lowest modes of very large models.
+
+These fast paths are backward stable: every eigenvalue comes with an *absolute* error of about ε‖A‖, so a
+model whose inertias or stiffnesses spread over many decades (‖A‖/λ large) can get its low natural
+frequencies wrong, even as zero. Given the stiffness as a factor K = Fᵀ F (one row per spring, as a
+drivetrain assembles it), :func:`solve_eigen` checks the fast result and, where it cannot be trusted to
+1e-6, computes the frequencies as singular values of G = F M^-½ to high *relative* accuracy: bisection
+on the Golub–Kahan form of a bidiagonal factor for chains, one-sided Jacobi (LAPACK ``dgejsv``) for
+other models of up to 2000 coordinates; otherwise it warns with the condition estimate.
 """
 
 from __future__ import annotations
 
+import math
+import warnings
+from collections.abc import Callable
 from typing import Any, Literal
 
 import numpy as np
@@ -17,6 +28,8 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
+from mechdyn.errors import ModelWarning
+
 __all__ = ["SOLVERS", "solve_eigen"]
 
 Solver = Literal["auto", "dense", "banded", "sparse"]
@@ -24,6 +37,15 @@ SOLVERS: tuple[str, ...] = ("auto", "dense", "banded", "sparse")
 
 _DENSE_LIMIT = 800
 _BAND_LIMIT = 32
+
+#: Relative accuracy promised on every flexible natural frequency ω = √λ.
+ACCURACY = 1e-6
+#: The fast paths' error estimate ε‖A‖/(2λ) must stay this many times below :data:`ACCURACY`.
+_MARGIN = 100.0
+#: Largest model (coordinates) solved by dense one-sided Jacobi when the fast paths cannot be trusted.
+_JACOBI_LIMIT = 2000
+_EPS = float(np.finfo(float).eps)
+_TINY = float(np.finfo(float).tiny)
 
 
 def _standard(K: sp.csr_array, mass: np.ndarray) -> tuple[sp.csr_array, np.ndarray]:
@@ -56,6 +78,8 @@ def solve_eigen(
     *,
     n_modes: int | None = None,
     solver: Solver = "auto",
+    factor: sp.csr_array | np.ndarray | Callable[[], sp.csr_array | np.ndarray] | None = None,
+    n_rigid: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray, str]:
     """Lowest eigenpairs of K q = λ M q for symmetric semi-definite K and positive-definite M.
 
@@ -75,15 +99,64 @@ def solve_eigen(
         in shift-invert mode just below zero (needs ``n_modes`` < n − 1). ``auto`` picks dense for
         small models, banded when the reordered band is narrow (chains, geared trees), sparse for a
         few modes of a wide-band model, dense otherwise.
+    factor : sparse array, ndarray or callable, optional
+        F, (m, n), with K = Fᵀ F: one row per spring, √k times the spring's deflection per unit
+        coordinate (a drivetrain's shafts, meshes and grounded springs), in √(N·m/rad); or a function
+        of no arguments that returns it, called only when the fast result is in doubt. With it (and a
+        diagonal M), a result of the fast paths that cannot be trusted to :data:`ACCURACY` is replaced by
+        one accurate to it (see Notes).
+    n_rigid : int, optional
+        Number of zero (rigid-body) eigenvalues, set aside when judging the accuracy of the others.
+        Inferred from ``factor`` when not given (one per connected group of coordinates that no row of
+        one coordinate holds to the ground). Without ``factor`` and ``n_rigid`` no check is made.
 
     Returns
     -------
     lam : ndarray
-        Eigenvalues λ = ω², ascending, (rad/s)².
+        Eigenvalues λ = ω², ascending, (rad/s)²; the ``n_rigid`` rigid-body ones first.
     Q : ndarray
         M-normalised eigenvectors (Qᵀ M Q = I), one per column.
     used : str
-        The solver that ran.
+        The solver that ran: one of ``solver``'s values, ``"jacobi"`` or ``"bidiagonal"``.
+
+    Warns
+    -----
+    ModelWarning
+        When some flexible natural frequencies may be wrong by more than :data:`ACCURACY` (relative) and
+        no accurate path applies (no ``factor``; a model of more than 2000 coordinates that is not a
+        chain; a branch closed by a loop of springs whose scaled condition is poor, such as a loop of
+        flexible meshes whose ratios nearly agree). The message gives the condition estimate and how
+        far the frequencies may be off.
+
+    Notes
+    -----
+    Every fast path is backward stable: each eigenvalue carries an absolute error of about ε‖A‖, A =
+    M^-½ K M^-½, so the relative error of a flexible ω = √λ is about ε‖A‖/(2λ). Where that estimate
+    exceeds ``ACCURACY``/100 for a wanted flexible mode (and ``n_rigid`` or ``factor`` is given), the
+    result is checked or recomputed from the factor: λ are the squared singular values of G = F M^-½
+    (Gᵀ G = A), which are determined to high relative accuracy by the entries of G when the springs
+    form a tree (its bipartite graph of coordinates and springs is acyclic), whatever the spread of
+    inertias and stiffnesses (Demmel, Gu, Eisenstat, Slapničar, Veselić & Drmač, "Computing the
+    singular value decomposition with high relative accuracy", *Linear Algebra Appl.* 299, 1999).
+
+    * Chains (every spring joins neighbours along a path, or grounds one coordinate), of any length:
+      G is reduced, without cancellation, to a bidiagonal W with A = W Wᵀ (Cholesky factorisation
+      along the chain, series combination of the springs); its singular values are determined to high
+      relative accuracy (Demmel & Kahan, "Accurate singular values of bidiagonal matrices", *SIAM J.
+      Sci. Stat. Comput.* 11, 1990) and Sturm counts on its Golub–Kahan form (LAPACK ``dstebz``) are
+      relatively accurate. Two counts per doubtful frequency verify the fast result to
+      ``ACCURACY``/2; if one fails, bisection to full relative accuracy and inverse iteration on the
+      Golub–Kahan form (``dstein``) replace the doubtful pairs and ``used`` is ``"bidiagonal"``.
+    * Other models of up to 2000 coordinates: one-sided Jacobi SVD of each connected group's G (or Gᵀ,
+      so that the rigid-body mode of a free tree is structural and never computed), LAPACK ``dgejsv``
+      with row and column pivoting (Demmel & Veselić, "Jacobi's method is more accurate than QR",
+      *SIAM J. Matrix Anal. Appl.* 13, 1992; Drmač & Veselić, "New fast and accurate Jacobi SVD
+      algorithm I/II", *SIAM J. Matrix Anal. Appl.* 29, 2008), O(n³). ``used`` is ``"jacobi"``.
+
+    A group closed by a loop of springs (e.g. a planetary set) has no such guarantee: the Jacobi
+    result is then used, and a :class:`~mechdyn.errors.ModelWarning` gives its scaled condition where
+    that cannot vouch for ``ACCURACY``. Mode shapes from the accurate paths are as accurate as the
+    relative gaps between the frequencies allow; the lowest ``n_rigid`` pairs are the exact zero modes.
     """
     if solver not in SOLVERS:
         raise ValueError(f"unknown eigen solver {solver!r}; expected one of {', '.join(SOLVERS)}")
@@ -96,6 +169,15 @@ def solve_eigen(
             lam, Q = _dense(Kd, k, mass)
             return np.asarray(lam), Q, "dense"
         mass = np.diagonal(mass).copy()
+    lam, Q, used = _fast(K, mass, k, solver)
+    if factor is None and n_rigid is None:
+        return lam, Q, used
+    return _checked(K, mass, k, lam, Q, used, factor, n_rigid)
+
+
+def _fast(K: Any, mass: np.ndarray, k: int, solver: str) -> tuple[np.ndarray, np.ndarray, str]:
+    """The dense, banded and sparse paths on A = M^-½ K M^-½ (absolute accuracy ε‖A‖)."""
+    n = mass.shape[0]
     if n <= _DENSE_LIMIT and solver in ("auto", "dense"):
         # small models: no sparse round trip (it costs more than the solve below ~50 coordinates)
         d = 1.0 / np.sqrt(mass)
@@ -153,3 +235,348 @@ def solve_eigen(
         order = np.argsort(lam)
         lam, Y = lam[order], Y[:, order]
     return np.asarray(lam), d[:, None] * Y, solver
+
+
+# -- the accuracy check and the accurate paths ---------------------------------------------------
+
+
+def _checked(
+    K: Any,
+    mass: np.ndarray,
+    k: int,
+    lam: np.ndarray,
+    Q: np.ndarray,
+    used: str,
+    factor: Any,
+    n_rigid: int | None,
+) -> tuple[np.ndarray, np.ndarray, str]:
+    """The fast result if its error estimate allows, else the accurate one (or a warning)."""
+    n = mass.size
+    F = None
+    if n_rigid is None:  # then factor is given: one rigid-body mode per free group of coordinates
+        F = _clean_factor(factor, n)
+        if F is None:
+            return lam, Q, used
+        n_rigid = int(np.count_nonzero(~_groups(F, n)[2]))
+    if k <= n_rigid:
+        return lam, Q, used
+    flex = lam[n_rigid:]  # ascending, as every fast path returns them
+    if k == n:
+        norm = float(max(abs(lam[0]), abs(lam[-1])))
+    else:  # Gershgorin bound on ‖A‖: the largest row sum of |A| = D |K| D
+        d = 1.0 / np.sqrt(mass)
+        Kabs = abs(sp.csr_array(K)) if sp.issparse(K) else np.abs(np.asarray(K, dtype=float))
+        norm = float(np.max((Kabs @ d) * d))
+    # the relative error of ω = √λ is about ε‖A‖/(2λ) (a flexible λ ≤ 0 is lost altogether): more than
+    # ACCURACY/_MARGIN for the s lowest flexible λ, those below this bound
+    s = int(np.searchsorted(flex, _EPS * norm * _MARGIN / (2.0 * ACCURACY)))
+    if s == 0:
+        return lam, Q, used
+    if F is None:
+        F = _clean_factor(factor, n)
+    if F is None:
+        _warn_estimate(norm, flex[:s], "no stiffness factor K = Fᵀ F is at hand to solve it accurately")
+        return lam, Q, used
+    chain = _bidiagonal_chain(F, mass)
+    if chain is not None:
+        e, perm = chain
+        if _verified(e, n, n_rigid, np.sqrt(np.clip(flex[:s], 0.0, None))):
+            return lam, Q, used
+        lam_b, Q_b = _golub_kahan(e, perm, mass, n_rigid, s)
+        lam, Q = lam.copy(), Q.copy()
+        lam[: n_rigid + s], Q[:, : n_rigid + s] = lam_b, Q_b
+        return lam, Q, "bidiagonal"
+    if n <= _JACOBI_LIMIT:
+        lam_a, Q_a, doubtful = _jacobi(F, mass, n_rigid)
+        for kappa, modes in doubtful:
+            _warn_loop(kappa, lam_a[modes])
+        return lam_a[:k], Q_a[:, :k], "jacobi"
+    _warn_estimate(norm, flex[:s], f"the model has more than {_JACOBI_LIMIT} coordinates and is not a chain")
+    return lam, Q, used
+
+
+def _clean_factor(factor: Any, n: int) -> sp.csr_array | None:
+    """The factor (called first if it is a function) as CSR without zeros or empty rows; None if none."""
+    if callable(factor):
+        factor = factor()
+    if factor is None:
+        return None
+    F = sp.csr_array(factor, dtype=float)
+    if F.shape[1] != n:
+        raise ValueError(f"the stiffness factor has {F.shape[1]} columns; expected {n}")
+    F.sum_duplicates()
+    F.eliminate_zeros()
+    keep = np.diff(F.indptr) > 0
+    return F if keep.all() else sp.csr_array(F[np.flatnonzero(keep)])
+
+
+def _groups(F: sp.csr_array, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Connected groups of coordinates: label per coordinate, group per row of F, grounded per group."""
+    P = abs(F)
+    P.data[:] = 1.0
+    count, label = csgraph.connected_components(sp.csr_array(P.T @ P), directed=False)
+    row_group = label[F.indices[F.indptr[:-1]]]
+    grounded = np.zeros(count, dtype=bool)
+    grounded[row_group[np.diff(F.indptr) == 1]] = True
+    return label, row_group, grounded
+
+
+def _dgejsv(X: np.ndarray, left: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Singular values (descending) and the full left (``left``) or right singular vectors of X (m ≥ n).
+
+    ``joba=2`` is LAPACK's JOBA = 'F' (row and column pivoting: accurate for X = D₁ C D₂ with C well
+    conditioned, whatever the diagonal scalings); ``jobu=1``/``jobv=0`` ask for all left/right vectors,
+    3 for none; ``jobp=0`` forbids perturbing small entries.
+    """
+    if left:
+        sva, U, _, work, _, info = sla.lapack.dgejsv(X, joba=2, jobu=1, jobv=3, jobp=0)
+    else:
+        sva, _, U, work, _, info = sla.lapack.dgejsv(X, joba=2, jobu=3, jobv=0, jobp=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"LAPACK dgejsv failed (info = {info})")
+    s = sva * (work[0] / work[1])  # dgejsv returns the singular values scaled against overflow
+    order = np.argsort(-s, kind="stable")
+    s = s[order]
+    V = np.asarray(U)
+    return s, np.concatenate([V[:, order], V[:, s.size :]], axis=1) if left else V[:, order]
+
+
+def _jacobi(
+    F: sp.csr_array, mass: np.ndarray, n_rigid: int
+) -> tuple[np.ndarray, np.ndarray, list[tuple[float, np.ndarray]]]:
+    """All eigenpairs from the one-sided Jacobi SVD of G = F M^-½, group by group.
+
+    Returns λ (rigid-body zeros first, then ascending), M-normalised Q, and for each group closed by a
+    loop whose scaled condition cannot vouch for :data:`ACCURACY`: the estimate and its modes' positions.
+    """
+    n = mass.size
+    d = 1.0 / np.sqrt(mass)
+    G = sp.csr_array(F @ sp.diags_array(d))
+    label, row_group, grounded = _groups(F, n)
+    n_groups = grounded.size
+    rows_of = np.argsort(row_group, kind="stable")
+    row_bounds = np.searchsorted(row_group[rows_of], np.arange(n_groups + 1))
+    cols_of = np.argsort(label, kind="stable")
+    col_bounds = np.searchsorted(label[cols_of], np.arange(n_groups + 1))
+    s_all = np.zeros(n)
+    is_rigid = np.zeros(n, dtype=bool)
+    Y = np.zeros((n, n))
+    loops: list[tuple[np.ndarray, slice]] = []  # the G and the columns of Y of each loop-closed group
+    candidates: list[tuple[float, int]] = []  # free loop-closed groups: (σ_min/σ_max, column of σ_min)
+    structural = 0
+    start = 0
+    for g in range(n_groups):
+        cols = cols_of[col_bounds[g] : col_bounds[g + 1]]
+        rows = rows_of[row_bounds[g] : row_bounds[g + 1]]
+        nc, mc = cols.size, rows.size
+        span = slice(start, start + nc)
+        start += nc
+        if mc == 0:  # a disk on its own: one rigid-body mode
+            Y[cols, span] = 1.0
+            is_rigid[span] = True
+            structural += 1
+            continue
+        Gc = G[rows][:, cols].toarray()
+        if mc < nc:  # a free tree (mc = nc − 1): Gcᵀ has full column rank, Gc's null space is the rigid mode
+            s, U = _dgejsv(np.asfortranarray(Gc.T), left=True)
+            is_rigid[span.start + mc : span.stop] = True
+            structural += nc - mc
+        else:
+            s, U = _dgejsv(np.asfortranarray(Gc), left=False)
+            if not grounded[g]:  # closed by a loop, nothing grounds it: σ_min may be a rigid-body mode
+                candidates.append((s[-1] / s[0] if s[0] > 0 else 0.0, span.stop - 1))
+        s_all[span.start : span.start + s.size] = s
+        Y[np.ix_(cols, np.arange(span.start, span.stop))] = U
+        if np.count_nonzero(Gc) > nc + mc - 1:  # more coordinate–spring links than a tree has: a loop
+            loops.append((Gc, span))
+    # n_rigid says how many of those free loop-closed groups turn freely (the others are locked by a
+    # loop of meshes whose ratios disagree): the ones with the relatively smallest σ_min
+    candidates.sort()
+    for _, column in candidates[: max(0, n_rigid - structural)]:
+        is_rigid[column] = True
+    lam_all = np.where(is_rigid, 0.0, s_all**2)
+    order = np.lexsort((lam_all, ~is_rigid))  # rigid-body modes first, then ascending
+    position = np.empty(n, dtype=int)
+    position[order] = np.arange(n)
+    doubtful = []
+    for Gc, span in loops:
+        columns = np.arange(span.start, span.stop)
+        flexible = columns[~is_rigid[columns]]
+        kappa = _loop_condition(Gc, flexible.size)
+        if _EPS * kappa > ACCURACY:
+            doubtful.append((kappa, np.sort(position[flexible])))
+    return lam_all[order], d[:, None] * Y[:, order], doubtful
+
+
+def _loop_condition(Gc: np.ndarray, n_flexible: int) -> float:
+    """σ_max/σ_j of a loop-closed group's G after equilibrating its rows and columns, σ_j its smallest
+    flexible singular value (the rigid-body one, if any, is left out).
+
+    One-sided Jacobi with pivoting is accurate to about ε times this number whatever the diagonal
+    scalings (Demmel et al. 1999), so it is the estimate reported for groups without the tree guarantee.
+    """
+    if n_flexible == 0:
+        return 1.0
+    C = np.abs(Gc)
+    r = np.ones(C.shape[0])
+    c = np.ones(C.shape[1])
+    for _ in range(8):  # alternate row and column scaling to unit maximum
+        r = 1.0 / np.max(C * c[None, :], axis=1)
+        c = 1.0 / np.max(C * r[:, None], axis=0)
+    sv = sla.svdvals(r[:, None] * Gc * c[None, :])
+    return float(sv[0] / sv[n_flexible - 1]) if sv[n_flexible - 1] > 0 else math.inf
+
+
+def _bidiagonal_chain(F: sp.csr_array, mass: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The Golub–Kahan off-diagonal of a lower bidiagonal W with W Wᵀ = P A Pᵀ, or None if not a chain.
+
+    A chain: every row of F holds one coordinate (a grounded spring) or two that are neighbours in the
+    reverse Cuthill–McKee order, and no two rows join the same neighbours. Cholesky factorisation
+    along that order, K = L Lᵀ, then needs no subtraction: with e_p the stiffness that holds
+    coordinate p to the ground through the coordinates before it, d_p = e_p + a_p² and
+    e_(p+1) = g_(p+1) + b_p² e_p / d_p (row (a_p, b_p) between p and p+1, g the grounded springs), so
+    every entry of W = M^-½ L is found to a few ulps: W_pp = √(d_p/m_p),
+    W_(p+1,p) = a_p b_p / √(d_p m_(p+1)).
+    """
+    n = mass.size
+    nnz = np.diff(F.indptr)
+    if nnz.max(initial=0) > 2:
+        return None
+    P = abs(F)
+    perm = csgraph.reverse_cuthill_mckee(sp.csr_array(P.T @ P), symmetric_mode=True)
+    pos = np.empty(n, dtype=int)
+    pos[perm] = np.arange(n)
+    two = np.flatnonzero(nnz == 2)
+    one = np.flatnonzero(nnz == 1)
+    starts = F.indptr[two]
+    ca, cb = pos[F.indices[starts]], pos[F.indices[starts + 1]]
+    va, vb = F.data[starts], F.data[starts + 1]
+    swap = ca > cb
+    ca, cb = np.where(swap, cb, ca), np.where(swap, ca, cb)
+    va, vb = np.where(swap, vb, va), np.where(swap, va, vb)
+    if np.any(cb - ca != 1) or np.bincount(ca, minlength=n).max(initial=0) > 1:
+        return None
+    a = np.zeros(n)
+    b = np.zeros(n)
+    a[ca], b[ca] = va, vb
+    g = np.zeros(n)
+    np.add.at(g, pos[F.indices[F.indptr[one]]], F.data[F.indptr[one]] ** 2)
+    if not g.any():  # nothing grounds the chain: e ≡ 0 and W is G itself, reordered
+        dd = a**2
+    else:
+        dd = np.empty(n)
+        e_p = 0.0
+        for p in range(n):
+            e_p += g[p]
+            dd[p] = e_p + a[p] * a[p]
+            e_p = b[p] * b[p] * e_p / dd[p] if dd[p] > 0 else 0.0
+    mp = mass[perm]
+    w_diag = np.sqrt(dd / mp)
+    root = np.sqrt(np.where(dd > 0, dd, 1.0))
+    w_sub = np.where(dd[:-1] > 0, a[:-1] * b[:-1] / (root[:-1] * np.sqrt(mp[1:])), 0.0)
+    e = np.empty(2 * n - 1)
+    e[0::2] = w_diag
+    e[1::2] = w_sub
+    return e, perm
+
+
+def _tgk_count(e: np.ndarray, x: float) -> int:
+    """Number of eigenvalues ≤ x of the Golub–Kahan matrix (zero diagonal, off-diagonal e).
+
+    LAPACK ``dstebz`` over (−big, x] with a tolerance wider than the interval: its Sturm counts and no
+    bisection step.
+    """
+    big = 2.0 * float(np.abs(e).max(initial=1.0)) + abs(x) + 1.0
+    m, *_, info = sla.lapack.dstebz(np.zeros(e.size + 1), e, 1, -big, x, 0, 0, 2 * big, b"B")
+    if info != 0:
+        raise np.linalg.LinAlgError(f"LAPACK dstebz failed (info = {info})")
+    return int(m)
+
+
+def _verified(e: np.ndarray, n: int, z: int, sigma: np.ndarray) -> bool:
+    """Whether the j-th flexible singular value lies within ACCURACY/2 (relative) of sigma[j], every j.
+
+    The Golub–Kahan matrix has n − z negative eigenvalues and 2z zeros below the flexible σ, so σ_j
+    (0-based among the flexible ones) is its eigenvalue number n + z + j (0-based).
+    """
+    tau = ACCURACY / 2.0
+    for j, s in enumerate(sigma):
+        if not s > 0:
+            return False
+        if not _tgk_count(e, s * (1.0 - tau)) <= n + z + j < _tgk_count(e, s * (1.0 + tau)):
+            return False
+    return True
+
+
+def _golub_kahan(
+    e: np.ndarray, perm: np.ndarray, mass: np.ndarray, z: int, n_flex: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The z rigid-body and the n_flex lowest flexible pairs of a chain from its bidiagonal factor.
+
+    Bisection to full relative accuracy (LAPACK ``dstebz``) and inverse iteration (``dstein``) on the
+    Golub–Kahan form; its eigenvector for σ interleaves the right and left singular vectors of Wᵀ, and
+    the right ones (even entries) are the eigenvectors of A = W Wᵀ.
+    """
+    n = mass.size
+    m = e.size + 1
+    d = 1.0 / np.sqrt(mass[perm])
+    Yp = np.zeros((n, z + n_flex))
+    lam = np.zeros(z + n_flex)
+    # rigid-body modes: a zero W_pp ends a free group; y solves Wᵀ y = 0 along the group
+    w_diag, w_sub = e[0::2], e[1::2]
+    ends = np.flatnonzero(w_diag == 0)
+    breaks = np.flatnonzero(w_sub == 0)  # W_(p+1,p) = 0: p ends a group
+    for r, end in enumerate(ends[:z]):
+        before = breaks[breaks < end]
+        start = int(before[-1]) + 1 if before.size else 0
+        ratio = -w_sub[start:end] / w_diag[start:end]  # y_p = ratio_p y_(p+1)
+        logs = np.concatenate([np.cumsum(np.log(np.abs(ratio))[::-1])[::-1], [0.0]])
+        signs = np.concatenate([np.cumprod(np.sign(ratio)[::-1])[::-1], [1.0]])
+        y = signs * np.exp(logs - logs.max())
+        Yp[start : end + 1, r] = y / np.linalg.norm(y)
+    il = n + z + 1
+    mm, w, iblock, isplit, info = sla.lapack.dstebz(
+        np.zeros(m), e, 2, 0.0, 0.0, il, il + n_flex - 1, 2 * _TINY, b"B"
+    )
+    if info != 0 or mm != n_flex:
+        raise np.linalg.LinAlgError(f"LAPACK dstebz failed (info = {info})")
+    Z, info = sla.lapack.dstein(np.zeros(m), e, w[:mm], iblock, isplit)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"LAPACK dstein failed (info = {info})")
+    order = np.argsort(w[:mm], kind="stable")
+    U = Z[0::2, order]
+    Yp[:, z:] = U / np.linalg.norm(U, axis=0)
+    lam[z:] = w[:mm][order] ** 2
+    Q = np.empty_like(Yp)
+    Q[perm] = d[:, None] * Yp
+    return lam, Q
+
+
+def _warn_estimate(norm: float, doubtful: np.ndarray, why: str) -> None:
+    """Warn that the ``doubtful`` lowest flexible λ of the fast paths may miss :data:`ACCURACY`."""
+    lowest = float(doubtful[0])
+    if lowest > _EPS * norm:
+        kappa = f"= {norm / lowest:.3g}"
+        worst = min(_EPS * norm / (2.0 * lowest), 1.0)
+    else:  # the lowest flexible λ is lost in the round-off: only a bound is known
+        kappa = f"≥ {1.0 / _EPS:.3g}"
+        worst = 1.0
+    warnings.warn(
+        f"ill-conditioned eigenproblem: condition estimate ‖M^-½ K M^-½‖/λ {kappa} for the lowest "
+        f"flexible mode, and {why}; the {doubtful.size} lowest flexible natural frequencies may be off by "
+        f"up to about {worst:.2g} (relative), not safely within the {ACCURACY:g} aimed at",
+        ModelWarning,
+        stacklevel=4,
+    )
+
+
+def _warn_loop(kappa: float, lam: np.ndarray) -> None:
+    f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * math.pi)
+    warnings.warn(
+        f"ill-conditioned eigenproblem: a branch closed by a loop of springs has the scaled condition "
+        f"estimate {kappa:.3g}, so its {f.size} natural frequencies ({f.min():.4g} to {f.max():.4g} Hz) "
+        f"may be wrong by up to {min(_EPS * kappa, 1.0):.2g} (relative), more than the {ACCURACY:g} "
+        f"aimed at",
+        ModelWarning,
+        stacklevel=4,
+    )
