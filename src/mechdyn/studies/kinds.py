@@ -18,7 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.store.studies import StoredVariant
+from mechdyn.store.studies import StoredVariant, variant_key
+from mechdyn.studies.polish import optimality, polish
 from mechdyn.studies.spec import StudyError
 
 __all__ = ["KIND_RUNNERS"]
@@ -208,9 +209,7 @@ def optimize(runner: Any) -> Findings:
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     multi = len(st.objectives) > 1
 
-    sampler = (
-        optuna.samplers.NSGAIISampler(seed=st.seed) if multi else optuna.samplers.TPESampler(seed=st.seed)
-    )
+    sampler = optuna.samplers.NSGAIISampler(seed=st.seed) if multi else _sampler(st)
     with runner.store.store.schema_lock(), warnings.catch_warnings():  # Optuna's tables, once
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
         # a trial whose process died (kill -9) has no heartbeat after HEARTBEAT_GRACE s: it is
@@ -243,23 +242,111 @@ def optimize(runner: Any) -> Findings:
         storage.engine.dispose()
 
     variants = list(runner.store.by_ids(ids))
-    variants = [runner.evaluate(runner.base_row())[0], *variants]
+    base = runner.evaluate(runner.base_row())[0]
     findings: dict[str, Any] = {"trials": len(ids), "best": None, "improvement_percent": None}
     if multi:
+        variants = [base, *variants]
         front = _pareto(st, variants)
         findings["pareto_front"] = [_describe(st, v) for v in front]
-        best = {v.id for v in front}
-    else:
-        b = _best(st, variants[1:])
-        if b is not None:
-            findings["best"] = _describe(st, b)
-            base = variants[0]
-            o = st.objectives[0]
-            y0, y1 = _value(base, o.output.key), _value(b, o.output.key)
-            findings["improvement_percent"] = 100.0 * (y0 - y1) / abs(y0) * o.sign if y0 else None
-        best = {b.id} if b is not None else set()
-    findings["base"] = _describe(st, variants[0])
-    return findings, variants, best
+        findings["base"] = _describe(st, base)
+        return findings, variants, {v.id for v in front}
+    # the local stage: SLSQP from the best designs the sampler found (and the given starts)
+    findings["polish"] = polish(runner, _starts(runner, [base, *variants]))
+    variants = [base, *(v for v in runner.all_variants() if v.id != base.id)]
+    findings.update(_optimum_findings(st, base, variants))
+    b = findings.pop("_best")
+    if b is not None:
+        findings["single_design_check"] = _single_design_check(st, b)
+    return findings, variants, {b.id} if b is not None else set()
+
+
+def _sampler(st: Any) -> Any:
+    """The global stage's Optuna sampler for one objective."""
+    import optuna
+
+    if st.sampler == "random":
+        return optuna.samplers.RandomSampler(seed=st.seed)
+    if st.sampler == "qmc":
+        with warnings.catch_warnings():  # experimental in Optuna, stable in use
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            return optuna.samplers.QMCSampler(qmc_type="sobol", scramble=True, seed=st.seed)
+    return optuna.samplers.TPESampler(seed=st.seed)
+
+
+def _starts(runner: Any, variants: list[StoredVariant]) -> list[np.ndarray]:
+    """Where the polish starts: the best designs evaluated (feasible ones by objective, then the
+    others by how far they break a constraint), the given starts and the base, without repeats."""
+    st = runner.study
+    o = st.objectives[0]
+
+    def rank(v: StoredVariant) -> tuple[float, float]:
+        y = _value(v, o.output.key)
+        if v.status != "ok" or not math.isfinite(y):
+            return (math.inf, math.inf)
+        worst = max((c.violation(v.outputs.get(c.output.key)) for c in st.constraints), default=0.0)
+        return (max(worst, 0.0), o.sign * y)
+
+    ranked = sorted((v for v in variants if rank(v)[0] < math.inf), key=rank)
+    rows = [np.array([v.parameters[p.name] for p in st.parameters], dtype=float) for v in ranked[:1]]
+    rows += [np.asarray(r, dtype=float) for r in st.start]
+    rows.append(np.asarray(runner.base_row(), dtype=float))
+    seen: set[str] = set()
+    out = []
+    for r in rows:
+        k = variant_key(r)
+        if k not in seen:
+            seen.add(k)
+            out.append(r)
+    return out
+
+
+def _optimum_findings(st: Any, base: StoredVariant | None, variants: list[StoredVariant]) -> dict[str, Any]:
+    """The optimum (preferring a polished design whose optimality can be shown), its improvement
+    over the base, its first-order optimality and the evaluations; ``_best`` is the variant."""
+    o = st.objectives[0]
+    by_key = {v.key: v for v in variants}
+    plain = _best(st, [v for v in variants if base is None or v.id != base.id] or variants)
+    best, proof = plain, None
+    if plain is not None:
+        limit = o.sign * _value(plain, o.output.key)
+        limit += 1e-6 * abs(limit)
+        ranked = sorted(
+            (v for v in variants if _feasible(st, v) and math.isfinite(_value(v, o.output.key))),
+            key=lambda v: o.sign * _value(v, o.output.key),
+        )
+        for v in ranked:
+            if o.sign * _value(v, o.output.key) > limit:
+                break
+            proof = optimality(st, v, by_key)
+            if proof is not None:
+                best = v
+                break
+    out: dict[str, Any] = {
+        "_best": best,
+        "best": _describe(st, best) if best is not None else None,
+        "base": _describe(st, base) if base is not None else None,
+        "improvement_percent": None,
+        "optimality": proof,
+        "evaluations": len(variants),
+    }
+    if best is not None and base is not None:
+        y0, y1 = _value(base, o.output.key), _value(best, o.output.key)
+        out["improvement_percent"] = 100.0 * (y0 - y1) / abs(y0) * o.sign if y0 else None
+    return out
+
+
+def _single_design_check(st: Any, best: StoredVariant) -> dict[str, Any]:
+    """The optimum evaluated again through the analysis itself (not the batch): the objective's
+    relative difference (round-off when both paths agree)."""
+    from mechdyn.studies.evaluate import Evaluator
+
+    o = st.objectives[0]
+    key = o.output.key
+    x = np.array([[best.parameters[p.name] for p in st.parameters]])
+    again = Evaluator(st.source, st.analysis, st.parameters, [key], st.options, batch=False)(x)[0]
+    y0, y1 = _value(best, key), again.outputs.get(key)
+    diff = abs(y1 - y0) / abs(y0) if y1 is not None and y0 else None
+    return {"status": again.status, "value": y1, "relative_difference": diff}
 
 
 _RETRY_OF = "mechdyn:retry_of"  # a trial asked again for one whose process died
@@ -542,8 +629,6 @@ def from_stored(study: Any, variants: list[StoredVariant]) -> Findings:
     StudyError
         When a sweep's variants are not all stored yet (the study is still running).
     """
-    from mechdyn.store.studies import variant_key
-
     by_key = {v.key: v for v in variants}
 
     class _Stored:
@@ -574,13 +659,11 @@ def from_stored(study: Any, variants: list[StoredVariant]) -> Findings:
         findings["pareto_front"] = [_describe(study, v) for v in front]
         return findings, variants, {v.id for v in front}
     if study.kind == "optimize":
-        best = _best(study, variants)
-    else:
-        feasible = [v for v in variants if _feasible(study, v) and v.objective is not None]
-        best = min(feasible, key=lambda v: v.objective or 0.0) if feasible else None
+        found = _optimum_findings(study, base, variants)
+        best = found.pop("_best")
+        findings.update(found)
+        return findings, variants, {best.id} if best is not None else None
+    feasible = [v for v in variants if _feasible(study, v) and v.objective is not None]
+    best = min(feasible, key=lambda v: v.objective or 0.0) if feasible else None
     findings["best"] = _describe(study, best) if best is not None else None
-    if study.kind == "optimize" and best is not None and base is not None:
-        o = study.objectives[0]
-        y0, y1 = _value(base, o.output.key), _value(best, o.output.key)
-        findings["improvement_percent"] = 100.0 * (y0 - y1) / abs(y0) * o.sign if y0 else None
     return findings, variants, {best.id} if best is not None else None

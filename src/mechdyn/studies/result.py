@@ -126,6 +126,8 @@ class StudyResult(Result):
         for key in ("best", "base"):
             if f.get(key) and kind in ("optimize", "synthesis", "factorial", "lhs"):
                 out.append(self._variant_table(f[key], "optimum" if key == "best" else "base design"))
+        if kind == "optimize" and f.get("best") and "pareto_front" not in f:
+            out.append(self._optimality_table())
         if "pareto_front" in f:
             ws = [o.output for o in st.objectives]
             out.append(
@@ -164,6 +166,51 @@ class StudyResult(Result):
             )
         )
         return out
+
+    def _optimality_table(self) -> Table:
+        """How far the optimum can be trusted: the first-order measure, what holds it (the active
+        constraints and bounds, each with what relaxing it by one unit is worth), the evaluations,
+        and the optimum evaluated again through the analysis itself."""
+        f = self.findings
+        proof = f.get("optimality")
+        o = self.study.objectives[0]
+        verb = "lowers" if o.sense == "minimize" else "raises"
+        rows: list[list[Any]] = []
+        if proof is None:
+            rows.append(["first-order optimality", "not shown (no gradient stored at the optimum)"])
+        else:
+            rows.append(["first-order optimality (KKT residual, relative)", proof["measure"]])
+            if not proof["active"]:
+                rows.append(["held by", "nothing: an interior optimum"])
+            for a in proof["active"]:
+                rows.append(
+                    [
+                        f"{a['per']} more on {a['name']}",
+                        f"{verb} the objective by {a['worth']:.4g} {proof['unit']}",
+                    ]
+                )
+        polished = f.get("polish")
+        if polished:
+            rows.append(
+                [
+                    "polish",
+                    f"{polished['method']} from {polished['starts']} start(s), "
+                    f"{polished['iterations']} iterations",
+                ]
+            )
+        rows.append(["variants evaluated in all", f.get("evaluations")])
+        check = f.get("single_design_check")
+        if check:
+            diff = check.get("relative_difference")
+            rows.append(
+                [
+                    "optimum through the analysis itself",
+                    "failed: " + str(check.get("status"))
+                    if diff is None
+                    else f"agrees to {diff:.1e} (relative)",
+                ]
+            )
+        return Table(f"{self.study.name}: how good the optimum is", ["", "value"], rows)
 
     def _variant_table(self, d: dict[str, Any], title: str) -> Table:
         st = self.study

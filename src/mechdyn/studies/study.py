@@ -75,6 +75,9 @@ class _StudyTable(_Row):
         default=None, ge=4, le=100_000, description="synthesis: population per generation"
     )
     batch: int = Field(default=16, ge=1, le=100_000, description="optimize: trials asked for at once")
+    sampler: Literal["tpe", "random", "qmc"] = "tpe"
+    """optimize (one objective): the global stage's sampler, Optuna's ``tpe`` (default), ``random`` or
+    ``qmc`` (scrambled Sobol points); a constrained SLSQP polish of its best designs follows."""
     boxes: list[str] = Field(
         default_factory=list,
         description='one study per box: parameters with range = "box" take each ("±10 %", "±20 %")',
@@ -173,6 +176,8 @@ class Study:
         Variants per evaluation block.
     population, batch : int or None
         Synthesis population; optimization trials asked at once.
+    sampler : {"tpe", "random", "qmc"}
+        Optimization with one objective: the global stage's Optuna sampler.
     definition : dict
         What the study file says (stored, and compared when a study is resumed).
     path : str
@@ -199,6 +204,7 @@ class Study:
     chunk: int = 2048
     population: int | None = None
     batch: int = 16
+    sampler: str = "tpe"
     definition: dict[str, Any] = field(default_factory=dict)
     path: str = ""
     start: tuple[tuple[float, ...], ...] = ()
@@ -499,6 +505,7 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
         s.chunk,
         s.population,
         s.batch,
+        s.sampler,
         dict(data),
         src_path,
     )

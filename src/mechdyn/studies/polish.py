@@ -1,0 +1,341 @@
+"""The local stage of an optimization: a constrained polish of the best designs, and its proof.
+
+A sampler (Optuna's TPE) finds the region of the optimum; it does not reach the optimum itself,
+least of all against an equality held to a tolerance (a stroke to ±1 mm). From the best designs it
+found, :func:`polish` runs SciPy's SLSQP (sequential least squares quadratic programming: Kraft,
+"A software package for sequential quadratic programming", DFVLR-FB 88-28, 1988) with the study's
+constraints as constraints (``equals`` ± ``tolerance`` as two inequalities) and the parameter
+ranges as bounds.
+
+Gradients are central differences with a step of :data:`STEP` times each parameter's range
+(one-sided at a bound): all 2n + 1 variants of one point go to the evaluator as one block, so a
+batched analysis (a mechanism's compiled cycle) computes a gradient for about the cost of one
+design, and every variant is stored like any other. The analyses are smooth in their parameters and
+exact to round-off (~1e-15), so the difference error, O(h²) ≈ 1e-12 relative, is far below what
+matters; SciPy's own two-point differences would ask for the points one at a time.
+
+:func:`optimality` proves the answer from the stored variants alone (a run and a stored study give
+the same): at the optimum's stencil it finds the active constraints and bounds, solves the
+Karush–Kuhn–Tucker conditions ∇F = Σ λⱼ ∇gⱼ (λ ≥ 0) by non-negative least squares (Nocedal &
+Wright, *Numerical Optimization*, 2nd ed., 2006, §12.3) and reports the residual as the first-order
+optimality measure and each multiplier in the user's units: how much the objective improves per
+unit that a limit is relaxed ("1 mm more stroke tolerance is worth 0.8 tonf").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from mechdyn.store.studies import StoredVariant, variant_key
+
+__all__ = ["STEP", "optimality", "polish", "stencil"]
+
+STEP = 1e-6
+"""Finite-difference step, as a fraction of each parameter's range."""
+
+_ACTIVE = 1e-6  # a constraint within this fraction of its scale, or a bound within it of the range, is active
+_MAX_STARTS = 3
+
+
+def stencil(x: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The 2n + 1 rows of a central difference at ``x`` (SI): x, then x + hᵢeᵢ, then x − hᵢeᵢ, each
+    kept in [low, high] (one-sided at a bound), and the step between each pair.
+
+    Parameters
+    ----------
+    x, low, high : ndarray
+        (n,) the point and the parameter ranges, SI.
+
+    Returns
+    -------
+    rows : ndarray
+        (2n + 1, n).
+    width : ndarray
+        (n,) the distance between the pair of rows of each parameter.
+    """
+    h = STEP * (high - low)
+    up = np.minimum(x + h, high)
+    dn = np.maximum(x - h, low)
+    n = x.size
+    rows = np.repeat(x[None, :], 2 * n + 1, axis=0)
+    rows[1 + np.arange(n), np.arange(n)] = up
+    rows[1 + n + np.arange(n), np.arange(n)] = dn
+    return rows, up - dn
+
+
+def _limits(study: Any) -> list[tuple[Any, str, float, float]]:
+    """Each constraint side as (constraint, side, limit, scale), side ``"max"`` or ``"min"``: the
+    constraint function is g = limit − y (max) or y − limit (min), ≥ 0 where it holds."""
+    out = []
+    for c in study.constraints:
+        if c.equals is not None:
+            tol = c.tolerance or 0.0
+            scale = tol if tol > 0 else max(abs(c.equals), 1e-300)
+            out += [(c, "max", c.equals + tol, scale), (c, "min", c.equals - tol, scale)]
+        if c.max is not None:
+            out.append((c, "max", c.max, max(abs(c.max), 1e-300)))
+        if c.min is not None:
+            out.append((c, "min", c.min, max(abs(c.min), 1e-300)))
+    return out
+
+
+def _values(study: Any, v: StoredVariant) -> tuple[float, np.ndarray]:
+    """F = sign · objective (minimised) and every g (≥ 0 where the constraint holds), SI; NaN where
+    the variant failed."""
+    o = study.objectives[0]
+    y = v.outputs.get(o.output.key) if v.status == "ok" else None
+    f = o.sign * float(y) if y is not None else math.nan
+    g = []
+    for c, side, limit, _ in _limits(study):
+        value = v.outputs.get(c.output.key) if v.status == "ok" else None
+        value = math.nan if value is None else float(value)
+        g.append(limit - value if side == "max" else value - limit)
+    return f, np.array(g)
+
+
+def _gradients(
+    study: Any, x: np.ndarray, lookup: Callable[[np.ndarray], Sequence[StoredVariant] | None]
+) -> tuple[float, np.ndarray, np.ndarray, np.ndarray] | None:
+    """F, g and their gradients (SI) at x from its stencil; None when a stencil variant is missing or
+    failed."""
+    low, high = _range(study)
+    rows, width = stencil(x, low, high)
+    vs = lookup(rows)
+    if vs is None:
+        return None
+    values = [_values(study, v) for v in vs]
+    F = np.array([f for f, _ in values])
+    G = np.array([g for _, g in values]).reshape(len(vs), -1)
+    if not (np.isfinite(F).all() and np.isfinite(G).all()):
+        return None
+    n = x.size
+    dF = (F[1 : n + 1] - F[n + 1 :]) / width
+    dG = (G[1 : n + 1] - G[n + 1 :]) / width[:, None]
+    return float(F[0]), G[0], dF, dG.T
+
+
+def _range(study: Any) -> tuple[np.ndarray, np.ndarray]:
+    return (
+        np.array([p.low for p in study.parameters], dtype=float),
+        np.array([p.high for p in study.parameters], dtype=float),
+    )
+
+
+def polish(runner: Any, starts: Sequence[np.ndarray], *, max_iterations: int = 100) -> dict[str, Any]:
+    """SLSQP from each start (at most three), with the study's constraints and ranges.
+
+    Parameters
+    ----------
+    runner : Runner
+        Evaluates (and stores) blocks of variants: ``runner.evaluate(X)``, X in SI.
+    starts : sequence of ndarray
+        (n,) parameter rows, SI, best first.
+    max_iterations : int
+        SLSQP iterations per start.
+
+    Returns
+    -------
+    dict
+        ``method``, ``starts``, ``iterations`` (summed), ``evaluations`` (variants asked for,
+        stored ones included), ``messages`` (SLSQP's, one per start) and ``converged`` (whether any
+        start ended with SLSQP's success).
+    """
+    from scipy.optimize import minimize
+
+    st = runner.study
+    low, high = _range(st)
+    span = high - low
+    limits = _limits(st)
+    gscale = np.array([s for *_, s in limits])
+    asked = 0
+
+    def at(u: np.ndarray) -> np.ndarray:
+        return np.clip(low + np.clip(u, 0.0, 1.0) * span, low, high)
+
+    def lookup(rows: np.ndarray) -> list[StoredVariant]:
+        nonlocal asked
+        asked += len(rows)
+        return runner.evaluate(rows)
+
+    cache: dict[bytes, Any] = {}
+
+    def point(u: np.ndarray) -> tuple[float, np.ndarray]:
+        x = at(u)
+        return _values(st, lookup(x[None, :])[0])
+
+    def grads(u: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+        key = np.asarray(u, dtype=float).tobytes()
+        if key not in cache:
+            g = _gradients(st, at(u), lookup)
+            if g is None:
+                raise FloatingPointError("a variant of the gradient's stencil failed")
+            cache[key] = g
+        return cache[key]
+
+    messages: list[str] = []
+    iterations = 0
+    converged = False
+    for x0 in list(starts)[:_MAX_STARTS]:
+        u0 = np.clip((np.asarray(x0, dtype=float) - low) / np.where(span > 0, span, 1.0), 0.0, 1.0)
+        f0, _ = point(u0)
+        fscale = abs(f0) if math.isfinite(f0) and f0 != 0 else 1.0
+
+        def fun(u: np.ndarray, fscale: float = fscale) -> float:
+            f, _ = point(u)
+            return f / fscale if math.isfinite(f) else math.inf
+
+        def jac(u: np.ndarray, fscale: float = fscale) -> np.ndarray:
+            return grads(u)[2] * span / fscale
+
+        cons = [
+            {
+                "type": "ineq",
+                "fun": lambda u, j=j: point(u)[1][j] / gscale[j],
+                "jac": lambda u, j=j: grads(u)[3][j] * span / gscale[j],
+            }
+            for j in range(len(limits))
+        ]
+        try:
+            res = minimize(
+                fun,
+                u0,
+                jac=jac,
+                bounds=[(0.0, 1.0)] * len(u0),
+                constraints=cons,
+                method="SLSQP",
+                options={"maxiter": max_iterations, "ftol": 1e-12},
+            )
+        except FloatingPointError as exc:  # a design on the way failed: keep what was found
+            messages.append(str(exc))
+            continue
+        iterations += int(res.nit)
+        messages.append(str(res.message))
+        converged |= bool(res.success)
+        grads(res.x)  # the end point's stencil, for optimality() (stored, usually already)
+    return {
+        "method": "SLSQP",
+        "starts": min(len(starts), _MAX_STARTS),
+        "iterations": iterations,
+        "evaluations": asked,
+        "messages": messages,
+        "converged": converged,
+    }
+
+
+def _one_unit_in_si(unit: str, display: str) -> float:
+    """The size of one display unit in SI (1 mm → 0.001 m)."""
+    if not display or display == unit:
+        return 1.0
+    from mechdyn.units import convert
+
+    return float(convert(1.0, display, unit))
+
+
+def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVariant]) -> dict[str, Any] | None:
+    """The first-order optimality of ``best``, from its stencil among the stored variants.
+
+    Parameters
+    ----------
+    study : Study
+        One objective; its constraints and parameter ranges.
+    best : StoredVariant
+        The optimum.
+    stored : mapping of variant key → StoredVariant
+        The study's variants.
+
+    Returns
+    -------
+    dict or None
+        None when the stencil is not stored (no polish ran there). Otherwise ``measure``: the
+        Karush–Kuhn–Tucker residual ‖∇F − Σ λ ∇g‖∞ over ‖∇F‖∞ with gradients per parameter range
+        (0 at an exact first-order point; a sampler's best design is of order 1); ``active``: one
+        entry per active constraint side or bound with ``name``, ``kind`` (``"constraint"`` or
+        ``"bound"``), ``worth`` (the objective's improvement, in its display unit, per ``per``) and
+        ``per`` (one display unit of the limit, e.g. ``"1 mm"``); ``unit`` (the objective's display
+        unit).
+    """
+    from scipy.optimize import nnls
+
+    if not study.objectives:
+        return None
+    x = np.array([best.parameters[p.name] for p in study.parameters], dtype=float)
+
+    def lookup(rows: np.ndarray) -> list[StoredVariant] | None:
+        out = [stored.get(variant_key(r)) for r in rows]
+        return None if any(v is None for v in out) else out  # type: ignore[return-value]
+
+    found = _gradients(study, x, lookup)
+    if found is None:
+        return None
+    _, g, dF, dG = found
+    low, high = _range(study)
+    span = np.where(high > low, high - low, 1.0)
+    limits = _limits(study)
+    columns, entries = [], []
+    for j, (c, side, _, scale) in enumerate(limits):
+        if g[j] <= _ACTIVE * scale:
+            columns.append(dG[j] * span)
+            o = c.output
+            per = _one_unit_in_si(o.unit, o.display)
+            label = "upper" if side == "max" else "lower"
+            entries.append(
+                {
+                    "name": f"{c.describe()} ({label} limit)" if c.equals is not None else c.describe(),
+                    "kind": "constraint",
+                    "scale": 1.0,
+                    "si_per": per,
+                    "per": f"1 {o.display or o.unit}".strip(),
+                }
+            )
+    for i, p in enumerate(study.parameters):
+        for side, at_bound, sign in (("lower", x[i] - low[i], 1.0), ("upper", high[i] - x[i], -1.0)):
+            if at_bound <= _ACTIVE * span[i]:
+                e = np.zeros(x.size)
+                e[i] = sign  # the bound u ≥ 0 or 1 − u ≥ 0 in the range's fraction u
+                columns.append(e)
+                entries.append(
+                    {
+                        "name": f"{p.name} at its {side} bound",
+                        "kind": "bound",
+                        "scale": 1.0 / span[i],
+                        "si_per": p.factor,
+                        "per": f"1 {p.unit}".strip() if p.unit else "1",
+                    }
+                )
+    gF = dF * span
+    if columns:
+        A = np.array(columns).T
+        lam, _ = nnls(A, gF)
+        residual = gF - A @ lam
+    else:
+        lam, residual = np.zeros(0), gF
+    norm = float(np.abs(gF).max())
+    o = study.objectives[0].output
+    active = []
+    for k, e in enumerate(entries):
+        # λ: F per SI unit of a constraint's g, or per range fraction of a bound; then per display unit
+        worth_si = lam[k] * e["scale"] * e["si_per"]
+        active.append(
+            {
+                "name": e["name"],
+                "kind": e["kind"],
+                "worth": _shown_difference(o, worth_si),
+                "per": e["per"],
+            }
+        )
+    return {
+        "measure": float(np.abs(residual).max() / norm) if norm > 0 else 0.0,
+        "active": active,
+        "unit": o.display or o.unit,
+    }
+
+
+def _shown_difference(w: Any, value: float) -> float:
+    """A difference of an output (SI) in its display unit (a scale, no offset)."""
+    if not w.display:
+        return float(value)
+    return float(value) * _one_unit_in_si(w.unit, w.display) ** -1
