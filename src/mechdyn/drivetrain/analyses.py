@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from mechdyn.errors import MechdynError
 from mechdyn.registry import Analysis, Option, Output, register
+from mechdyn.units import convert
 
 if TYPE_CHECKING:  # the numerical modules are imported when an analysis runs, not for --help
     from mechdyn.vibration.eigen import Solver
@@ -51,7 +52,7 @@ def _default_modes(model: Any, modes: int | None, how: str) -> int | None:
     if modes is not None and modes * n > _MAX_SHAPE_VALUES:
         raise MechdynError(
             f"{modes} modes of a {n}-disk model are {modes * n:,} shape values (about "
-            f"{modes * n * 200 / 1e9:.1f} GB while the run is stored); ask for at most "
+            f"{convert(modes * n * 200, 'B', 'GB'):.1f} GB while the run is stored); ask for at most "
             f"{max(1, _MAX_SHAPE_VALUES // n)} ({how})"
         )
     if modes is not None or n <= _ALL_MODES_UP_TO:

@@ -152,7 +152,7 @@ class DynamicsResult(Result):
     def power_scale(self) -> float:
         """The power the balance is judged against, W: the largest power that flows.
 
-        The largest over the cycle of |T θ̇| + Σ|F·v| + Σ|m v·a| (each term of
+        The largest over the cycle of ``|T θ̇| + Σ|F·v| + Σ|m v·a|`` (each term of
         :attr:`power_balance_residual` taken apart, so that terms cancelling each other do not hide
         their size), and at least the kinetic energy times the crank's angular speed, the power a
         round-off of the energy makes in one radian: a balanced rotor at constant speed, where every

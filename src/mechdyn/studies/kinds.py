@@ -24,6 +24,7 @@ from mechdyn.studies.spec import StudyError
 
 __all__ = ["KIND_RUNNERS"]
 
+_TIE = 1e-6  # relative: a polished design (with its proof) within this of the best is the optimum
 HEARTBEAT, HEARTBEAT_GRACE = 2, 20  # s: an optimization trial's heartbeat, and how long it may miss it
 Findings = tuple[dict[str, Any], list[StoredVariant], set[int] | None]
 
@@ -308,8 +309,8 @@ def _optimum_findings(st: Any, base: StoredVariant | None, variants: list[Stored
     plain = _best(st, [v for v in variants if base is None or v.id != base.id] or variants)
     best, proof = plain, None
     if plain is not None:
-        limit = o.sign * _value(plain, o.output.key)
-        limit += 1e-6 * abs(limit)
+        best_value = o.sign * _value(plain, o.output.key)
+        limit = best_value + _TIE * abs(best_value)  # a polished design this close is as good
         ranked = sorted(
             (v for v in variants if _feasible(st, v) and math.isfinite(_value(v, o.output.key))),
             key=lambda v: o.sign * _value(v, o.output.key),

@@ -275,7 +275,8 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
     low, high = _range(study)
     span = np.where(high > low, high - low, 1.0)
     limits = _limits(study)
-    columns, entries = [], []
+    columns: list[np.ndarray] = []
+    entries: list[dict[str, Any]] = []
     for j, (c, side, _, scale) in enumerate(limits):
         if g[j] <= _ACTIVE * scale:
             columns.append(dG[j] * span)
@@ -316,15 +317,15 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
     norm = float(np.abs(gF).max())
     o = study.objectives[0].output
     active = []
-    for k, e in enumerate(entries):
+    for k, entry in enumerate(entries):
         # λ: F per SI unit of a constraint's g, or per range fraction of a bound; then per display unit
-        worth_si = lam[k] * e["scale"] * e["si_per"]
+        worth_si = lam[k] * entry["scale"] * entry["si_per"]
         active.append(
             {
-                "name": e["name"],
-                "kind": e["kind"],
+                "name": entry["name"],
+                "kind": entry["kind"],
                 "worth": _shown_difference(o, worth_si),
-                "per": e["per"],
+                "per": entry["per"],
             }
         )
     return {
