@@ -294,7 +294,7 @@ def _starts(runner: Any, variants: list[StoredVariant]) -> list[np.ndarray]:
     seen: set[str] = set()
     out = []
     for r in rows:
-        k = variant_key(r)
+        k = variant_key(r.tolist())
         if k not in seen:
             seen.add(k)
             out.append(r)

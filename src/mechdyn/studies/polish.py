@@ -265,7 +265,7 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
     x = np.array([best.parameters[p.name] for p in study.parameters], dtype=float)
 
     def lookup(rows: np.ndarray) -> list[StoredVariant] | None:
-        out = [stored.get(variant_key(r)) for r in rows]
+        out = [stored.get(variant_key(r.tolist())) for r in rows]
         return None if any(v is None for v in out) else out  # type: ignore[return-value]
 
     found = _gradients(study, x, lookup)
