@@ -83,8 +83,8 @@ def test_closed_form_dyads_agree_with_the_engine(press, press_result):
 
 def test_the_synthesis_study_keeps_its_limits_and_nears_the_signature(tmp_path):
     """The quick form of examples/studies/press_synthesis.toml: a fit that keeps the connecting rod
-    within 15° of the slide's axis and the guide within 300 mm of the crank, and is nearer the
-    published signature than the base design is once those limits hold."""
+    within 15° of the slide's axis and the guide within 300 mm of the crank, and reaches the published
+    signature within its tolerances."""
     from dataclasses import replace
 
     from mechdyn.studies import load_study, run_study
@@ -96,7 +96,12 @@ def test_the_synthesis_study_keeps_its_limits_and_nears_the_signature(tmp_path):
     assert best["outputs"]["output_link_obliquity_max_deg"] <= 15.0
     assert best["outputs"]["guide_offset_m"] <= 0.3
     assert result.findings["base"]["constraints"][0]["holds"] is False  # 66°: the reason for the study
-    assert best["outputs"]["stroke_m"] == pytest.approx(1.495, abs=0.1)  # 25 generations: near
+    # the evolution's best then polished with the limits as constraints: every published target
+    # within its tolerance (300 generations of evolution alone missed two), each with its verdict
+    assert all(t["holds"] and t["margin"] >= 0 for t in result.findings["targets"])
+    assert result.findings["missed_because"] is None
+    verdicts = next(t for t in result.tables() if t.title.endswith("targets"))
+    assert all(str(row[4]).startswith("holds") for row in verdicts.rows)
 
 
 def test_dead_centres_and_force_extremes_are_located_between_samples(press):

@@ -78,3 +78,25 @@ def test_a_stored_optimization_gives_the_same_optimum_and_proof(tpe, database):
     stored = stored_result(database, tpe.study.name)
     assert stored.findings["best"]["variant"] == tpe.findings["best"]["variant"]
     assert stored.findings["optimality"] == pytest.approx(tpe.findings["optimality"])
+
+
+def test_a_target_the_limits_make_unreachable_says_what_holds_the_fit(tmp_path):
+    """A crank whose stroke is asked for beyond its range: the fit stops at the bound and the target
+    is MISSED with the reason (the bound that holds it), not a silent best effort."""
+    from mechdyn.studies import load_study
+
+    study_file = tmp_path / "reach.toml"
+    (tmp_path / "slider_crank.toml").write_text((EXAMPLES / "slider_crank.toml").read_text())
+    study_file.write_text(
+        '[study]\nname = "reach"\nkind = "synthesis"\nmodel = "slider_crank.toml"\nanalysis = "mechanism"\n'
+        "samples = 5\npopulation = 6\noptions = { angles = 72 }\n"
+        '[[parameters]]\npath = "points.A.x"\nrange = "±10 %"\n'
+        '[[targets]]\noutput = "stroke_m"\nunit = "mm"\nequals = "10000 mm"\ntolerance = "1 mm"\n'
+    )
+    result = run_study(load_study(study_file), str(tmp_path / "r.db"), progress=False)
+    (target,) = result.findings["targets"]
+    assert not target["holds"] and target["margin"] < 0
+    assert "unreachable" in result.findings["missed_because"]
+    assert "points.A.x at its upper bound" in result.findings["missed_because"]
+    text = "\n".join(str(t) for t in result.tables())
+    assert "MISSED by" in text

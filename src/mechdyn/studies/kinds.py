@@ -19,11 +19,12 @@ from typing import Any
 import numpy as np
 
 from mechdyn.store.studies import StoredVariant, variant_key
-from mechdyn.studies.polish import optimality, polish
+from mechdyn.studies.polish import optimality, polish, target_cost
 from mechdyn.studies.spec import StudyError
 
 __all__ = ["KIND_RUNNERS"]
 
+_FIRST_ORDER = 1e-4  # a KKT residual below this (relative) is a first-order point
 _TIE = 1e-6  # relative: a polished design (with its proof) within this of the best is the optimum
 HEARTBEAT, HEARTBEAT_GRACE = 2, 20  # s: an optimization trial's heartbeat, and how long it may miss it
 Findings = tuple[dict[str, Any], list[StoredVariant], set[int] | None]
@@ -252,7 +253,7 @@ def optimize(runner: Any) -> Findings:
         findings["base"] = _describe(st, base)
         return findings, variants, {v.id for v in front}
     # the local stage: SLSQP from the best designs the sampler found (and the given starts)
-    findings["polish"] = polish(runner, _starts(runner, [base, *variants]))
+    findings["polish"] = polish(runner, _starts(runner, [base, *variants]), objective=_objective(st))
     variants = [base, *(v for v in runner.all_variants() if v.id != base.id)]
     findings.update(_optimum_findings(st, base, variants))
     b = findings.pop("_best")
@@ -538,14 +539,9 @@ def synthesis(runner: Any) -> Findings:
     penalty = 1e3
 
     def cost_of(v: StoredVariant) -> float:
-        if v.status != "ok":
+        total = target_cost(st, v.outputs) if v.status == "ok" else math.inf
+        if not math.isfinite(total):
             return 1e12
-        total = 0.0
-        for t in st.targets:
-            y = v.outputs.get(t.output.key)
-            if y is None:
-                return 1e12
-            total += ((y - t.equals) / t.tolerance) ** 2
         for c in st.constraints:
             total += (
                 penalty
@@ -558,12 +554,7 @@ def synthesis(runner: Any) -> Findings:
         return total
 
     def objective_outputs(outputs: dict[str, Any]) -> float:
-        return sum(
-            ((outputs[t.output.key] - t.equals) / t.tolerance) ** 2
-            if outputs.get(t.output.key) is not None
-            else math.inf
-            for t in st.targets
-        )
+        return target_cost(st, outputs)
 
     def f(X: np.ndarray) -> np.ndarray:
         vs = runner.evaluate(np.asarray(X).T, objective=objective_outputs)
@@ -584,30 +575,77 @@ def synthesis(runner: Any) -> Findings:
         x0=np.clip(runner.base_row(), *np.array(bounds).T),  # the base design, moved into the ranges
     )
     base = runner.evaluate(runner.base_row())[0]
+    # the local stage: SLSQP on the target cost from the evolution's best, constraints as constraints
+    found = [v for v in runner.all_variants() if v.objective is not None and math.isfinite(v.objective)]
+    found.sort(key=lambda v: (not _feasible(st, v), v.objective))
+    starts = [np.array([v.parameters[p.name] for p in st.parameters]) for v in found[:1]]
+    polished = polish(runner, starts or [np.clip(res.x, *np.array(bounds).T)], objective=objective_outputs)
     variants = runner.all_variants()
-    # the fit: the variant nearest the targets among those that keep every constraint (the
-    # optimizer's own end point may break one by a little: its constraints are penalties)
-    feasible = [v for v in variants if _feasible(st, v) and v.objective is not None]
-    best_v = min(feasible, key=lambda v: v.objective) if feasible else runner.evaluate(res.x)[0]
     findings = {
-        "feasible": bool(feasible),
         "generations": int(res.nit),
-        "evaluations": int(res.nfev),
-        "cost": float(res.fun),
-        "best": _describe(st, best_v),
-        "base": _describe(st, base),
-        "targets": [
+        "polish": polished,
+        **_fit_findings(st, base, variants),
+    }
+    best_v = findings.pop("_best")
+    return findings, variants, {best_v.id, base.id} if best_v is not None else {base.id}
+
+
+def _fit_findings(st: Any, base: StoredVariant | None, variants: list[StoredVariant]) -> dict[str, Any]:
+    """A synthesis' fit (the variant nearest the targets among those that keep every constraint), a
+    verdict and margin per target, and, for a missed target, what stops the fit: the constraints and
+    bounds that hold it at a first-order point, or a search that stopped short."""
+    feasible = sorted(
+        (v for v in variants if _feasible(st, v) and v.objective is not None),
+        key=lambda v: v.objective or 0.0,
+    )
+    best_v, proof = (feasible[0] if feasible else None), None
+    by_key = {v.key: v for v in variants}
+    for v in feasible:  # a fit as good whose first-order optimality can be shown, if there is one
+        if (v.objective or 0.0) > (best_v.objective or 0.0) * (1.0 + _TIE) + _TIE:  # type: ignore[union-attr]
+            break
+        proof = optimality(st, v, by_key)
+        if proof is not None:
+            best_v = v
+            break
+    targets = []
+    for t in st.targets:
+        value = best_v.outputs.get(t.output.key) if best_v is not None else None
+        off = abs(value - t.equals) if value is not None else None
+        targets.append(
             {
                 "output": t.output.key,
                 "target": t.equals,
                 "tolerance": t.tolerance,
-                "value": best_v.outputs.get(t.output.key),
-                "base_value": base.outputs.get(t.output.key),
+                "value": value,
+                "base_value": base.outputs.get(t.output.key) if base is not None else None,
+                "holds": off is not None and off <= t.tolerance,
+                "margin": t.tolerance - off if off is not None else None,  # < 0: missed by that much
             }
-            for t in st.targets
-        ],
+        )
+    missed = [t for t in targets if not t["holds"]]
+    if not missed:
+        why = None
+    elif proof is None:
+        why = "the search stopped short: no gradient was stored at the fit"
+    elif proof["measure"] > _FIRST_ORDER:
+        why = f"the search stopped short (first-order residual {proof['measure']:.2g})"
+    elif proof["active"]:
+        why = "the limits make it unreachable: the fit is held by " + ", ".join(
+            a["name"] for a in proof["active"]
+        )
+    else:
+        why = "the targets cannot all be met together by these parameters (a least-squares compromise)"
+    return {
+        "_best": best_v,
+        "feasible": bool(feasible),
+        "evaluations": len(variants),
+        "cost": best_v.objective if best_v is not None else None,
+        "best": _describe(st, best_v) if best_v is not None else None,
+        "base": _describe(st, base) if base is not None else None,
+        "targets": targets,
+        "optimality": proof,
+        "missed_because": why,
     }
-    return findings, variants, {best_v.id, base.id}
 
 
 KIND_RUNNERS: dict[str, Callable[[Any], Findings]] = {
@@ -664,7 +702,7 @@ def from_stored(study: Any, variants: list[StoredVariant]) -> Findings:
         best = found.pop("_best")
         findings.update(found)
         return findings, variants, {best.id} if best is not None else None
-    feasible = [v for v in variants if _feasible(study, v) and v.objective is not None]
-    best = min(feasible, key=lambda v: v.objective or 0.0) if feasible else None
-    findings["best"] = _describe(study, best) if best is not None else None
+    found = _fit_findings(study, base, variants)
+    best = found.pop("_best")
+    findings.update(found)
     return findings, variants, {best.id} if best is not None else None

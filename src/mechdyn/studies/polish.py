@@ -32,7 +32,7 @@ import numpy as np
 
 from mechdyn.store.studies import StoredVariant, variant_key
 
-__all__ = ["STEP", "optimality", "polish", "stencil"]
+__all__ = ["STEP", "optimality", "polish", "stencil", "target_cost"]
 
 STEP = 1e-6
 """Finite-difference step, as a fraction of each parameter's range."""
@@ -83,12 +83,35 @@ def _limits(study: Any) -> list[tuple[Any, str, float, float]]:
     return out
 
 
+def target_cost(study: Any, outputs: Mapping[str, Any]) -> float:
+    """A synthesis' cost: Σ ((y − target) / tolerance)² over its targets (inf where one is missing).
+
+    Parameters
+    ----------
+    study : Study
+        Its ``targets`` (``equals`` within ``tolerance``, SI).
+    outputs : mapping
+        A variant's outputs, SI.
+    """
+    total = 0.0
+    for t in study.targets:
+        y = outputs.get(t.output.key)
+        if y is None or not math.isfinite(y):
+            return math.inf
+        total += ((y - t.equals) / t.tolerance) ** 2
+    return total
+
+
 def _values(study: Any, v: StoredVariant) -> tuple[float, np.ndarray]:
-    """F = sign · objective (minimised) and every g (≥ 0 where the constraint holds), SI; NaN where
-    the variant failed."""
-    o = study.objectives[0]
-    y = v.outputs.get(o.output.key) if v.status == "ok" else None
-    f = o.sign * float(y) if y is not None else math.nan
+    """F (minimised: sign · objective, or a synthesis' target cost) and every g (≥ 0 where the
+    constraint holds), SI; NaN where the variant failed."""
+    if study.objectives:
+        o = study.objectives[0]
+        y = v.outputs.get(o.output.key) if v.status == "ok" else None
+        f = o.sign * float(y) if y is not None else math.nan
+    else:
+        f = target_cost(study, v.outputs) if v.status == "ok" else math.nan
+        f = f if math.isfinite(f) else math.nan
     g = []
     for c, side, limit, _ in _limits(study):
         value = v.outputs.get(c.output.key) if v.status == "ok" else None
@@ -125,15 +148,24 @@ def _range(study: Any) -> tuple[np.ndarray, np.ndarray]:
     )
 
 
-def polish(runner: Any, starts: Sequence[np.ndarray], *, max_iterations: int = 100) -> dict[str, Any]:
-    """SLSQP from each start (at most three), with the study's constraints and ranges.
+def polish(
+    runner: Any,
+    starts: Sequence[np.ndarray],
+    *,
+    objective: Callable[[dict[str, Any]], float] | None = None,
+    max_iterations: int = 100,
+) -> dict[str, Any]:
+    """SLSQP from each start (at most three), with the study's constraints and ranges; it minimises
+    the study's objective, or a synthesis' target cost (:func:`target_cost`).
 
     Parameters
     ----------
     runner : Runner
-        Evaluates (and stores) blocks of variants: ``runner.evaluate(X)``, X in SI.
+        Evaluates (and stores) blocks of variants: ``runner.evaluate(X, objective)``, X in SI.
     starts : sequence of ndarray
         (n,) parameter rows, SI, best first.
+    objective : callable, optional
+        What each stored variant keeps as its objective value (as the study's sampler stores it).
     max_iterations : int
         SLSQP iterations per start.
 
@@ -159,7 +191,7 @@ def polish(runner: Any, starts: Sequence[np.ndarray], *, max_iterations: int = 1
     def lookup(rows: np.ndarray) -> list[StoredVariant]:
         nonlocal asked
         asked += len(rows)
-        return runner.evaluate(rows)
+        return runner.evaluate(rows, objective=objective)
 
     cache: dict[bytes, Any] = {}
 
@@ -260,7 +292,7 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
     """
     from scipy.optimize import nnls
 
-    if not study.objectives:
+    if not (study.objectives or study.targets):
         return None
     x = np.array([best.parameters[p.name] for p in study.parameters], dtype=float)
 
@@ -315,7 +347,7 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
     else:
         lam, residual = np.zeros(0), gF
     norm = float(np.abs(gF).max())
-    o = study.objectives[0].output
+    o = study.objectives[0].output if study.objectives else None
     active = []
     for k, entry in enumerate(entries):
         # λ: F per SI unit of a constraint's g, or per range fraction of a bound; then per display unit
@@ -324,14 +356,15 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
             {
                 "name": entry["name"],
                 "kind": entry["kind"],
-                "worth": _shown_difference(o, worth_si),
+                # a synthesis' cost has no unit a designer reads: only what holds the fit is told
+                "worth": _shown_difference(o, worth_si) if o is not None else None,
                 "per": entry["per"],
             }
         )
     return {
         "measure": float(np.abs(residual).max() / norm) if norm > 0 else 0.0,
         "active": active,
-        "unit": o.display or o.unit,
+        "unit": (o.display or o.unit) if o is not None else "",
     }
 
 

@@ -148,16 +148,31 @@ class StudyResult(Result):
             rows = []
             for t in f["targets"]:
                 w = next(w for w in st.watched if w.key == t["output"])
+                margin = t.get("margin")
+                shown = w.show(abs(margin)) if margin is not None else None
+                if margin is None or shown is None:
+                    verdict = "no value"
+                elif t.get("holds", margin >= 0):
+                    verdict = f"holds ({shown:.3g} to spare)"
+                else:
+                    verdict = f"MISSED by {shown:.3g}"
                 rows.append(
                     [
                         w.label,
                         w.show(t["target"]),
                         w.show(t["tolerance"]),
                         w.show(t["value"]),
+                        verdict,
                         w.show(t["base_value"]),
                     ]
                 )
-            out.append(Table(f"{st.name}: targets", ["output", "target", "tolerance", "fit", "base"], rows))
+            out.append(
+                Table(
+                    f"{st.name}: targets", ["output", "target", "tolerance", "fit", "verdict", "base"], rows
+                )
+            )
+            if f.get("missed_because"):
+                out.append(Table(f"{st.name}: why a target is missed", ["note"], [[f["missed_because"]]]))
         out.append(
             Table(
                 f"{st.name}: variants",
