@@ -16,6 +16,8 @@ import functools
 import re
 from typing import TYPE_CHECKING, Any
 
+from mechdyn.errors import MechdynError
+
 if TYPE_CHECKING:
     import pint
 
@@ -60,7 +62,7 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-class UnitError(ValueError):
+class UnitError(MechdynError, ValueError):
     """A value could not be read as a quantity of the expected dimension."""
 
 
@@ -135,7 +137,9 @@ def to_si(value: Any, unit: str, *, plain_is_si: bool = False) -> float:
     ):
         out = float(value)
         if not np.isfinite(out):
-            raise UnitError(f"{value!r} is not finite")
+            raise UnitError(
+                f"{value!r} is not finite; give a finite number" + (f" in {unit}" if unit else "")
+            )
         return out
     if isinstance(value, str):
         # a model file holds thousands of "number unit" texts with a handful of distinct units:
@@ -189,7 +193,7 @@ def _slow_to_si(value: Any, unit: str) -> float:
         )
     out = float(q.m_as(unit))
     if not np.isfinite(out):
-        raise UnitError(f"{value!r} is not finite")
+        raise UnitError(f"{value!r} is not finite; give a finite number" + (f" in {unit}" if unit else ""))
     return out
 
 
@@ -218,12 +222,30 @@ def _example(value: Any) -> str:
         return "1"
 
 
-def si_field(element: str, field: str, value: Any, unit: str) -> float:
-    """:func:`to_si` for a field of a model element (plain numbers are SI), errors naming both.
+def si_field(
+    element: str | None,
+    field: str,
+    value: Any,
+    unit: str,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    positive: bool = False,
+    nonnegative: bool = False,
+    nonzero: bool = False,
+    what: str | None = None,
+) -> float:
+    """:func:`to_si` for a field of a model element (plain numbers are SI), checked, errors naming both.
+
+    The value must be finite and within the magnitude a machine can have in its unit (the bounds of
+    the model files, :data:`mechdyn.checks.MAGNITUDE_LIMITS`); the keywords narrow the range
+    further (:func:`mechdyn.checks.check_number`).
 
     Parameters
     ----------
-    element : str
+    element : str or None
         The element's name, for the message.
     field : str
         The field's name, for the message.
@@ -231,18 +253,46 @@ def si_field(element: str, field: str, value: Any, unit: str) -> float:
         The value: a quantity, or a plain number taken as already in ``unit``.
     unit : str
         The SI unit wanted, e.g. ``"N*m/rad"``.
+    low, high : float, optional
+        Bounds of the accepted range, in ``unit``; closed unless ``low_open`` / ``high_open``.
+    low_open, high_open : bool
+        Exclude the bound itself.
+    positive : bool
+        The value must be positive (and at least :data:`mechdyn.checks.SMALLEST_POSITIVE` of its unit).
+    nonnegative : bool
+        The value must not be negative.
+    nonzero : bool
+        The value must not be zero (either sign).
+    what : str, optional
+        What the value is, in words, for the message.
 
     Raises
     ------
     mechdyn.errors.ModelError
-        With the element and field, the value and the expected unit.
+        With the element and field, the value and the expected unit or range.
     """
+    from mechdyn.checks import check_number
     from mechdyn.errors import ModelError
 
-    try:
-        return to_si(value, unit, plain_is_si=True)
-    except UnitError as exc:
-        raise ModelError(str(exc), element=element, field=field) from None
+    if isinstance(value, str) or not isinstance(value, (int, float)) or isinstance(value, bool):
+        try:
+            value = to_si(value, unit, plain_is_si=True)
+        except UnitError as exc:
+            raise ModelError(str(exc), element=element, field=field) from None
+    return check_number(
+        element,
+        field,
+        value,
+        unit,
+        low=low,
+        high=high,
+        low_open=low_open,
+        high_open=high_open,
+        positive=positive,
+        nonnegative=nonnegative,
+        nonzero=nonzero,
+        what=what,
+    )
 
 
 def convert(value: Any, unit: str, display: str) -> Any:

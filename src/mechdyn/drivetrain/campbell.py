@@ -8,14 +8,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mechdyn.checks import check_array
 from mechdyn.drivetrain.modal import ModalResult, modal
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelError
 from mechdyn.results import Result, Table
-from mechdyn.units import convert, to_si
+from mechdyn.units import convert, si_field
 
 if TYPE_CHECKING:
     import pandas as pd
+
+MAX_ORDER = 1e4
+"""The highest excitation order a Campbell diagram draws (of a shaft's speed or a mesh's tooth-passing)."""
 
 __all__ = ["CampbellResult", "ExcitationLine", "campbell"]
 
@@ -188,14 +192,16 @@ def campbell(
     ----------
     drivetrain : Drivetrain
     speed_range : (speed, speed)
-        Lowest and highest speed of the reference disk (quantities such as ``"3000 rpm"``, or rad/s).
+        Lowest and highest speed of the reference disk (quantities such as ``"3000 rpm"``, or rad/s),
+        from 0 to 1e8 rad/s.
     reference : str, optional
         The disk whose speed is given; default the first disk.
     shaft_orders : sequence of float
-        Orders of each shaft line's own speed (1 = once per revolution of that line).
+        Orders of each shaft line's own speed (1 = once per revolution of that line), positive, at
+        most :data:`MAX_ORDER` (1e4).
     mesh_orders : sequence of float
-        Harmonics of each mesh's tooth-passing frequency (teeth × shaft speed); meshes without teeth
-        have no mesh line.
+        Harmonics of each mesh's tooth-passing frequency (teeth × shaft speed), positive, at most
+        :data:`MAX_ORDER`; meshes without teeth have no mesh line.
     modes : ModalResult, optional
         Reuse modes already computed.
     rigid_gears : bool
@@ -214,9 +220,25 @@ def campbell(
     torsional analysis, e.g. Friswell et al., *Dynamics of Rotating Machines*, 2010, ch. 9).
     """
     ref = reference or drivetrain.disk_names[0]
-    lo, hi = (to_si(s, "rad/s", plain_is_si=True) for s in speed_range)
+    if isinstance(speed_range, str) or len(speed_range) != 2:
+        raise ModelError(
+            f"speed range {speed_range!r} must be two speeds (low, high)",
+            element="campbell",
+            field="speed_range",
+        )
+    lo, hi = (
+        si_field("campbell", "speed_range", s, "rad/s", nonnegative=True, what="speed") for s in speed_range
+    )
+    shaft_orders, mesh_orders = (
+        tuple(np.atleast_1d(check_array("campbell", f, v, positive=True, high=MAX_ORDER, what="orders")))
+        for f, v in (("shaft_orders", shaft_orders), ("mesh_orders", mesh_orders))
+    )
     if not 0 <= lo < hi:
-        raise ModelError(f"speed range {lo:g}..{hi:g} rad/s must satisfy 0 ≤ low < high")
+        raise ModelError(
+            f"speed range {lo:g}..{hi:g} rad/s must satisfy 0 ≤ low < high",
+            element="campbell",
+            field="speed_range",
+        )
     ratios = drivetrain.speed_ratios(ref)
     idx = drivetrain.disk_index
     lines: list[ExcitationLine] = []

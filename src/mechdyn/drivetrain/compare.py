@@ -8,8 +8,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from mechdyn.checks import check_array, check_number
 from mechdyn.drivetrain.modal import ModalResult, modal
 from mechdyn.drivetrain.model import Drivetrain
+from mechdyn.errors import ModelError
 from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
@@ -21,6 +23,11 @@ __all__ = ["ModeComparison", "compare_rigid", "mac"]
 MAC_THRESHOLD = 0.5
 
 
+def _unit_columns(x: np.ndarray) -> np.ndarray:
+    peak = np.abs(x).max(axis=0, initial=0.0)
+    return x / np.where(peak == 0, 1.0, peak)
+
+
 def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Modal assurance criterion between the columns of ``a`` and ``b``.
 
@@ -30,13 +37,29 @@ def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     a, b : ndarray
-        Mode shapes as columns, (n, m_a) and (n, m_b), in any one unit (rad for disk angles).
+        Mode shapes as columns, (n, m_a) and (n, m_b), in any one unit (rad for disk angles); finite,
+        of any scale (each column is scaled to its largest entry first).
 
     Returns
     -------
     ndarray
         (m_a, m_b) MAC values, dimensionless, in [0, 1].
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a NaN or an infinity in the shapes, or shapes whose rows do not match.
     """
+    a = check_array("mac", "a", a, bounded=False, what="mode shape entries")
+    b = check_array("mac", "b", b, bounded=False, what="mode shape entries")
+    if a.ndim != 2 or b.ndim != 2 or a.shape[0] != b.shape[0]:
+        raise ModelError(
+            f"shapes {a.shape} and {b.shape}: give mode shapes as columns of two (n, m) arrays with the "
+            "same n",
+            element="mac",
+            field="a",
+        )
+    a, b = _unit_columns(a), _unit_columns(b)  # MAC is scale-free; this keeps the squares finite
     num = np.abs(a.T @ b) ** 2
     den = np.outer(np.sum(a * a, axis=0), np.sum(b * b, axis=0))
     return num / np.where(den == 0, 1.0, den)
@@ -148,7 +171,7 @@ def compare_rigid(drivetrain: Drivetrain, *, threshold: float = MAC_THRESHOLD) -
     drivetrain : Drivetrain
         The model as given (its flexible meshes stay flexible).
     threshold : float
-        Lowest MAC accepted as "the same mode", dimensionless.
+        Lowest MAC accepted as "the same mode", dimensionless, between 0 and 1.
 
     Returns
     -------
@@ -160,6 +183,7 @@ def compare_rigid(drivetrain: Drivetrain, *, threshold: float = MAC_THRESHOLD) -
     :func:`scipy.optimize.linear_sum_assignment`); assigned pairs below ``threshold`` are left
     unpaired.
     """
+    threshold = check_number("compare_rigid", "threshold", threshold, low=0.0, high=1.0, what="MAC threshold")
     flexible = modal(drivetrain)
     rigid = modal(drivetrain, rigid_gears=True)
     m = mac(flexible.shapes, rigid.shapes)

@@ -11,6 +11,15 @@ and n = N_b / N_a (teeth) is the ratio ``|θ_a / θ_b|``.
 Every element implements one protocol, :meth:`Element.blocks`, returning the disks it connects and its
 contributions to the mass, stiffness and damping matrices and, for a rigid mesh, its constraint row.
 The assembler knows no element type by name.
+
+Accepted values
+---------------
+Every quantity is checked where it enters (:func:`mechdyn.units.si_field`): it must be finite and
+within the magnitude a machine can have in its unit, the bounds of the model files
+(:data:`mechdyn.checks.MAGNITUDE_LIMITS`: at most 1e10 kg·m², 1e14 N·m/rad, 1e15 N/m, 1e3 m, ...);
+a size, an inertia or a stiffness must moreover be positive and not below
+:data:`mechdyn.checks.SMALLEST_POSITIVE` of its unit (1e-18 kg·m², 1e-9 N·m/rad, 1e-9 m, ...).
+Anything else is a :class:`~mechdyn.errors.ModelError` naming the element, the field and the value.
 """
 
 from __future__ import annotations
@@ -37,6 +46,11 @@ __all__ = [
 
 #: Relative disagreement above which two sources of a gear ratio are reported.
 RATIO_TOLERANCE = 0.005
+#: The smallest gear ratio of one mesh accepted (and its inverse the largest): far beyond any real
+#: pair of gears (a worm pair reaches about 1:100), well inside what the matrices carry.
+MIN_RATIO = 1e-4
+#: The most teeth a gear of a mesh may have.
+MAX_TEETH = 10_000
 
 
 @dataclass(frozen=True)
@@ -72,18 +86,10 @@ class ElementBlocks:
     grounds: bool = False
 
 
-def _positive(owner: str, field_name: str, value: float, unit: str, *, allow_zero=False) -> float:
-    ok = value >= 0 if allow_zero else value > 0
-    if not ok:
-        need = "zero or positive" if allow_zero else "positive"
-        raise ModelError(f"{value:g} {unit} must be {need}", element=owner, field=field_name)
-    return value
-
-
 def _polar_moment(owner: str, outer_field: str, outer: Any, inner: Any) -> float:
     """Polar second moment of area of an annulus, π (D⁴ − d⁴) / 32, m⁴, with its inputs checked."""
-    do = _positive(owner, outer_field, _si(owner, outer_field, outer, "m"), "m")
-    di = _positive(owner, "inner_diameter", _si(owner, "inner_diameter", inner, "m"), "m", allow_zero=True)
+    do = _si(owner, outer_field, outer, "m", positive=True)
+    di = _si(owner, "inner_diameter", inner, "m", nonnegative=True)
     if di >= do:
         raise ModelError(
             f"inner diameter {di:g} m must be smaller than the {outer_field.replace('_', ' ')} {do:g} m",
@@ -137,7 +143,7 @@ class Disk(Element):
     name : str
         Unique name, referred to by shafts and meshes.
     inertia : float or quantity
-        Polar moment of inertia J, kg·m² (e.g. ``"4.0369e-3 kg*m^2"``).
+        Polar moment of inertia J, kg·m² (e.g. ``"4.0369e-3 kg*m^2"``): from 1e-18 to 1e10 kg·m².
     """
 
     name: str
@@ -145,8 +151,7 @@ class Disk(Element):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))
-        j = _si(self.name, "inertia", self.inertia, "kg*m^2")
-        object.__setattr__(self, "inertia", _positive(self.name, "inertia", j, "kg·m²"))
+        object.__setattr__(self, "inertia", _si(self.name, "inertia", self.inertia, "kg*m^2", positive=True))
 
     @classmethod
     def from_geometry(
@@ -174,9 +179,9 @@ class Disk(Element):
         Polar moment of inertia of an annular cylinder about its axis (any dynamics text, e.g.
         Meriam & Kraige, *Engineering Mechanics: Dynamics*, Appendix B).
         """
-        h = _positive(name, "thickness", _si(name, "thickness", thickness, "m"), "m")
+        h = _si(name, "thickness", thickness, "m", positive=True)
         polar = _polar_moment(name, "outer_diameter", outer_diameter, inner_diameter)
-        rho = _positive(name, "density", _si(name, "density", density, "kg/m^3"), "kg/m³")
+        rho = _si(name, "density", density, "kg/m^3", positive=True)
         return cls(name, rho * h * polar)
 
     def blocks(self) -> ElementBlocks:
@@ -202,9 +207,9 @@ class Shaft(Element):
     disks : (str, str)
         The disks at its two ends.
     stiffness : float or quantity
-        Torsional stiffness K, N·m/rad.
+        Torsional stiffness K, N·m/rad: from 1e-9 to 1e14 N·m/rad.
     damping : float or quantity, optional
-        Torsional damping c, N·m·s/rad.
+        Torsional damping c, N·m·s/rad: from 0 to 1e15 N·m·s/rad.
     """
 
     name: str
@@ -215,10 +220,10 @@ class Shaft(Element):
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))
         object.__setattr__(self, "disks", _pair(self.name, self.disks))
-        k = _si(self.name, "stiffness", self.stiffness, "N*m/rad")
-        object.__setattr__(self, "stiffness", _positive(self.name, "stiffness", k, "N·m/rad"))
-        c = _si(self.name, "damping", self.damping, "N*m*s/rad")
-        object.__setattr__(self, "damping", _positive(self.name, "damping", c, "N·m·s/rad", allow_zero=True))
+        k = _si(self.name, "stiffness", self.stiffness, "N*m/rad", positive=True)
+        object.__setattr__(self, "stiffness", k)
+        c = _si(self.name, "damping", self.damping, "N*m*s/rad", nonnegative=True)
+        object.__setattr__(self, "damping", c)
 
     @classmethod
     def from_geometry(
@@ -252,9 +257,9 @@ class Shaft(Element):
         Saint-Venant torsion of a circular section, J_p = π (d⁴ − d_i⁴)/32 (e.g. Timoshenko & Goodier,
         *Theory of Elasticity*, torsion of circular shafts).
         """
-        length_m = _positive(name, "length", _si(name, "length", length, "m"), "m")
+        length_m = _si(name, "length", length, "m", positive=True)
         polar = _polar_moment(name, "diameter", diameter, inner_diameter)
-        g = _positive(name, "shear_modulus", _si(name, "shear_modulus", shear_modulus, "Pa"), "Pa")
+        g = _si(name, "shear_modulus", shear_modulus, "Pa", positive=True)
         return cls(name, disks, g * polar / length_m, damping)
 
     def blocks(self) -> ElementBlocks:
@@ -286,13 +291,15 @@ class GearMesh(Element):
     teeth : (int, int), optional
         N_a, N_b; sets the ratio n = N_b / N_a and the gear-mesh excitation orders.
     ratio : float, optional
-        n = ``|θ_a / θ_b|`` when the teeth are not known.
+        n = ``|θ_a / θ_b|`` when the teeth are not known, dimensionless, from 1e-4 to 1e4 (as must be
+        the ratio the teeth or the base radii give; each gear has at most 10 000 teeth).
     base_radii : (float, float) or quantities, optional
-        r_a, r_b in m. Required for a flexible mesh.
+        r_a, r_b in m, from 1e-9 to 1e3 m. Required for a flexible mesh.
     stiffness : float or quantity, optional
-        Mesh stiffness k_c along the line of action, N/m. None makes the mesh rigid.
+        Mesh stiffness k_c along the line of action, N/m, from 1e-6 to 1e15 N/m. None makes the mesh
+        rigid.
     damping : float or quantity, optional
-        Mesh damping along the line of action, N·s/m.
+        Mesh damping along the line of action, N·s/m, from 0 to 1e13 N·s/m.
 
     Notes
     -----
@@ -328,36 +335,45 @@ class GearMesh(Element):
             whole = all(
                 isinstance(z, (int, np.integer)) or (isinstance(z, float) and z.is_integer()) for z in teeth
             )
-            if len(teeth) != 2 or not whole or any(z < 1 for z in teeth):
+            if len(teeth) != 2 or not whole or any(not 1 <= z <= MAX_TEETH for z in teeth):
                 raise ModelError(
-                    f"{self.teeth!r} must be two positive whole numbers", element=name, field="teeth"
+                    f"{self.teeth!r} must be two whole numbers between 1 and {MAX_TEETH}",
+                    element=name,
+                    field="teeth",
                 )
             teeth = (int(teeth[0]), int(teeth[1]))
             object.__setattr__(self, "teeth", teeth)
             sources.append(("teeth", teeth[1] / teeth[0]))
         if self.ratio is not None:
-            ratio = _positive(name, "ratio", _si(name, "ratio", self.ratio, ""), "")
+            ratio = _si(name, "ratio", self.ratio, "", low=MIN_RATIO, high=1.0 / MIN_RATIO, what="gear ratio")
             object.__setattr__(self, "ratio", ratio)
             sources.append(("given ratio" if not sources else "ratio", ratio))
         if self.base_radii is not None:
             if isinstance(self.base_radii, str) or len(self.base_radii) != 2:
                 raise ModelError(f"{self.base_radii!r} must be two radii", element=name, field="base_radii")
             radii = tuple(
-                _positive(name, "base_radii", _si(name, "base_radii", r, "m"), "m") for r in self.base_radii
+                _si(name, "base_radii", r, "m", positive=True, what="base radius") for r in self.base_radii
             )
             object.__setattr__(self, "base_radii", radii)
             sources.append(("base_radii", radii[1] / radii[0]))
         if not sources:
             raise ModelError("give the teeth, the ratio or the base radii", element=name, field="teeth")
+        for source, value in sources:
+            if not MIN_RATIO <= value <= 1.0 / MIN_RATIO:
+                raise ModelError(
+                    f"the {source.replace('_', ' ')} give a gear ratio of {value:g}; give a ratio between "
+                    f"{MIN_RATIO:g} and {1.0 / MIN_RATIO:g}",
+                    element=name,
+                    field=source.removeprefix("given "),
+                )
         if self.stiffness is not None:
-            k = _positive(name, "stiffness", _si(name, "stiffness", self.stiffness, "N/m"), "N/m")
+            k = _si(name, "stiffness", self.stiffness, "N/m", positive=True)
             object.__setattr__(self, "stiffness", k)
             if self.base_radii is None:
                 raise ModelError(
                     "a flexible mesh (with stiffness) needs base_radii", element=name, field="base_radii"
                 )
-        c = _si(name, "damping", self.damping, "N*s/m")
-        object.__setattr__(self, "damping", _positive(name, "damping", c, "N·s/m", allow_zero=True))
+        object.__setattr__(self, "damping", _si(name, "damping", self.damping, "N*s/m", nonnegative=True))
         first_name, first = sources[0]
         for other_name, other in sources[1:]:
             if abs(other / first - 1.0) > RATIO_TOLERANCE:
@@ -482,7 +498,7 @@ class GroundSpring(Element):
     name : str
     disk : str
     stiffness : float or quantity
-        N·m/rad.
+        N·m/rad, from 1e-9 to 1e14 N·m/rad.
     """
 
     name: str
@@ -492,8 +508,8 @@ class GroundSpring(Element):
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))
         _single(self.name, self.disk)
-        k = _si(self.name, "stiffness", self.stiffness, "N*m/rad")
-        object.__setattr__(self, "stiffness", _positive(self.name, "stiffness", k, "N·m/rad"))
+        k = _si(self.name, "stiffness", self.stiffness, "N*m/rad", positive=True)
+        object.__setattr__(self, "stiffness", k)
 
     def blocks(self) -> ElementBlocks:
         return ElementBlocks(
@@ -514,7 +530,7 @@ class GroundDamper(Element):
     name : str
     disk : str
     damping : float or quantity
-        N·m·s/rad.
+        N·m·s/rad, from 1e-12 to 1e15 N·m·s/rad.
     """
 
     name: str
@@ -524,8 +540,8 @@ class GroundDamper(Element):
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))
         _single(self.name, self.disk)
-        c = _si(self.name, "damping", self.damping, "N*m*s/rad")
-        object.__setattr__(self, "damping", _positive(self.name, "damping", c, "N·m·s/rad"))
+        c = _si(self.name, "damping", self.damping, "N*m*s/rad", positive=True)
+        object.__setattr__(self, "damping", c)
 
     def blocks(self) -> ElementBlocks:
         return ElementBlocks((self.disk,), damping=np.array([[self.damping]]))

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import scipy.sparse as sp
 
+from mechdyn.checks import check_count
 from mechdyn.drivetrain.assembly import Assembly, assemble
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.results import Result, Table
@@ -372,6 +373,8 @@ def modal(
     else:
         asm = assemble(model.drivetrain.with_rigid_gears()) if rigid_gears else model
     n_rb = asm.n_rigid_body
+    if n_modes is not None:
+        n_modes = check_count("modal", "n_modes", n_modes, high=10**9, what="modes")
     want = None if n_modes is None else n_rb + n_modes
     if asm.n == n_rb:
         lam, Q, used = np.zeros(0), np.zeros((asm.n, 0)), "none"

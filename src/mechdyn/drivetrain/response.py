@@ -9,12 +9,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import scipy.sparse as sp
 
+from mechdyn.checks import check_array, check_number
 from mechdyn.drivetrain.assembly import assemble
 from mechdyn.drivetrain.modal import modal
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelError
 from mechdyn.results import Result, Table
-from mechdyn.units import to_si
+from mechdyn.units import si_field
 from mechdyn.vibration.harmonic import harmonic_solve
 
 if TYPE_CHECKING:
@@ -30,15 +31,34 @@ class ModalDamping:
     Parameters
     ----------
     ratio : float or sequence of float
-        ζ, dimensionless: one for all flexible modes, or one per mode from the lowest.
+        ζ, dimensionless, in [0, 1): one for all flexible modes, or one per mode from the lowest.
     """
 
     ratio: float | tuple[float, ...] = 0.02
 
     def __post_init__(self) -> None:
-        r = np.atleast_1d(np.asarray(self.ratio, dtype=float))
-        if not np.all(np.isfinite(r)) or np.any(r < 0) or np.any(r >= 1):
-            raise ModelError(f"modal damping ratio {self.ratio!r} must lie in [0, 1)")
+        try:
+            r = np.asarray(self.ratio, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(
+                f"{self.ratio!r} is not a number; give modal damping ratios in [0, 1)",
+                element="modal damping",
+                field="ratio",
+            ) from None
+        bad = ~(np.isfinite(r) & (r >= 0) & (r < 1))
+        if bad.any():
+            raise ModelError(
+                f"modal damping ratio {r.flat[int(np.argmax(bad))]:g} must lie in [0, 1) (finite; 1 is "
+                "critical damping)",
+                element="modal damping",
+                field="ratio",
+            )
+        if r.ndim > 1 or r.size == 0:
+            raise ModelError(
+                f"{self.ratio!r}: give one damping ratio, or one per flexible mode from the lowest",
+                element="modal damping",
+                field="ratio",
+            )
 
 
 @dataclass(frozen=True)
@@ -49,16 +69,18 @@ class RayleighDamping:
     Parameters
     ----------
     alpha : float
-        Mass-proportional coefficient α, 1/s.
+        Mass-proportional coefficient α, 1/s, from 0 to 1e8 1/s.
     beta : float
-        Stiffness-proportional coefficient β, s."""
+        Stiffness-proportional coefficient β, s, from 0 to 1e7 s."""
 
     alpha: float = 0.0
     beta: float = 0.0
 
     def __post_init__(self) -> None:
-        if self.alpha < 0 or self.beta < 0:
-            raise ModelError(f"Rayleigh coefficients α = {self.alpha:g} 1/s, β = {self.beta:g} s must be ≥ 0")
+        alpha = check_number("Rayleigh damping", "alpha", self.alpha, "1/s", nonnegative=True, high=1e8)
+        beta = check_number("Rayleigh damping", "beta", self.beta, "s", nonnegative=True)
+        object.__setattr__(self, "alpha", alpha)
+        object.__setattr__(self, "beta", beta)
 
     @classmethod
     def from_ratios(cls, f1_hz: float, f2_hz: float, zeta: float) -> RayleighDamping:
@@ -67,15 +89,19 @@ class RayleighDamping:
         Parameters
         ----------
         f1_hz, f2_hz : float
-            The two frequencies, Hz.
+            The two frequencies, Hz, positive (from 1e-7 to 1e7 Hz).
         zeta : float
-            The damping ratio at both, dimensionless.
+            The damping ratio at both, dimensionless, in [0, 1).
 
         Notes
         -----
         ζ(ω) = α/(2ω) + βω/2 solved at ω₁ and ω₂ (e.g. Chopra, *Dynamics of Structures*, §11.4).
         """
-        w1, w2 = 2 * np.pi * f1_hz, 2 * np.pi * f2_hz
+        owner = "Rayleigh damping"
+        f1 = check_number(owner, "f1_hz", f1_hz, "Hz", positive=True, what="frequency")
+        f2 = check_number(owner, "f2_hz", f2_hz, "Hz", positive=True, what="frequency")
+        zeta = check_number(owner, "zeta", zeta, low=0.0, high=1.0, high_open=True, what="damping ratio")
+        w1, w2 = 2 * np.pi * f1, 2 * np.pi * f2
         return cls(alpha=2 * zeta * w1 * w2 / (w1 + w2), beta=2 * zeta / (w1 + w2))
 
 
@@ -239,9 +265,10 @@ def frf(
     ----------
     drivetrain : Drivetrain
     frequencies_hz : array_like
-        Excitation frequencies, Hz.
+        Excitation frequencies, Hz, finite, from 0 to 1e7 Hz.
     excitation : mapping of disk name → torque amplitude
-        Complex amplitudes in N·m (or quantities, e.g. ``"10 N*m"``), all at the same frequency.
+        Complex amplitudes in N·m (or quantities, e.g. ``"10 N*m"``), all at the same frequency,
+        finite and at most 1e11 N·m in magnitude.
     damping : ModalDamping or RayleighDamping, optional
         Added to the model's own dampers; default ``ModalDamping(0.02)``.
     outputs : sequence of str
@@ -261,9 +288,15 @@ def frf(
     """
     damping = ModalDamping() if damping is None else damping
     asm = assemble(drivetrain)
-    f = np.atleast_1d(np.asarray(frequencies_hz, dtype=float))
-    if f.ndim != 1 or np.any(f < 0):
-        raise ModelError("frequencies must be a 1-D list of non-negative values in Hz")
+    f = np.atleast_1d(
+        check_array("frf", "frequencies_hz", frequencies_hz, "Hz", nonnegative=True, what="frequencies")
+    )
+    if f.ndim != 1:
+        raise ModelError(
+            "frequencies must be a 1-D list of non-negative values in Hz",
+            element="frf",
+            field="frequencies_hz",
+        )
     idx = drivetrain.disk_index
     force = np.zeros(len(drivetrain.disks), dtype=complex)
     for disk, amp in excitation.items():
@@ -271,7 +304,13 @@ def frf(
             raise ModelError(
                 f"excitation at disk {disk!r}, which is not defined; defined disks: {', '.join(idx)}"
             )
-        force[idx[disk]] += amp if isinstance(amp, complex) else to_si(amp, "N*m", plain_is_si=True)
+        field = f"excitation[{disk!r}]"
+        if isinstance(amp, complex | np.complexfloating):
+            force[idx[disk]] += complex(
+                check_array("frf", field, amp, "N*m", complex_values=True, what="torques")
+            )
+        else:
+            force[idx[disk]] += si_field("frf", field, amp, "N*m", what="torque amplitude")
     M = sp.diags_array(asm.mass)
     K, C = asm.K, asm.C
     modes = modal(asm)
@@ -283,14 +322,32 @@ def frf(
         if zeta.size == 1:
             zeta = np.full(modes.omega.size, zeta[0])
         if zeta.size != modes.omega.size:
-            raise ModelError(f"{zeta.size} modal damping ratios given for {modes.omega.size} flexible modes")
+            raise ModelError(
+                f"{zeta.size} modal damping ratios given for {modes.omega.size} flexible modes",
+                element="modal damping",
+                field="ratio",
+            )
         MPhi = asm.mass[:, None] * Phi_r
         C = C.toarray() + (MPhi * (2 * zeta * modes.omega)) @ MPhi.T  # full: modal damping couples all
     w = 2 * np.pi * f
     F = np.asarray(asm.T.T @ force)
     if asm.n_rigid_body and np.any(w == 0):
-        raise ModelError("a free drivetrain has no static response at 0 Hz; start the frequencies above 0")
+        raise ModelError(
+            "a free drivetrain has no static response at 0 Hz; start the frequencies above 0",
+            element="frf",
+            field="frequencies_hz",
+        )
     Q = harmonic_solve(K, C, M, F, w)  # frequency by frequency: memory independent of len(f)
+    overflow = ~np.isfinite(Q).all(axis=1)
+    if overflow.any():
+        k = int(np.argmax(overflow))
+        raise ModelError(
+            f"the response at {f[k]:g} Hz is not finite (the dynamic stiffness is singular there, or the "
+            "response overflows: a free drivetrain's grows as 1/f² towards 0 Hz); leave that frequency "
+            "out or start the frequencies higher",
+            element="frf",
+            field="frequencies_hz",
+        )
     theta = np.asarray((asm.T @ Q.T).T)
     names, units, loads = [], [], []
     for e, b in drivetrain.element_blocks:

@@ -7,6 +7,7 @@ from typing import Annotated, Any, TypeAlias
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict
 
+from mechdyn.checks import DEFAULT_LIMIT, MAGNITUDE_LIMITS, magnitude_limit
 from mechdyn.units import to_si
 
 __all__ = [
@@ -82,8 +83,12 @@ class Unit:
 
 def within_limits(value: Any, si: float, unit: str) -> float:
     """``si`` (the SI magnitude of a file's ``value`` in ``unit``) if it is within the magnitude a
-    machine can have (:data:`MAGNITUDE_LIMITS`); a ValueError naming the bound otherwise."""
-    limit = MAGNITUDE_LIMITS.get(unit, DEFAULT_LIMIT)
+    machine can have; a ValueError naming the bound otherwise.
+
+    The bounds are those of the Python API, :data:`mechdyn.checks.MAGNITUDE_LIMITS` (re-exported
+    here as :data:`MAGNITUDE_LIMITS`): one table for model files and constructors alike.
+    """
+    limit = magnitude_limit(unit)
     if abs(si) > limit:
         shown = f"{limit:g} {unit}".strip()
         raise ValueError(
@@ -91,31 +96,6 @@ def within_limits(value: Any, si: float, unit: str) -> float:
             "check the number and its unit"
         )
     return si
-
-
-# The largest magnitude a model file may give a quantity, by its SI unit: generous bounds for
-# machines (a 1 km length, a 100 000 t mass, 10 MHz), so that a slipped exponent or a wrong unit
-# ("12 furlong", "1e300 Hz") is refused at the file's edge instead of overflowing a solver.
-DEFAULT_LIMIT = 1e15
-MAGNITUDE_LIMITS = {
-    "m": 1e3,
-    "kg": 1e8,
-    "kg*m^2": 1e10,
-    "s": 1e7,
-    "Hz": 1e7,
-    "rad/s": 1e8,
-    "rad": 1e6,
-    "N": 1e11,
-    "N*m": 1e11,
-    "Pa": 1e13,
-    "N/m": 1e15,
-    "N*m/rad": 1e14,
-    "N*s/m": 1e13,
-    "kg/m^3": 1e5,
-    "m/s": 1e5,
-    "m/s^2": 1e6,
-    "": 1e9,
-}
 
 
 class FileModel(BaseModel):

@@ -29,9 +29,10 @@ from typing import Any, cast
 
 import numpy as np
 
+from mechdyn.checks import check_array
 from mechdyn.errors import ModelError
-from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, crank_angles
-from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic
+from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, check_angles, crank_angles
+from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic, _point
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 from mechdyn.results import Result
 
@@ -280,9 +281,9 @@ class CycleBatch(Result):
         Parameters
         ----------
         about : (float, float)
-            The point, m, in the drawing's axes.
+            The point, m, in the drawing's axes (each coordinate at most 1e3 m in magnitude).
         """
-        px, py = (float(v) for v in about)
+        px, py = _point("shaking moment", "about", about)
         F = self._force
         return self.frame_moment - (px * F.imag - py * F.real)
 
@@ -414,6 +415,17 @@ def _kernel(parallel: bool = True):
     return run
 
 
+def _body(m: Mechanism, name: str, field: str) -> str:
+    """``name`` if it is one of the mechanism's bodies; a ModelError naming the field otherwise."""
+    if name not in m.body_index:
+        raise ModelError(
+            f"body {name!r} is not in the mechanism; its bodies: {', '.join(m.body_index)}",
+            element="cycle",
+            field=field,
+        )
+    return name
+
+
 def cycle(
     mechanism: Mechanism,
     n_angles: int = 360,
@@ -431,15 +443,17 @@ def cycle(
     mechanism : Mechanism
         The nominal design (topology, masses, inertias, driver, loads).
     n_angles : int
-        Crank angles per revolution.
+        Crank angles per revolution, a whole number from 4 to 100 000.
     points : mapping of point name → array (V, 2), optional
-        Drawing coordinates (m) that differ between variants; the others keep their nominal
-        values. Each variant's drawing fixes its own link lengths and assembly branch.
+        Drawing coordinates (m, finite, each at most 1e3 m in magnitude) that differ between
+        variants; the others keep their nominal values. Each variant's drawing fixes its own link
+        lengths and assembly branch.
     masses : mapping of body name → array (V,), optional
-        Body masses (kg) that differ between variants (inertias scale with them unless
-        ``inertias`` gives them).
+        Body masses (kg, from 0 to 1e8) that differ between variants (inertias scale with them
+        unless ``inertias`` gives them).
     inertias : mapping of body name → array (V,), optional
-        Moments of inertia about the centre of mass (kg·m²) that differ between variants.
+        Moments of inertia about the centre of mass (kg·m², from 0 to 1e10) that differ between
+        variants.
     store_points : bool
         Keep every point's and body's motion (for :meth:`CycleBatch.point` and ``q``); off, only
         the loads, the output and the points that carry process forces are kept, which a large
@@ -460,19 +474,26 @@ def cycle(
         Naming the variant that cannot be assembled.
     """
     m = mechanism
+    n_angles = check_angles(n_angles)
     steps = plan(m)
     given = {}
     for name, arr in (points or {}).items():
         if name not in m.points:
             raise ModelError(f"point {name!r} is not in the drawing", element="points")
-        given[name] = _z(np.asarray(arr, dtype=float).reshape(-1, 2))
-    V = max(
-        [
-            1,
-            *(a.size for a in given.values()),
-            *(np.asarray(a).size for a in (*(masses or {}).values(), *(inertias or {}).values())),
-        ]
-    )
+        given[name] = _z(
+            check_array("cycle", f"points[{name!r}]", arr, "m", what="coordinates").reshape(-1, 2)
+        )
+    masses = {
+        name: check_array("cycle", f"masses[{_body(m, name, 'masses')!r}]", arr, "kg", nonnegative=True)
+        for name, arr in (masses or {}).items()
+    }
+    inertias = {
+        name: check_array(
+            "cycle", f"inertias[{_body(m, name, 'inertias')!r}]", arr, "kg*m^2", nonnegative=True
+        )
+        for name, arr in (inertias or {}).items()
+    }
+    V = max([1, *(a.size for a in given.values()), *(a.size for a in (*masses.values(), *inertias.values()))])
     draw = {
         k: np.broadcast_to(given[k], (V,)).copy() if k in given else np.full(V, complex(*v))
         for k, v in m.points.items()
@@ -480,14 +501,14 @@ def cycle(
     nb = len(m.bodies)
     mass = np.tile(m.masses, (V, 1))
     inertia = np.tile(m.inertias, (V, 1))
-    for name, arr in (masses or {}).items():
+    for name, arr in masses.items():
         i = m.body_index[name]
-        new = np.broadcast_to(np.asarray(arr, dtype=float).reshape(-1), (V,))
+        new = np.broadcast_to(arr.reshape(-1), (V,))
         ratio = np.divide(new, mass[:, i], out=np.zeros(V), where=mass[:, i] > 0)
         inertia[:, i] *= ratio
         mass[:, i] = new
-    for name, arr in (inertias or {}).items():
-        inertia[:, m.body_index[name]] = np.broadcast_to(np.asarray(arr, dtype=float).reshape(-1), (V,))
+    for name, arr in inertias.items():
+        inertia[:, m.body_index[name]] = np.broadcast_to(arr.reshape(-1), (V,))
     slot, dz, ops, fdata, grounded = _encode(m, steps, draw)
     j = m.output_joint()
     wanted = (
@@ -702,7 +723,7 @@ def variants(
         Variants of one topology: they may differ in their drawing's point coordinates, their bodies'
         masses and inertias (and their names), nothing else.
     n_angles : int
-        Crank angles per revolution.
+        Crank angles per revolution, a whole number from 4 to 100 000.
     store_points : bool
         Keep the motions (and with them every joint force); see :func:`cycle`.
     method : {"auto", "dyads", "newton"} or callable
@@ -727,6 +748,7 @@ def variants(
     """
     if not models:
         raise ModelError("give at least one model", element="variants")
+    n_angles = check_angles(n_angles)
     base = models[0]
     for i, m in enumerate(models[1:], start=1):
         _same_topology(base, m, i)
@@ -807,11 +829,12 @@ class DesignBatch(Result):
         models : sequence of Mechanism
             Variants of one topology.
         n_angles : int
-            Crank positions over one revolution.
+            Crank positions over one revolution, a whole number from 4 to 100 000.
         method : str or callable
             The motion solver (see :func:`~mechdyn.mechanism.inverse_dynamics`)."""
         from mechdyn.mechanism.dynamics import inverse_dynamics
 
+        n_angles = check_angles(n_angles)
         results: list[Any] = []
         status: list[str] = []
         for i, m in enumerate(models):
@@ -957,9 +980,11 @@ def _process_loads(
     Q = np.zeros((V, N, len(m.bodies), 3))
     for pf in m.process_forces:
         i = m.body_index[pf.body]
-        fx, fy = pf.force(angle, s if s is not None else np.zeros((V, N)))
-        F = np.broadcast_to(np.asarray(fx, float) + 1j * np.asarray(fy, float), (V, N))
+        position = s if s is not None else np.zeros((V, N))
         arm = pos[pf.point] - pos[f"__com__{pf.body}"]
+        valid = np.isfinite(angle) & np.isfinite(position) & np.isfinite(arm)  # NaN: a variant that failed
+        fx, fy = pf.values(np.broadcast_to(angle, (V, N)), position, valid)
+        F = fx + 1j * fy
         Q[..., i, 0] += F.real
         Q[..., i, 1] += F.imag
         Q[..., i, 2] += _cross(arm, F)

@@ -18,7 +18,7 @@ import numpy as np
 
 from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
 from mechdyn.mechanism.linalg import solve_with_det
-from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism
+from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, _point
 from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
@@ -118,9 +118,9 @@ class DynamicsResult(Result):
         Parameters
         ----------
         about : (float, float)
-            The point, m, in the drawing's axes.
+            The point, m, in the drawing's axes (each coordinate at most 1e3 m in magnitude).
         """
-        px, py = (float(v) for v in about)
+        px, py = _point("shaking moment", "about", about)
         F = self.frame_load
         return F[:, 2] - (px * F[:, 1] - py * F[:, 0])
 
@@ -355,8 +355,8 @@ def _applied(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:
     for pf in mechanism.process_forces:
         i = mechanism.body_index[pf.body]
         pos, _, _ = k.point(pf.body, pf.point)
-        fx, fy = pf.force(k.angle, s_out if s_out is not None else np.zeros(N))
-        F = np.stack(np.broadcast_arrays(np.asarray(fx, float), np.asarray(fy, float)), axis=-1)
+        fx, fy = pf.values(k.angle, s_out if s_out is not None else np.zeros(N))
+        F = np.stack((fx, fy), axis=-1)
         arm = pos - k.q[:, 3 * i : 3 * i + 2]
         Q[:, 3 * i : 3 * i + 2] += F
         Q[:, 3 * i + 2] += arm[:, 0] * F[:, 1] - arm[:, 1] * F[:, 0]
@@ -373,7 +373,7 @@ def inverse_dynamics(
     mechanism : Mechanism or KinematicsResult
         A kinematics result is reused as it is.
     n_angles : int
-        Crank angles per revolution (when a Mechanism is given).
+        Crank angles per revolution (when a Mechanism is given), a whole number from 4 to 100 000.
     method : {"auto", "dyads", "newton"} or callable
         The motion solver, see :func:`~mechdyn.mechanism.kinematics.kinematics`; the loads follow
         from whichever motion it gives, here.

@@ -16,25 +16,46 @@ from typing import Any, NoReturn
 
 import numpy as np
 
+from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.constraints import ConstraintSet
 from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, Mechanism
 
 __all__ = [
+    "MAX_ANGLES",
     "MOTION_SOLVERS",
     "AssemblyError",
     "KinematicsResult",
     "SingularPositionError",
+    "check_angles",
     "crank_angles",
     "dyad_motion",
     "kinematics",
     "newton_motion",
 ]
 
+MAX_ANGLES = 100_000
+"""The most crank angles per revolution an analysis takes (as a model file's ``n_angles``)."""
 TOL = 1e-11  # residual tolerance relative to the mechanism's size
 MAX_ITER = 30
 SINGULAR_RATIO = 1e-12  # |det Φ_q| / Π ‖rows‖ below this counts as singular
+
+
+def check_angles(n_angles: Any) -> int:
+    """The number of crank angles per revolution, checked: a whole number from 4 to :data:`MAX_ANGLES`.
+
+    Parameters
+    ----------
+    n_angles : int
+        Crank angles per revolution.
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        Naming ``n_angles``, its value and the range.
+    """
+    return check_count(None, "n_angles", n_angles, low=4, high=MAX_ANGLES, what="crank angles")
 
 
 class AssemblyError(ModelError):
@@ -162,7 +183,8 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: Any = "auto") 
     ----------
     mechanism : Mechanism
     n_angles : int
-        Crank angles per revolution, equally spaced from the datum.
+        Crank angles per revolution, equally spaced from the datum: a whole number from 4 to
+        :data:`MAX_ANGLES` (100 000).
     method : {"auto", "dyads", "newton"} or callable
         The motion solver: ``newton`` (:func:`newton_motion`, Newton–Raphson continuation on the
         assembled constraints, any mechanism), ``dyads`` (:func:`dyad_motion`, closed-form dyads for
@@ -182,8 +204,7 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: Any = "auto") 
     SingularPositionError
         Naming the crank angle of a toggle position.
     """
-    if n_angles < 4:
-        raise ModelError(f"{n_angles} crank angles are too few; give at least 4")
+    n_angles = check_angles(n_angles)
     if callable(method):
         return method(mechanism, n_angles)
     if method not in MOTION_SOLVERS and method != "auto":
@@ -209,7 +230,7 @@ def dyad_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
     mechanism : Mechanism
         The mechanism, as drawn.
     n_angles : int
-        Crank positions over one revolution.
+        Crank positions over one revolution, a whole number from 4 to 100 000.
 
     Raises
     ------
@@ -218,7 +239,7 @@ def dyad_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
     """
     from mechdyn.mechanism.dyads import cycle
 
-    return _from_cycle(mechanism, cycle(mechanism, n_angles))
+    return _from_cycle(mechanism, cycle(mechanism, check_angles(n_angles)))
 
 
 def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
@@ -229,8 +250,9 @@ def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
     mechanism : Mechanism
         The mechanism, as drawn.
     n_angles : int
-        Crank positions over one revolution.
+        Crank positions over one revolution, a whole number from 4 to 100 000.
     """
+    n_angles = check_angles(n_angles)
     cs = ConstraintSet(mechanism)
     scale = _scale(mechanism)
     omega = mechanism.driver.speed

@@ -19,6 +19,7 @@ from typing import Any, ClassVar, cast
 
 import numpy as np
 
+from mechdyn.checks import magnitude_limit
 from mechdyn.errors import ModelError
 from mechdyn.units import show, si_field
 
@@ -44,12 +45,12 @@ class Body:
     points : sequence of str
         Names of the drawing points it carries (at least one).
     mass : float or quantity
-        kg (zero for a link whose inertia is neglected).
+        kg, from 0 to 1e8 kg (zero for a link whose inertia is neglected).
     inertia : float or quantity
-        Moment of inertia about the centre of mass, kg·m².
+        Moment of inertia about the centre of mass, kg·m², from 0 to 1e10 kg·m².
     center_of_mass : (x, y) or str
-        Global coordinates in the drawing, m, or the name of a point; by default the mean of its
-        points.
+        Global coordinates in the drawing, m (each at most 1e3 m in magnitude), or the name of a
+        point; by default the mean of its points.
     """
 
     name: str
@@ -67,10 +68,7 @@ class Body:
         if not self.points:
             raise ModelError("a body needs at least one point", element=self.name, field="points")
         for f, unit in (("mass", "kg"), ("inertia", "kg*m^2")):
-            v = si_field(self.name, f, getattr(self, f), unit)
-            if v < 0:
-                raise ModelError(f"{v:g} must not be negative", element=self.name, field=f)
-            object.__setattr__(self, f, v)
+            object.__setattr__(self, f, si_field(self.name, f, getattr(self, f), unit, nonnegative=True))
         if self.center_of_mass is not None and not isinstance(self.center_of_mass, str):
             object.__setattr__(
                 self, "center_of_mass", _point(self.name, "center_of_mass", self.center_of_mass)
@@ -338,7 +336,8 @@ class Driver:
     pivot, tip : str
         Drawing points; the crank angle θ is the direction from pivot to tip.
     speed : float or quantity
-        θ̇, rad/s (e.g. ``"15 rpm"``); positive counter-clockwise. With a profile, its sign gives
+        θ̇, rad/s (e.g. ``"15 rpm"``), not zero, of magnitude from 1e-6 to 1e8 rad/s; positive
+        counter-clockwise. With a profile, its sign gives
         the direction of rotation.
     profile : callable, optional
         ``profile(angle)`` for arrays of crank angle ψ turned from the drawing (rad, in the direction
@@ -361,9 +360,7 @@ class Driver:
     profile: Callable[[np.ndarray], Any] | None = None
 
     def __post_init__(self) -> None:
-        v = si_field("driver", "speed", self.speed, "rad/s")
-        if v == 0:
-            raise ModelError("the crank speed must not be zero", element="driver", field="speed")
+        v = si_field("driver", "speed", self.speed, "rad/s", nonzero=True, what="crank speed")
         object.__setattr__(self, "speed", v)
         if self.profile is not None:
             object.__setattr__(self, "profile", _checked_profile(self.profile, v))
@@ -380,9 +377,13 @@ class Driver:
         if self.profile is None:
             return np.full(turned.shape, self.speed), np.zeros(turned.shape)
         w, a = (np.broadcast_to(np.asarray(x, dtype=float), turned.shape) for x in self.profile(turned))
-        if np.any(w == 0) or np.any(np.sign(w) != np.sign(self.speed)):
+        _check_profile_speed(w, turned, self.speed)
+        if not np.isfinite(a).all():
+            k = int(np.argmin(np.isfinite(a)))
             raise ModelError(
-                "the speed profile must keep the sign of the speed and never stop the crank",
+                f"θ̈ = {a.flat[k]:g} rad/s² at {math.degrees(turned.flat[k]):.4g}° turned: the speed "
+                "profile's "
+                "acceleration must be finite",
                 element="driver",
                 field="profile",
             )
@@ -413,6 +414,22 @@ _PROFILE_SAMPLES = 1024
 _PROFILE_RTOL = 1e-4
 
 
+def _check_profile_speed(w: np.ndarray, turned: np.ndarray, speed: float) -> None:
+    """Refuse a profile speed θ̇ that is not finite, beyond any machine, zero or against ``speed``."""
+    limit = magnitude_limit("rad/s")
+    with np.errstate(invalid="ignore"):
+        bad = ~np.isfinite(w) | (np.abs(w) > limit) | (w == 0) | (np.sign(w) != np.sign(speed))
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ModelError(
+            f"θ̇ = {w.flat[k]:g} rad/s at {math.degrees(turned.flat[k]):.4g}° turned: the speed profile must "
+            f"stay finite (at most {limit:g} rad/s in magnitude), keep the sign of the speed and never stop "
+            "the crank",
+            element="driver",
+            field="profile",
+        )
+
+
 def _checked_profile(profile: Callable[[np.ndarray], Any], speed: float) -> Callable[[np.ndarray], Any]:
     """The profile as (θ̇, θ̈); θ̈ derived when only θ̇ is given, checked against ``|θ̇| dθ̇/dψ`` when given.
 
@@ -425,12 +442,7 @@ def _checked_profile(profile: Callable[[np.ndarray], Any], speed: float) -> Call
     out = profile(psi)
     given = isinstance(out, tuple) and len(out) == 2
     w = np.broadcast_to(np.asarray(out[0] if given else out, dtype=float), psi.shape)
-    if not np.all(np.isfinite(w)) or np.any(w == 0) or np.any(np.sign(w) != np.sign(speed)):
-        raise ModelError(
-            "the speed profile must keep the sign of the speed and never stop the crank",
-            element="driver",
-            field="profile",
-        )
+    _check_profile_speed(w, psi, speed)
     if abs(w[-1] - w[0]) > 1e-6 * np.abs(w).max():
         raise ModelError(
             f"the speed profile is not periodic: θ̇ = {w[0]:.6g} rad/s at 0° and {w[-1]:.6g} rad/s after "
@@ -449,6 +461,14 @@ def _checked_profile(profile: Callable[[np.ndarray], Any], speed: float) -> Call
 
         return derived
     a = np.broadcast_to(np.asarray(out[1], dtype=float), psi.shape)
+    if not np.isfinite(a).all():
+        k = int(np.argmin(np.isfinite(a)))
+        raise ModelError(
+            f"θ̈ = {a[k]:g} rad/s² at {math.degrees(psi[k]):.4g}° turned: the speed profile's acceleration "
+            "must be finite",
+            element="driver",
+            field="profile",
+        )
     expected = np.abs(w) * slope(psi)
     scale = max(float(np.abs(expected).max()), float(np.abs(a).max()), 1e-12 * speed**2)
     mismatch = np.abs(a - expected)
@@ -475,12 +495,52 @@ class ProcessForce:
     force : callable
         ``force(theta, position) -> (Fx, Fy)`` in N for arrays of crank angle (rad, from the
         datum) and of the point's position along the output axis (m); e.g. a forming force over part
-        of the stroke.
+        of the stroke. Its values must be finite and at most 1e11 N in magnitude wherever the
+        mechanism assembles (:meth:`values` checks them).
     """
 
     body: str
     point: str
     force: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+    def values(
+        self, theta: np.ndarray, position: np.ndarray, valid: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(Fx, Fy), N, at crank angles ``theta`` and output positions ``position``, checked.
+
+        Parameters
+        ----------
+        theta : ndarray
+            Crank angles, rad.
+        position : ndarray
+            The output's position along its axis, m (zeros without an output), of ``theta``'s shape.
+        valid : ndarray of bool, optional
+            Where the mechanism assembled (dimensionless flags); elsewhere (a variant left NaN) the
+            values are not checked.
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            Naming the force, the first crank angle where it is not finite or beyond 1e11 N, and the
+            value.
+        """
+        fx, fy = self.force(theta, position)
+        Fx, Fy = (np.broadcast_to(np.asarray(f, dtype=float), np.shape(theta)) for f in (fx, fy))
+        limit = magnitude_limit("N")
+        with np.errstate(invalid="ignore"):
+            bad = ~(np.isfinite(Fx) & np.isfinite(Fy)) | (np.abs(Fx) > limit) | (np.abs(Fy) > limit)
+        if valid is not None:
+            bad &= valid
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise ModelError(
+                f"(Fx, Fy) = ({Fx.flat[k]:g}, {Fy.flat[k]:g}) N at crank angle "
+                f"{math.degrees(float(np.asarray(theta).flat[k])):.4g}°: the force must be finite and at "
+                f"most {limit:g} N in magnitude",
+                element=f"process force on {self.body!r} at {self.point!r}",
+                field="force",
+            )
+        return Fx, Fy
 
 
 @dataclass(frozen=True)

@@ -38,10 +38,10 @@ from mechdyn.io.fields import (
     ModelTableBase,
     Velocity,
 )
-from mechdyn.mechanism.kinematics import kinematics
+from mechdyn.mechanism.kinematics import MAX_ANGLES, kinematics
 from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Revolute
 from mechdyn.mechanism.pitch import closing_centre_distance, eccentric_circle, pitch_law
-from mechdyn.units import to_si
+from mechdyn.units import si_field, to_si
 
 __all__ = ["PlanterDesign", "planter"]
 
@@ -50,19 +50,24 @@ __all__ = ["PlanterDesign", "planter"]
 class PlanterDesign:
     """Design variables of a rotary planting mechanism (SI; angles in rad).
 
+    Every number must be finite and within the magnitude a machine can have in its unit
+    (:data:`mechdyn.checks.MAGNITUDE_LIMITS`: 1e3 m, 1e8 kg, 1e10 kg·m², 1e6 rad, 1e8 rad/s,
+    1e6 m/s²); the ranges below are checked as well, and anything else is a
+    :class:`~mechdyn.errors.ModelError` naming the field and the value.
+
     Attributes
     ----------
     eccentricity_ratio : float
-        ε = e/ρ of the eccentric sun and planets (RP-1: 0.13; studied 0–0.2).
+        ε = e/ρ of the eccentric sun and planets, in [0, 1) (RP-1: 0.13; studied 0–0.2).
     alpha : float
         α, the planets' installation angle: the line from pivot to centre against the horizontal,
         rad (RP-1: −35°).
     beta : float
         β, the arm's angle in the drawing, rad (RP-1: −76°).
     arm_radius : float
-        R, sun to planet centre, m (RP-1: 76.8 mm); the idler sits at R/2.
+        R, sun to planet centre, m, positive (RP-1: 76.8 mm); the idler sits at R/2.
     fork_length : float
-        L, planet centre to fork tip, m (RP-1: 138 mm).
+        L, planet centre to fork tip, m, positive (RP-1: 138 mm).
     fork_angle : float
         γ, the fork's direction in the drawing, rad (RP-1: 14°; the publication writes 90° − β but
         its numbers fit 90° + β).
@@ -70,14 +75,14 @@ class PlanterDesign:
         d, planet pivot to the centre of mass of planet + fork along the fork, m (not published;
         20 mm: the inertia about the pivot allows at most √(I/m) = 32 mm).
     arm_mass, idler_mass, planet_mass : float
-        kg (RP-1: 1.0716, 0.0069, 1.0654 with the fork).
+        kg, positive (RP-1: 1.0716, 0.0069, 1.0654 with the fork).
     arm_inertia : float
-        About the sun, kg·m² (not published: 2.1e-3, a bar of 2R; at constant speed it changes
+        About the sun, kg·m², not negative (not published: 2.1e-3, a bar of 2R; at constant speed it changes
         nothing).
     idler_inertia, planet_inertia : float
-        About their pivots, kg·m² (RP-1: 1.26e-5, 1.092e-3).
+        About their pivots, kg·m², not negative (the planet's positive) (RP-1: 1.26e-5, 1.092e-3).
     speed : float
-        The carrier's speed, rad/s (RP-1: 200 rpm).
+        The carrier's speed, rad/s, not zero (RP-1: 200 rpm).
     gravity : float
         m/s², along −y.
     """
@@ -99,13 +104,24 @@ class PlanterDesign:
     gravity: float = 9.81
 
     def __post_init__(self) -> None:
-        if not 0 <= self.eccentricity_ratio < 1:
-            raise ModelError(
-                f"{self.eccentricity_ratio:g} must be in [0, 1)", element="design", field="eccentricity_ratio"
-            )
-        for name in ("arm_radius", "fork_length", "planet_mass", "idler_mass", "arm_mass"):
-            if not getattr(self, name) > 0:
-                raise ModelError(f"{getattr(self, name):g} must be positive", element="design", field=name)
+        for name, unit, rule in (
+            ("eccentricity_ratio", "", {"low": 0.0, "high": 1.0, "high_open": True}),
+            ("alpha", "rad", {}),
+            ("beta", "rad", {}),
+            ("arm_radius", "m", {"positive": True}),
+            ("fork_length", "m", {"positive": True}),
+            ("fork_angle", "rad", {}),
+            ("com_offset", "m", {}),
+            ("arm_mass", "kg", {"positive": True}),
+            ("idler_mass", "kg", {"positive": True}),
+            ("planet_mass", "kg", {"positive": True}),
+            ("arm_inertia", "kg*m^2", {"nonnegative": True}),
+            ("idler_inertia", "kg*m^2", {"nonnegative": True}),
+            ("planet_inertia", "kg*m^2", {"positive": True}),
+            ("speed", "rad/s", {"nonzero": True}),
+            ("gravity", "m/s^2", {}),
+        ):
+            object.__setattr__(self, name, si_field("design", name, getattr(self, name), unit, **rule))
         if self.planet_inertia - self.planet_mass * self.com_offset**2 <= 0:
             limit = math.sqrt(self.planet_inertia / self.planet_mass)
             raise ModelError(
@@ -291,7 +307,7 @@ class DesignTable(FileModel):
 class SettingsTable(FileModel):
     """As a mechanism file's ``[settings]``."""
 
-    n_angles: int = Field(default=360, ge=8, le=100_000)
+    n_angles: int = Field(default=360, ge=8, le=MAX_ANGLES)
     """Carrier angles per revolution."""
     trace: list[str] = Field(default_factory=list)
     """Points whose paths are drawn (e.g. the fork tips)."""

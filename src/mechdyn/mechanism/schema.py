@@ -33,6 +33,7 @@ from mechdyn.io.fields import (
     Velocity,
 )
 from mechdyn.io.modelfile import ModelSource, field_context, validate
+from mechdyn.mechanism.kinematics import MAX_ANGLES
 from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Prismatic, ProcessForce, Revolute
 
 __all__ = ["MechanismFile", "MechanismSpec", "build"]
@@ -120,7 +121,7 @@ class SettingsTable(FileModel):
     """Gravity in the plane of the drawing, [g_x, g_y] (default: none)."""
     angle_datum: Angle | Literal["bdc"] = 0.0
     """Where crank angles count from: an angle, or ``"bdc"`` (the located bottom dead centre)."""
-    n_angles: int = Field(default=360, ge=8, le=100_000)
+    n_angles: int = Field(default=360, ge=8, le=MAX_ANGLES)
     """Crank angles per revolution."""
     output: tuple[str, str] | None = None
     """The output: [body, point] whose motion is reported (default: the one slider whose guide is the

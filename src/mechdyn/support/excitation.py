@@ -16,8 +16,14 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.checks import check_array, check_count, check_number
 from mechdyn.errors import ModelError
 from mechdyn.units import si_field
+
+MAX_HARMONIC = 100_000
+"""The highest harmonic order a load may have."""
+MAX_TIME_STEPS = 20_000_000
+"""The most times a load is evaluated at over one period (as a start-up's steps in all)."""
 
 __all__ = ["CHANNELS", "PeriodicLoad", "Placement"]
 
@@ -31,14 +37,19 @@ class PeriodicLoad:
     Attributes
     ----------
     period : float
-        s.
+        s, from 1e-7 to 1e7 s.
     coefficients : ndarray
         (H + 1, 6) complex Fourier coefficients c_h of (Fx, Fy, Fz, Mx, My, Mz about the origin),
-        N and N·m.
+        N and N·m, finite and at most 1e11 in magnitude.
     angle : ndarray or None
         (N,) crank angle of each sample, rad, when the load came from a mechanism (for plots).
     n_samples : int or None
         N, when the load came from samples: results are given at the same instants by default.
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        When a number is not finite or out of range, naming the array and its first bad index.
     """
 
     period: float
@@ -47,16 +58,20 @@ class PeriodicLoad:
     n_samples: int | None = None
 
     def __post_init__(self) -> None:
-        T = si_field("load", "period", self.period, "s")
-        if not T > 0:
-            raise ModelError(f"{T:g} s must be positive", element="load", field="period")
+        T = si_field("load", "period", self.period, "s", positive=True)
         object.__setattr__(self, "period", T)
-        c = np.asarray(self.coefficients, dtype=complex)
-        if c.ndim != 2 or c.shape[1] != 6 or c.shape[0] < 1:
+        c = check_array("load", "coefficients", self.coefficients, "N", complex_values=True, what="forces")
+        if c.ndim != 2 or c.shape[1] != 6 or c.shape[0] < 1 or c.shape[0] > MAX_HARMONIC + 1:
             raise ModelError(
-                f"shape {c.shape} must be (harmonics + 1, 6)", element="load", field="coefficients"
+                f"shape {c.shape} must be (harmonics + 1, 6), at most {MAX_HARMONIC} harmonics",
+                element="load",
+                field="coefficients",
             )
         object.__setattr__(self, "coefficients", c)
+        if self.angle is not None:
+            object.__setattr__(self, "angle", check_array("load", "angle", self.angle, "rad", what="angles"))
+        if self.n_samples is not None:
+            object.__setattr__(self, "n_samples", check_count("load", "n_samples", self.n_samples, low=2))
 
     # -- constructors --------------------------------------------------------------------------
     @classmethod
@@ -66,13 +81,14 @@ class PeriodicLoad:
         Parameters
         ----------
         period : float or quantity
-            s.
+            s, from 1e-7 to 1e7 s.
         samples : array_like
-            (N, 6) force N and moment about the origin N·m, or (N,) a vertical force Fz alone.
+            (N, 6) force N and moment about the origin N·m, or (N,) a vertical force Fz alone; finite,
+            at most 1e11 N (N·m) in magnitude. A NaN is refused naming its index.
         angle : array_like, optional
             (N,) crank angle of each sample, rad.
         """
-        f = np.asarray(samples, dtype=float)
+        f = check_array("load", "samples", samples, "N", what="forces")
         if f.ndim == 1:
             f = np.column_stack([np.zeros_like(f), np.zeros_like(f), f, *(np.zeros_like(f),) * 3])
         if f.ndim != 2 or f.shape[1] != 6 or f.shape[0] < 2:
@@ -81,13 +97,23 @@ class PeriodicLoad:
                 element="load",
                 field="samples",
             )
-        if not np.isfinite(f).all():
-            raise ModelError("the samples must be finite", element="load", field="samples")
         n = f.shape[0]
+        if n > MAX_HARMONIC * 2:
+            raise ModelError(
+                f"{n} samples: give at most {2 * MAX_HARMONIC} per period", element="load", field="samples"
+            )
+        if angle is not None:
+            angle = check_array("load", "angle", angle, "rad", what="angles")
+            if angle.shape != (n,):
+                raise ModelError(
+                    f"{angle.shape[0] if angle.ndim else 1} angles for {n} samples: give one per sample",
+                    element="load",
+                    field="angle",
+                )
         c = np.fft.rfft(f, axis=0) / n
         if n % 2 == 0:
             c[-1] *= 0.5  # the Nyquist term appears once in the real series
-        return cls(period, c, None if angle is None else np.asarray(angle, dtype=float), n)
+        return cls(period, c, angle, n)
 
     @classmethod
     def from_times(
@@ -99,11 +125,12 @@ class PeriodicLoad:
         Parameters
         ----------
         period : float or quantity
-            The load's period, s.
+            The load's period, s, from 1e-7 to 1e7 s.
         time : array_like
-            Increasing sample times within one period, s.
+            Increasing sample times within one period, s, finite.
         samples : array_like
-            (N, 6) load at those times (N and N·m), or (N,) Fz alone, N.
+            (N, 6) load at those times (N and N·m), or (N,) Fz alone, N; finite, at most 1e11 in
+            magnitude.
         angle : array_like, optional
             Crank angle of each sample, rad, for plots.
         n : int, optional
@@ -111,10 +138,21 @@ class PeriodicLoad:
         """
         from scipy.interpolate import CubicSpline
 
-        T = si_field("load", "period", period, "s")
-        t = np.asarray(time, dtype=float)
-        f = np.asarray(samples, dtype=float)
-        if t.ndim != 1 or t.size != f.shape[0] or np.any(np.diff(t) <= 0) or t[-1] - t[0] >= T:
+        T = si_field("load", "period", period, "s", positive=True)
+        t = check_array("load", "time", time, "s", what="times")
+        f = check_array("load", "samples", samples, "N", what="forces")
+        if n is not None:
+            n = check_count("load", "n", n, low=2, high=2 * MAX_HARMONIC, what="steps")
+        if angle is not None:
+            angle = check_array("load", "angle", angle, "rad", what="angles")
+        if (
+            t.ndim != 1
+            or f.ndim == 0
+            or t.size != f.shape[0]
+            or t.size < 2
+            or np.any(np.diff(t) <= 0)
+            or t[-1] - t[0] >= T
+        ):
             raise ModelError(
                 "times must increase and span less than one period", element="load", field="time"
             )
@@ -138,21 +176,31 @@ class PeriodicLoad:
             The load's period, s.
         harmonics : dict of order h ≥ 1 → complex amplitude A_h
             A 6-vector (N, N·m) or a scalar for Fz alone; ``|A_h|`` is the amplitude, arg A_h the phase.
+            Orders are whole numbers from 1 to 100 000; amplitudes finite, at most 1e11 in magnitude.
         mean : 6-vector or scalar, optional
+            The mean load, N and N·m (a scalar: Fz alone).
         """
-        H = max(harmonics, default=0)
-        if any(h < 1 for h in harmonics):
-            raise ModelError("harmonic orders must be ≥ 1", element="load", field="harmonics")
+        for h in harmonics:
+            check_count("load", "harmonics", h, low=1, high=MAX_HARMONIC, what="harmonic order")
+        H = int(max(harmonics, default=0))
         c = np.zeros((H + 1, 6), dtype=complex)
 
-        def vec(a: Any) -> np.ndarray:
-            a = np.asarray(a, dtype=complex)
-            return a if a.shape == (6,) else np.array([0, 0, complex(a), 0, 0, 0])
+        def vec(field: str, a: Any) -> np.ndarray:
+            a = check_array("load", field, a, "N", complex_values=True, what="forces")
+            if a.shape == (6,):
+                return a
+            if a.ndim != 0:
+                raise ModelError(
+                    f"shape {a.shape}: give a scalar Fz or six components (Fx, Fy, Fz, Mx, My, Mz)",
+                    element="load",
+                    field=field,
+                )
+            return np.array([0, 0, complex(a), 0, 0, 0])
 
         for h, a in harmonics.items():
-            c[h] = 0.5 * vec(a)
+            c[int(h)] = 0.5 * vec(f"harmonics[{h}]", a)
         if mean is not None:
-            c[0] = vec(mean)
+            c[0] = vec("mean", mean)
         return cls(period, c)
 
     @classmethod
@@ -224,9 +272,13 @@ class PeriodicLoad:
         Parameters
         ----------
         n : int, optional
-            How many.
+            How many, a whole number from 1 to 2e7.
         """
-        n = n or self.default_samples
+        n = (
+            self.default_samples
+            if n is None
+            else check_count("load", "n", n, high=MAX_TIME_STEPS, what="times")
+        )
         return self.period * np.arange(n) / n
 
     def value(self, t: Any) -> np.ndarray:
@@ -235,9 +287,9 @@ class PeriodicLoad:
         Parameters
         ----------
         t : float or ndarray
-            Times, s.
+            Times, s, finite (at most 1e7 s in magnitude).
         """
-        return series(self.coefficients, self.period, t)
+        return series(self.coefficients, self.period, check_array("load", "t", t, "s", what="times"))
 
     def scaled(self, factor: float) -> PeriodicLoad:
         """The same load multiplied by ``factor``.
@@ -245,8 +297,9 @@ class PeriodicLoad:
         Parameters
         ----------
         factor : float
-            Dimensionless.
+            Dimensionless, finite (the scaled load must stay within its own bounds).
         """
+        factor = check_number("load", "factor", factor, what="scale factor")
         return PeriodicLoad(self.period, self.coefficients * factor, self.angle, self.n_samples)
 
 

@@ -20,10 +20,15 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.checks import check_array, check_number
 from mechdyn.errors import ModelError
 from mechdyn.units import STANDARD_GRAVITY, si_field
 
-__all__ = ["DOFS", "PLANAR", "SPATIAL", "Mount", "MountedMachine", "RigidBody"]
+__all__ = ["DOFS", "MAX_DAMPING_RATIO", "PLANAR", "SPATIAL", "Mount", "MountedMachine", "RigidBody"]
+
+MAX_DAMPING_RATIO = 10.0
+"""The largest damping ratio ζ a support may have: ten times critical, far beyond any mount (rubber
+has ζ ≈ 0.05, a viscous damper about 1); more only makes the start-up integration stiff."""
 
 DOFS = ("x", "y", "z", "rx", "ry", "rz")
 SPATIAL = DOFS
@@ -38,10 +43,12 @@ _MOTION = {
 }
 
 
-def _vector(owner: str, field: str, value: Any, unit: str, n: int = 3) -> np.ndarray:
+def _vector(owner: str, field: str, value: Any, unit: str, n: int = 3, **rule: Any) -> np.ndarray:
+    """``n`` quantities (or SI numbers) as an array in ``unit``, each checked by
+    :func:`~mechdyn.units.si_field` (finite, within the unit's magnitude limit, and ``rule``)."""
     if isinstance(value, str) or np.ndim(value) == 0 or len(value) != n:
         raise ModelError(f"{value!r} must be {n} values in {unit}", element=owner, field=field)
-    return np.array([si_field(owner, field, v, unit) for v in value])
+    return np.array([si_field(owner, field, v, unit, **rule) for v in value])
 
 
 def _skew(r: np.ndarray) -> np.ndarray:
@@ -56,12 +63,12 @@ class RigidBody:
     Parameters
     ----------
     mass : float or quantity
-        kg.
+        kg, from 1e-9 to 1e8 kg.
     center_of_mass : (x, y, z)
-        m, in machine coordinates (z up).
+        m, in machine coordinates (z up), each at most 1e3 m in magnitude.
     inertia : (3,) or (3, 3)
         Moments of inertia about axes through the centre of mass parallel to x, y, z (kg·m²), or
-        the whole inertia tensor there.
+        the whole inertia tensor there; each entry at most 1e10 kg·m² in magnitude.
     """
 
     mass: Any
@@ -69,10 +76,7 @@ class RigidBody:
     inertia: Any = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        m = si_field("machine", "mass", self.mass, "kg")
-        if not m > 0:
-            raise ModelError(f"{m:g} kg must be positive", element="machine", field="mass")
-        object.__setattr__(self, "mass", m)
+        object.__setattr__(self, "mass", si_field("machine", "mass", self.mass, "kg", positive=True))
         object.__setattr__(
             self, "center_of_mass", _vector("machine", "center_of_mass", self.center_of_mass, "m")
         )
@@ -89,9 +93,11 @@ class RigidBody:
             )
         if not np.allclose(J, J.T, rtol=1e-12, atol=0.0):
             raise ModelError("the inertia tensor must be symmetric", element="machine", field="inertia")
-        if np.linalg.eigvalsh(J).min() < -1e-12 * max(abs(J).max(), 1.0):
+        smallest = float(np.linalg.eigvalsh(J).min())
+        if smallest < -1e-12 * max(abs(J).max(), 1.0):
             raise ModelError(
-                "the inertia tensor must be positive semi-definite (each moment ≥ 0)",
+                f"the inertia tensor must be positive semi-definite (each moment ≥ 0); its smallest "
+                f"principal moment is {smallest:g} kg·m²",
                 element="machine",
                 field="inertia",
             )
@@ -114,11 +120,12 @@ class Mount:
     ----------
     name : str
     position : (x, y, z)
-        Where it holds the machine, m, machine coordinates.
+        Where it holds the machine, m, machine coordinates, each at most 1e3 m in magnitude.
     stiffness : (3,)
-        Along the mount's local axes, N/m (for an elastomer mount: shear, shear, compression).
+        Along the mount's local axes, N/m (for an elastomer mount: shear, shear, compression), each
+        from 0 to 1e15 N/m.
     damping : (3,)
-        Along the local axes, N·s/m.
+        Along the local axes, N·s/m, each from 0 to 1e13 N·s/m.
     axes : (3, 3), optional
         The local axes as columns, in machine coordinates (orthonormal, right-handed); by default
         the machine axes. :meth:`with_orientation` builds them from angles.
@@ -145,7 +152,11 @@ class Mount:
                     field=f,
                 )
             object.__setattr__(self, f, v)
-        R = np.eye(3) if self.axes is None else np.asarray(self.axes, dtype=float)
+        R = (
+            np.eye(3)
+            if self.axes is None
+            else check_array(self.name, "axes", self.axes, what="direction cosines")
+        )
         if R.shape != (3, 3) or not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
             raise ModelError(
                 "the local axes must be three orthonormal right-handed columns",
@@ -206,7 +217,7 @@ class MountedMachine:
         The coordinates kept, a subset of ``("x", "y", "z", "rx", "ry", "rz")`` in that order:
         :data:`SPATIAL` (all six), :data:`PLANAR` (x, z, ry) or ``("z",)``.
     gravity : float
-        m/s², along −z, for the static check of the mounts.
+        m/s², along −z, for the static check of the mounts; from 0 to 1e6 m/s².
     name : str
 
     Raises
@@ -225,6 +236,9 @@ class MountedMachine:
     def __post_init__(self) -> None:
         object.__setattr__(self, "mounts", tuple(self.mounts))
         object.__setattr__(self, "dofs", tuple(self.dofs))
+        object.__setattr__(
+            self, "gravity", si_field(self.name, "gravity", self.gravity, "m/s^2", nonnegative=True)
+        )
         if not self.mounts:
             raise ModelError("a machine needs at least one mount", element=self.name, field="mounts")
         names = [m.name for m in self.mounts]
@@ -265,21 +279,25 @@ class MountedMachine:
         Parameters
         ----------
         mass : float or quantity
-            m, kg.
+            m, kg, from 1e-9 to 1e8 kg.
         stiffness : float or quantity
-            k, N/m.
+            k, N/m, from 1e-6 to 1e15 N/m.
         damping_ratio : float
-            ζ, dimensionless.
+            ζ, dimensionless, from 0 to 10 (:data:`MAX_DAMPING_RATIO`; 1 is critical damping).
         name : str
             The machine's name.
         """
         body = RigidBody(mass)
-        k = si_field("support", "stiffness", stiffness, "N/m")
-        zeta = si_field("support", "damping_ratio", damping_ratio, "")
-        if not k > 0:
-            raise ModelError(f"{k:g} N/m must be positive", element="support", field="stiffness")
-        if zeta < 0:
-            raise ModelError(f"{zeta:g} must not be negative", element="support", field="damping_ratio")
+        k = si_field("support", "stiffness", stiffness, "N/m", positive=True)
+        zeta = si_field(
+            "support",
+            "damping_ratio",
+            damping_ratio,
+            "",
+            low=0.0,
+            high=MAX_DAMPING_RATIO,
+            what="damping ratio",
+        )
         c = 2.0 * zeta * math.sqrt(k * body.mass)
         mount = Mount("support", (0.0, 0.0, 0.0), (0.0, 0.0, k), (0.0, 0.0, c))
         return cls(body, (mount,), ("z",), name=name)
@@ -387,8 +405,11 @@ class MountedMachine:
         Parameters
         ----------
         stiffness, damping : float
-            The factors, dimensionless.
+            The factors, dimensionless: the stiffness factor positive, the damping factor not negative
+            (the scaled mounts must stay within their own bounds).
         """
+        stiffness = check_number(self.name, "stiffness", stiffness, positive=True, what="stiffness factor")
+        damping = check_number(self.name, "damping", damping, nonnegative=True, what="damping factor")
         mounts = tuple(
             replace(m, stiffness=m.stiffness * stiffness, damping=m.damping * damping) for m in self.mounts
         )

@@ -21,13 +21,23 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.checks import check_array, check_count, check_number
 from mechdyn.errors import ModelError
 from mechdyn.results import Result
 from mechdyn.support.excitation import PeriodicLoad, series, series_on_grid
 from mechdyn.support.model import DOFS, MountedMachine
 from mechdyn.support.modes import modes
 
-MAX_STEPS = 2e7  # time steps a start-up integration may take
+MAX_STEPS = 2e7  # time steps a start-up integration may take (and a steady state may be given at)
+MAX_EVALUATIONS = 2_000_000
+"""Evaluations of the equations of motion a ``solve_ivp`` start-up may take (a minute or so): past
+it the integration stops with an error instead of running on (a stiff model, e.g. a huge damping,
+under an explicit method)."""
+# solve_ivp's methods; for the explicit ones, the stability interval on the negative real axis
+# (|h λ| at which a decaying mode goes unstable: Hairer & Wanner, Solving ODEs II, §IV.2) and the
+# evaluations per step
+METHODS = ("duhamel", "RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+_EXPLICIT = {"RK23": (2.5, 3), "RK45": (3.3, 6), "DOP853": (6.0, 12)}
 
 __all__ = ["SupportResponse", "harmonic_response", "periodic_response", "startup_response"]
 
@@ -59,7 +69,7 @@ class SupportResponse(Result):
     @cached_property
     def applied(self) -> np.ndarray:
         """(N, 6) the load (Fx, Fy, Fz, Mx, My, Mz about the origin) at each time."""
-        return self.load.value(self.time)
+        return series(self.load.coefficients, self.load.period, self.time)  # times already checked
 
     @property
     def exciting_force(self) -> np.ndarray:
@@ -219,14 +229,21 @@ def periodic_response(
     load : PeriodicLoad
     n_samples : int, optional
         Time steps over one period from t = 0 (default: the load's own samples, else 16 per
-        period of its highest harmonic).
+        period of its highest harmonic); a whole number from 2 to 2e7.
     time : array_like, optional
-        Evaluate at these times instead, s (the series holds for any t).
+        Evaluate at these times instead, s (the series holds for any t); finite, at most 1e7 s in
+        magnitude.
 
     Returns
     -------
     SupportResponse
     """
+    if n_samples is not None:
+        n_samples = check_count(
+            "steady state", "n_samples", n_samples, low=2, high=int(MAX_STEPS), what="steps"
+        )
+    if time is not None:
+        time = check_array("steady state", "time", time, "s", what="times")
     X = harmonic_response(machine, load)
     w = 2 * math.pi / load.period * load.orders()[:, None]
     n = n_samples or load.default_samples
@@ -234,9 +251,32 @@ def periodic_response(
         t = load.time(n)
         q, qd, qdd = (series_on_grid(c, n) for c in (X, 1j * w * X, -(w**2) * X))
     else:
-        t = load.time(n) if time is None else np.asarray(time, dtype=float)
+        t = load.time(n) if time is None else time
         q, qd, qdd = (series(c, load.period, t) for c in (X, 1j * w * X, -(w**2) * X))
     return SupportResponse(machine, load, t, q, qd, qdd, "steady state")
+
+
+def _check_explicit(A: np.ndarray, method: str, duration: float) -> None:
+    """Refuse an explicit method on a model it cannot integrate in :data:`MAX_EVALUATIONS`.
+
+    An explicit Runge–Kutta step h is stable only while h |λ| stays within the method's stability
+    interval for every eigenvalue λ of the state matrix; a heavily damped mode (λ ≈ −c/m) then forces
+    steps far below the load's period, whatever the tolerance.
+    """
+    if method not in _EXPLICIT:
+        return
+    reach, per_step = _EXPLICIT[method]
+    rate = float(np.abs(np.linalg.eigvals(A)).max(initial=0.0))
+    evaluations = rate * duration / reach * per_step
+    if evaluations > MAX_EVALUATIONS:
+        raise ModelError(
+            f"the model is too stiff for the explicit method {method}: its fastest mode decays or turns "
+            f"at {rate:.4g} 1/s, which over {duration:.4g} s needs about {evaluations:.2g} evaluations "
+            f"(more than {MAX_EVALUATIONS:.0e}); use method='duhamel' or 'Radau', or check the mounts' "
+            "damping and stiffness against the mass",
+            element="start-up",
+            field="method",
+        )
 
 
 def _state_space(machine: MountedMachine) -> tuple[np.ndarray, np.ndarray]:
@@ -263,11 +303,14 @@ def startup_response(
     machine : MountedMachine
     load : PeriodicLoad
     cycles : int
-        Periods to integrate.
+        Periods to integrate, a whole number from 1 (at most 2e7 steps in all).
     method : str
         ``"duhamel"``: the convolution integral in state-space form, exact for a load linear between
         steps (:func:`scipy.signal.lsim`); or a :func:`scipy.integrate.solve_ivp` method
-        (``"RK45"``, ``"DOP853"``, ``"Radau"``, …).
+        (``"RK23"``, ``"RK45"``, ``"DOP853"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``). The explicit
+        ones (RK…, DOP853) are refused for a model so stiff (a huge damping) that they would need
+        more than :data:`MAX_EVALUATIONS` evaluations; any ``solve_ivp`` method stops with an error
+        past that many, so that the integration always ends.
     steps_per_period : int, optional
         Output (and, for ``"duhamel"``, integration) steps per period; by default 40 steps per
         period of the highest natural frequency and of the highest load harmonic above 1e-6 of
@@ -276,15 +319,29 @@ def startup_response(
         interpolation; the adaptive methods meet ``rtol`` whatever the output steps).
     rtol : float
         Relative tolerance of ``solve_ivp`` (its absolute tolerance scales with the static
-        response).
+        response), dimensionless, from 1e-13 to 0.1.
 
     Returns
     -------
     SupportResponse
         All ``cycles`` periods, ``kind = "start-up"``.
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For arguments out of range, for more than 2e7 steps, for an explicit method on a model too
+        stiff for it, and for an integration that fails or passes :data:`MAX_EVALUATIONS`.
     """
-    if cycles < 1:
-        raise ModelError(f"cycles = {cycles} must be at least 1", element="start-up", field="cycles")
+    cycles = check_count("start-up", "cycles", cycles, low=1, high=int(MAX_STEPS), what="periods")
+    if method not in METHODS:
+        raise ModelError(
+            f"{method!r} must be one of {', '.join(map(repr, METHODS))}", element="start-up", field="method"
+        )
+    if steps_per_period is not None:
+        steps_per_period = check_count(
+            "start-up", "steps_per_period", steps_per_period, low=2, high=int(MAX_STEPS), what="steps"
+        )
+    rtol = check_number("start-up", "rtol", rtol, low=1e-13, high=0.1, what="relative tolerance")
     M, K, C = machine.mass_matrix, machine.stiffness_matrix, machine.damping_matrix
     n = M.shape[0]
     f_max = float(modes(machine).frequencies_hz.max())
@@ -306,20 +363,34 @@ def startup_response(
     if method == "duhamel":
         from scipy.signal import StateSpace, lsim
 
-        Q = load.value(t) @ B.T
+        Q = series(load.coefficients, load.period, t) @ B.T
         sys = StateSpace(A, Bs, np.eye(2 * n), np.zeros((2 * n, n)))
         _, _, x = lsim(sys, Q, t, interp=True)
         x = np.asarray(x).reshape(t.size, 2 * n)
     else:
         from scipy.integrate import solve_ivp
 
+        _check_explicit(A, method, float(t[-1]))
         scale = (
             np.abs(np.linalg.solve(K, load.coefficients[0] @ B.T)).max()
             + np.abs(np.linalg.solve(K, np.abs(load.coefficients[1:] @ B.T).sum(axis=0) * 2)).max()
         )
 
+        evaluations = 0
+
         def rhs(time: float, y: np.ndarray) -> np.ndarray:
-            return A @ y + Bs @ (B @ load.value(time))
+            nonlocal evaluations
+            evaluations += 1
+            if evaluations > MAX_EVALUATIONS:
+                raise ModelError(
+                    f"the time integration ({method}) took {MAX_EVALUATIONS:.0e} evaluations and reached "
+                    f"t = {time:.4g} s of {t[-1]:.4g} s: the model is too stiff for it (check the mounts' "
+                    "damping and stiffness against the mass); use method='duhamel' or 'Radau', or "
+                    "integrate fewer cycles",
+                    element="start-up",
+                    field="method",
+                )
+            return A @ y + Bs @ (B @ series(load.coefficients, load.period, time))
 
         sol = solve_ivp(
             rhs,
@@ -334,5 +405,5 @@ def startup_response(
             raise ModelError(f"time integration failed: {sol.message}", element="start-up", field="method")
         x = sol.y.T
     q, qd = x[:, :n], x[:, n:]
-    qdd = (load.value(t) @ B.T - qd @ C.T - q @ K.T) @ np.linalg.inv(M).T
+    qdd = (series(load.coefficients, load.period, t) @ B.T - qd @ C.T - q @ K.T) @ np.linalg.inv(M).T
     return SupportResponse(machine, load, t, q, qd, qdd, "start-up")

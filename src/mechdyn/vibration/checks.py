@@ -11,6 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from mechdyn.checks import check_array, check_number
 from mechdyn.errors import ModelCheckError
 
 __all__ = ["check_matrices"]
@@ -42,16 +43,22 @@ def check_matrices(
         K that do not annihilate them are named. Without them, the rows whose entries do not sum to
         zero are named, which is right for a chain without gears.
     rtol : float
-        Eigenvalues of M⁻¹K below ``rtol`` times the largest count as zero.
+        Eigenvalues of M⁻¹K below ``rtol`` times the largest count as zero; dimensionless, in
+        (0, 1).
 
     Raises
     ------
     ModelCheckError
         Naming the first asymmetric entry, the negative eigenvalue, or the zero-mode count and the
         degrees of freedom whose stiffness row does not balance (a stray grounding term).
+    mechdyn.errors.ModelError
+        For a NaN or an infinity in M or K (naming the entry), or ``rtol`` out of range.
     """
-    M = np.asarray(M, dtype=float)
-    K = np.asarray(K, dtype=float)
+    rtol = check_number(
+        "check_matrices", "rtol", rtol, positive=True, high=1.0, high_open=True, what="tolerance"
+    )
+    M = check_array("check_matrices", "M", M, bounded=False, what="mass matrix entries")
+    K = check_array("check_matrices", "K", K, bounded=False, what="stiffness matrix entries")
     n = K.shape[0]
     names = list(dof_names) if dof_names is not None else [f"dof {i + 1}" for i in range(n)]
     for label, A in (("M", M), ("K", K)):

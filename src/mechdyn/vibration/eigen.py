@@ -158,11 +158,24 @@ def solve_eigen(
     that cannot vouch for ``ACCURACY``. Mode shapes from the accurate paths are as accurate as the
     relative gaps between the frequencies allow; the lowest ``n_rigid`` pairs are the exact zero modes.
     """
+    from mechdyn.checks import check_count
+    from mechdyn.errors import ModelError
+    from mechdyn.vibration.harmonic import finite_matrices
+
     if solver not in SOLVERS:
         raise ValueError(f"unknown eigen solver {solver!r}; expected one of {', '.join(SOLVERS)}")
     mass = np.asarray(mass, dtype=float)
+    finite_matrices("eigen solver", K=K, M=mass)
+    masses = np.diagonal(mass) if mass.ndim == 2 else mass
+    if not np.all(masses > 0):
+        i = int(np.flatnonzero(~(masses > 0))[0])
+        raise ModelError(
+            f"mass entry {i} is {masses[i]:g}: every coordinate needs a positive mass (or inertia)",
+            element="eigen solver",
+            field="M",
+        )
     n = mass.shape[0]
-    k = n if n_modes is None else max(1, min(int(n_modes), n))
+    k = n if n_modes is None else min(check_count("eigen solver", "n_modes", n_modes, high=10**9), n)
     if mass.ndim == 2:
         if np.count_nonzero(mass - np.diag(np.diagonal(mass))):
             Kd = _dense_array(K)

@@ -13,7 +13,10 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["dynamic_stiffness", "harmonic_solve"]
+from mechdyn.checks import check_array
+from mechdyn.errors import ModelError
+
+__all__ = ["dynamic_stiffness", "finite_matrices", "harmonic_solve"]
 
 # below this size a dense LAPACK solve beats building and factorising a sparse matrix
 _DENSE_LIMIT = 200
@@ -28,15 +31,54 @@ def dynamic_stiffness(K: Any, C: Any, M: Any, omega: float | np.ndarray) -> Any:
     K, C, M : ndarray or sparse array
         Stiffness (N/m or N·m/rad), damping (N·s/m or N·m·s/rad) and mass (kg or kg·m²), (n, n).
     omega : float or ndarray
-        Circular frequency, rad/s (an array of shape (n_f, 1, 1) with dense (1, n, n) matrices gives
-        a stack).
+        Circular frequency, rad/s, finite and at most 1e8 rad/s in magnitude (an array of shape
+        (n_f, 1, 1) with dense (1, n, n) matrices gives a stack).
 
     Returns
     -------
     ndarray or sparse array
         (n, n) complex.
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a frequency that is not finite or beyond any machine.
     """
+    omega = check_array("dynamic stiffness", "omega", omega, "rad/s", what="circular frequencies")
     return K + (1j * omega) * C - omega**2 * M
+
+
+def finite_matrices(owner: str, **matrices: Any) -> None:
+    """Refuse a model matrix (dense or sparse) with a NaN or an infinity, naming it and the entry.
+
+    Parameters
+    ----------
+    owner : str
+        The analysis, for the message.
+    **matrices : ndarray or sparse array
+        The matrices by name (``K=..., M=...``).
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        Naming the matrix, the first entry that is not finite and its value.
+    """
+    for name, A in matrices.items():
+        if sp.issparse(A):
+            coo = sp.coo_array(A)
+            bad = ~np.isfinite(coo.data)
+            if bad.any():
+                k = int(np.argmax(bad))
+                i, j, v = int(coo.coords[0][k]), int(coo.coords[1][k]), coo.data[k]
+                raise ModelError(
+                    f"{name}[{i}, {j}] = {v} is not finite; give finite matrices in SI",
+                    element=owner,
+                    field=name,
+                )
+        else:
+            check_array(
+                owner, name, A, complex_values=np.iscomplexobj(A), bounded=False, what="entries in SI"
+            )
 
 
 def harmonic_solve(K: Any, C: Any, M: Any, F: Any, omega: Any) -> np.ndarray:
@@ -48,18 +90,25 @@ def harmonic_solve(K: Any, C: Any, M: Any, F: Any, omega: Any) -> np.ndarray:
         (n, n) model matrices (SI).
     F : array_like
         (n,) load amplitudes, the same at every frequency, or (n_f, n), one row per frequency (SI:
-        N or N·m).
+        N or N·m), finite.
     omega : array_like
-        (n_f,) circular frequencies, rad/s.
+        (n_f,) circular frequencies, rad/s, finite, at most 1e8 rad/s in magnitude.
 
     Returns
     -------
     ndarray
         (n_f, n) complex amplitudes (m or rad). Memory: the model's matrices and this output, never
         (n_f, n, n).
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a NaN or an infinity in the matrices, a frequency or a load out of range, or a dynamic
+        stiffness that is singular at a frequency (an undamped resonance, a free body at 0 rad/s).
     """
-    w = np.atleast_1d(np.asarray(omega, dtype=float))
-    F = np.asarray(F)
+    w = np.atleast_1d(check_array("harmonic response", "omega", omega, "rad/s", what="circular frequencies"))
+    F = check_array("harmonic response", "F", F, complex_values=True, bounded=False, what="load amplitudes")
+    finite_matrices("harmonic response", K=K, C=C, M=M)
     n = F.shape[-1]
     rows = np.broadcast_to(F, (w.size, n))
     out = np.empty((w.size, n), dtype=complex)
@@ -71,13 +120,52 @@ def harmonic_solve(K: Any, C: Any, M: Any, F: Any, omega: Any) -> np.ndarray:
 
         K, C, M = (sp.csc_array(A, dtype=complex) for A in (K, C, M))
         for i, wi in enumerate(w):
-            out[i] = splu(sp.csc_array(dynamic_stiffness(K, C, M, wi))).solve(rows[i].astype(complex))
-        return out
+            try:
+                lu = splu(sp.csc_array(dynamic_stiffness(K, C, M, wi)))
+            except RuntimeError as exc:  # "Factor is exactly singular"
+                raise _singular(wi) from exc
+            out[i] = lu.solve(rows[i].astype(complex))
+        return _finite_response(out, w)
     K, C, M = (A.toarray() if sp.issparse(A) else np.asarray(A, dtype=float) for A in (K, C, M))
     # frequencies in blocks of at most _BLOCK_ENTRIES matrix entries: batched LAPACK calls for small
     # models, bounded memory for large ones
     step = max(1, _BLOCK_ENTRIES // (n * n))
     for lo in range(0, w.size, step):
         Z = dynamic_stiffness(K[None], C[None], M[None], w[lo : lo + step, None, None])
-        out[lo : lo + step] = np.linalg.solve(Z, rows[lo : lo + step, :, None])[..., 0]
+        try:
+            out[lo : lo + step] = np.linalg.solve(Z, rows[lo : lo + step, :, None])[..., 0]
+        except np.linalg.LinAlgError:
+            bad = next(i for i in range(Z.shape[0]) if _is_singular(Z[i]))
+            raise _singular(w[lo + bad]) from None
+    return _finite_response(out, w)
+
+
+def _finite_response(out: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """``out``, or a ModelError naming the first frequency whose response is not finite."""
+    bad = ~np.isfinite(out).all(axis=1)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ModelError(
+            f"the response at ω = {w[k]:g} rad/s is not finite (it overflows: the dynamic stiffness is "
+            "nearly singular there, or the load is too large); leave that frequency out or check the model",
+            element="harmonic response",
+            field="omega",
+        )
     return out
+
+
+def _is_singular(Z: np.ndarray) -> bool:
+    try:
+        np.linalg.solve(Z, np.ones(Z.shape[0]))
+    except np.linalg.LinAlgError:
+        return True
+    return False
+
+
+def _singular(w: float) -> ModelError:
+    return ModelError(
+        f"the dynamic stiffness K + iωC − ω²M is singular at ω = {w:g} rad/s ({w / (2 * np.pi):g} Hz): an "
+        "undamped natural frequency, or 0 rad/s on a free model; leave that frequency out or add damping",
+        element="harmonic response",
+        field="omega",
+    )
