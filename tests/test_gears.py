@@ -25,8 +25,8 @@ PUBLISHED = {  # SPEC §4, m: h_a, h_b, h_c, t_a, t_b, printed k_c (N/m)
 }
 
 # a pinion of fewer than about 25 teeth has its root-circle half-angle θ_f above the range of the
-# Sainsot fit, and says so (test_small_pinions_say_their_foundation_is_extrapolated); the other
-# tests here check numbers, not that warning
+# Sainsot fit; it says so only where the extrapolation carries more than 5 % of the tooth's
+# compliance (tests/test_gears_published.py); the other tests here check numbers, not that warning
 pytestmark = pytest.mark.filterwarnings("ignore:.*range of the Sainsot fit:mechdyn.errors.ModelWarning")
 
 
@@ -89,7 +89,10 @@ def test_apex_height():
     ha, hb, _, ta, tb, _ = PUBLISHED[2]
     t = _tooth(2)
     assert t.apex_height == pytest.approx((ha * tb - hb * ta) / (tb - ta))
-    assert t.thickness(t.apex_height) == pytest.approx(0.0, abs=1e-15)
+    # the flanks meet at the apex (thickness() refuses heights at or above it)
+    assert t.thickness(t.apex_height * (1 - 1e-12)) == pytest.approx(0.0, abs=1e-14)
+    with pytest.raises(ModelError, match="height"):
+        t.thickness(t.apex_height)
     assert t.thickness(ha) == pytest.approx(ta) and t.thickness(hb) == pytest.approx(tb)
 
 
@@ -433,7 +436,8 @@ PUBLISHED_PAIRS = {  # h_a, h_b, h_c, t_a, t_b (m), SPEC §4
 
 def _published_by_quadrature(ha, hb, hc, ta, tb, E=206e9, nu=0.3, phi_deg=20.0, f=0.05):
     """The published deflections integrated numerically over the whole tooth from the root: a
-    uniform segment of t_b up to h_b, then the linear taper (an independent reference)."""
+    uniform segment of t_b up to h_b, then the linear taper (an independent reference). The radial
+    term is the moment F sin φ · t_c/2 acting on the transverse deflection, as published (eq. 3)."""
     from scipy.integrate import quad
 
     def t(y):
@@ -447,9 +451,7 @@ def _published_by_quadrature(ha, hb, hc, ta, tb, E=206e9, nu=0.3, phi_deg=20.0, 
 
     return {
         "bending_transverse": integral(lambda y: 12 * c * c * (hc - y) ** 2 / (E * f * t(y) ** 3)),
-        "bending_radial": integral(
-            lambda y: 12 * (s * s * e * e - 2 * s * c * e * (hc - y)) / (E * f * t(y) ** 3)
-        ),
+        "bending_radial": integral(lambda y: -12 * s * c * e * (hc - y) / (E * f * t(y) ** 3)),
         "shear": integral(lambda y: 1.2 * c * c / (G * f * t(y))),
         "foundation": 24 * c * c * hc**2 / (math.pi * E * f * tb**2),
         "hertz": 4 * (1 - nu**2) / (math.pi * E * f),
@@ -472,7 +474,8 @@ def test_the_published_tooth_formulas_against_quadrature(pair):
 
 def test_one_tooth_of_published_pair_2_gives_the_value_printed_for_pair_1(tmp_path, capsys):
     """SPEC §4: with steel and a 50 mm face, a single pair-2 tooth gives the k_c printed for pair 1
-    (2.7082e9 N/m): the published table's mix-up, shown by the command."""
+    (2.7082e9 N/m) to 0.013 %: the published table's mix-up, shown by the command
+    (tests/test_gears_published.py holds the published terms by hand)."""
     from mechdyn.cli.main import main
 
     assert (
@@ -481,7 +484,7 @@ def test_one_tooth_of_published_pair_2_gives_the_value_printed_for_pair_1(tmp_pa
     )
     doc = json.loads(capsys.readouterr().out)
     assert doc["formulas"] == "published"
-    assert doc["tooth_stiffness_N_per_m"][0] == pytest.approx(2.7082e9, rel=0.01)
+    assert doc["tooth_stiffness_N_per_m"][0] == pytest.approx(2.7082e9, rel=5e-4)
     # the refined model of before stays as a named option, with its own numbers
     text = (
         (EXAMPLES / "tooth_pair1_published.toml")
@@ -653,11 +656,16 @@ def test_drivetrain_meshes_from_gear_data_take_the_generated_tooth_or_the_named_
     assert default.stiffness / truncated.stiffness == pytest.approx(1.22, abs=0.01)
 
 
-def test_small_pinions_say_their_foundation_is_extrapolated():
-    # θ_f at the root circle of the generated tooth: 0.150 rad at z = 20, above the fit's 0.12; at
-    # z = 40 on a bore of half the root diameter (h_f = 2) both parameters lie inside
-    with pytest.warns(ModelWarning, match=r"pinion generated tooth: .*θ_f = 0.15 rad lie outside"):
-        SpurGear(20, 0.002, 0.02, bore_diameter=0.0175, name="pinion").profile_tooth()
+def test_small_pinions_warn_only_beyond_the_extrapolation_tolerance():
+    # θ_f at the root circle of the generated tooth: 0.150 rad at z = 20, above the fit's 0.12, but
+    # the extrapolation carries 1.6 % of the tooth's compliance: no warning; a 12-tooth pinion
+    # shifted by 0.5 on a thin rim (h_f 1.45, θ_f 0.25) carries 6.5 %, and says so
     with warnings.catch_warnings():
         warnings.simplefilter("error")
+        tooth = SpurGear(20, 0.002, 0.02, bore_diameter=0.02, name="pinion").profile_tooth()
         SpurGear(40, 0.002, 0.02, bore_diameter=0.0375).profile_tooth()
+    assert tooth.foundation_extrapolation() == pytest.approx(0.0163, abs=5e-4)
+    with pytest.warns(ModelWarning, match=r"pinion generated tooth: .*θ_f = 0.248 rad .* up to 6.5 %"):
+        SpurGear(
+            12, 0.002, 0.02, profile_shift=0.5, bore_diameter=2 * 0.0105 / 1.45, name="pinion"
+        ).profile_tooth()

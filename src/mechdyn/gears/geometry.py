@@ -27,13 +27,20 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.checks import check_number, check_poisson_ratio
 from mechdyn.errors import ModelError
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.tooth import TruncatedTooth
 from mechdyn.units import show
 from mechdyn.units import si_field as _q
 
-__all__ = ["SpurGear", "inverse_involute", "involute"]
+__all__ = ["MAX_RACK_FACTOR", "MAX_TEETH", "SpurGear", "inverse_involute", "involute"]
+
+MAX_TEETH = 10_000
+"""The most teeth a gear may have (as a drivetrain mesh's :data:`mechdyn.drivetrain.elements.MAX_TEETH`)."""
+MAX_RACK_FACTOR = 3.0
+"""The largest addendum, dedendum, fillet radius and profile shift (in magnitude), in modules: ISO 53's
+basic racks have 1, 1.25 to 1.4, 0.38 and shifts within about ±1."""
 
 
 def involute(alpha: float) -> float:
@@ -60,20 +67,21 @@ class SpurGear:
     Parameters
     ----------
     teeth : int
-        z.
+        z, a whole number from 5 to :data:`MAX_TEETH`.
     module : float or quantity
-        m, m (e.g. ``"2 mm"``).
+        m, m (e.g. ``"2 mm"``), from 1e-9 to 1e3 m.
     face_width : float or quantity
-        b, m.
+        b, m, from 1e-9 to 1e3 m.
     pressure_angle : float or quantity
-        α of the basic rack, rad (e.g. ``"20 deg"``).
+        α of the basic rack, rad (e.g. ``"20 deg"``), from 10° to 35°.
     profile_shift : float
-        x (addendum modification coefficient).
+        x (addendum modification coefficient), dimensionless, within ±:data:`MAX_RACK_FACTOR`.
     addendum, dedendum : float
-        h_a* and h_f* of the basic rack, in modules (1 and 1.25 by default).
+        h_a* and h_f* of the basic rack, in modules (1 and 1.25 by default), in (0, 3].
     youngs_modulus : float or quantity
-        E, Pa (steel 206 GPa by default, the ISO 6336 reference).
+        E, Pa (steel 206 GPa by default, the ISO 6336 reference), from 1e-3 to 1e13 Pa.
     poisson_ratio : float
+        ν, dimensionless, in (−1, 0.5).
     bore_diameter : float or quantity, optional
         Diameter of the bore, m, for the elastic tooth foundation (Sainsot et al. 2004). The body of
         a gear yields under its teeth whether or not a bore is given: without one the foundation
@@ -84,7 +92,13 @@ class SpurGear:
     name : str
     fillet_radius : float
         ρ_fP* of the basic rack's tip rounding, in modules (0.38 by default, ISO 53 profile A): the
-        cutter's rounded tip generates the tooth's root fillet (:meth:`generated_thickness_array`).
+        cutter's rounded tip generates the tooth's root fillet (:meth:`generated_thickness_array`);
+        from 0 to the full rounding of the rack's tip.
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a number that is not finite or out of its range, naming the gear, the field and the value.
     """
 
     teeth: int
@@ -104,20 +118,43 @@ class SpurGear:
 
     def __post_init__(self) -> None:
         n = self.name
-        if isinstance(self.teeth, bool) or not isinstance(self.teeth, int) or self.teeth < 5:
-            raise ModelError(f"{self.teeth!r} must be a whole number of at least 5", element=n, field="teeth")
-        for f, unit in (
-            ("module", "m"),
-            ("face_width", "m"),
-            ("pressure_angle", "rad"),
-            ("youngs_modulus", "Pa"),
+        if (
+            isinstance(self.teeth, bool)
+            or not isinstance(self.teeth, int | np.integer)
+            or not 5 <= self.teeth <= MAX_TEETH
         ):
-            v = _q(n, f, getattr(self, f), unit)
-            if v <= 0:
-                raise ModelError(f"{v:g} must be positive", element=n, field=f)
+            raise ModelError(
+                f"{self.teeth!r} must be a whole number between 5 and {MAX_TEETH}", element=n, field="teeth"
+            )
+        object.__setattr__(self, "teeth", int(self.teeth))
+        for f, unit in (("module", "m"), ("face_width", "m"), ("youngs_modulus", "Pa")):
+            object.__setattr__(self, f, _q(n, f, getattr(self, f), unit, positive=True))
+        # the basic rack in modules: ISO 53 and its variants stay well inside these
+        for f, low, high in (
+            ("profile_shift", -MAX_RACK_FACTOR, MAX_RACK_FACTOR),
+            ("addendum", 0.0, MAX_RACK_FACTOR),
+            ("dedendum", 0.0, MAX_RACK_FACTOR),
+        ):
+            opened = f != "profile_shift"
+            v = _q(
+                n,
+                f,
+                getattr(self, f),
+                "",
+                low=low,
+                high=high,
+                low_open=opened,
+                what=f"{f.replace('_', ' ')} (in modules)",
+            )
             object.__setattr__(self, f, v)
-        for f in ("profile_shift", "addendum", "dedendum", "poisson_ratio", "fillet_radius"):
-            object.__setattr__(self, f, _q(n, f, getattr(self, f), ""))
+        object.__setattr__(self, "poisson_ratio", check_poisson_ratio(n, "poisson_ratio", self.poisson_ratio))
+        object.__setattr__(
+            self,
+            "fillet_radius",
+            _q(n, "fillet_radius", self.fillet_radius, "", nonnegative=True, high=MAX_RACK_FACTOR),
+        )
+        alpha = _q(n, "pressure_angle", self.pressure_angle, "rad", positive=True)
+        object.__setattr__(self, "pressure_angle", alpha)
         if not math.radians(10) <= self.pressure_angle <= math.radians(35):
             raise ModelError(
                 f"{math.degrees(self.pressure_angle):g}° must lie between 10° and 35°",
@@ -125,7 +162,9 @@ class SpurGear:
                 field="pressure_angle",
             )
         if self.bore_diameter is not None:
-            object.__setattr__(self, "bore_diameter", _q(n, "bore_diameter", self.bore_diameter, "m"))
+            object.__setattr__(
+                self, "bore_diameter", _q(n, "bore_diameter", self.bore_diameter, "m", positive=True)
+            )
             if not 0 < self.bore_diameter < 2 * self.root_radius:
                 raise ModelError(
                     f"bore diameter {self.bore_diameter:g} m must be positive and below the root diameter "
@@ -135,10 +174,24 @@ class SpurGear:
                 )
         for f in ("rim_thickness", "web_width"):
             if getattr(self, f) is not None:
-                v = _q(n, f, getattr(self, f), "m")
-                if not v > 0:
-                    raise ModelError(f"{v:g} m must be positive", element=n, field=f)
-                object.__setattr__(self, f, v)
+                object.__setattr__(self, f, _q(n, f, getattr(self, f), "m", positive=True))
+        if self.root_radius <= 0:
+            raise ModelError(
+                f"the root circle's radius {self.root_radius:g} m is not positive: {self.teeth} teeth cannot "
+                f"carry a dedendum of {self.dedendum:g} modules with a profile shift of "
+                f"{self.profile_shift:g}",
+                element=n,
+                field="dedendum",
+            )
+        if self.tip_radius < self.base_radius:
+            raise ModelError(
+                f"the tip circle ({self.tip_radius:g} m) lies inside the base circle "
+                f"({self.base_radius:g} m): "
+                f"no involute flank with an addendum of {self.addendum:g} and a profile shift of "
+                f"{self.profile_shift:g} modules",
+                element=n,
+                field="addendum",
+            )
         if (self.rim_thickness is None) != (self.web_width is None):
             raise ModelError(
                 "give both rim_thickness and web_width of a rim-and-web blank, or neither (solid)",
@@ -197,10 +250,19 @@ class SpurGear:
         ----------
         radius : float
             Radius on the involute, m (r_b ≤ r ≤ r_a).
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            For a radius off the involute (inside the base circle, beyond the tip circle, not finite).
         """
-        if radius < self.base_radius * (1 - 1e-12):
+        radius = check_number(self.name, "radius", radius, "m", positive=True)
+        if not self.base_radius * (1 - 1e-12) <= radius <= self.tip_radius * (1 + 1e-9):
             raise ModelError(
-                f"radius {radius:g} m is inside the base circle {self.base_radius:g} m", element=self.name
+                f"radius {radius:g} m is off the involute, which runs from the base circle "
+                f"{self.base_radius:g} m to the tip circle {self.tip_radius:g} m",
+                element=self.name,
+                field="radius",
             )
         s = self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
         alpha_y = math.acos(min(1.0, self.base_radius / radius))
@@ -368,6 +430,7 @@ class SpurGear:
             bore_radius=self.bore_radius,
             name=f"{self.name} generated tooth",
             breaks=(self.involute_start_radius - r_f,),
+            flank_loads=self._flank_loads(self.involute_start_radius),
         )
 
     @property
@@ -384,6 +447,20 @@ class SpurGear:
             f"{self.name}: no bore_diameter: the tooth foundation takes a bore of half the root diameter "
             f"({show(self.root_radius, 'm', 'mm', '.4g')}); give bore_diameter",
         )
+
+    def _flank_loads(self, low_radius: float) -> tuple[tuple[float, float], ...]:
+        """(height above the root circle, m; load angle, rad) at 17 radii from ``low_radius`` (or the
+        base circle, if higher) to the tip circle: where the flank can be loaded, for the teeth's
+        check of the Sainsot foundation's extrapolation.
+
+        Parameters
+        ----------
+        low_radius : float
+            Where the flank starts, m (the start of the involute).
+        """
+        low = max(low_radius, self.base_radius)
+        radii = [low + (self.tip_radius - low) * max(k, 1e-6) / 16.0 for k in range(17)]
+        return tuple((r - self.root_radius, self.load_angle(r)) for r in radii)
 
     def tooth(self) -> TruncatedTooth:
         """The truncated-triangle tooth of this gear, heights from the root circle: tapering from the
@@ -402,5 +479,6 @@ class SpurGear:
             youngs_modulus=self.youngs_modulus,
             poisson_ratio=self.poisson_ratio,
             name=f"{self.name} tooth",
+            flank_loads=self._flank_loads(r0),
             **foundation,
         )

@@ -10,11 +10,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from mechdyn.checks import check_number
 from mechdyn.errors import ModelError
 from mechdyn.gears.mesh import GearPair
 from mechdyn.units import convert
 
-__all__ = ["IsoStiffness", "iso_stiffness"]
+__all__ = ["MAX_BLANK_RATIO", "MAX_SPECIFIC_LOAD", "IsoStiffness", "iso_stiffness"]
+
+MAX_SPECIFIC_LOAD = 1e6
+"""The largest specific load F_t K_A / b accepted, N/mm (ISO 6336's range ends near 10⁴ N/mm)."""
+MAX_BLANK_RATIO = 1e4
+"""The largest rim-thickness and web-width ratios of a gear blank accepted (ISO 6336 clamps both far
+below)."""
 
 # ISO 6336-1, clause 9 (Method B), the coefficients of q′ (its table of C1 … C9)
 _C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
@@ -62,9 +69,10 @@ class IsoStiffness:
         Parameters
         ----------
         face_width : float
-            Face width b, m.
+            Face width b, m, from 1e-9 to 1e3 m.
         """
-        return convert(self.c_gamma_alpha, "N/(mm*um)", "N/m^2") * face_width
+        b = check_number("ISO 6336", "face_width", face_width, "m", positive=True)
+        return convert(self.c_gamma_alpha, "N/(mm*um)", "N/m^2") * b
 
 
 def iso_stiffness(
@@ -80,12 +88,13 @@ def iso_stiffness(
     ----------
     pair : GearPair
     specific_load : float
-        F_t K_A / b, N/mm; below 100 N/mm the stiffness falls as (load/100)^0.25.
+        F_t K_A / b, N/mm, positive, at most 1e6 N/mm; below 100 N/mm the stiffness falls as
+        (load/100)^0.25.
     rim_thickness_ratio : float, optional
-        s_R / m_n of a rim-and-web gear; None takes each gear's own ``rim_thickness`` and
-        ``web_width`` (solid gears: C_R = 1).
+        s_R / m_n of a rim-and-web gear, positive, at most 1e4; None takes each gear's own
+        ``rim_thickness`` and ``web_width`` (solid gears: C_R = 1).
     web_width_ratio : float
-        b_s / b of a webbed gear (0.2 … 1.2).
+        b_s / b of a webbed gear (0.2 … 1.2; outside, C_R takes the limit), positive, at most 1e4.
 
     Returns
     -------
@@ -108,6 +117,16 @@ def iso_stiffness(
 
     Spur gears only here (β = 0, z_n = z).
     """
+    specific_load = check_number(
+        "ISO 6336", "specific_load", specific_load, "N/mm", positive=True, high=MAX_SPECIFIC_LOAD
+    )
+    if rim_thickness_ratio is not None:
+        rim_thickness_ratio = check_number(
+            "ISO 6336", "rim_thickness_ratio", rim_thickness_ratio, positive=True, high=MAX_BLANK_RATIO
+        )
+    web_width_ratio = check_number(
+        "ISO 6336", "web_width_ratio", web_width_ratio, positive=True, high=MAX_BLANK_RATIO
+    )
     p, g = pair.pinion, pair.gear
     x1, x2, z1, z2 = p.profile_shift, g.profile_shift, p.teeth, g.teeth
     if not -0.5 <= x1 + x2 <= 2.0:
@@ -149,8 +168,6 @@ def iso_stiffness(
 
     C_B = 0.5 * (rack(p) + rack(g))
     load = (specific_load / 100.0) ** 0.25 if specific_load < 100.0 else 1.0
-    if specific_load <= 0:
-        raise ModelError(f"specific load {specific_load:g} N/mm must be positive")
     e = 2 * p.youngs_modulus * g.youngs_modulus / (p.youngs_modulus + g.youngs_modulus)
     mat = e / E_STEEL
     c_prime = c_th * C_M * C_R * C_B * load * mat

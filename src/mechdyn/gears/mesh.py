@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from mechdyn.checks import check_count, check_number
 from mechdyn.errors import ModelError
 from mechdyn.gears.geometry import SpurGear, inverse_involute, involute
 from mechdyn.gears.profile import ProfileTooth
@@ -27,7 +28,10 @@ from mechdyn.units import convert, show
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["GearPair", "MeshCycle"]
+__all__ = ["MAX_POINTS", "GearPair", "MeshCycle"]
+
+MAX_POINTS = 100_000
+"""The most positions a mesh cycle may be evaluated at (each is one or two tooth-pair solutions)."""
 
 
 @dataclass(frozen=True)
@@ -149,11 +153,27 @@ class GearPair:
         Parameters
         ----------
         s : float
-            Distance of the contact from T₁ (the pinion's tangent point) along the line of action, m.
+            Distance of the contact from T₁ (the pinion's tangent point) along the line of action, m,
+            within the path of contact (:attr:`path_start` to :attr:`path_end`).
 
         Keys ``pinion_<term>``, ``gear_<term>`` for each tooth term, ``hertz`` and ``total``.
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            For an ``s`` that is not finite or off the path of contact.
         """
         p, g = self.pinion, self.gear
+        s = check_number(p.name, "s", s, "m")
+        lo, hi = self.path_start, self.path_end
+        slack = 1e-9 * (hi - lo)
+        if not lo - slack <= s <= hi + slack:
+            raise ModelError(
+                f"s = {s:g} m is off the path of contact, {lo:g} m to {hi:g} m from the pinion's "
+                "tangent point",
+                element=p.name,
+                field="s",
+            )
         t1, t2 = self.teeth
         r1 = math.hypot(p.base_radius, s)
         r2 = math.hypot(g.base_radius, self.line_of_action - s)
@@ -192,10 +212,9 @@ class GearPair:
         Parameters
         ----------
         points : int
-            Positions per cycle.
+            Positions per cycle, a whole number from 4 to :data:`MAX_POINTS`.
         """
-        if points < 4:
-            raise ModelError(f"{points} positions are too few for a mesh cycle; give at least 4")
+        points = check_count(self.pinion.name, "points", points, low=4, high=MAX_POINTS, what="positions")
         pb = self.pinion.base_pitch
         x = np.linspace(0.0, pb, points, endpoint=False)
         k = np.zeros(points)

@@ -18,7 +18,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.gears.tooth import SHEAR_COEFFICIENT, foundation_compliance, warn_outside_sainsot_range
+from mechdyn.gears.tooth import (
+    SHEAR_COEFFICIENT,
+    _default_loads,
+    foundation_compliance,
+    foundation_extrapolation,
+    warn_outside_sainsot_range,
+)
 
 __all__ = ["ProfileTooth"]
 
@@ -46,6 +52,10 @@ class ProfileTooth:
     breaks : tuple of float
         Heights, m, where the profile has a kink (e.g. where a gear's fillet meets its involute):
         the quadrature is split there, so that each piece is smooth.
+    flank_loads : tuple of (float, float)
+        (load height, m; load angle, rad) pairs where the tooth is loaded in service, at which
+        :meth:`foundation_extrapolation` is evaluated (a gear gives its involute flank). Empty: 16
+        heights from the root to the tip, each at 0°, 10°, 20°, 30° and 40°.
     """
 
     thickness: Callable[[np.ndarray], np.ndarray]
@@ -58,10 +68,19 @@ class ProfileTooth:
     bore_radius: float | None = None
     name: str = "tooth"
     breaks: tuple[float, ...] = ()
+    flank_loads: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
         if self.root_radius is not None and self.bore_radius is not None:
-            warn_outside_sainsot_range(self.name, *self._foundation_parameters, stacklevel=4)
+            warn_outside_sainsot_range(
+                self.name, *self._foundation_parameters, self.foundation_extrapolation, stacklevel=4
+            )
+
+    def foundation_extrapolation(self) -> float:
+        """Share of this tooth's compliance that rests on extrapolating the Sainsot fit (0 inside its
+        range), over ``flank_loads`` (:func:`~mechdyn.gears.tooth.foundation_extrapolation`)."""
+        loads = self.flank_loads or _default_loads(self.root_height, self.tip_height)
+        return foundation_extrapolation(self, loads)
 
     @property
     def _foundation_parameters(self) -> tuple[float, float]:
@@ -99,17 +118,7 @@ class ProfileTooth:
         inertia, area = f * t**3 / 12.0, f * t
         cos, sin = math.cos(phi), math.sin(phi)
         arm = hc - y
-        foundation = 0.0
-        if self.root_radius is not None:
-            if self.bore_radius is None:
-                raise ModelError(
-                    "give both root_radius and bore_radius (foundation), or neither",
-                    element=self.name,
-                    field="bore_radius",
-                )
-            h_f, theta_f = self._foundation_parameters
-            t0 = 2.0 * theta_f * self.root_radius
-            foundation = foundation_compliance(hc - h0, t0, h_f, theta_f, phi, E, f)
+        foundation = self._foundation(hc, phi)
         return {
             "bending_transverse": float(np.sum(w * cos**2 * arm**2 / (E * inertia))),
             "bending_radial": float(np.sum(w * (sin**2 * e**2 - 2.0 * sin * cos * e * arm) / (E * inertia))),
@@ -117,6 +126,24 @@ class ProfileTooth:
             "shear": float(np.sum(w * SHEAR_COEFFICIENT * cos**2 / (G * area))),
             "foundation": foundation,
         }
+
+    def _foundation(self, hc: float, phi: float, parameters: tuple[float, float] | None = None) -> float:
+        """The Sainsot foundation term, m/N, at the tooth's own (h_f, θ_f) or at ``parameters``; the
+        root chord S_f = 2 θ_f r_root is the tooth's own in both."""
+        if self.root_radius is None:
+            return 0.0
+        if self.bore_radius is None:
+            raise ModelError(
+                "give both root_radius and bore_radius (foundation), or neither",
+                element=self.name,
+                field="bore_radius",
+            )
+        own = self._foundation_parameters
+        h_f, theta_f = parameters or own
+        chord = 2.0 * own[1] * self.root_radius
+        return foundation_compliance(
+            hc - self.root_height, chord, h_f, theta_f, phi, self.youngs_modulus, self.face_width
+        )
 
     def compliance(self, load_height: float, load_angle: float) -> float:
         """Total tooth compliance (all terms but Hertz), m/N."""

@@ -34,13 +34,23 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, replace
-from typing import Any
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any, Protocol
 
+from mechdyn.checks import check_poisson_ratio
 from mechdyn.errors import ModelError, ModelWarning
 from mechdyn.units import si_field as _q
 
-__all__ = ["SHEAR_COEFFICIENT", "TruncatedTooth", "hertz_compliance", "pair_compliance"]
+__all__ = [
+    "FOUNDATION_EXTRAPOLATION_TOLERANCE",
+    "SHEAR_COEFFICIENT",
+    "TruncatedTooth",
+    "foundation_extrapolation",
+    "hertz_compliance",
+    "nearest_in_sainsot_range",
+    "pair_compliance",
+]
 
 SHEAR_COEFFICIENT = 1.2
 """Timoshenko shear coefficient of a rectangular section (energy form)."""
@@ -55,6 +65,17 @@ _SAINSOT = {
 #: Range of the Sainsot fit: h_f = r_f/r_int and θ_f (rad).
 SAINSOT_RANGE = {"h_f": (1.4, 7.0), "theta_f": (0.01, 0.12)}
 
+FOUNDATION_EXTRAPOLATION_TOLERANCE = 0.05
+"""Largest share of a tooth's compliance that may rest on the Sainsot fit's extrapolation without a
+warning: the change of the foundation term between the tooth's own h_f, θ_f and the nearest point of
+the fit's range, over the compliance of the tooth (:func:`foundation_extrapolation`). 5 % of a pinion's
+tooth moves a mesh's mean stiffness by about 1 % (12/24, x = 0.5: 6.5 % and 1.25 %; 16/32: 2.4 % and
+0.7 %), well inside the spread of the model against ISO 6336-1 (0.97–1.11 × c_γα over 16/32 … 45/90,
+docs/capabilities/gears.md)."""
+
+#: Load angles, rad, at which a tooth that was not given its flank's loads is checked.
+_CHECK_ANGLES = tuple(math.radians(a) for a in (0.0, 10.0, 20.0, 30.0, 40.0))
+
 
 @dataclass(frozen=True)
 class TruncatedTooth:
@@ -63,13 +84,13 @@ class TruncatedTooth:
     Parameters
     ----------
     tip_height, root_height : float or quantity
-        h_a and h_b, m, measured from one datum (e.g. the root circle); h_b < h_a.
+        h_a and h_b, m, measured from one datum (e.g. the root circle); 0 ≤ h_b < h_a ≤ 1e3 m.
     tip_thickness, root_thickness : float or quantity
-        t_a and t_b, m; the tooth must taper toward the tip (t_a < t_b).
+        t_a and t_b, m, from 1e-9 to 1e3 m; the tooth must taper toward the tip (t_a < t_b).
     face_width : float or quantity
-        f, m.
+        f, m, from 1e-9 to 1e3 m.
     youngs_modulus : float or quantity
-        E, Pa.
+        E, Pa, from 1e-3 to 1e13 Pa.
     poisson_ratio : float
         ν, in (−1, 0.5).
     root_radius, bore_radius : float or quantity, optional
@@ -82,6 +103,10 @@ class TruncatedTooth:
         (a gear's tooth between its root circle and the start of the involute): its bending, shear
         and compression are added, and the foundation sits at height 0 (``root_radius`` is then the
         radius at height 0). Off: the tooth is clamped at h_b.
+    flank_loads : tuple of (float, float)
+        (load height, m; load angle, rad) pairs where the tooth is loaded in service, at which
+        :meth:`foundation_extrapolation` is evaluated (a gear gives its flank). Empty: 16 heights
+        from the root section to the tip, each at 0°, 10°, 20°, 30° and 40°.
     """
 
     tip_height: float
@@ -95,27 +120,25 @@ class TruncatedTooth:
     bore_radius: float | None = None
     name: str = "tooth"
     root_segment: bool = False
+    flank_loads: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
         n = self.name
-        for f, unit in (
-            ("tip_height", "m"),
-            ("root_height", "m"),
-            ("tip_thickness", "m"),
-            ("root_thickness", "m"),
-            ("face_width", "m"),
-            ("youngs_modulus", "Pa"),
-            ("poisson_ratio", ""),
+        positive: dict[str, Any] = {"positive": True}
+        nonnegative: dict[str, Any] = {"nonnegative": True}
+        for f, unit, sign in (
+            ("tip_height", "m", positive),
+            ("root_height", "m", nonnegative),
+            ("tip_thickness", "m", positive),
+            ("root_thickness", "m", positive),
+            ("face_width", "m", positive),
+            ("youngs_modulus", "Pa", positive),
         ):
-            object.__setattr__(self, f, _q(n, f, getattr(self, f), unit))
+            object.__setattr__(self, f, _q(n, f, getattr(self, f), unit, **sign))
+        object.__setattr__(self, "poisson_ratio", check_poisson_ratio(n, "poisson_ratio", self.poisson_ratio))
         for f in ("root_radius", "bore_radius"):
             if getattr(self, f) is not None:
-                object.__setattr__(self, f, _q(n, f, getattr(self, f), "m"))
-        for f in ("tip_thickness", "root_thickness", "face_width", "youngs_modulus"):
-            if getattr(self, f) <= 0:
-                raise ModelError(f"{getattr(self, f):g} must be positive", element=n, field=f)
-        if self.root_height < 0:
-            raise ModelError(f"{self.root_height:g} m must not be negative", element=n, field="root_height")
+                object.__setattr__(self, f, _q(n, f, getattr(self, f), "m", positive=True))
         if self.tip_height <= self.root_height:
             raise ModelError(
                 f"tip height {self.tip_height:g} m must be above the root height {self.root_height:g} m",
@@ -128,10 +151,6 @@ class TruncatedTooth:
                 f"t_b = {self.root_thickness:g} m (a truncated triangle tapers toward the tip)",
                 element=n,
                 field="tip_thickness",
-            )
-        if not -1.0 < self.poisson_ratio < 0.5:
-            raise ModelError(
-                f"{self.poisson_ratio:g} must lie in (−1, 0.5)", element=n, field="poisson_ratio"
             )
         if (self.root_radius is None) != (self.bore_radius is None):
             raise ModelError(
@@ -147,7 +166,16 @@ class TruncatedTooth:
                     element=n,
                     field="bore_radius",
                 )
-            warn_outside_sainsot_range(n, *self._foundation_parameters, stacklevel=4)
+            warn_outside_sainsot_range(
+                n, *self._foundation_parameters, self.foundation_extrapolation, stacklevel=4
+            )
+
+    def foundation_extrapolation(self) -> float:
+        """Share of this tooth's compliance that rests on extrapolating the Sainsot fit (0 inside its
+        range): the largest abs(δ_f(h_f, θ_f) − δ_f(nearest point of the range)) / (tooth compliance)
+        over ``flank_loads`` (:func:`foundation_extrapolation`)."""
+        loads = self.flank_loads or _default_loads(self.root_height, self.tip_height)
+        return foundation_extrapolation(self, loads)
 
     @property
     def _foundation_parameters(self) -> tuple[float, float]:
@@ -175,9 +203,16 @@ class TruncatedTooth:
         Parameters
         ----------
         height : float
-            Height y from the tooth's datum, m (h_b ≤ y ≤ h_a).
+            Height y from the tooth's datum, m (h_b ≤ y ≤ h_a; any finite height on the extended
+            flanks below the apex is accepted).
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            For a height that is not finite or at or above the apex, where the flanks meet.
         """
-        return self.taper * (self.apex_height - height)
+        y = _q(self.name, "height", height, "m", high=self.apex_height, high_open=True)
+        return self.taper * (self.apex_height - y)
 
     @property
     def shear_modulus(self) -> float:
@@ -250,23 +285,36 @@ class TruncatedTooth:
     def published_compliances(self, load_height: Any, load_angle: Any) -> dict[str, float]:
         """The deflection terms of the published tooth model (SPEC §4), m/N per unit normal force.
 
-        The published model lists bending from the normal force's two components, shear, a
-        foundation term and the Hertz term, per tooth. Its bending and shear act on the whole tooth
-        from the root (height 0): a uniform segment of thickness t_b from 0 to h_b, then the taper to
-        the load point; with I = f t³/12, A = f t, G = E/(2(1 + ν)) and κ = 1.2 (Castigliano's
-        theorem on the strain energy, as in :meth:`compliances`, which starts at h_b):
+        The published model (SPEC §4; its source is not known) takes the whole tooth from the root
+        (height 0): a rectangle of thickness t_b up to h_b, then the truncated triangle, whose flanks
+        meet at the apex height w; the normal force F at height h_c and angle φ. SPEC §4 names the
+        terms (δ_bp, δ_bn, δ_s, δ_f, δ_h; k = F/Σδ) without printing them; they are written here in
+        closed form, numbered in the order the SPEC lists them (the radial bending term is the
+        paper's eq. 3 in issue 25). With r = (w − h_c)/(w − h_b), the thickness at the load point is
+        t_c = r t_b, and:
 
-        - bending by F cos φ: 12 cos²φ/(E f) ∫₀^h_c (h_c − y)²/t³ dy;
-        - bending by F sin φ at the flank (e = t(h_c)/2): 12/(E f) ∫₀^h_c [sin²φ e² − 2 sinφ cosφ e
-          (h_c − y)]/t³ dy;
-        - shear: κ cos²φ/(G f) ∫₀^h_c dy/t;
-        - foundation: δ_f = 24 cos²φ h_c²/(π E f t_b²);
-        - Hertz: 4 (1 − ν²)/(π E f), counted in each tooth as the published model does (a pair's
-          contact compliance is one such term, :func:`hertz_compliance`).
+        1. w = (h_a t_b − h_b t_a)/(t_b − t_a);
+        2. bending by F cos φ, 12 cos²φ/(E f) ∫₀^h_c (h_c − y)²/t³ dy:
+           δ_bp/F = 12 cos²φ/(E f t_b³) [h_b (h_c² − h_c h_b + h_b²/3)
+           + (w − h_b)³ (r (4 − r) − 2 ln r − 3)/2];
+        3. bending by F sin φ, whose moment F sin φ · t_c/2 bends the tooth back against the
+           transverse load, along the line of action, −12 sinφ cosφ (t_c/2)/(E f) ∫₀^h_c (h_c − y)/t³ dy:
+           δ_bn/F = −6 sinφ cosφ/(E f t_b²) [r h_b (h_c − h_b/2) + (h_c − h_b)²/2];
+        4. shear with κ = 1.2 and G = E/(2(1 + ν)), κ cos²φ/(G f) ∫₀^h_c dy/t:
+           δ_s/F = 2.4 (1 + ν) cos²φ/(E f t_b) [h_b − (w − h_b) ln r];
+        5. foundation: δ_f/F = 24 cos²φ h_c²/(π E f t_b²);
+        6. Hertz: δ_h/F = 4 (1 − ν²)/(π E f), counted in each tooth as the published model does (a
+           pair's contact compliance is one such term, :func:`hertz_compliance`).
 
-        No axial compression term (the published model has none). With steel (206 GPa, ν 0.3), 20°
-        and a 50 mm face, one tooth of the published pair 2 has 2.73·10⁹ N/m, within 1 % of the value
-        printed for pair 1 (2.7082·10⁹ N/m): the mix-up in the published table that SPEC §4 remarks.
+        Term 3 is half the coupling term of Castigliano's theorem, without the sin²φ (t_c/2)² term
+        (:meth:`compliances` keeps both); the earlier version of this method used that full form,
+        1.52 × (pair 1) and 1.23 × (pair 2) the published term. No axial compression term (the
+        published model has none); plane stress. The printed values settle the terms: with steel
+        (206 GPa, ν 0.3), 20° and a 50 mm face, one tooth of the published pair 2, k = F/Σδ =
+        2.7078·10⁹ N/m, is the value printed for pair 1 (2.7082·10⁹ N/m) to 0.013 % (with the
+        earlier radial term 0.93 %, with κ = 1 6 %): the mix-up in the published table that SPEC §4
+        remarks. The brackets of terms 2 and 4 are evaluated through ln(1 − x), x = 1 − r, without
+        cancellation, so they hold as the taper vanishes.
 
         Parameters
         ----------
@@ -278,10 +326,10 @@ class TruncatedTooth:
         Returns
         -------
         dict
-            ``bending_transverse``, ``bending_radial``, ``shear``, ``foundation``, ``hertz``.
+            ``bending_transverse`` (δ_bp), ``bending_radial`` (δ_bn), ``shear`` (δ_s),
+            ``foundation`` (δ_f), ``hertz`` (δ_h), each per unit force, m/N.
         """
         hc, phi = self._load(load_height, load_angle)
-        refined = replace(self, root_segment=False).compliances(hc, phi)  # the taper from h_b to h_c
         E, f, tb, hb, nu = (
             self.youngs_modulus,
             self.face_width,
@@ -289,25 +337,27 @@ class TruncatedTooth:
             self.root_height,
             self.poisson_ratio,
         )
+        ub = self.apex_height - hb  # w − h_b
+        x = (hc - hb) / ub  # 1 − r
+        r = 1.0 - x
         cos, sin = math.cos(phi), math.sin(phi)
-        e = 0.5 * self.thickness(hc)
-        # the uniform segment [0, h_b]: ∫ (h_c − y)^k dy / t_b³ (k = 2, 1, 0) and ∫ dy / t_b
-        u2 = (hc**3 - (hc - hb) ** 3) / 3.0 / tb**3
-        u1 = (hc * hb - 0.5 * hb**2) / tb**3
-        u0 = hb / tb**3
+        # r (4 − r) − 2 ln r − 3 = 2 (−ln(1 − x) − x − x²/2) = 2 · _log_tail(x), free of cancellation
+        bending = hb * (hc * hc - hc * hb + hb * hb / 3.0) + ub**3 * _log_tail(x)  # (2), bracket
+        radial = r * hb * (hc - 0.5 * hb) + 0.5 * (hc - hb) ** 2  # (3), bracket
+        shear = hb - ub * math.log1p(-x)  # (4), bracket: h_b − (w − h_b) ln r
         return {
-            "bending_transverse": refined["bending_transverse"] + 12.0 * cos**2 * u2 / (E * f),
-            "bending_radial": refined["bending_radial"]
-            + 12.0 * (sin**2 * e**2 * u0 - 2.0 * sin * cos * e * u1) / (E * f),
-            "shear": refined["shear"] + SHEAR_COEFFICIENT * cos**2 * (hb / tb) / (self.shear_modulus * f),
+            "bending_transverse": 12.0 * cos**2 * bending / (E * f * tb**3),
+            "bending_radial": -6.0 * sin * cos * radial / (E * f * tb**2),
+            "shear": 2.0 * SHEAR_COEFFICIENT * (1.0 + nu) * cos**2 * shear / (E * f * tb),
             "foundation": 24.0 * cos**2 * hc**2 / (math.pi * E * f * tb**2),
             "hertz": 4.0 * (1.0 - nu**2) / (math.pi * E * f),
         }
 
-    def _foundation(self, hc: float, phi: float) -> float:
+    def _foundation(self, hc: float, phi: float, parameters: tuple[float, float] | None = None) -> float:
+        """The Sainsot foundation term, m/N, at the tooth's own (h_f, θ_f) or at ``parameters``."""
         if self.root_radius is None:
             return 0.0
-        h_f, theta_f = self._foundation_parameters
+        h_f, theta_f = parameters or self._foundation_parameters
         return foundation_compliance(
             hc if self.root_segment else hc - self.root_height,
             self.root_thickness,
@@ -343,9 +393,81 @@ class TruncatedTooth:
         return 1.0 / self.compliance(load_height, load_angle)
 
 
-def warn_outside_sainsot_range(name: str, h_f: float, theta_f: float, stacklevel: int = 2) -> None:
+def nearest_in_sainsot_range(h_f: float, theta_f: float) -> tuple[float, float]:
+    """The point of the Sainsot fit's range (:data:`SAINSOT_RANGE`) nearest to (h_f, θ_f).
+
+    Parameters
+    ----------
+    h_f : float
+        r_root / r_bore.
+    theta_f : float
+        Half the tooth's angle at the root circle, rad.
+    """
+    (lo_h, hi_h), (lo_t, hi_t) = SAINSOT_RANGE["h_f"], SAINSOT_RANGE["theta_f"]
+    return min(max(h_f, lo_h), hi_h), min(max(theta_f, lo_t), hi_t)
+
+
+class _FoundedTooth(Protocol):
+    @property
+    def _foundation_parameters(self) -> tuple[float, float]: ...
+
+    def _foundation(self, hc: float, phi: float, parameters: tuple[float, float] | None = None) -> float: ...
+
+    def compliances(self, load_height: Any, load_angle: Any) -> dict[str, float]: ...
+
+
+def foundation_extrapolation(tooth: _FoundedTooth, loads: Iterable[tuple[float, float]]) -> float:
+    """Share of a tooth's compliance that rests on extrapolating the Sainsot fit.
+
+    Outside the range of the fit of Sainsot, Velex & Duverger (2004) (:data:`SAINSOT_RANGE`:
+    1.4 ≤ h_f ≤ 7, 0.01 ≤ θ_f ≤ 0.12) the foundation term is the fit's polynomial extrapolated. Its
+    share is the largest change of the foundation term between the tooth's own (h_f, θ_f) and the
+    nearest point of the range, relative to the tooth's whole compliance (bending, shear,
+    compression, foundation) at the same load: max abs(δ_f(h_f, θ_f) − δ_f(h_f′, θ_f′)) / Σδ over
+    the loads. It measures how much of the result the extrapolation carries (the fit gives no data
+    beyond its range to check the extrapolated values against), and is 0 inside the range.
+
+    Parameters
+    ----------
+    tooth : TruncatedTooth or ProfileTooth
+        A tooth on an elastic foundation.
+    loads : iterable of (float, float)
+        (load height, m; load angle, rad) pairs.
+
+    Returns
+    -------
+    float
+        The share, dimensionless.
+    """
+    own = tooth._foundation_parameters
+    edge = nearest_in_sainsot_range(*own)
+    if edge == own:
+        return 0.0
+    share = 0.0
+    for height, angle in loads:
+        terms = tooth.compliances(height, angle)
+        change = abs(tooth._foundation(height, angle, edge) - terms["foundation"])
+        share = max(share, change / sum(terms.values()))
+    return share
+
+
+def _default_loads(low: float, tip: float) -> tuple[tuple[float, float], ...]:
+    """16 heights from just above ``low`` to ``tip`` (m), each at every angle of ``_CHECK_ANGLES``."""
+    heights = [low + (tip - low) * k / 16.0 for k in range(1, 17)]
+    return tuple((h, a) for h in heights for a in _CHECK_ANGLES)
+
+
+def warn_outside_sainsot_range(
+    name: str,
+    h_f: float,
+    theta_f: float,
+    share: Callable[[], float] | None = None,
+    stacklevel: int = 2,
+) -> None:
     """Warn (``ModelWarning``) when h_f = r_root/r_bore or θ_f = S_f/(2 r_root) lies outside the range
-    of the Sainsot fit (:data:`SAINSOT_RANGE`), where :func:`foundation_compliance` extrapolates.
+    of the Sainsot fit (:data:`SAINSOT_RANGE`), where :func:`foundation_compliance` extrapolates, and
+    the extrapolation carries more than :data:`FOUNDATION_EXTRAPOLATION_TOLERANCE` of the tooth's
+    compliance (:func:`foundation_extrapolation`); the message gives that share.
 
     Parameters
     ----------
@@ -355,18 +477,31 @@ def warn_outside_sainsot_range(name: str, h_f: float, theta_f: float, stacklevel
         r_root / r_bore.
     theta_f : float
         Half the tooth's angle at the root circle, rad.
+    share : callable, optional
+        Returns the tooth's :func:`foundation_extrapolation` (evaluated only outside the range).
+        Without it, any point outside the range is warned about.
     stacklevel : int
         As for :func:`warnings.warn`, counted from the caller.
     """
     (lo_h, hi_h), (lo_t, hi_t) = SAINSOT_RANGE["h_f"], SAINSOT_RANGE["theta_f"]
-    if not (lo_h <= h_f <= hi_h and lo_t <= theta_f <= hi_t):
-        warnings.warn(
-            f"{name}: foundation parameters h_f = {h_f:.3g}, θ_f = {theta_f:.3g} rad lie outside the "
-            f"range of the Sainsot fit (h_f {lo_h}–{hi_h}, θ_f {lo_t}–{hi_t} rad); the foundation "
-            "term is extrapolated",
-            ModelWarning,
-            stacklevel=stacklevel + 1,
-        )
+    if lo_h <= h_f <= hi_h and lo_t <= theta_f <= hi_t:
+        return
+    tolerance = FOUNDATION_EXTRAPOLATION_TOLERANCE
+    x = None if share is None else share()
+    if x is not None and x <= tolerance:
+        return
+    amount = (
+        "the foundation term is extrapolated"
+        if x is None
+        else f"the extrapolated foundation term moves the tooth's compliance by up to {100 * x:.1f} % "
+        f"against the fit at the nearest point of its range (above the {100 * tolerance:g} % accepted)"
+    )
+    warnings.warn(
+        f"{name}: foundation parameters h_f = {h_f:.3g}, θ_f = {theta_f:.3g} rad lie outside the "
+        f"range of the Sainsot fit (h_f {lo_h}–{hi_h}, θ_f {lo_t}–{hi_t} rad); {amount}",
+        ModelWarning,
+        stacklevel=stacklevel + 1,
+    )
 
 
 def foundation_compliance(
@@ -420,12 +555,21 @@ def hertz_compliance(
     Parameters
     ----------
     face_width : float
-        Contact length f, m.
+        Contact length f, m, from 1e-9 to 1e3 m.
     e1, nu1, e2, nu2 : float
-        Young's moduli (Pa) and Poisson ratios of the two teeth (the second defaults to the first).
+        Young's moduli (Pa, from 1e-3 to 1e13) and Poisson ratios (in (−1, 0.5)) of the two teeth
+        (the second defaults to the first).
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a number that is not finite or out of its range, naming it.
     """
-    e2 = e1 if e2 is None else e2
-    nu2 = nu1 if nu2 is None else nu2
+    face_width = _q("hertz", "face_width", face_width, "m", positive=True)
+    e1 = _q("hertz", "e1", e1, "Pa", positive=True, what="Young's modulus")
+    nu1 = check_poisson_ratio("hertz", "nu1", nu1)
+    e2 = e1 if e2 is None else _q("hertz", "e2", e2, "Pa", positive=True, what="Young's modulus")
+    nu2 = nu1 if nu2 is None else check_poisson_ratio("hertz", "nu2", nu2)
     inv_estar = (1.0 - nu1**2) / e1 + (1.0 - nu2**2) / e2
     return 2.0 * inv_estar / (math.pi * face_width)
 
