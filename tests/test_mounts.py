@@ -118,8 +118,9 @@ def test_bolt_and_members_act_in_parallel_for_an_external_load():
     kb, km = j.bolt_stiffness, j.member_stiffness()
     assert j.joint_stiffness == pytest.approx(kb + km)
     assert j.load_factor == pytest.approx(kb / (kb + km)) and 0 < j.load_factor < 1
-    # the published L_eq estimate and VDI 2230's section-by-section resilience agree roughly
-    assert 0.8 < j.bolt_stiffness_vdi2230() / kb < 1.25
+    # the published L_eq estimate (shank area throughout) is the stiffer: VDI 2230 takes one diameter
+    # of the grip as free thread of the core area, and the head and anchor with their own allowances
+    assert 0.75 < j.bolt_stiffness_vdi2230() / kb < 1.0
     # a wider cone spreads the load: stiffer members
     assert j.member_stiffness(math.radians(40)) > km > j.member_stiffness(math.radians(20))
     assert 15 < math.degrees(_anchor(cone_angle="vdi2230").cone_angle) < 45
@@ -287,7 +288,7 @@ def test_bad_inputs_are_refused_by_name():
         DB["steal"]
     with pytest.raises(ModelError, match="Shore A 95 is outside the table"):
         DB.rubber(95)
-    with pytest.raises(ModelError, match=r"ν = 0\.5 must lie between"):
+    with pytest.raises(ModelError, match=r"poissons_ratio.*0\.5 must lie"):
         pad_compression(0.1, 0.01, 1e6, 0.5)
 
 
@@ -391,50 +392,16 @@ def test_a_mount_file_names_the_bad_materials_file(tmp_path):
 def test_richardson_recovers_a_known_limit_and_order():
     from mechdyn.mounts.fe import richardson
 
-    # f_h = f + C h^p on meshes halved each time: the limit and the order come back exactly
-    ex = richardson([2.5 + 0.7 * h**1.7 for h in (0.4, 0.2, 0.1, 0.05)])
+    # f_h = f + C h^p on meshes halved each time: the limit and the order come back exactly, and two
+    # successive extrapolations agree (more in test_mounts_convergence.py)
+    ex = richardson([2.5 + 0.7 * h**1.7 for h in (0.4, 0.2, 0.1, 0.05)], expected_order=2.0)
     assert ex.value == pytest.approx(2.5, rel=1e-12) and ex.order == pytest.approx(1.7, rel=1e-12)
-    assert ex.error == pytest.approx(0.7 * 0.05**1.7 / 2.5, rel=1e-9)
-    # an oscillating sequence has no order: the error is the last change
+    assert ex.verified and ex.error < 1e-12
+    assert ex.finest_error == pytest.approx(0.7 * 0.05**1.7 / 2.5, rel=1e-9)
+    # an oscillating sequence has no order: the error is the last change, and bounds nothing
     osc = richardson([1.0, 1.1, 1.05])
     assert osc.order is None and osc.value == 1.05 and osc.error == pytest.approx(0.05 / 1.05)
-
-
-def test_the_anchor_fe_reference_refines_until_converged_and_the_calibration_uses_it(tmp_path):
-    # 4, 8, 16 elements leave a 2.1 % error (404.7 MN/m); the reference refines to 64 and extrapolates
-    # to 397.7 MN/m, within 0.5 % of an independent axisymmetric FE's 396 MN/m (issue 14)
-    import mechdyn
-    from mechdyn.mounts.analysis import analyse
-
-    result = analyse(mechdyn.load(EXAMPLES / "anchor_concrete.toml").settings)
-    s = result.summary()
-    assert [r["elements_through_thickness"] for r in s["fe_convergence"]] == [4, 8, 16, 32, 64]
-    assert s["fe_discretisation_error_relative"] <= 0.005 and not result.warnings
-    assert s["fe_stiffness_N_per_m"] == pytest.approx(396e6, rel=0.006)
-    assert s["fe_finest_mesh_N_per_m"] > s["fe_stiffness_N_per_m"]  # converging from above
-    assert s["calibration"]["target_N_per_m"] == pytest.approx(s["fe_stiffness_N_per_m"], rel=1e-12)
-    # the published contact pressure (SPEC §5: highest at the bolt, against a 1.7 MPa threshold at 2,
-    # 4 and 6 kN), as the validation page states it: frictionless contact with one active set scales
-    # with the preload, so the peaks stand 1 : 2 : 3
-    rows = s["contact"]
-    assert [r["preload_N"] for r in rows] == [2000.0, 4000.0, 6000.0]
-    peaks = [r["pressure_max_Pa"] / 1e6 for r in rows]
-    assert peaks == pytest.approx([1.099, 2.198, 3.297], abs=1e-3)
-    assert peaks[2] / peaks[0] == pytest.approx(3.0, rel=1e-9)
-    assert [r["radius_above_threshold_m"] * 1e3 for r in rows] == pytest.approx([0.0, 14.1, 21.4], abs=0.05)
-    assert s["contact_lift_off_radius_m"] == pytest.approx(0.040, abs=5e-4)
-    # a tolerance the allowed meshes cannot reach is said, not hidden
-    text = (
-        (EXAMPLES / "anchor_concrete.toml")
-        .read_text()
-        .replace(
-            "refinements = [4, 8, 16]", "refinements = [4, 8, 16]\ntolerance = 0.001\nmax_refinement = 16"
-        )
-    )
-    path = tmp_path / "anchor.toml"
-    path.write_text(text)
-    rough = analyse(mechdyn.load(path).settings)
-    assert any("did not converge to 0.1 %" in w for w in rough.warnings)
+    assert not osc.verified
 
 
 @pytest.mark.parametrize(("d_mm", "As_mm2"), [(6, 20.1), (12, 84.3), (20, 245.0), (36, 817.0)])

@@ -40,10 +40,20 @@ register(
             Output("load_factor", "share of an external load taken by the bolt", "1"),
             Output("cone_half_angle_deg", "pressure-cone half-angle"),
             Output("fe_stiffness_N_per_m", "finite-element reference, extrapolated to the converged mesh"),
+            Output(
+                "fe_error_bound_relative",
+                "error bound of the reference: the change between the last two Richardson extrapolations",
+                "1",
+            ),
+            Output(
+                "fe_error_verified", "whether two successive extrapolations rest on admissible orders", ""
+            ),
+            Output("fe_note", "why the reference's error is not bounded, when it is not", ""),
             Output("fe_finest_mesh_N_per_m", "finite-element stiffness on the finest mesh"),
             Output("fe_discretisation_error_relative", "Richardson estimate of the finest mesh's error", "1"),
-            Output("fe_convergence_order", "observed order of mesh convergence", "1"),
-            Output("fe_tolerance_relative", "the error the reference was refined to", "1"),
+            Output("fe_convergence_order", "observed order of mesh convergence (last three meshes)", "1"),
+            Output("fe_theoretical_order", "the elements' order for a stiffness (2 × their degree)", "1"),
+            Output("fe_tolerance_relative", "the error bound the reference was refined to", "1"),
             Output("fe_convergence", "stiffness at each mesh refinement", ""),
             Output("estimate_to_fe", "estimate over the FE reference", "1"),
             Output("ideal_solid_estimate_to_fe", "ideal-solid pad estimate over the FE reference", "1"),

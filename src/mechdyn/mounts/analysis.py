@@ -22,7 +22,14 @@ from mechdyn.mounts.calibration import (
     load_calibration,
     read_frf_csv,
 )
-from mechdyn.mounts.fe import AnchorFE, FEResult, anchor_members, pad_compression, richardson
+from mechdyn.mounts.fe import (
+    AnchorFE,
+    Extrapolation,
+    FEResult,
+    anchor_members,
+    pad_compression,
+    richardson,
+)
 from mechdyn.mounts.pad import ElastomerPad
 from mechdyn.mounts.types import DampingPad, isolation
 from mechdyn.results import Result, Table
@@ -42,6 +49,7 @@ class _Draft:
     fe_levels: list[FEResult] = field(default_factory=list)
     refinements: list[int] = field(default_factory=list)
     anchor: AnchorFE | None = None
+    extrapolation: Extrapolation | None = None
     calibration: Calibration | None = None
     frf: tuple[np.ndarray, np.ndarray, SdofFit] | None = None
 
@@ -89,24 +97,26 @@ class MountResult(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """An FE reference that did not reach its tolerance, or did not converge monotonically."""
+        """An FE reference whose error is not bounded (no two successive admissible Richardson
+        extrapolations) or whose bound exceeds its tolerance."""
         d = self.data
-        if "fe_discretisation_error_relative" not in d:
+        if "fe_error_bound_relative" not in d:
             return ()
-        err, tol = d["fe_discretisation_error_relative"], d["fe_tolerance_relative"]
+        err, tol = d["fe_error_bound_relative"], d["fe_tolerance_relative"]
         finest = d["fe_convergence"][-1]["elements_through_thickness"]
-        out = []
+        if not d["fe_error_verified"]:
+            return (
+                f"the FE reference did not converge to {100 * tol:.2g} %: at {finest} elements through "
+                f"the thickness its error is not bounded ({d['fe_note']}; the estimate is "
+                f"{100 * err:.2g} %); raise [fe] max_refinement",
+            )
         if err > tol:
-            out.append(
+            return (
                 f"the FE reference did not converge to {100 * tol:.2g} %: at {finest} elements through the "
-                f"thickness it errs by about {100 * err:.2g} % (Richardson); raise [fe] max_refinement"
+                f"thickness the last two Richardson extrapolations differ by {100 * err:.2g} %; raise "
+                "[fe] max_refinement",
             )
-        if d["fe_convergence_order"] is None:
-            out.append(
-                "the FE stiffness does not converge monotonically over the last three meshes; its error "
-                "is estimated from the last change only"
-            )
-        return tuple(out)
+        return ()
 
     def to_frame(self) -> pd.DataFrame:
         """The FE mesh convergence (one row per refinement), or the figures with a unit as one row."""
@@ -154,7 +164,12 @@ class MountResult(Result):
             out["pad_curve.png"] = lambda: mp.plot_pad_curve(pad)
         if self.fe_levels:  # an FE reference is made for a bolted joint or a pad
             est = _estimate(mount, pad)
-            out["fe_convergence.png"] = lambda: mp.plot_convergence(list(self.fe_levels), est)
+            out["fe_convergence.png"] = lambda: mp.plot_convergence(
+                list(self.fe_levels),
+                est,
+                reference=self.data.get("fe_stiffness_N_per_m"),
+                bound=self.data.get("fe_error_bound_relative"),
+            )
         if self.anchor is not None:
             out["contact_pressure.png"] = lambda: mp.plot_contact_pressure(
                 self.anchor, list(self.preloads), self.pressure_threshold
@@ -199,7 +214,7 @@ def _fe(spec: Any, mount: Any, report: _Draft) -> float | None:
                 "the FE reference is axisymmetric: give the pad a diameter", element=spec.name, field="fe"
             )
         m = pad.material
-        report.fe_levels, report.refinements = _converged(
+        report.fe_levels, report.refinements, report.extrapolation = _converged(
             lambda n: pad_compression(pad.diameter, pad.thickness, m.youngs_modulus, m.poissons_ratio, n=n),
             fe,
         )
@@ -225,21 +240,38 @@ def _fe(spec: Any, mount: Any, report: _Draft) -> float | None:
         concrete_E=conc.material.youngs_modulus,
         concrete_nu=conc.material.poissons_ratio,
     )
-    runs, report.refinements = _converged(lambda n: anchor_members(**kw, n=n), fe)
+    runs, report.refinements, report.extrapolation = _converged(lambda n: anchor_members(**kw, n=n), fe)
     report.fe_levels = [r.result for r in runs]
     report.anchor = runs[-1]
     return runs[-1].stiffness
 
 
-def _converged(run: Any, fe: Any) -> tuple[list[Any], list[int]]:
-    """The FE runs over ``fe.refinements``, refined by 2 from the last until Richardson's estimate of
-    the finest mesh's error is below ``fe.tolerance`` (or ``fe.max_refinement`` is reached)."""
+def _doubling_tail(levels: list[int]) -> int:
+    """Where the last run of meshes refined by exactly 2 each time starts."""
+    i = len(levels) - 1
+    while i > 0 and levels[i] == 2 * levels[i - 1]:
+        i -= 1
+    return i
+
+
+def _extrapolate(levels: list[int], stiffness: list[float], element_order: int) -> Extrapolation:
+    """Richardson over the meshes refined by 2 each time, against the order of an energy from
+    elements of ``element_order`` (2k; :func:`mechdyn.mounts.fe.richardson`)."""
+    start = _doubling_tail(levels)
+    return richardson(stiffness[start:], 2.0, expected_order=2.0 * element_order)
+
+
+def _converged(run: Any, fe: Any) -> tuple[list[Any], list[int], Extrapolation]:
+    """The FE runs over ``fe.refinements``, refined by 2 from the last until two successive Richardson
+    extrapolations, each on an order admitted against the elements' theoretical one, agree within
+    ``fe.tolerance`` (or ``fe.max_refinement`` is reached)."""
     levels = list(fe.refinements)
     runs = [run(n) for n in levels]
     while True:
-        k = [r.stiffness for r in runs]
-        if richardson(k).error <= fe.tolerance or 2 * levels[-1] > fe.max_refinement:
-            return runs, levels
+        order = (runs[-1].result if isinstance(runs[-1], AnchorFE) else runs[-1]).order
+        ex = _extrapolate(levels, [r.stiffness for r in runs], order)
+        if (ex.verified and ex.error <= fe.tolerance) or 2 * levels[-1] > fe.max_refinement:
+            return runs, levels, ex
         levels.append(2 * levels[-1])
         runs.append(run(levels[-1]))
 
@@ -287,21 +319,35 @@ def analyse(spec: Any, store: Any = None) -> MountResult:
     fe_finest = _fe(spec, mount, report)
     fe_k = None
     if fe_finest is not None:
-        ex = richardson([r.stiffness for r in report.fe_levels])
+        ex = report.extrapolation
+        assert ex is not None  # _fe made it with the levels
         fe_k = ex.value  # the reference: extrapolated to the converged mesh
         s["fe_stiffness_N_per_m"] = fe_k
+        s["fe_error_bound_relative"] = ex.error
+        s["fe_error_verified"] = ex.verified
         s["fe_finest_mesh_N_per_m"] = fe_finest
-        s["fe_discretisation_error_relative"] = ex.error
+        s["fe_discretisation_error_relative"] = ex.finest_error
         s["fe_convergence_order"] = ex.order
+        s["fe_theoretical_order"] = 2.0 * report.fe_levels[-1].order
         s["fe_tolerance_relative"] = spec.fe.tolerance
+        if ex.note:
+            s["fe_note"] = ex.note
+        # the observed order (log₂ of the ratio of successive changes: dimensionless) and the
+        # extrapolation of each mesh with the two before it (in the last run of meshes refined by 2)
+        start = _doubling_tail(report.refinements)
+        pad_none = [None] * (start + 2)
+        orders = (pad_none + list(ex.orders))[: len(report.fe_levels)]
+        extrapolated = (pad_none + list(ex.extrapolations))[: len(report.fe_levels)]
         s["fe_convergence"] = [
             {
                 "elements_through_thickness": n,
                 "elements": r.elements,
                 "dofs": r.dofs,
                 "stiffness_N_per_m": r.stiffness,
+                "observed_order_ratio": p,
+                "extrapolated_N_per_m": e,
             }
-            for n, r in zip(report.refinements, report.fe_levels, strict=True)
+            for n, r, p, e in zip(report.refinements, report.fe_levels, orders, extrapolated, strict=True)
         ]
         estimate = _estimate(mount, pad)
         s["estimate_to_fe"] = estimate / fe_k

@@ -9,8 +9,13 @@ layer and all in series. α = 30° by default; VDI 2230 gives the cone angle fro
 (tan φ = 0.362 + 0.032 ln(β_L/2) + 0.153 ln y for a through-bolted joint, β_L = l_K/d_W,
 y = D_A/d_W), offered as an option.
 
-Bolt: k_b = A_s E / L_eq with L_eq = L + (1.95 − β/2 − ν) d (the published estimate; β = head or
-washer diameter over bolt diameter), or the VDI 2230 section-by-section resilience
+Bolt (the published mount-stiffness estimate, SPEC §5): k_b = A_d E / L_eq with the *shank* area
+A_d = π d²/4 and L_eq = L + (1.95 − β/2 − ν) d (β = head or washer diameter over bolt diameter; the
+term in d stands for the head and the nut or anchor). Where the drawing gives the length l_t of free
+thread in the grip, shank and thread act as springs in series, the thread with the tensile stress
+area A_s (Shigley, Budynas & Nisbett, §8-4, Eq. 8-17; VDI 2230 Part 1, 2015, §5.1.1 sums the
+sections the same way): 1/k_b = (L − l_t + (1.95 − β/2 − ν) d)/(E A_d) + l_t/(E A_s). Also offered:
+the VDI 2230 section-by-section resilience
 δ_S = δ_head + Σ l_i/(E A_i) + δ_thread + δ_nut with δ_head = 0.5 d/(E A_N) (hexagon head),
 δ_thread = 0.5 d/(E A_d3) (engaged thread), δ_nut = 0.4 d/(E A_N) for a nut, 0.33 d/(E A_N) for a
 tapped hole or a cast-in anchor (VDI 2230 Part 1, 2015, §5.1.1).
@@ -28,11 +33,13 @@ from dataclasses import dataclass
 from itertools import pairwise
 from typing import Any
 
+from mechdyn.checks import check_number
 from mechdyn.errors import ModelError
 from mechdyn.mounts.materials import Material
 from mechdyn.units import convert, show, si_field
 
 __all__ = [
+    "CONE_ANGLES",
     "ISO_COARSE_PITCH",
     "BoltedJoint",
     "Layer",
@@ -69,22 +76,48 @@ def coarse_pitch(owner: str, diameter: float) -> float:
     return float(convert(ISO_COARSE_PITCH[size], "mm", "m"))
 
 
+CONE_ANGLES = (math.radians(1.0), math.radians(89.0))
+"""The cone half-angles accepted, rad: VDI 2230's fits give 20° to 40°, calibrations search 1° to 80°."""
+
+
+def _cone_angle(owner: str, field: str, value: Any) -> float:
+    """A cone half-angle in rad (or a quantity), checked against :data:`CONE_ANGLES`."""
+    a = si_field(owner, field, value, "rad")
+    if not CONE_ANGLES[0] * (1 - 1e-12) <= a <= CONE_ANGLES[1] * (1 + 1e-12):  # "1 deg" may round below
+        raise ModelError(
+            f"{math.degrees(a):g}° must lie between 1° and 89° (VDI 2230: 20° to 40°)",
+            element=owner,
+            field=field,
+        )
+    return a
+
+
 def frustum_stiffness(E: float, d: float, D: float, t: float, alpha: float) -> float:
     """Stiffness of one pressure-cone frustum, N/m (Shigley Eq. 8-20).
 
     Parameters
     ----------
     E : float
-        Pa.
+        Pa, from 1e-3 to 1e13 Pa.
     d : float
-        Hole diameter, m.
+        Hole diameter, m, from 1e-9 to 1e3 m.
     D : float
         Diameter of the frustum's smaller face, m (> d).
     t : float
-        Thickness, m.
+        Thickness, m, from 1e-9 to 1e3 m.
     alpha : float
-        Cone half-angle, rad.
+        Cone half-angle, rad, from 1° to 89° (:data:`CONE_ANGLES`).
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a number that is not finite or out of its range, naming it.
     """
+    E = check_number("frustum", "E", E, "Pa", positive=True, what="Young's modulus")
+    d = check_number("frustum", "d", d, "m", positive=True, what="hole diameter")
+    D = check_number("frustum", "D", D, "m", low=d, low_open=True, what="face diameter (above the hole's)")
+    t = check_number("frustum", "t", t, "m", positive=True, what="thickness")
+    alpha = _cone_angle("frustum", "alpha", alpha)
     ta = math.tan(alpha)
     return (
         math.pi * E * d * ta / math.log(((2 * t * ta + D - d) * (D + d)) / ((2 * t * ta + D + d) * (D - d)))
@@ -102,19 +135,37 @@ def vdi2230_cone_angle(
     Parameters
     ----------
     grip : float
-        Clamp length l_K, m.
+        Clamp length l_K, m, from 1e-9 to 1e3 m.
     bearing_diameter : float
-        Outer bearing diameter d_W of the head or washer, m.
+        Outer bearing diameter d_W of the head or washer, m, from 1e-9 to 1e3 m.
     outer_diameter : float
-        Outer diameter D_A′ of the clamped parts, m.
+        Outer diameter D_A′ of the clamped parts, m, from 1e-9 to 1e3 m.
     tapped : bool
         A tapped-thread joint (ESV) rather than a through-bolted one (DSV).
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a length that is not finite or out of its range, or a geometry outside the fits (a cone
+        angle outside 1° to 89°).
     """
+    grip = check_number("VDI 2230", "grip", grip, "m", positive=True)
+    bearing_diameter = check_number("VDI 2230", "bearing_diameter", bearing_diameter, "m", positive=True)
+    outer_diameter = check_number("VDI 2230", "outer_diameter", outer_diameter, "m", positive=True)
     beta_l = grip / bearing_diameter
     y = max(outer_diameter / bearing_diameter, 1.0)
     if tapped:
-        return math.atan(0.348 + 0.013 * math.log(beta_l) + 0.193 * math.log(y))
-    return math.atan(0.362 + 0.032 * math.log(beta_l / 2) + 0.153 * math.log(y))
+        phi = math.atan(0.348 + 0.013 * math.log(beta_l) + 0.193 * math.log(y))
+    else:
+        phi = math.atan(0.362 + 0.032 * math.log(beta_l / 2) + 0.153 * math.log(y))
+    if not CONE_ANGLES[0] <= phi <= CONE_ANGLES[1]:
+        raise ModelError(
+            f"the fit gives a cone angle of {math.degrees(phi):.3g}° for l_K/d_W = {beta_l:.3g} and "
+            f"D_A/d_W = {y:.3g}, outside 1° to 89°: check the grip and the diameters",
+            element="VDI 2230",
+            field="grip",
+        )
+    return phi
 
 
 @dataclass(frozen=True)
@@ -124,7 +175,7 @@ class Layer:
     Parameters
     ----------
     thickness : float or quantity
-        Thickness along the bolt, m.
+        Thickness along the bolt, m, from 1e-9 to 1e3 m.
     material : Material
         The layer's material (its E).
     """
@@ -133,13 +184,7 @@ class Layer:
     material: Material
 
     def __post_init__(self) -> None:
-        t = si_field(self.material.name, "thickness", self.thickness, "m")
-        if not t > 0:
-            raise ModelError(
-                f"{t:g} m: a layer's thickness must be positive",
-                element=self.material.name,
-                field="thickness",
-            )
+        t = si_field(self.material.name, "thickness", self.thickness, "m", positive=True)
         object.__setattr__(self, "thickness", t)
 
 
@@ -162,18 +207,23 @@ class BoltedJoint:
     hole_diameter : float or quantity, optional
         m; by default d.
     stress_area : float or quantity, optional
-        A_s, m²; by default the ISO metric value π/4 (d − 0.9382 P)² (ISO 898-1).
+        Tensile stress area A_s of the thread, m²; by default the ISO metric value
+        π/4 (d − 0.9382 P)² (ISO 898-1). The bolt's stiffness uses it for the free thread only
+        (``thread_length``); the shank has its full area π d²/4.
     nut : {"nut", "tapped", "anchor"}
         What holds the lower end (VDI 2230 nut resilience 0.4 d, or 0.33 d).
     cone_angle : float or quantity or "vdi2230"
-        Half-angle α of the pressure cones, rad or quantity; ``"vdi2230"`` takes it from the joint's
-        geometry.
+        Half-angle α of the pressure cones, rad or quantity, from 1° to 89°; ``"vdi2230"`` takes it
+        from the joint's geometry.
     outer_diameter : float or quantity, optional
         Diameter D_A of the clamped parts, m; by default 3 d_W. A pressure cone that reaches it goes
         on as a sleeve of that diameter (VDI 2230 Part 1, 2015, §5.1.2.2: cone and sleeve where
         D_A < D_A,Gr = d_W + w l_K tan φ).
     pitch : float or quantity, optional
         Thread pitch P, m; by default the ISO 261 coarse pitch of the nominal diameter.
+    thread_length : float or quantity, optional
+        Length of free (unengaged) thread within the grip, m, from 0 to the grip. Without it the
+        bolt is shank over the whole grip, as the published estimate takes it.
     """
 
     name: str
@@ -188,6 +238,7 @@ class BoltedJoint:
     cone_angle: Any = "30 deg"
     outer_diameter: Any = None
     pitch: Any = None
+    thread_length: Any = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "layers", tuple(self.layers))
@@ -214,11 +265,18 @@ class BoltedJoint:
                 )
             object.__setattr__(self, f, v)
         P = coarse_pitch(self.name, d) if self.pitch is None else self._length("pitch", self.pitch)
+        if not P < d / 1.2269:
+            raise ModelError(
+                f"pitch {show(P, 'm', 'mm')} leaves no core in a {show(d, 'm', 'mm')} bolt (minor diameter "
+                "d − 1.2269 P, ISO 68-1); check the pitch",
+                element=self.name,
+                field="pitch",
+            )
         object.__setattr__(self, "pitch", P)
         if self.stress_area is None:
             object.__setattr__(self, "stress_area", math.pi / 4 * (d - 0.9382 * P) ** 2)
         else:
-            a = si_field(self.name, "stress_area", self.stress_area, "m^2")
+            a = si_field(self.name, "stress_area", self.stress_area, "m^2", positive=True)
             if not 0 < a <= math.pi / 4 * d**2:
                 raise ModelError(
                     f"{a:g} m² must be positive and below π d²/4", element=self.name, field="stress_area"
@@ -237,18 +295,21 @@ class BoltedJoint:
         if isinstance(self.cone_angle, str) and self.cone_angle.strip().lower() == "vdi2230":
             a = vdi2230_cone_angle(self.grip, self.head_diameter, outer, tapped=self.nut == "tapped")
         else:
-            a = si_field(self.name, "cone_angle", self.cone_angle, "rad")
-        if not 0 < a < math.pi / 2:
-            raise ModelError(
-                f"{math.degrees(a):g}° must lie between 0 and 90°", element=self.name, field="cone_angle"
-            )
+            a = _cone_angle(self.name, "cone_angle", self.cone_angle)
         object.__setattr__(self, "cone_angle", a)
+        if self.thread_length is not None:
+            lt = si_field(self.name, "thread_length", self.thread_length, "m", nonnegative=True)
+            if not lt <= self.grip:
+                raise ModelError(
+                    f"{show(lt, 'm', 'mm')} of free thread is more than the grip "
+                    f"({show(self.grip, 'm', 'mm')})",
+                    element=self.name,
+                    field="thread_length",
+                )
+            object.__setattr__(self, "thread_length", lt)
 
     def _length(self, f: str, v: Any) -> float:
-        x = si_field(self.name, f, v, "m")
-        if not x > 0:
-            raise ModelError(f"{x:g} m must be positive", element=self.name, field=f)
-        return x
+        return si_field(self.name, f, v, "m", positive=True)
 
     @property
     def grip(self) -> float:
@@ -267,9 +328,9 @@ class BoltedJoint:
         Parameters
         ----------
         alpha : float, optional
-            Cone half-angle, rad (default: the joint's).
+            Cone half-angle, rad, from 1° to 89° (default: the joint's).
         """
-        a = self.cone_angle if alpha is None else alpha
+        a = self.cone_angle if alpha is None else _cone_angle(self.name, "alpha", alpha)
         half = self.grip / 2
         out = []
         bounds = [0.0]
@@ -284,6 +345,8 @@ class BoltedJoint:
                 cuts = cuts[::-1]
             for z0, z1 in pairwise(cuts):
                 t = abs(z1 - z0)
+                if t <= 1e-12 * self.grip:  # a boundary at mid-grip but for round-off: nothing there
+                    continue
                 mid = 0.5 * (z0 + z1)
                 i = next(k for k in range(len(self.layers)) if bounds[k] <= mid <= bounds[k + 1])
                 D = min(D0 + 2 * abs(z0 - start) * math.tan(a), self.outer_diameter)
@@ -308,35 +371,60 @@ class BoltedJoint:
         Parameters
         ----------
         alpha : float, optional
-            Cone half-angle, rad (default: the joint's).
+            Cone half-angle, rad, from 1° to 89° (default: the joint's).
         """
         return 1.0 / sum(1.0 / f["stiffness_N_per_m"] for f in self.frusta(alpha))
 
     # -- bolt ----------------------------------------------------------------------------------
     @property
     def bolt_stiffness(self) -> float:
-        """k_b = A_s E / L_eq, L_eq = L + (1.95 − β/2 − ν) d (the published estimate), N/m."""
+        """k_b, N/m: the published estimate A_d E / L_eq with the shank area A_d = π d²/4 and
+        L_eq = L + (1.95 − β/2 − ν) d; with ``thread_length`` l_t, shank and free thread in series,
+        1/k_b = (L_eq − l_t)/(E A_d) + l_t/(E A_s) (Shigley Eq. 8-17)."""
         m = self.bolt_material
         beta = self.head_diameter / self.diameter
         L_eq = self.grip + (1.95 - beta / 2 - m.poissons_ratio) * self.diameter
-        return self.stress_area * m.youngs_modulus / L_eq
+        if not L_eq > 0:
+            raise ModelError(
+                f"the bearing diameter {show(self.head_diameter, 'm', 'mm')} is out of proportion to the "
+                f"{show(self.diameter, 'm', 'mm')} bolt and the {show(self.grip, 'm', 'mm')} grip: the "
+                "published estimate's equivalent length L + (1.95 − d_W/(2d) − ν) d is not positive",
+                element=self.name,
+                field="head_diameter",
+            )
+        lt = 0.0 if self.thread_length is None else self.thread_length
+        E = m.youngs_modulus
+        return 1.0 / ((L_eq - lt) / (E * self.shank_area) + lt / (E * self.stress_area))
+
+    @property
+    def shank_area(self) -> float:
+        """A_d = π d²/4, the bolt's nominal (shank) cross-section, m²."""
+        return math.pi / 4 * self.diameter**2
 
     def bolt_stiffness_vdi2230(self, shank_length: float | None = None) -> float:
         """k_b from the VDI 2230 section-by-section resilience, N/m.
 
-        The grip is plain shank (A_N) over ``shank_length`` (by default all of it but one diameter)
-        and free loaded thread (A_d3) over the rest; plus head, engaged thread and nut or tapped hole.
+        The grip is plain shank (A_N) over ``shank_length`` (by default the grip less the joint's
+        ``thread_length``, or less one diameter where that is not given) and free loaded thread
+        (A_d3) over the rest; plus head, engaged thread and nut or tapped hole.
 
         Parameters
         ----------
         shank_length : float, optional
-            Length of plain shank in the grip, m.
+            Length of plain shank in the grip, m, not negative (at most the grip counts).
         """
+        if shank_length is not None:
+            shank_length = si_field(self.name, "shank_length", shank_length, "m", nonnegative=True)
         d, E = self.diameter, self.bolt_material.youngs_modulus
         A_N = math.pi / 4 * d**2
         d3 = d - 1.2269 * self.pitch  # ISO 68-1 minor diameter of the external thread
         A_d3 = math.pi / 4 * d3**2
-        ls = max(self.grip - d, 0.0) if shank_length is None else min(shank_length, self.grip)
+        if shank_length is not None:
+            ls = min(shank_length, self.grip)
+        elif self.thread_length is not None:
+            ls = self.grip - self.thread_length
+        else:
+            ls = max(self.grip - d, 0.0)
         lt = self.grip - ls
         nut = 0.4 if self.nut == "nut" else 0.33
         resilience = (0.5 * d + nut * d) / (E * A_N) + ls / (E * A_N) + (lt + 0.5 * d) / (E * A_d3)
@@ -369,6 +457,7 @@ class BoltedJoint:
         """Every part of the estimate (SI)."""
         return {
             "bolt_stiffness_N_per_m": self.bolt_stiffness,
+            "bolt_free_thread_m": 0.0 if self.thread_length is None else self.thread_length,
             "bolt_stiffness_vdi2230_N_per_m": self.bolt_stiffness_vdi2230(),
             "member_stiffness_N_per_m": self.member_stiffness(),
             "joint_stiffness_N_per_m": self.joint_stiffness,

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
+from mechdyn.checks import check_array, check_number
 from mechdyn.errors import ModelError
 from mechdyn.mounts.bolted import BoltedJoint
 from mechdyn.mounts.pad import ElastomerPad
@@ -137,10 +138,11 @@ def fit_cone_angle(joint: BoltedJoint, target: float, provenance: str) -> Calibr
     joint : BoltedJoint
         The joint as drawn.
     target : float
-        The reference member stiffness, N/m.
+        The reference member stiffness, N/m, from 1e-6 to 1e15 N/m.
     provenance : str
         Where the reference comes from.
     """
+    target = check_number(joint.name, "target", target, "N/m", positive=True, what="reference stiffness")
     val = _fit(
         lambda a: joint.member_stiffness(a) - target,
         math.radians(1.0),
@@ -162,10 +164,11 @@ def fit_pad_factor(pad: ElastomerPad, target: float, provenance: str) -> Calibra
     pad : ElastomerPad
         The pad as drawn.
     target : float
-        The reference compression stiffness, N/m.
+        The reference compression stiffness, N/m, from 1e-6 to 1e15 N/m.
     provenance : str
         Where the reference comes from.
     """
+    target = check_number(pad.name, "target", target, "N/m", positive=True, what="reference stiffness")
 
     def err(k: float) -> float:
         return replace(pad, compression_coefficient=k).compression_stiffness - target
@@ -233,13 +236,16 @@ class SdofFit:
         Parameters
         ----------
         frequency : float or ndarray
-            Frequency, Hz.
+            Frequency, Hz, from 0 to 1e7 Hz.
         """
-        w = 2 * np.pi * np.asarray(frequency, dtype=float)
+        w = 2 * np.pi * check_array("frf", "frequency", frequency, "Hz", nonnegative=True, what="frequencies")
         return 1.0 / (self.stiffness - self.mass * w**2 + 1j * self.damping * w)
 
 
 _KINDS = {"receptance": 0, "mobility": 1, "accelerance": 2}
+RESPONSE_RANGE = (1e-30, 1e30)
+"""The magnitudes (SI) a measured FRF point may have: far beyond any mount's receptance, mobility or
+accelerance on both sides, so that a zero or an overflow never reaches the fit."""
 
 
 def fit_frf(frequency: Any, response: Any, kind: str = "receptance") -> SdofFit:
@@ -248,14 +254,31 @@ def fit_frf(frequency: Any, response: Any, kind: str = "receptance") -> SdofFit:
     Parameters
     ----------
     frequency : array_like
-        Hz, > 0.
+        Hz, > 0 (at most 1e7 Hz).
     response : array_like
         Complex H(f): displacement (receptance, m/N), velocity (mobility, m/(N·s)) or
-        acceleration (accelerance, m/(N·s²)) per force.
+        acceleration (accelerance, m/(N·s²)) per force; finite, of magnitude between 1e-30 and
+        1e30 (SI).
     kind : {"receptance", "mobility", "accelerance"}
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        For a frequency or a response that is not finite or out of range (naming the first), too few
+        points, or data that do not look like one resonance.
     """
-    f = np.asarray(frequency, dtype=float)
-    H = np.asarray(response, dtype=complex)
+    f = check_array("frf", "frequency", frequency, "Hz", positive=True, what="frequencies")
+    H = check_array("frf", "response", response, complex_values=True, bounded=False, what="responses")
+    small = np.abs(H) < RESPONSE_RANGE[0]
+    if (small | (np.abs(H) > RESPONSE_RANGE[1])).any():
+        k = int(np.argmax(small | (np.abs(H) > RESPONSE_RANGE[1])))
+        raise ModelError(
+            f"response[{k}] = {H.flat[k]:g} is {'too small' if small.flat[k] else 'too large'} to be a "
+            "measured "
+            f"response; give magnitudes between {RESPONSE_RANGE[0]:g} and {RESPONSE_RANGE[1]:g} (SI)",
+            element="frf",
+            field="response",
+        )
     if kind not in _KINDS:
         raise ModelError(f"{kind!r} must be one of {sorted(_KINDS)}", element="frf", field="kind")
     if f.ndim != 1 or f.size != H.size or f.size < 4 or np.any(f <= 0) or not np.all(np.isfinite(H)):

@@ -26,9 +26,18 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from mechdyn.checks import check_count, check_number, check_poisson_ratio
 from mechdyn.errors import ModelError
 
+MAX_ELEMENTS = 2_000_000
+"""The most triangles a finite-element model may have (a few minutes of solving); a finer mesh, or a
+geometry of extreme proportions (a 1 km block under a 1 µm plate), is refused before it is built."""
+MAX_REFINEMENT = 1024
+"""The most elements through the thickness (as a mount file's ``fe.refinements``)."""
+
 __all__ = [
+    "MAX_ELEMENTS",
+    "MAX_REFINEMENT",
     "AnchorFE",
     "Extrapolation",
     "FEResult",
@@ -39,10 +48,6 @@ __all__ = [
 
 
 def _lame(E: float, nu: float) -> tuple[float, float]:
-    if not -1 < nu < 0.5:
-        raise ModelError(f"ν = {nu:g} must lie between −1 and 0.5", element="fe", field="poissons_ratio")
-    if not E > 0:
-        raise ModelError(f"E = {E:g} Pa must be positive", element="fe", field="youngs_modulus")
     return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
 
 
@@ -107,6 +112,18 @@ class FEResult:
     extra: dict[str, Any] = field(default_factory=dict)
 
 
+def _too_many(owner: str, elements: float, n: int) -> None:
+    """Refuse a mesh of more than :data:`MAX_ELEMENTS` triangles before it is built."""
+    if elements > MAX_ELEMENTS:
+        raise ModelError(
+            f"n = {n} elements through the thickness gives a mesh of about {elements:.3g} triangles for this "
+            f"geometry, more than {MAX_ELEMENTS:.0e}: give a smaller n, or check the dimensions (their "
+            "proportions set the mesh)",
+            element=owner,
+            field="n",
+        )
+
+
 def pad_compression(
     diameter: float,
     thickness: float,
@@ -137,9 +154,13 @@ def pad_compression(
     """
     from skfem import Basis, MeshTri
 
-    if not (diameter > 0 and thickness > 0):
-        raise ModelError("diameter and thickness must be positive", element="fe", field="thickness")
+    diameter = check_number("fe", "diameter", diameter, "m", positive=True)
+    thickness = check_number("fe", "thickness", thickness, "m", positive=True)
+    youngs_modulus = check_number("fe", "youngs_modulus", youngs_modulus, "Pa", positive=True)
+    poissons_ratio = check_poisson_ratio("fe", "poissons_ratio", poissons_ratio)
+    n = check_count("fe", "n", n, high=MAX_REFINEMENT, what="elements through the thickness")
     a, h = diameter / 2, thickness
+    _too_many("fe", 2.0 * max(2.0, n * a / h) * n, n)
     nr = max(2, math.ceil(n * a / h))
     # finer towards the free edge r = a, where a bonded pad bulges
     s = np.linspace(0.0, 1.0, nr + 1)
@@ -199,9 +220,10 @@ class AnchorFE:
         Parameters
         ----------
         preload : float
-            The bolt's preload, N (the model is linear between contact changes: pressures scale).
+            The bolt's preload, N, from 0 to 1e11 N (the model is linear between contact changes:
+            pressures scale).
         """
-        return self.contact_pressure * preload
+        return self.contact_pressure * check_number("anchor", "preload", preload, "N", nonnegative=True)
 
     def radius_above(self, threshold: float, preload: float) -> float:
         """Outermost radius where the contact pressure exceeds ``threshold`` (Pa) under ``preload`` (N), m.
@@ -213,6 +235,7 @@ class AnchorFE:
         preload : float
             The bolt's preload, N.
         """
+        threshold = check_number("anchor", "threshold", threshold, "Pa", nonnegative=True, what="pressure")
         p = self.pressure(preload)
         above = np.nonzero(p > threshold)[0]
         return float(self.contact_radius[above.max()]) if above.size else 0.0
@@ -227,6 +250,13 @@ def _graded(r0: float, r1: float, h0: float, growth: float = 1.12) -> np.ndarray
         step = min(step * growth, 8 * h0)
     nodes.append(r1)
     return np.array(nodes)
+
+
+def _bisected(nodes: np.ndarray, times: int) -> np.ndarray:
+    """The nodes with every interval halved ``times`` times."""
+    for _ in range(times):
+        nodes = np.sort(np.concatenate([nodes, 0.5 * (nodes[1:] + nodes[:-1])]))
+    return nodes
 
 
 def anchor_members(
@@ -251,8 +281,11 @@ def anchor_members(
     concrete (r from the hole to ``concrete_radius``, down to the anchor's embedded head at depth
     ``embedment``). The preload presses the plate down under the washer and pulls the concrete up
     over the anchor head's bearing annulus. All lengths m, moduli Pa. ``n`` elements through the
-    plate's thickness set the mesh (graded away from the bolt); linear triangles, so that the
-    interface is a set of node pairs.
+    plate's thickness set the mesh: graded away from the bolt on the coarsest mesh of its family
+    (n / 2^k ≥ 4), whose every element is bisected k times, so that the meshes for n and 2n are
+    nested and refined by exactly 2 everywhere, as Richardson extrapolation assumes. Linear
+    triangles, so that the interface is a set of node pairs: the stiffness (an energy) converges
+    with order 2 at most (:func:`richardson`).
 
     Parameters
     ----------
@@ -288,9 +321,20 @@ def anchor_members(
         washer_diameter=washer_diameter,
         anchor_head_diameter=anchor_head_diameter,
     )
-    for k, v in dims.items():
-        if not v > 0:
-            raise ModelError(f"{v:g} m must be positive", element="anchor", field=k)
+    for name, value in dims.items():
+        dims[name] = check_number("anchor", name, value, "m", positive=True)
+    plate_thickness, plate_radius, embedment, concrete_radius = (
+        dims[name] for name in ("plate_thickness", "plate_radius", "embedment", "concrete_radius")
+    )
+    hole_diameter, washer_diameter, anchor_head_diameter = (
+        dims[name] for name in ("hole_diameter", "washer_diameter", "anchor_head_diameter")
+    )
+    plate_E = check_number("anchor", "plate_E", plate_E, "Pa", positive=True, what="Young's modulus")
+    concrete_E = check_number("anchor", "concrete_E", concrete_E, "Pa", positive=True, what="Young's modulus")
+    plate_nu = check_poisson_ratio("anchor", "plate_nu", plate_nu)
+    concrete_nu = check_poisson_ratio("anchor", "concrete_nu", concrete_nu)
+    n = check_count("anchor", "n", n, high=MAX_REFINEMENT, what="elements through the plate")
+    max_iterations = check_count("anchor", "max_iterations", max_iterations, high=10_000, what="iterations")
     rh = hole_diameter / 2
     rw, ra = washer_diameter / 2, anchor_head_diameter / 2
     if rw <= rh or ra <= rh:
@@ -303,16 +347,26 @@ def anchor_members(
         raise ModelError(
             "need washer radius < plate radius ≤ concrete radius", element="anchor", field="plate_radius"
         )
-    h0 = plate_thickness / n
-    grid = _graded(rh, concrete_radius, h0 / 2)
+    # the meshes of one family are nested: the coarsest (n0 = n / 2^k ≥ 4 elements through the plate)
+    # is graded away from the bolt, and each finer one bisects every element of the one before, so that
+    # successive meshes refine by exactly 2 everywhere (the self-similar sequence Richardson assumes)
+    n0, k = n, 0
+    while n0 % 2 == 0 and n0 // 2 >= 4:
+        n0, k = n0 // 2, k + 1
+    h_base = plate_thickness / n0
+    # the mesh before it is built: radial nodes at spacings up to 8 × h_base/2, bisected k times
+    radial = ((concrete_radius - rh) / (4 * h_base) + 40) * 2**k
+    _too_many("anchor", 2 * radial * (n + max(2.0, embedment / h_base) * 2**k), n)
+    grid = _graded(rh, concrete_radius, h_base / 2)
     special = np.array(sorted({rw, ra, plate_radius}))  # loaded edges and the plate's edge fall on nodes
     spacing = np.interp(special, grid[1:], np.diff(grid))
     near = np.any(np.abs(grid[:, None] - special[None]) < 0.5 * spacing[None], axis=1)
     near[[0, -1]] = False
-    r_all = np.union1d(grid[~near], special)
+    r_all = _bisected(np.union1d(grid[~near], special), k)
     r_plate = r_all[r_all <= plate_radius + 1e-12]
+    h0 = plate_thickness / n
     z_plate = np.linspace(0.0, plate_thickness, n + 1)
-    nc = max(2, math.ceil(embedment / h0))
+    nc = max(2, math.ceil(embedment / h_base)) * 2**k
     z_conc = np.linspace(-embedment, 0.0, nc + 1)
     order = 1
     elem = _element(order)
@@ -406,32 +460,80 @@ def anchor_members(
 
 @dataclass(frozen=True)
 class Extrapolation:
-    """A mesh-converged value from a sequence of refinements by a constant ratio.
+    """A mesh-converged value from a sequence of refinements by a constant ratio, with its error.
 
     Attributes
     ----------
     value : float
-        The extrapolated (converged) value.
+        The extrapolated (converged) value; the finest mesh's value when the last three meshes give
+        no admissible order.
     order : float or None
-        The observed order of convergence p (None when the last three levels do not converge
+        The observed order p of the last three meshes (None when they do not converge
         monotonically).
     error : float
-        Estimated relative discretisation error of the finest mesh, |finest − value| / |value|.
+        Relative error estimate of ``value``. When ``verified``, the change between the last two
+        extrapolations, |E_k − E_(k−1)| / |E_k| (a bound in the asymptotic range; see
+        :func:`richardson`). Otherwise the finest mesh's own error (one extrapolation) or the last
+        change between meshes (no admissible order), which bounds nothing.
+    finest_error : float
+        Relative error of the finest mesh against ``value``, |f_finest − value| / |value|.
+    verified : bool
+        Whether the last two extrapolations both rest on an admissible order, so that ``error`` is
+        their agreement.
+    orders : tuple of float or None
+        The observed order of each three successive meshes (from the third mesh on).
+    extrapolations : tuple of float or None
+        The extrapolated value from each three successive meshes; None where the order is not
+        admissible.
+    note : str
+        Why the estimate is not verified (empty when it is).
     """
 
     value: float
     order: float | None
     error: float
+    finest_error: float = math.inf
+    verified: bool = False
+    orders: tuple[float | None, ...] = ()
+    extrapolations: tuple[float | None, ...] = ()
+    note: str = ""
 
 
-def richardson(values: Any, ratio: float = 2.0) -> Extrapolation:
-    """Richardson extrapolation of the last three values of a refinement sequence.
+def _observed_order(f1: float, f2: float, f3: float, ratio: float) -> float | None:
+    """p = ln((f₁ − f₂)/(f₂ − f₃)) / ln r, or None when the three do not converge monotonically."""
+    d1, d2 = f1 - f2, f2 - f3
+    if d1 * d2 > 0:
+        return math.log(d1 / d2) / math.log(ratio)
+    return None
 
-    With f_h = f + C h^p and the mesh refined by ``ratio`` between levels, the observed order is
-    p = ln((f₁ − f₂)/(f₂ − f₃)) / ln r and the converged value f = f₃ + (f₃ − f₂)/(r^p − 1)
-    (Roache, *Verification and Validation in Computational Science and Engineering*, 1998, §5.4;
-    the grid convergence index of ASME V&V 20). With fewer than three levels, or a sequence that
-    does not converge monotonically, the value is the finest one and the error the last change.
+
+def richardson(
+    values: Any,
+    ratio: float = 2.0,
+    *,
+    expected_order: float = 2.0,
+    lowest_order: float = 1.0,
+) -> Extrapolation:
+    """Richardson extrapolation of a refinement sequence, checked against the theoretical order.
+
+    With f_h = f + C h^p and the mesh refined by ``ratio`` between levels, three successive values
+    give the observed order p = ln((f₁ − f₂)/(f₂ − f₃)) / ln r and the extrapolated value
+    E = f₃ + (f₃ − f₂)/(r^p − 1) (Roache, *Verification and Validation in Computational Science and
+    Engineering*, 1998, §5.4; ASME V&V 20-2009, §2-4). The extrapolation holds only in the
+    asymptotic range, where p is the method's order for the quantity: an observed order outside
+    [``lowest_order``, 1.1 ``expected_order``] is not admitted (a p near zero would extrapolate
+    far beyond the data; Eča & Hoekstra, *J. Comput. Phys.* 262, 2014, 104–130, reject such orders
+    in the same way). Each three successive values give one extrapolation; when the last two are
+    both admitted, the value is the last one and its error the change between them,
+    |E_k − E_(k−1)| / |E_k| — an upper bound while the extrapolations' own error falls by at least 2
+    per refinement, which the next term of the expansion (a higher power of h) gives in the
+    asymptotic range. With one admitted extrapolation the error is that of the finest mesh
+    (unverified); with none, the value is the finest mesh's and the error the last change (no bound).
+
+    For a stiffness (an energy) from elements of degree k the theoretical order is 2k on a smooth
+    solution; a corner singularity u ~ r^λ lowers it to 2λ on uniformly refined meshes (Strang &
+    Fix, *An Analysis of the Finite Element Method*, 1973, §8.2), and λ ≥ 1/2 in a 2-D elastic body
+    (the crack, Williams, *J. Appl. Mech.* 19, 1952, 526–528): hence ``lowest_order`` = 1.
 
     Parameters
     ----------
@@ -439,14 +541,52 @@ def richardson(values: Any, ratio: float = 2.0) -> Extrapolation:
         The quantity on meshes refined by ``ratio`` each time, coarsest first.
     ratio : float
         Refinement ratio between levels.
+    expected_order : float
+        The theoretical order of the quantity's convergence (2 for a stiffness from linear
+        elements, 4 from quadratic ones).
+    lowest_order : float
+        The lowest order admitted (what the strongest singularity of the problem allows).
+
+    Returns
+    -------
+    Extrapolation
     """
     f = [float(v) for v in values]
+    if not f:
+        raise ModelError("no values to extrapolate", element="fe", field="refinements")
     if len(f) < 2:
-        return Extrapolation(f[-1], None, math.inf)
-    if len(f) >= 3:
-        d1, d2 = f[-3] - f[-2], f[-2] - f[-1]
-        if d1 * d2 > 0 and abs(d2) < abs(d1):
-            p = math.log(d1 / d2) / math.log(ratio)
-            value = f[-1] + (f[-1] - f[-2]) / (ratio**p - 1.0)
-            return Extrapolation(value, p, abs(f[-1] - value) / abs(value))
-    return Extrapolation(f[-1], None, abs(f[-1] - f[-2]) / abs(f[-1]))
+        return Extrapolation(f[-1], None, math.inf, math.inf, note="one mesh: no error estimate")
+    highest = 1.1 * expected_order
+    orders: list[float | None] = []
+    ext: list[float | None] = []
+    for f1, f2, f3 in zip(f, f[1:], f[2:], strict=False):
+        if f1 == f2 == f3:  # converged to round-off
+            orders.append(None)
+            ext.append(f3)
+            continue
+        p = _observed_order(f1, f2, f3, ratio)
+        orders.append(p)
+        admitted = p is not None and lowest_order <= p <= highest
+        ext.append(f3 + (f3 - f2) / (ratio**p - 1.0) if admitted and p is not None else None)
+    last = f[-1]
+    change = abs(f[-1] - f[-2]) / abs(f[-1]) if f[-1] else abs(f[-1] - f[-2])
+    order = orders[-1] if orders else None
+    if not ext or ext[-1] is None:
+        if not ext:
+            note = "two meshes: no observed order"
+        elif order is None:
+            note = "the last three meshes do not converge monotonically"
+        else:
+            note = (
+                f"observed order {order:.3g} outside [{lowest_order:.3g}, {highest:.3g}] (theoretical "
+                f"{expected_order:.3g}): not in the asymptotic range"
+            )
+        return Extrapolation(last, order, change, change, False, tuple(orders), tuple(ext), note)
+    value = ext[-1]
+    finest = abs(last - value) / abs(value) if value else abs(last - value)
+    previous = ext[-2] if len(ext) >= 2 else None
+    if previous is None:
+        note = "one extrapolation, not checked by a second: refine once more"
+        return Extrapolation(value, order, finest, finest, False, tuple(orders), tuple(ext), note)
+    error = abs(value - previous) / abs(value) if value else abs(value - previous)
+    return Extrapolation(value, order, error, finest, True, tuple(orders), tuple(ext))

@@ -38,18 +38,19 @@ class Material:
     name : str
     kind : {"steel", "cast_iron", "concrete", "rubber", "other"}
     youngs_modulus : float or quantity
-        E, Pa, at least 1 kPa.
+        E, Pa, from 1 kPa to 1e13 Pa.
     poissons_ratio : float, optional
         ν: 0.2–0.4 for steel, 0.15–0.35 for cast iron, 0.1–0.3 for concrete, −1 < ν < 0.5 for rubber
         and other materials. For rubber it follows from E and the bulk modulus when not given.
     shear_modulus : float or quantity, optional
-        G, Pa; by default E / (2 (1 + ν)).
+        G, Pa, positive (at most 1e13 Pa); by default E / (2 (1 + ν)).
     bulk_modulus : float or quantity, optional
-        B, Pa; by default E / (3 (1 − 2ν)).
+        B, Pa, positive (at most 1e13 Pa); by default E / (3 (1 − 2ν)).
     compression_coefficient : float, optional
-        k of the shape-factor formula E_c = E (1 + 2 k S²) (rubber; 1 for an ideal elastic solid).
+        k of the shape-factor formula E_c = E (1 + 2 k S²), in (0, 1] (rubber; 1 for an ideal
+        elastic solid).
     shore_a : float, optional
-        Hardness (rubber).
+        Hardness (rubber), Shore A, from 0 to 100.
     density : float or quantity, optional
         kg/m³, between 1 and 25 000.
     source : str
@@ -82,7 +83,7 @@ class Material:
         B = (
             None
             if self.bulk_modulus is None
-            else si_field(self.name, "bulk_modulus", self.bulk_modulus, "Pa")
+            else si_field(self.name, "bulk_modulus", self.bulk_modulus, "Pa", positive=True)
         )
         nu = self.poissons_ratio
         if nu is None:
@@ -113,10 +114,8 @@ class Material:
         G = (
             E / (2 * (1 + nu))
             if self.shear_modulus is None
-            else si_field(self.name, "shear_modulus", self.shear_modulus, "Pa")
+            else si_field(self.name, "shear_modulus", self.shear_modulus, "Pa", positive=True)
         )
-        if not G > 0:
-            raise ModelError(f"{G:g} Pa must be positive", element=self.name, field="shear_modulus")
         object.__setattr__(self, "shear_modulus", G)
         object.__setattr__(self, "bulk_modulus", E / (3 * (1 - 2 * nu)) if B is None else B)
         k = si_field(self.name, "compression_coefficient", self.compression_coefficient, "")
@@ -132,6 +131,11 @@ class Material:
                     field="density",
                 )
             object.__setattr__(self, "density", rho)
+        if self.shore_a is not None:
+            hardness = si_field(
+                self.name, "shore_a", self.shore_a, "", low=0.0, high=100.0, what="Shore A hardness"
+            )
+            object.__setattr__(self, "shore_a", hardness)
 
     def as_dict(self) -> dict[str, Any]:
         """SI values, JSON-ready."""
@@ -283,7 +287,13 @@ class MaterialDatabase:
         ----------
         shore_a : float
             Hardness, Shore A, within the table (30–75).
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            For a hardness that is not finite or outside the table.
         """
+        shore_a = si_field("rubber", "shore_a", shore_a, "", low=0.0, high=100.0, what="Shore A hardness")
         table = sorted(
             (m for m in self.materials.values() if m.kind == "rubber" and m.shore_a is not None),
             key=lambda m: float(m.shore_a or 0.0),

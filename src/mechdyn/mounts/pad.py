@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.checks import check_array
 from mechdyn.errors import ModelError
 from mechdyn.mounts.materials import Material
 from mechdyn.units import si_field
@@ -43,13 +44,13 @@ class ElastomerPad:
     material : Material
         A rubber (E, G, B and the compression coefficient k), e.g. ``default_materials().rubber(60)``.
     thickness : float or quantity
-        h, m.
+        h, m, from 1e-9 to 1e3 m.
     length, width : float or quantity, optional
-        For a rectangular pad, m.
+        For a rectangular pad, m, from 1e-9 to 1e3 m.
     diameter : float or quantity, optional
-        For a disc, m (instead of length and width).
+        For a disc, m (instead of length and width), from 1e-9 to 1e3 m.
     compression_coefficient : float, optional
-        Overrides the material's k (a calibrated pad factor).
+        Overrides the material's k (a calibrated pad factor), in (0, 1].
     """
 
     name: str
@@ -65,10 +66,7 @@ class ElastomerPad:
             v = getattr(self, f)
             if v is None:
                 continue
-            v = si_field(self.name, f, v, "m")
-            if not v > 0:
-                raise ModelError(f"{v:g} m must be positive", element=self.name, field=f)
-            object.__setattr__(self, f, v)
+            object.__setattr__(self, f, si_field(self.name, f, v, "m", positive=True))
         rect = self.length is not None and self.width is not None
         if rect == (self.diameter is not None):
             raise ModelError(
@@ -77,8 +75,9 @@ class ElastomerPad:
                 field="diameter",
             )
         k = self.compression_coefficient
-        if k is not None and not 0 < k <= 1:
-            raise ModelError(f"{k:g} must lie in (0, 1]", element=self.name, field="compression_coefficient")
+        if k is not None:
+            k = si_field(self.name, "compression_coefficient", k, "", low=0.0, high=1.0, low_open=True)
+            object.__setattr__(self, "compression_coefficient", k)
 
     @property
     def k(self) -> float:
@@ -170,6 +169,21 @@ class ElastomerPad:
             "shear_N": self.shear_stiffness * LINEAR_SHEAR_STRAIN * self.thickness,
         }
 
+    def _deflections(self, deflection: Any) -> np.ndarray:
+        """Deflections δ in m, checked: finite and in [0, h) (the neo-Hookean law ends at δ = h)."""
+        if isinstance(deflection, str) or hasattr(deflection, "units"):  # a quantity
+            deflection = si_field(self.name, "deflection", deflection, "m")
+        return check_array(
+            self.name,
+            "deflection",
+            deflection,
+            "m",
+            low=0.0,
+            high=self.thickness,
+            high_open=True,
+            what="deflections",
+        )
+
     def compression_force(self, deflection: Any) -> np.ndarray:
         """Load-dependent estimate of the compressive force at a deflection δ (m), N.
 
@@ -179,11 +193,13 @@ class ElastomerPad:
         ----------
         deflection : float or ndarray or quantity
             Compression δ, m (0 ≤ δ < h).
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            For a deflection that is not finite or outside [0, h), naming the first.
         """
-        d = np.asarray(deflection, dtype=float)
-        if np.any(d < 0) or np.any(d >= self.thickness):
-            raise ModelError("deflections must lie in [0, h)", element=self.name, field="deflection")
-        lam = 1.0 - d / self.thickness
+        lam = 1.0 - self._deflections(deflection) / self.thickness
         return self.compression_modulus * self.area / 3.0 * (lam**-2 - lam)
 
     def tangent_stiffness(self, deflection: Any) -> np.ndarray:
@@ -192,9 +208,14 @@ class ElastomerPad:
         Parameters
         ----------
         deflection : float or ndarray or quantity
-            Compression δ, m.
+            Compression δ, m (0 ≤ δ < h).
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            For a deflection that is not finite or outside [0, h), naming the first.
         """
-        lam = 1.0 - np.asarray(deflection, dtype=float) / self.thickness
+        lam = 1.0 - self._deflections(deflection) / self.thickness
         return self.compression_modulus * self.area / (3.0 * self.thickness) * (2 * lam**-3 + 1)
 
     def breakdown(self) -> dict[str, float]:

@@ -59,12 +59,24 @@ def plot_pad_curve(pad: Any, ax: Any = None) -> Any:
     return ax
 
 
-def plot_convergence(levels: list[Any], estimate: float | None = None, ax: Any = None) -> Any:
-    """FE stiffness against the number of unknowns (mesh refinement)."""
+def plot_convergence(
+    levels: list[Any],
+    estimate: float | None = None,
+    ax: Any = None,
+    reference: float | None = None,
+    bound: float | None = None,
+) -> Any:
+    """FE stiffness against the number of unknowns (mesh refinement), with the extrapolated
+    reference (N/m) and its relative error bound where given."""
     ax = new_axes(ax, figsize=(6.0, 4.0))
     n = [r.dofs for r in levels]
     k = [kN_per_mm(r.stiffness) for r in levels]
     ax.semilogx(n, k, "o-", label="finite elements")
+    if reference is not None:
+        ax.axhline(kN_per_mm(reference), color="C2", lw=1, label="extrapolated (Richardson)")
+        if bound is not None and math.isfinite(bound):
+            lo, hi = kN_per_mm(reference * (1 - bound)), kN_per_mm(reference * (1 + bound))
+            ax.axhspan(lo, hi, color="C2", alpha=0.2, lw=0, label=f"error bound ±{100 * bound:.2g} %")
     if estimate is not None:
         ax.axhline(kN_per_mm(estimate), color="C3", ls="--", label="estimate from the drawing")
     ax.set_xlabel("unknowns")

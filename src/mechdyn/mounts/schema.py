@@ -32,6 +32,7 @@ from mechdyn.io.fields import (
 )
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 from mechdyn.mounts.bolted import BoltedJoint, Layer
+from mechdyn.mounts.fe import MAX_REFINEMENT
 from mechdyn.mounts.materials import Material, MaterialDatabase, default_materials
 from mechdyn.mounts.pad import ElastomerPad
 from mechdyn.mounts.types import DampingPad, LevellingWedge, ScrewFoot, SpringIsolator
@@ -97,7 +98,8 @@ class BoltedTable(FileModel):
     hole_diameter: Length | None = None
     """Clearance-hole diameter (default: ISO 273 medium series)."""
     stress_area: Area | None = None
-    """Tensile stress area A_s (default: π/4 (d − 0.9382 P)², ISO 898-1)."""
+    """Tensile stress area A_s of the thread (default: π/4 (d − 0.9382 P)², ISO 898-1); the bolt's
+    stiffness uses it over ``thread_length`` only, the shank's full area π d²/4 elsewhere."""
     nut: Literal["nut", "tapped", "anchor"] = "nut"
     """What holds the far end: ``nut``, ``tapped`` (a threaded hole) or ``anchor`` (a head in concrete)."""
     cone_angle: Angle | Literal["vdi2230"] = 0.5235987755982988
@@ -106,6 +108,11 @@ class BoltedTable(FileModel):
         default=None, description="D_A of the clamped parts (a cone that reaches it goes on as a sleeve)"
     )
     pitch: Length | None = Field(default=None, description="thread pitch; by default the ISO 261 coarse one")
+    thread_length: Length | None = Field(
+        default=None,
+        description="free thread within the grip, in series with the shank (default: none, the shank "
+        "over the whole grip, as the published estimate takes it)",
+    )
 
 
 class WedgeTable(FileModel):
@@ -150,7 +157,7 @@ class SpringTable(FileModel):
 
 
 class FETable(FileModel):
-    refinements: list[Annotated[int, Field(ge=1, le=1024)]] = Field(
+    refinements: list[Annotated[int, Field(ge=1, le=MAX_REFINEMENT)]] = Field(
         default=[4, 8, 16],
         min_length=1,
         description="the first meshes (elements through the thickness); refined by 2 from the last until "
@@ -159,7 +166,9 @@ class FETable(FileModel):
     tolerance: float = Field(
         default=0.005, gt=0, lt=1, description="largest relative discretisation error of the reference"
     )
-    max_refinement: int = Field(default=64, ge=1, le=1024, description="finest mesh it may refine to")
+    max_refinement: int = Field(
+        default=64, ge=1, le=MAX_REFINEMENT, description="finest mesh it may refine to"
+    )
     preloads: list[Force] = Field(default_factory=list)
     """Preloads at which an anchor's contact pressure is computed."""
     pressure_threshold: Pressure | None = None
@@ -304,6 +313,7 @@ def build(source: ModelSource) -> MountSpec:
                 b.cone_angle,
                 b.outer_diameter,
                 b.pitch,
+                thread_length=b.thread_length,
             )
         elif kind == "wedge":
             w = f.wedge

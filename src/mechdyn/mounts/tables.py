@@ -75,9 +75,23 @@ def mount_tables(
         tables.append(
             Table(
                 "finite-element reference (mesh convergence)",
-                ["elements through thickness", "elements", "unknowns", f"stiffness [{stiffness_unit}]"],
                 [
-                    [r["elements_through_thickness"], r["elements"], r["dofs"], K(r["stiffness_N_per_m"])]
+                    "elements through thickness",
+                    "elements",
+                    "unknowns",
+                    f"stiffness [{stiffness_unit}]",
+                    "observed order",
+                    f"extrapolated [{stiffness_unit}]",
+                ],
+                [
+                    [
+                        r["elements_through_thickness"],
+                        r["elements"],
+                        r["dofs"],
+                        K(r["stiffness_N_per_m"]),
+                        r.get("observed_order_ratio"),
+                        None if r.get("extrapolated_N_per_m") is None else K(r["extrapolated_N_per_m"]),
+                    ]
                     for r in s["fe_convergence"]
                 ],
             )

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
 
+from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
 from mechdyn.mounts.materials import Material
 from mechdyn.mounts.pad import ElastomerPad
@@ -32,11 +33,22 @@ __all__ = ["DampingPad", "LevellingWedge", "MountEstimate", "ScrewFoot", "Spring
 G0 = STANDARD_GRAVITY
 
 
+MAX_LOSS_FACTOR = 2.0
+"""Loss factors η are accepted in [0, 2): ζ = η/2 below critical damping (rubber ≈ 0.1, steel ≈ 0.005)."""
+MAX_COUNT = 10_000
+"""The most active coils, and springs in parallel, a spring isolator may have."""
+
+
 def _positive(owner: str, field: str, value: Any, unit: str) -> float:
-    v = si_field(owner, field, value, unit)
-    if not v > 0:
-        raise ModelError(f"{v:g} {unit} must be positive", element=owner, field=field)
-    return v
+    """A positive quantity in ``unit`` (SI), finite and within the magnitude a machine can have."""
+    return si_field(owner, field, value, unit, positive=True)
+
+
+def _loss_factor(owner: str, value: Any) -> float:
+    """A loss factor η, dimensionless, in [0, 2)."""
+    return si_field(
+        owner, "loss_factor", value, "", low=0.0, high=MAX_LOSS_FACTOR, high_open=True, what="loss factor"
+    )
 
 
 @runtime_checkable
@@ -101,7 +113,7 @@ class LevellingWedge:
     damps : bool
         Whether it adds damping (False for steel).
     loss_factor : float
-        η of the mount, dimensionless.
+        η of the mount, dimensionless, in [0, 2).
     """
 
     name: str
@@ -124,6 +136,7 @@ class LevellingWedge:
                 "catalogue_stiffness",
                 _positive(self.name, "catalogue_stiffness", self.catalogue_stiffness, "N/m"),
             )
+        object.__setattr__(self, "loss_factor", _loss_factor(self.name, self.loss_factor))
 
     lateral_stiffness = None  # the housing's friction: not estimated
 
@@ -164,7 +177,8 @@ class ScrewFoot:
     base : ElastomerPad or float or quantity, optional
         An elastomer base pad, or the base's stiffness (N/m); none means a rigid steel base.
     pitch : float or quantity, optional
-        Spindle thread pitch, m; by default the ISO 261 coarse pitch of its diameter.
+        Spindle thread pitch, m, positive and below d/0.9382; by default the ISO 261 coarse pitch of
+        its diameter (a diameter that is no ISO metric size then needs the pitch).
     adjusts_height : bool
         True: the screw levels the machine.
     """
@@ -182,18 +196,31 @@ class ScrewFoot:
         object.__setattr__(self, "free_length", _positive(self.name, "free_length", self.free_length, "m"))
         if self.base is not None and not isinstance(self.base, ElastomerPad):
             object.__setattr__(self, "base", _positive(self.name, "base", self.base, "N/m"))
+        if self.pitch is not None:
+            object.__setattr__(self, "pitch", _positive(self.name, "pitch", self.pitch, "m"))
+        self._pitch()  # a diameter without an ISO coarse pitch, or a pitch that leaves no core: refused now
+
+    def _pitch(self) -> float:
+        """The thread pitch P in use, m, checked against the diameter."""
+        from mechdyn.mounts.bolted import coarse_pitch
+
+        P = coarse_pitch(self.name, self.diameter) if self.pitch is None else float(self.pitch)
+        if not 0.9382 * P < self.diameter:
+            raise ModelError(
+                f"pitch {P:g} m leaves no stress area in a {self.diameter:g} m spindle "
+                "(π/4 (d − 0.9382 P)²); "
+                "check the pitch",
+                element=self.name,
+                field="pitch",
+            )
+        return P
 
     lateral_stiffness = None  # the spindle's bending and the base's friction: not estimated
 
     @property
     def spindle_stiffness(self) -> float:
         """A_s E / L, N/m (stress area π/4 (d − 0.9382 P)² with the ISO 261 coarse pitch P)."""
-        from mechdyn.mounts.bolted import coarse_pitch
-
-        if self.pitch is None:
-            P = coarse_pitch(self.name, self.diameter)
-        else:
-            P = _positive(self.name, "pitch", self.pitch, "m")
+        P = self._pitch()
         a_s = math.pi / 4 * (self.diameter - 0.9382 * P) ** 2
         return a_s * self.material.youngs_modulus / self.free_length
 
@@ -248,10 +275,7 @@ class DampingPad:
     damps: bool = True
 
     def __post_init__(self) -> None:
-        if not 0 <= self.loss_factor < 2:
-            raise ModelError(
-                f"{self.loss_factor:g} must lie in [0, 2)", element=self.name, field="loss_factor"
-            )
+        object.__setattr__(self, "loss_factor", _loss_factor(self.name, self.loss_factor))
 
     @property
     def stiffness(self) -> float:
@@ -277,11 +301,11 @@ class SpringIsolator:
     ----------
     name : str
     wire_diameter, coil_diameter : float or quantity
-        d and mean coil diameter D, m.
+        d and mean coil diameter D, m, from 1e-9 to 1e3 m.
     active_coils : float
-        Number of active coils N_a (k = G d⁴/(8 D³ N_a)).
+        Number of active coils N_a (k = G d⁴/(8 D³ N_a)), positive, at most :data:`MAX_COUNT`.
     springs : int
-        How many in parallel.
+        How many in parallel, a whole number from 1 to :data:`MAX_COUNT`.
     material : Material
         Spring steel (its shear modulus G).
     adjusts_height : bool
@@ -289,7 +313,7 @@ class SpringIsolator:
     damps : bool
         Whether it adds damping (False for steel).
     loss_factor : float
-        η of the mount, dimensionless.
+        η of the mount, dimensionless, in [0, 2).
     """
 
     name: str
@@ -311,12 +335,13 @@ class SpringIsolator:
                 element=self.name,
                 field="coil_diameter",
             )
-        if not self.active_coils > 0 or self.springs < 1:
-            raise ModelError(
-                "active coils and springs must be positive", element=self.name, field="active_coils"
-            )
+        coils = si_field(self.name, "active_coils", self.active_coils, "", positive=True, high=MAX_COUNT)
+        springs = check_count(self.name, "springs", self.springs, high=MAX_COUNT)
         object.__setattr__(self, "wire_diameter", d)
         object.__setattr__(self, "coil_diameter", D)
+        object.__setattr__(self, "active_coils", coils)
+        object.__setattr__(self, "springs", springs)
+        object.__setattr__(self, "loss_factor", _loss_factor(self.name, self.loss_factor))
 
     lateral_stiffness = None  # a spring's lateral rate depends on its end fixing: give it
 
@@ -340,13 +365,13 @@ def isolation(
     Parameters
     ----------
     stiffness : float or quantity
-        N/m.
+        N/m, from 1e-6 to 1e15 N/m.
     load : float or quantity
-        The weight the mount carries, N (or a mass in kg, taken under standard gravity).
+        The weight the mount carries, N (or a mass in kg, taken under standard gravity), positive.
     disturbing_frequency : float or quantity
-        Hz (or rpm).
+        Hz (or rpm), from 1e-7 to 1e7 Hz.
     loss_factor : float
-        η; the viscous equivalent ζ = η/2.
+        η, in [0, 2); the viscous equivalent ζ = η/2.
 
     Returns
     -------
@@ -355,11 +380,15 @@ def isolation(
         ``transmissibility`` T and ``isolation_efficiency`` 1 − T (negative: the mount amplifies).
     """
     k = _positive("isolation", "stiffness", stiffness, "N/m")
-    try:
+    if isinstance(load, int | float):
         W = _positive("isolation", "load", load, "N")
-    except ModelError:
-        W = _positive("isolation", "load", load, "kg") * G0
+    else:
+        try:
+            W = _positive("isolation", "load", load, "N")
+        except ModelError:
+            W = _positive("isolation", "load", load, "kg") * G0
     f = _positive("isolation", "disturbing_frequency", disturbing_frequency, "Hz")
+    loss_factor = _loss_factor("isolation", loss_factor)
     m = W / G0
     fn = math.sqrt(k / m) / (2 * math.pi)
     r, zeta = f / fn, loss_factor / 2
