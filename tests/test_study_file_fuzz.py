@@ -332,3 +332,25 @@ def test_user_text_with_dollar_signs_is_drawn_as_written(tmp_path, capsys):
     assert main(["study", str(path), "--db", str(tmp_path / "r.db"), "--plots", str(tmp_path / "p"),
                  "--report", str(tmp_path / "r.html")]) == 0  # fmt: skip
     assert list((tmp_path / "p").glob("*.png")) and "study $1 $of" in (tmp_path / "r.html").read_text()
+
+
+def test_a_plot_drawn_in_a_notebook_shows_dollar_signs_as_written():
+    """Result.plot() (what a notebook shows) draws names with $ signs as written, as saved plots do:
+    mathtext read "cost $1 $of" as a formula."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Text
+
+    from mechdyn.drivetrain import Disk, Drivetrain, Shaft, modal
+
+    disks = [Disk("a $x", "1 kg*m^2"), Disk("b", "2 kg*m^2"), Disk("c", "1 kg*m^2")]
+    shafts = [Shaft("s", ("a $x", "b"), "1000 N*m/rad"), Shaft("t", ("b", "c"), "1000 N*m/rad")]
+    ax = modal(Drivetrain(disks, shafts, name="cost $1 $of")).plot()
+    fig = (ax.flat[0] if hasattr(ax, "flat") else ax).figure
+    fig.canvas.draw()
+    texts = [t for t in fig.findobj(Text) if "$" in t.get_text()]
+    plt.close(fig)
+    assert any("cost $1 $of" in t.get_text() for t in texts) and any(t.get_text() == "a $x" for t in texts)
+    assert not any(t.get_parse_math() for t in texts)

@@ -89,6 +89,25 @@ def summary_table(summary: dict[str, Any], skip: tuple[str, ...] = ()) -> Table:
     return Table("summary", ["quantity", "value", "unit"], rows)
 
 
+def _as_written(plot: Callable[..., Any]) -> Callable[..., Any]:
+    """``plot`` whose figure shows every text as written (:func:`mechdyn.plotting.plain_text`), tick
+    labels included: they are made when the figure is first drawn, so it is drawn once here."""
+    import functools
+
+    @functools.wraps(plot)
+    def drawn(self: Any, *args: Any, **kwargs: Any) -> Any:
+        ax = plot(self, *args, **kwargs)
+        fig = getattr(ax.flat[0] if hasattr(ax, "flat") else ax, "figure", None)  # one axes or an array
+        if fig is not None:
+            from mechdyn.plotting import plain_text
+
+            fig.canvas.draw()
+            plain_text(fig)
+        return ax
+
+    return drawn
+
+
 class Result:
     """Mixin of the result protocol; subclasses are frozen dataclasses.
 
@@ -113,9 +132,17 @@ class Result:
         return {}
 
     def plot(self, **display_units: Any) -> Any:
-        """Draw the first of :meth:`plots` and return its axes (None when the result has no plot)."""
+        """Draw the first of :meth:`plots` and return its axes (None when the result has no plot).
+
+        Its texts are shown as written (:func:`mechdyn.plotting.plain_text`), as in saved plots and
+        reports: a ``$`` in a name never starts a formula in a notebook either."""
         plots = self.plots(**display_units)
         return next(iter(plots.values()))() if plots else None
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if "plot" in cls.__dict__:  # a result's own plot() shows its texts as written too
+            cls.plot = _as_written(cls.__dict__["plot"])  # type: ignore[method-assign]
 
     def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
         """Named arrays with units for the results database; by default the columns of :meth:`to_frame`."""
@@ -125,3 +152,6 @@ class Result:
     def warnings(self) -> tuple[str, ...]:
         """Notes on this result that the user should read (also issued as :class:`ModelWarning`)."""
         return ()
+
+
+Result.plot = _as_written(Result.plot)  # type: ignore[method-assign]
