@@ -37,6 +37,7 @@ def support_batch(
     """
     from mechdyn.mechanism.batch import cycle_columns, summary_columns
     from mechdyn.support.excitation import series_on_grid
+    from mechdyn.support.response import extremes
     from mechdyn.support.schema import MechanismExcitation
 
     spec = loaded.settings
@@ -79,19 +80,20 @@ def support_batch(
     zd = series_on_grid((1j * w * X).T, N).T
     FT = k[:, None] * z + c[:, None] * zd
     ok = np.isfinite(F).all(axis=1)
-    rng_F, rng_T = np.ptp(F, axis=1), np.ptp(FT, axis=1)
+    (f_lo, f_hi), (t_lo, t_hi), (z_lo, z_hi) = (extremes(y) for y in (F, FT, z))  # as the single path
+    rng_F, rng_T = f_hi - f_lo, t_hi - t_lo
     figures: dict[str, Any] = {
-        "inertia_force_max_N": F.max(axis=1),
-        "inertia_force_min_N": F.min(axis=1),
+        "inertia_force_max_N": f_hi,
+        "inertia_force_min_N": f_lo,
         "inertia_force_range_N": rng_F,
-        "transmitted_force_max_N": FT.max(axis=1),
-        "transmitted_force_min_N": FT.min(axis=1),
+        "transmitted_force_max_N": t_hi,
+        "transmitted_force_min_N": t_lo,
         "transmitted_force_range_N": rng_T,
         "transmitted_to_inertia_force_range": np.divide(
             rng_T, rng_F, out=np.full(V, np.nan), where=rng_F > 0
         ),
-        "displacement_max_m": z.max(axis=1),
-        "displacement_min_m": z.min(axis=1),
+        "displacement_max_m": z_hi,
+        "displacement_min_m": z_lo,
         "machine_mass_kg": m,
         "period_s": np.full(V, period),
         "excitation": batch.summary(),

@@ -42,6 +42,32 @@ _EXPLICIT = {"RK23": (2.5, 3), "RK45": (3.3, 6), "DOP853": (6.0, 12)}
 __all__ = ["SupportResponse", "harmonic_response", "periodic_response", "startup_response"]
 
 
+def extremes(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Least and largest values of periodic signals over one period, located between the samples.
+
+    The steady state is a Fourier series sampled at equal steps; its extremes lie between samples
+    (64 samples a period read a harmonic's peak up to 0.12 % low). They are located as the
+    mechanism's extremes are: the quartic through the extreme sample and two neighbours on each
+    side, its stationary point (:func:`mechdyn.mechanism.extrema.peak`, error O(h⁴) in the step).
+
+    Parameters
+    ----------
+    y : ndarray
+        (..., N) equally spaced samples over one period (the last axis).
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        (...) the least and the largest value.
+    """
+    from mechdyn.mechanism.extrema import peak
+
+    y = np.asarray(y, dtype=float)
+    if y.shape[-1] < 5:  # too few samples for the quartic: the samples themselves
+        return y.min(axis=-1), y.max(axis=-1)
+    return peak(y, -1.0)[1], peak(y, 1.0)[1]
+
+
 @dataclass(frozen=True)
 class SupportResponse(Result):
     """Motion of the machine and the forces through its mounts, over time.
@@ -140,24 +166,33 @@ class SupportResponse(Result):
         return res
 
     def summary(self) -> dict[str, Any]:
-        """Ranges of the exciting and transmitted forces and of the bed displacement (SI)."""
+        """Extremes and ranges of the exciting and transmitted forces and of the bed displacement
+        (SI), each located between the samples of the period (:func:`extremes`)."""
         F, FT, z = self.exciting_force, self.transmitted_force, self.vertical_displacement
-        floor = self.floor_force
+        # a steady state on equal steps over one period: its extremes lie between the samples;
+        # anything else (a start-up, given times): the samples' own
+        n, period = self.time.size, self.load.period
+        one_period = self.kind == "steady state" and np.allclose(
+            self.time, period * np.arange(n) / n, rtol=0.0, atol=1e-9 * period
+        )
+        ends = extremes if one_period else (lambda y: (np.min(y, axis=-1), np.max(y, axis=-1)))
+        (f_lo, f_hi), (t_lo, t_hi), (z_lo, z_hi) = (ends(y) for y in (F, FT, z))
+        floor = ends(self.floor_force.T)
+        peaks = ends(np.linalg.norm(self.mount_forces, axis=2).T)[1]
         out: dict[str, Any] = {
-            "inertia_force_max_N": float(F.max()),
-            "inertia_force_min_N": float(F.min()),
-            "inertia_force_range_N": float(np.ptp(F)),
-            "transmitted_force_max_N": float(FT.max()),
-            "transmitted_force_min_N": float(FT.min()),
-            "transmitted_force_range_N": float(np.ptp(FT)),
-            "transmitted_to_inertia_force_range": float(np.ptp(FT) / np.ptp(F)) if np.ptp(F) > 0 else None,
-            "displacement_max_m": float(z.max()),
-            "displacement_min_m": float(z.min()),
-            "floor_force_range_N": [float(v) for v in np.ptp(floor, axis=0)],
-            "mount_force_peak_N": {
-                mt.name: float(np.linalg.norm(self.mount_forces[:, i], axis=1).max())
-                for i, mt in enumerate(self.machine.mounts)
-            },
+            "inertia_force_max_N": float(f_hi),
+            "inertia_force_min_N": float(f_lo),
+            "inertia_force_range_N": float(f_hi - f_lo),
+            "transmitted_force_max_N": float(t_hi),
+            "transmitted_force_min_N": float(t_lo),
+            "transmitted_force_range_N": float(t_hi - t_lo),
+            "transmitted_to_inertia_force_range": (
+                float((t_hi - t_lo) / (f_hi - f_lo)) if f_hi > f_lo else None
+            ),
+            "displacement_max_m": float(z_hi),
+            "displacement_min_m": float(z_lo),
+            "floor_force_range_N": [float(v) for v in floor[1] - floor[0]],
+            "mount_force_peak_N": {mt.name: float(peaks[i]) for i, mt in enumerate(self.machine.mounts)},
         }
         return out
 
