@@ -725,6 +725,10 @@ def test_a_factorial_study_stores_the_variants_that_fail_with_their_reason(tmp_p
     )
     result = run_study(load_study(path), str(tmp_path / "r.db"))
     assert len(result.variants) == 1 + 3 * 2
+    # the counts add up: every variant evaluated now (none was stored before)
+    assert (result.evaluated, result.reused) == (7, 0)
+    again = run_study(load_study(path), str(tmp_path / "r.db"))
+    assert (again.evaluated, again.reused, again.failed) == (0, 7, 2)
     failed = [v for v in result.variants if v.status == "failed"]
     assert result.failed == len(failed) == 2
     assert all(v.error and v.outputs["driving_torque_peak_Nm"] is None for v in failed)

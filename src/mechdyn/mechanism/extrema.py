@@ -39,7 +39,9 @@ def peak(y: np.ndarray, sense: float) -> tuple[np.ndarray, np.ndarray]:
     k = np.argmax(np.where(np.isfinite(y), sense * y, -np.inf), axis=-1)
     idx = (k[..., None] + np.arange(-2, 3)) % N
     five = np.take_along_axis(y, idx, axis=-1)
-    c = five @ _VINV.T  # (..., 5): c0 + c1 t + c2 t² + c3 t³ + c4 t⁴
+    # (..., 5): c0 + c1 t + c2 t² + c3 t³ + c4 t⁴; summed row by row, not by a matrix product, so that a
+    # design's figures do not depend on how many variants share its batch (to the last bit)
+    c = (five[..., None, :] * _VINV).sum(axis=-1)
     t = np.zeros(k.shape)
     for _ in range(30):  # Newton on the derivative, from the sample
         d1 = c[..., 1] + 2 * c[..., 2] * t + 3 * c[..., 3] * t**2 + 4 * c[..., 4] * t**3

@@ -26,9 +26,10 @@ class StudyResult(Result):
     variants : tuple of StoredVariant
         The study's variants in design order (optimization and synthesis: every variant stored).
     evaluated : int
-        Variants evaluated by this run.
+        Variants of the result evaluated by this run (or stored meanwhile by another process sharing
+        the study); ``evaluated + reused`` is the number of variants.
     reused : int
-        Variants found already stored (a resumed study).
+        Variants of the result found already stored (a resumed study).
     failed : int
         Variants that could not be evaluated (stored with their error).
     findings : dict

@@ -83,6 +83,7 @@ class Runner:
         )
         self.model_sha256 = tree.sha256
         self.cache: dict[str, StoredVariant] = store.stored(self.stored.id)
+        self.stored_before = frozenset(self.cache)  # keys stored before this run: what it reuses
         self.position = len(self.cache)
         self.evaluated = 0
         self.reused_keys: set[str] = set()
@@ -258,9 +259,17 @@ class Runner:
             self.store.variant(v.id) for v in kept[: self.study.curves or 2] if v.status == "ok"
         )
         failed = sum(1 for v in variants if v.status != "ok")
-        reused = len(self.reused_keys)
+        # the counts add up: each variant of the result was stored before this run, or since
+        reused = sum(1 for v in variants if v.key in self.stored_before)
         return StudyResult(
-            self.study, self.stored, tuple(variants), self.evaluated, reused, failed, findings, with_curves
+            self.study,
+            self.stored,
+            tuple(variants),
+            len(variants) - reused,
+            reused,
+            failed,
+            findings,
+            with_curves,
         )
 
 
