@@ -327,3 +327,19 @@ def test_a_file_with_thousands_of_problems_lists_the_first_and_counts_the_rest(t
     err = capsys.readouterr().err
     assert f"{2 * 299} problems" in err and err.count("\n  - ") == SHOWN_PROBLEMS
     assert err.rstrip().endswith(f"… and {2 * 299 - SHOWN_PROBLEMS} more")
+
+
+def test_a_module_whose_gear_is_beyond_any_machine_is_refused_at_the_module(tmp_path):
+    """A module in a wrong unit can pass its own bound while the gear it makes does not: the error
+    names the module the user wrote, not a radius derived from it (found by the mutation test above)."""
+    from mechdyn.errors import MechdynError
+    from mechdyn.io import load_model
+
+    work = tmp_path / "w"
+    shutil.copytree(EXAMPLES, work, ignore=shutil.ignore_patterns("studies", "gallery"))
+    target = work / "spur_pair.toml"
+    target.write_text(target.read_text().replace('module = "2 mm"', 'module = "100 m"', 1))
+    with pytest.raises(MechdynError) as caught:
+        load_model(target)
+    message = str(caught.value)
+    assert "spur_pair.toml" in message and "module" in message and "tip radius of 1100 m" in message

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.checks import check_number, check_poisson_ratio
+from mechdyn.checks import check_number, check_poisson_ratio, magnitude_limit
 from mechdyn.errors import ModelError
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.tooth import TruncatedTooth
@@ -160,6 +160,16 @@ class SpurGear:
                 f"{math.degrees(self.pressure_angle):g}° must lie between 10° and 35°",
                 element=n,
                 field="pressure_angle",
+            )
+        # the gear these give must itself be a machine part: its tip circle within the lengths accepted
+        largest = magnitude_limit("m")
+        if self.tip_radius > largest:
+            raise ModelError(
+                f"{self.module:g} m with {self.teeth} teeth gives a tip radius of {self.tip_radius:g} m, "
+                f"beyond any machine this package models ({largest:g} m); give a smaller module (is its "
+                "unit right?)",
+                element=n,
+                field="module",
             )
         if self.bore_diameter is not None:
             object.__setattr__(
