@@ -13,9 +13,6 @@ import numpy as np
 
 __all__ = ["layout_figures", "load_figures", "output_figures", "peak"]
 
-# the quartic through (−2, y₋₂) … (2, y₂): coefficients c₀…c₄ of Σ c_i tⁱ = V⁻¹ y
-_VINV = np.linalg.inv(np.vander(np.arange(-2.0, 3.0), 5, increasing=True))
-
 
 def peak(y: np.ndarray, sense: float) -> tuple[np.ndarray, np.ndarray]:
     """Where ``sense · y`` is largest over the last axis, between samples.
@@ -39,9 +36,16 @@ def peak(y: np.ndarray, sense: float) -> tuple[np.ndarray, np.ndarray]:
     k = np.argmax(np.where(np.isfinite(y), sense * y, -np.inf), axis=-1)
     idx = (k[..., None] + np.arange(-2, 3)) % N
     five = np.take_along_axis(y, idx, axis=-1)
-    # (..., 5): c0 + c1 t + c2 t² + c3 t³ + c4 t⁴; summed row by row, not by a matrix product, so that a
-    # design's figures do not depend on how many variants share its batch (to the last bit)
-    c = (five[..., None, :] * _VINV).sum(axis=-1)
+    # c0 + c1 t + c2 t² + c3 t³ + c4 t⁴ from the central differences of the five samples (the rows of
+    # V⁻¹): elementwise, so a design's figures do not depend on how many variants share its batch, and
+    # a symmetric neighbourhood gives c1 = c3 = 0 exactly (the extreme stays on its sample)
+    ym2, ym1, y0, y1, y2 = (five[..., i] for i in range(5))
+    s1, d1, s2, d2 = y1 + ym1, y1 - ym1, y2 + ym2, y2 - ym2
+    c = np.stack(
+        [y0, (8.0 * d1 - d2) / 12.0, (16.0 * s1 - s2 - 30.0 * y0) / 24.0, (d2 - 2.0 * d1) / 12.0,
+         (s2 - 4.0 * s1 + 6.0 * y0) / 24.0],
+        axis=-1,
+    )  # fmt: skip
     t = np.zeros(k.shape)
     for _ in range(30):  # Newton on the derivative, from the sample
         d1 = c[..., 1] + 2 * c[..., 2] * t + 3 * c[..., 3] * t**2 + 4 * c[..., 4] * t**3

@@ -171,9 +171,9 @@ class SupportResponse(Result):
         F, FT, z = self.exciting_force, self.transmitted_force, self.vertical_displacement
         # a steady state on equal steps over one period: its extremes lie between the samples;
         # anything else (a start-up, given times): the samples' own
-        n, period = self.time.size, self.load.period
+        n, scale = self.time.size, self.load.period
         one_period = self.kind == "steady state" and np.allclose(
-            self.time, period * np.arange(n) / n, rtol=0.0, atol=1e-9 * period
+            self.time, scale * np.arange(n) / n, rtol=0.0, atol=1e-9 * scale
         )
         ends = extremes if one_period else (lambda y: (np.min(y, axis=-1), np.max(y, axis=-1)))
         (f_lo, f_hi), (t_lo, t_hi), (z_lo, z_hi) = (ends(y) for y in (F, FT, z))
