@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -181,6 +182,65 @@ def test_speed_profile_on_a_lone_crank(method):
     )
 
 
+@pytest.mark.parametrize("method", ["dyads", "newton"])
+@pytest.mark.parametrize("sense", [1.0, -1.0])
+def test_a_speed_profile_is_read_at_the_crank_angle_from_the_datum(method, sense):
+    # a rotor drawn at 60° whose angle datum is 20°: at the crank angle θ from the datum that the
+    # results show, the speed is the profile's θ̇(θ) and T = I_O θ̈ with θ̈ = θ̇ dθ̇/dθ, whichever way it
+    # turns (the profile was once read at the angle turned from the drawing: 40° off, mirrored when
+    # turning clockwise)
+    from scipy.integrate import quad
+
+    from mechdyn.mechanism.model import Body, Driver, Mechanism, Revolute
+
+    w0, eps, m, d, ig = 10.0 * sense, 0.2, 3.0, 0.05, 0.01
+    draw, datum = math.radians(60.0), math.radians(20.0)
+
+    def profile(theta):
+        w = w0 * (1 + eps * np.sin(theta))
+        return w, w * w0 * eps * np.cos(theta)
+
+    u = np.array([math.cos(draw), math.sin(draw)])
+    rotor = Mechanism(
+        points={"O": (0.0, 0.0), "T": tuple(0.1 * u)},
+        bodies=(Body("rotor", ("O", "T"), m, ig, tuple(d * u)),),
+        joints=(Revolute("O", ("ground", "rotor"), "O"),),
+        driver=Driver("rotor", "O", "T", w0, profile),
+        angle_datum=datum,
+    )
+    r = inverse_dynamics(rotor, 72, method=method)
+    np.testing.assert_allclose(r.angle, np.radians(np.arange(72) * 5.0), atol=1e-12)
+    w, a = profile(r.angle)
+    np.testing.assert_allclose(r.crank_speed, w, rtol=1e-12)
+    np.testing.assert_allclose(r.driving_torque, (ig + m * d**2) * a, atol=1e-12 * np.abs(a).max())
+    # the time to each sample from the drawing is ∫ dθ/θ̇ along the way it turns
+    start = draw - datum
+    for k in (5, 30, 61):
+        turned = (sense * (r.angle[k] - start)) % (2 * math.pi)
+        expected = quad(lambda x: 1 / abs(profile(start + sense * x)[0]), 0.0, turned)[0]
+        assert r.kinematics.time[k] == pytest.approx(expected, rel=1e-6)
+
+
+@pytest.mark.parametrize("sense", [1.0, -1.0])
+def test_a_speed_profile_counts_from_the_located_bottom_dead_centre(sense):
+    # angle_datum = "bdc": the profile is read from the slider's lowest position (180° from the
+    # drawing here), which the motion finds first; both engines agree and the power balances
+    def speed(theta):
+        return sense * W * (1 + 0.3 * np.cos(theta))
+
+    m = slider_crank()
+    m = replace(m, angle_datum="bdc", driver=replace(m.driver, speed=sense * W, profile=speed))
+    a = inverse_dynamics(m, 120, method="dyads")
+    b = inverse_dynamics(m, 120, method="newton")
+    for r in (a, b):
+        assert r.summary()["bdc_deg"] == pytest.approx(0.0, abs=1e-9)
+        np.testing.assert_allclose(r.crank_speed, speed(r.angle), rtol=1e-9)
+        assert np.abs(r.power_balance_residual).max() < 1e-9 * np.abs(r.driving_torque * r.crank_speed).max()
+    np.testing.assert_allclose(a.driving_torque, b.driving_torque, atol=1e-9 * np.abs(b.driving_torque).max())
+    # the fastest point of the turn is at bottom dead centre, where the slider is lowest
+    assert np.abs(a.crank_speed).argmax() == 0 and a.output_position.argmin() == 0
+
+
 def test_speed_profile_keeps_power_balance_and_paths_agree():
     m = slider_crank()
     prof = replace_driver(
@@ -204,7 +264,7 @@ def replace_driver(m, profile):
 
 
 def test_a_speed_profile_in_python_is_checked_or_derived():
-    # the file route derives θ̈ = |θ̇| dθ̇/dψ from its table; a profile given in Python is held to
+    # the file route derives θ̈ = θ̇ dθ̇/dθ from its table; a profile given in Python is held to
     # the same law, or derived from the speed alone
     from mechdyn.errors import ModelError
     from mechdyn.mechanism.model import Driver
@@ -222,8 +282,10 @@ def test_a_speed_profile_in_python_is_checked_or_derived():
         Driver("crank", "O", "A", W, lambda psi: (speed(psi), W * -0.6 * np.sin(2 * psi)))
     with pytest.raises(ModelError, match="not periodic"):
         Driver("crank", "O", "A", W, lambda psi: W * (1 + 0.01 * psi))
-    # clockwise: θ̈ = |θ̇| dθ̇/dψ with θ̇ < 0
-    Driver("crank", "O", "A", -W, lambda psi: (-speed(psi), speed(psi) * W * 0.6 * np.sin(2 * psi)))
+    # clockwise: θ̈ = θ̇ dθ̇/dθ with θ̇ < 0, against the crank angle θ (counter-clockwise)
+    Driver("crank", "O", "A", -W, lambda th: (-speed(th), -speed(th) * W * 0.6 * np.sin(2 * th)))
+    with pytest.raises(ModelError, match="does not follow from its speed"):  # |θ̇| for θ̇ is mirrored
+        Driver("crank", "O", "A", -W, lambda th: (-speed(th), speed(th) * W * 0.6 * np.sin(2 * th)))
 
 
 def test_power_balance_of_a_balanced_rotor_reads_as_round_off():

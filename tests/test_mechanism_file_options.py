@@ -141,6 +141,21 @@ def test_model_points_bodies_and_settings_reach_the_model(tmp_path):
     assert d.summary()["bdc_deg"] == pytest.approx(0.0, abs=1e-9)  # the datum took effect
 
 
+@pytest.mark.parametrize(("datum", "drawing"), [('"90 deg"', 270.0), ('"bdc"', 180.0)])
+def test_a_speed_profile_in_a_file_is_read_against_the_crank_angle_it_shows(tmp_path, datum, drawing):
+    # the rows are crank angles from angle_datum, as every table and plot shows them (not the angle
+    # turned from the drawing, 90° or 180° away here): the speed in the results at 0°, 90°, … is the row's
+    rows = [("0 deg", 100.0), ("90 deg", 150.0), ("180 deg", 100.0), ("270 deg", 60.0)]
+    table = ", ".join(f'["{a}", "{w} rad/s"]' for a, w in rows)
+    text = _sub(SLIDER, 'speed = "100 rad/s"', f'speed = "100 rad/s"\nspeed_profile = [{table}]')
+    text = _sub(text, "n_angles = 360", f"n_angles = 360\nangle_datum = {datum}")
+    m = _load(tmp_path, text).model
+    d = inverse_dynamics(m, 360)
+    np.testing.assert_allclose(d.crank_speed[[0, 90, 180, 270]], [w for _, w in rows], rtol=1e-9)
+    # the drawing (crank along +x) is where the profile's clock starts
+    assert d.kinematics.time[round(drawing)] == 0.0
+
+
 def test_joint_driver_and_process_force_fields_reach_the_model(tmp_path):
     text = _sub(SLIDER, 'axis = "0 deg"', 'axis = "0.0 deg"')
     text = _sub(

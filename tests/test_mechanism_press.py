@@ -125,3 +125,16 @@ def test_dead_centres_and_force_extremes_are_located_between_samples(press):
                 assert peaks[0] == pytest.approx(single[key][name], rel=1e-12), (key, name)
         else:
             assert v[0] == pytest.approx(single[key], rel=1e-12, abs=1e-9), key
+
+
+def test_an_extreme_a_round_off_before_the_datum_is_at_0_deg_not_360():
+    # an extreme located a round-off before the datum read 359.99999999999994°, where the same
+    # design in another batch gave 3e-13°: an angle figure is in [0, 360) and that round-off is 0
+    from mechdyn.mechanism.extrema import output_figures
+
+    deg = np.arange(72) * 5.0
+    th = np.radians(deg)
+    f = np.cos(th + 1e-12)  # its maximum 6e-11° before the datum
+    assert output_figures(deg, np.cos(th + 0.3), -f, bdc_datum=False)["inertia_force_min_deg"] == 0.0
+    out = output_figures(deg, -np.cos(th), f, bdc_datum=True)
+    assert out["inertia_force_max_deg"] == 0.0 and out["bdc_deg"] == 0.0

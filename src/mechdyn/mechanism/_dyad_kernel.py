@@ -82,8 +82,8 @@ def variant(v, args):
             if kind == 0:  # crank: turned by step × k from the drawing
                 rot[b] = turn[k]
                 ph[b] = np.angle(turn[k]) if rates else 0.0
-                w[b] = omega[k]
-                al[b] = alpha[k]
+                w[b] = omega[v, k]
+                al[b] = alpha[v, k]
             elif kind == 1:  # rigid body from two known points
                 dn = pos[k2] - pos[k1]
                 dd = dz[v, k2] - dz[v, k1]

@@ -537,7 +537,15 @@ def cycle(
     u_out = complex(math.cos(j.axis), math.sin(j.axis)) if j is not None else 0j
     s_out = np.empty((V, N)) if j is not None else np.empty((0, 0))
     turn = np.exp(1j * step * np.arange(N))  # the crank's rotation from the drawing, the same for all
-    omega_k, alpha_k = m.driver.rates(abs(step) * np.arange(N))
+    # θ̇, θ̈ per variant and step, read at the crank angle from the datum; "bdc" is found from the motion
+    # first (positions do not depend on the speed) when a speed profile needs it
+    profile_after_motion = m.angle_datum == "bdc" and m.driver.profile is not None
+    if m.angle_datum == "bdc":
+        omega_k, alpha_k = np.full((V, N), omega), np.zeros((V, N))
+        read_at = None
+    else:
+        read_at = crank_angles(m, theta_draw, step, None, N)
+        omega_k, alpha_k = m.driver.rates(read_at)
     n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
     dyad_meas = np.empty((V, N, n_dyads))  # every variant's, for the screening below
     kops, kf, gops, gf, jkind = _encode_loads(m, steps, slot)
@@ -546,18 +554,25 @@ def cycle(
     peaks = np.empty((V, len(m.joints)))
 
     def run(loads: np.ndarray, applied: np.ndarray) -> None:
+        w, a = (np.ascontiguousarray(x, dtype=float) for x in (omega_k, alpha_k))
         _kernel(parallel=V > 8)(
-            dz, ops, fdata, grounded, turn, omega_k, alpha_k, mass, inertia, complex(*m.gravity), keep,
+            dz, ops, fdata, grounded, turn, w, a, mass, inertia, complex(*m.gravity), keep,
             out_slot, u_out, pos, vel, acc, rates, force, inertia_force, moment, torque, s_out, dyad_meas,
             loads, kf, gops, gf, jkind, n_lam, applied, lam_out, peaks,
         )  # fmt: skip
 
     no_applied = np.zeros((0, 0, 0, 0))
-    if m.process_forces:  # the motion first, then the loads with the process forces applied
+    if m.process_forces or profile_after_motion:  # the motion first, then the loads
         run(np.zeros((0, 16), dtype=np.int64), no_applied)
-        z0 = {n: pos[..., i] for i, n in enumerate(wanted)}
         angle0 = crank_angles(m, theta_draw, step, s_out if j is not None else None, N)
-        run(kops, _process_loads(m, angle0, s_out if j is not None else None, z0, V, N))
+        if profile_after_motion:
+            read_at = angle0
+            omega_k, alpha_k = m.driver.rates(read_at)
+        applied = no_applied
+        if m.process_forces:
+            z0 = {n: pos[..., i] for i, n in enumerate(wanted)}
+            applied = _process_loads(m, angle0, s_out if j is not None else None, z0, V, N)
+        run(kops, applied)
     else:
         run(kops, no_applied)
     if errors not in ("raise", "nan"):
@@ -567,7 +582,12 @@ def cycle(
     suspect = np.isnan(dyad_meas).any(axis=(1, 2)) | (np.abs(dyad_meas) < SCREEN).any(axis=(1, 2))
     for v in np.flatnonzero(suspect):
         measure = _measure(
-            m, steps, {n: a[v : v + 1] for n, a in draw.items()}, mass[v : v + 1], inertia[v : v + 1]
+            m,
+            steps,
+            {n: a[v : v + 1] for n, a in draw.items()},
+            mass[v : v + 1],
+            inertia[v : v + 1],
+            0.0 if read_at is None else float(read_at[v, 0]),
         )
         finding = screen(measure, dyad_meas[v], abs(step))
         if finding is None:
@@ -627,9 +647,10 @@ _NO_LOADS = (
 )
 
 
-def _measure(m: Mechanism, steps: list[Step], draw, mass: np.ndarray, inertia: np.ndarray):
+def _measure(m: Mechanism, steps: list[Step], draw, mass: np.ndarray, inertia: np.ndarray, start: float):
     """``measure(turned) -> (M, dyads)``: one variant's dyad measures at any crank angles turned
-    from the drawing (rad), by the same compiled kernel."""
+    from the drawing (rad), by the same compiled kernel; ``start`` is the drawing's crank angle from
+    the datum (rad), where a speed profile is read from."""
     _, dz, ops, fdata, grounded = _encode(m, steps, draw)
     n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
     sign = math.copysign(1.0, m.driver.speed)
@@ -638,7 +659,7 @@ def _measure(m: Mechanism, steps: list[Step], draw, mass: np.ndarray, inertia: n
 
     def measure(turned: np.ndarray) -> np.ndarray:
         M = turned.size
-        omega_k, alpha_k = m.driver.rates(np.mod(turned, 2 * math.pi))
+        omega_k, alpha_k = (x[None] for x in m.driver.rates(start + sign * turned))
         out = np.empty((1, M, n_dyads))
         kernel(
             dz,

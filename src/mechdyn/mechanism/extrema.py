@@ -83,9 +83,13 @@ def output_figures(deg: np.ndarray, s: np.ndarray, f: np.ndarray, bdc_datum: boo
     N = deg.shape[-1]
     step = (deg[..., 1] - deg[..., 0] + 180.0) % 360.0 - 180.0  # signed spacing, degrees
 
+    def wrap(a: np.ndarray) -> np.ndarray:  # in [0, 360); a round-off below 360 is 0 (not 359.99999999999994)
+        a = np.asarray(a) % 360.0
+        return np.where(a > 360.0 - 1e-9, 0.0, a)
+
     def angle(pos: np.ndarray) -> np.ndarray:
         k = np.floor(pos).astype(int) % N
-        return (np.take_along_axis(deg, k[..., None], -1)[..., 0] + (pos - np.floor(pos)) * step) % 360.0
+        return wrap(np.take_along_axis(deg, k[..., None], -1)[..., 0] + (pos - np.floor(pos)) * step)
 
     ib, s_min = peak(s, -1.0)
     it, s_max = peak(s, 1.0)
@@ -93,9 +97,9 @@ def output_figures(deg: np.ndarray, s: np.ndarray, f: np.ndarray, bdc_datum: boo
     fb, f_min = peak(f, -1.0)
     bdc, tdc, at_max, at_min = angle(ib), angle(it), angle(fa), angle(fb)
     if bdc_datum:
-        tdc, at_max, at_min = ((a - bdc) % 360.0 for a in (tdc, at_max, at_min))
+        tdc, at_max, at_min = (wrap(a - bdc) for a in (tdc, at_max, at_min))
         bdc = np.zeros_like(bdc)
-    ret = (tdc - bdc) % 360.0
+    ret = wrap(tdc - bdc)
     return {
         "stroke_m": s_max - s_min,
         "bdc_deg": bdc,

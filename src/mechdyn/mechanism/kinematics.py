@@ -271,7 +271,8 @@ def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
     V = np.empty((n_angles, n))
     A = np.empty((n_angles, n))
     turned = np.abs(step) * np.arange(n_angles)
-    wk, ak = mechanism.driver.rates(turned)
+    datum = _datum(mechanism, n_angles)
+    wk, ak = mechanism.driver.rates(thetas - datum)
     for k, th in enumerate(thetas):
         if k:
             # second-order predictor in the crank angle: q′ = q̇/θ̇, q″ = (q̈ − q′ θ̈)/θ̇²
@@ -279,7 +280,7 @@ def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
             ddq = (A[k - 1] - dq * ak[k - 1]) / wk[k - 1] ** 2
             q, it = _newton(cs, Q[k - 1] + dq * step + 0.5 * ddq * step**2, th, scale)
             if it < 0:
-                _raise_lost(cs, mechanism, Q[k - 1], V[k - 1], A[k - 1], thetas[k - 1], th, scale)
+                _raise_lost(cs, mechanism, Q[k - 1], V[k - 1], A[k - 1], thetas[k - 1], th, scale, datum)
         ev = cs.evaluate(q, np.asarray(th))
         Q[k] = q
         rhs_v = np.zeros(cs.m)
@@ -306,7 +307,7 @@ def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
         mechanism,
         thetas[order],
         angle[order],
-        mechanism.driver.time(turned)[order],
+        mechanism.driver.time(turned, theta_draw - datum)[order],
         Q[order],
         V[order],
         A[order],
@@ -314,9 +315,25 @@ def newton_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
     try:
         _check_conditioning(result.evaluation.jacobian, angle[order], closes)
     except SingularPositionError:
-        _raise_singular(cs, mechanism, Q, V, A, thetas, scale)
+        _raise_singular(cs, mechanism, Q, V, A, thetas, scale, datum)
         raise
     return result
+
+
+def _datum(mechanism: Mechanism, n_angles: int) -> float:
+    """The absolute crank angle of the angle datum, rad, where a speed profile is read from.
+
+    A fixed datum is itself; ``"bdc"`` is the lowest sampled output position, found from the motion
+    at constant speed first (positions do not depend on the speed), only when a profile needs it.
+    """
+    if mechanism.angle_datum != "bdc":
+        return float(mechanism.angle_datum)
+    if mechanism.driver.profile is None:
+        return 0.0  # constant speed: read nowhere
+    from dataclasses import replace
+
+    steady = newton_motion(replace(mechanism, driver=replace(mechanism.driver, profile=None)), n_angles)
+    return float(steady.crank_angle[0] - steady.angle[0])
 
 
 def _advance(
@@ -328,11 +345,11 @@ def _advance(
     th0: float,
     th: float,
     scale: float,
+    datum: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """Position, velocity and acceleration at θ from a solution at θ₀ (second-order predictor and
-    Newton); None where the loops do not close."""
-    turned = np.array([abs(th0 - mechanism.drawing_crank_angle), abs(th - mechanism.drawing_crank_angle)])
-    w, a = mechanism.driver.rates(turned)
+    Newton); None where the loops do not close. ``datum``: the absolute angle of the angle datum."""
+    w, a = mechanism.driver.rates(np.array([th0, th]) - datum)
     h = th - th0
     dq = qd / w[0]
     ddq = (qdd - dq * a[0]) / w[0] ** 2
@@ -363,6 +380,7 @@ def _raise_lost(
     lo: float,
     hi: float,
     scale: float,
+    datum: float,
 ) -> NoReturn:
     """The loops stop closing between θ = lo (solved) and hi: bisect to ANGLE_TOL and name the joint."""
     from mechdyn.mechanism.screening import ANGLE_TOL
@@ -370,7 +388,7 @@ def _raise_lost(
     state = (q, qd, qdd)
     while abs(hi - lo) > ANGLE_TOL:
         mid = 0.5 * (lo + hi)
-        nxt = _advance(cs, mechanism, *state, lo, mid, scale)
+        nxt = _advance(cs, mechanism, *state, lo, mid, scale, datum)
         if nxt is None:
             hi = mid
         else:
@@ -393,6 +411,7 @@ def _raise_singular(
     A: np.ndarray,
     thetas: np.ndarray,
     scale: float,
+    datum: float,
 ) -> None:
     """Locate a singular position (det Φ_q changes sign, or the branch is lost) between the samples
     to ANGLE_TOL and raise naming it and the joints whose constraints become dependent there.
@@ -410,9 +429,9 @@ def _raise_singular(
         lo, hi, state, d_lo = thetas[k], thetas[k1], (Q[k], V[k], A[k]), det[k]
         while abs(hi - lo) > ANGLE_TOL:
             mid = 0.5 * (lo + hi)
-            nxt = _advance(cs, mechanism, *state, lo, mid, scale)
+            nxt = _advance(cs, mechanism, *state, lo, mid, scale, datum)
             if nxt is None:  # the loops stop closing inside: a jam, not a toggle
-                _raise_lost(cs, mechanism, *state, lo, mid, scale)
+                _raise_lost(cs, mechanism, *state, lo, mid, scale, datum)
             d_mid = solve_with_det(cs.evaluate(nxt[0], np.asarray(mid)).jacobian[None], np.zeros((1, cs.m)))[
                 1
             ][0]
@@ -443,7 +462,7 @@ def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
     theta = (mechanism.drawing_crank_angle + step * np.arange(n))[order]
     q, qd, qdd = (a[0][order] for a in c.coordinates())
     angle = c.angle[0][order]
-    time = mechanism.driver.time(turned)[order]
+    time = mechanism.driver.time(turned, float(c.angle[0, 0]))[order]  # c.angle: in cycle order
     result = KinematicsResult(mechanism, theta, angle, time, q, qd, qdd, c)
     # (N, dyads) in cycle order: Φ_q is singular exactly where one of these is zero, or changes sign
     # between neighbouring angles (NaN where a loop does not close)

@@ -340,11 +340,13 @@ class Driver:
         counter-clockwise. With a profile, its sign gives
         the direction of rotation.
     profile : callable, optional
-        ``profile(angle)`` for arrays of crank angle ψ turned from the drawing (rad, in the direction
-        of rotation, periodic over 2π): either ``(speed, acceleration)``, θ̇ (rad/s, the sign of
-        ``speed``, never zero) and θ̈ (rad/s²), which must agree with ``θ̈ = |θ̇| dθ̇/dψ``; or the speed
-        alone, and the acceleration is derived from it (a periodic cubic spline through 1024 samples).
-        None means constant speed.
+        ``profile(angle)`` for arrays of crank angle θ from the mechanism's ``angle_datum`` (rad, in
+        [0, 2π), counter-clockwise: the angle that results, tables and plots show, and that process
+        force tables are read against): either ``(speed, acceleration)``, θ̇ (rad/s, the sign of
+        ``speed``, never zero) and θ̈ (rad/s²), which must agree with ``θ̈ = θ̇ dθ̇/dθ`` (chain rule);
+        or the speed alone, and the acceleration is derived from it (a periodic cubic spline through
+        1024 samples). With ``angle_datum = "bdc"`` the angle counts from the located bottom dead
+        centre, which the motion finds first. None means constant speed.
 
     Raises
     ------
@@ -365,47 +367,47 @@ class Driver:
         if self.profile is not None:
             object.__setattr__(self, "profile", _checked_profile(self.profile, v))
 
-    def rates(self, turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """θ̇ (rad/s) and θ̈ (rad/s²) at crank angles turned from the drawing (rad).
+    def rates(self, angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """θ̇ (rad/s) and θ̈ (rad/s²) at crank angles from the angle datum (rad).
 
         Parameters
         ----------
-        turned : ndarray
-            Crank angles turned from the drawing, rad.
+        angle : ndarray
+            Crank angles from the mechanism's angle datum, rad (any shape; read modulo 2π).
         """
-        turned = np.asarray(turned, dtype=float)
+        angle = np.mod(np.asarray(angle, dtype=float), 2 * math.pi)
         if self.profile is None:
-            return np.full(turned.shape, self.speed), np.zeros(turned.shape)
-        w, a = (np.broadcast_to(np.asarray(x, dtype=float), turned.shape) for x in self.profile(turned))
-        _check_profile_speed(w, turned, self.speed)
+            return np.full(angle.shape, self.speed), np.zeros(angle.shape)
+        w, a = (np.broadcast_to(np.asarray(x, dtype=float), angle.shape) for x in self.profile(angle))
+        _check_profile_speed(w, angle, self.speed)
         if not np.isfinite(a).all():
             k = int(np.argmin(np.isfinite(a)))
             raise ModelError(
-                f"θ̈ = {a.flat[k]:g} rad/s² at {math.degrees(turned.flat[k]):.4g}° turned: the speed "
-                "profile's "
-                "acceleration must be finite",
+                f"θ̈ = {a.flat[k]:g} rad/s² at crank angle {math.degrees(angle.flat[k]):.4g}°: the speed "
+                "profile's acceleration must be finite",
                 element="driver",
                 field="profile",
             )
         return w, a
 
-    def time(self, turned: np.ndarray) -> np.ndarray:
-        """Time to turn the crank by each angle from the drawing, s (∫ dθ/θ̇, trapezoidal).
+    def time(self, turned: np.ndarray, start: float = 0.0) -> np.ndarray:
+        """Time to turn the crank by each angle, s (t = ∫ dθ/θ̇ ≥ 0, trapezoidal on 4097 points).
 
         Parameters
         ----------
         turned : ndarray
-            Crank angles turned from the drawing, rad, increasing.
+            Angles turned in the direction of rotation, rad, non-negative.
+        start : float
+            The crank angle from the angle datum where the turning starts, rad (the profile is read
+            at ``start + sign(speed) · turned``; a whole turn takes the same time from any start).
         """
         turned = np.asarray(turned, dtype=float)
         if self.profile is None:
-            return turned / self.speed
-        fine = np.linspace(0.0, float(np.max(np.abs(turned))) if turned.size else 0.0, 4097) * np.sign(
-            self.speed
-        )
-        w, _ = self.rates(np.abs(fine))
-        t = np.concatenate([[0.0], np.cumsum(0.5 * (1 / w[1:] + 1 / w[:-1]) * np.diff(fine))])
-        return np.interp(np.abs(turned), np.abs(fine), t)
+            return turned / abs(self.speed)
+        fine = np.linspace(0.0, float(np.max(np.abs(turned))) if turned.size else 0.0, 4097)
+        w, _ = self.rates(start + np.sign(self.speed) * fine)
+        t = np.concatenate([[0.0], np.cumsum(0.5 * (1 / np.abs(w[1:]) + 1 / np.abs(w[:-1])) * np.diff(fine))])
+        return np.interp(np.abs(turned), fine, t)
 
 
 # samples of a speed profile over one turn for its check, and the mismatch it may show: a profile
@@ -414,7 +416,7 @@ _PROFILE_SAMPLES = 1024
 _PROFILE_RTOL = 1e-4
 
 
-def _check_profile_speed(w: np.ndarray, turned: np.ndarray, speed: float) -> None:
+def _check_profile_speed(w: np.ndarray, angle: np.ndarray, speed: float) -> None:
     """Refuse a profile speed θ̇ that is not finite, beyond any machine, zero or against ``speed``."""
     limit = magnitude_limit("rad/s")
     with np.errstate(invalid="ignore"):
@@ -422,18 +424,18 @@ def _check_profile_speed(w: np.ndarray, turned: np.ndarray, speed: float) -> Non
     if bad.any():
         k = int(np.argmax(bad))
         raise ModelError(
-            f"θ̇ = {w.flat[k]:g} rad/s at {math.degrees(turned.flat[k]):.4g}° turned: the speed profile must "
-            f"stay finite (at most {limit:g} rad/s in magnitude), keep the sign of the speed and never stop "
-            "the crank",
+            f"θ̇ = {w.flat[k]:g} rad/s at crank angle {math.degrees(angle.flat[k]):.4g}°: the speed profile "
+            f"must stay finite (at most {limit:g} rad/s in magnitude), keep the sign of the speed and "
+            "never stop the crank",
             element="driver",
             field="profile",
         )
 
 
 def _checked_profile(profile: Callable[[np.ndarray], Any], speed: float) -> Callable[[np.ndarray], Any]:
-    """The profile as (θ̇, θ̈); θ̈ derived when only θ̇ is given, checked against ``|θ̇| dθ̇/dψ`` when given.
+    """The profile as (θ̇, θ̈); θ̈ derived when only θ̇ is given, checked against ``θ̇ dθ̇/dθ`` when given.
 
-    The derivative dθ̇/dψ is taken from a periodic cubic spline through the samples, whose error on
+    The derivative dθ̇/dθ is taken from a periodic cubic spline through the samples, whose error on
     a smooth profile is O(h⁴) (de Boor, *A Practical Guide to Splines*, ch. V).
     """
     from scipy.interpolate import CubicSpline
@@ -454,30 +456,30 @@ def _checked_profile(profile: Callable[[np.ndarray], Any], speed: float) -> Call
     slope = spline.derivative()
     if not given:
 
-        def derived(turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            t = np.mod(turned, 2 * math.pi)
+        def derived(angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            t = np.mod(angle, 2 * math.pi)
             omega = spline(t)
-            return omega, np.abs(omega) * slope(t)
+            return omega, omega * slope(t)
 
         return derived
     a = np.broadcast_to(np.asarray(out[1], dtype=float), psi.shape)
     if not np.isfinite(a).all():
         k = int(np.argmin(np.isfinite(a)))
         raise ModelError(
-            f"θ̈ = {a[k]:g} rad/s² at {math.degrees(psi[k]):.4g}° turned: the speed profile's acceleration "
-            "must be finite",
+            f"θ̈ = {a[k]:g} rad/s² at crank angle {math.degrees(psi[k]):.4g}°: the speed profile's "
+            "acceleration must be finite",
             element="driver",
             field="profile",
         )
-    expected = np.abs(w) * slope(psi)
+    expected = w * slope(psi)
     scale = max(float(np.abs(expected).max()), float(np.abs(a).max()), 1e-12 * speed**2)
     mismatch = np.abs(a - expected)
     k = int(np.argmax(mismatch))
     if mismatch[k] > _PROFILE_RTOL * scale:
         raise ModelError(
             f"the speed profile's acceleration does not follow from its speed: θ̈ = {a[k]:.6g} rad/s² at "
-            f"{math.degrees(psi[k]):.4g}° where |θ̇| dθ̇/dψ = {expected[k]:.6g} rad/s² (mismatch "
-            f"{mismatch[k] / scale:.3g} of the largest acceleration); return θ̈ = |θ̇| dθ̇/dψ, or the "
+            f"{math.degrees(psi[k]):.4g}° where θ̇ dθ̇/dθ = {expected[k]:.6g} rad/s² (mismatch "
+            f"{mismatch[k] / scale:.3g} of the largest acceleration); return θ̈ = θ̇ dθ̇/dθ, or the "
             "speed alone and let it be derived",
             element="driver",
             field="profile",

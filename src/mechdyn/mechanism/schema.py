@@ -112,8 +112,10 @@ class DriverTable(FileModel):
     speed: AngularSpeed
     """Crank speed (constant unless ``speed_profile`` is given)."""
     speed_profile: list[tuple[str, str]] | None = None
-    """Crank speed against crank angle, rows [angle, speed] from 0° up to below 360°, interpolated; the
-    angular acceleration follows from it."""
+    """Crank speed against crank angle, rows [angle, speed] from 0° up to below 360°, interpolated
+    (periodic cubic spline); the angular acceleration follows from it. The angle is the crank angle
+    that results show: from ``angle_datum`` (``"bdc"``: from the located bottom dead centre),
+    counter-clockwise, whichever way the crank turns; the speeds' sign is that of ``speed``."""
 
 
 class SettingsTable(FileModel):
@@ -204,7 +206,7 @@ def _tabulated(pf: ProcessForceTable, where: str) -> ProcessForce:
 
 
 def _profile(table: list[tuple[str, str]], speed: float):
-    """A periodic cubic spline of crank speed against angle turned from the drawing."""
+    """A periodic cubic spline of crank speed against crank angle from the angle datum."""
     from scipy.interpolate import CubicSpline
 
     from mechdyn.units import to_si
@@ -221,10 +223,10 @@ def _profile(table: list[tuple[str, str]], speed: float):
     spline = CubicSpline(np.append(x, 2 * math.pi), np.append(w, w[0]), bc_type="periodic")
     slope = spline.derivative()
 
-    def rates(turned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        t = np.mod(turned, 2 * math.pi)
+    def rates(angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        t = np.mod(angle, 2 * math.pi)
         omega = spline(t)
-        return omega, omega * slope(t) * math.copysign(1.0, speed)  # θ̈ = θ̇ dθ̇/dθ
+        return omega, omega * slope(t)  # θ̈ = θ̇ dθ̇/dθ
 
     return rates
 
