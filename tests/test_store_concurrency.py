@@ -12,6 +12,7 @@ import json
 import signal
 import subprocess
 import sys
+import time
 
 import optuna
 import pytest
@@ -94,12 +95,51 @@ def test_two_processes_share_one_optimization(store_url, tmp_path):
 
 def test_shared_optimization_with_blocks_slower_than_the_heartbeat_grace(store_url, tmp_path):
     path = _study_file(tmp_path, samples=8, batch=2)
-    # grace 2 s, heartbeat 1 s, every block 3.5 s: alive only through the heartbeat thread
+    # grace 2 s, every block 3.5 s, on one host: a process that still runs is never taken for dead,
+    # however late its heartbeat on a loaded machine (the two once failed each other's trials until
+    # the test's 300 s ran out)
     results = run_together(run_study_file, 2, str(path), store_url, 3.5, 2)
     assert [r[0] for r in results] == ["ok", "ok"], results
     trials = _trials(store_url)
     assert _abandoned(trials) == []
     assert 8 <= len(_evaluated(trials)) <= 8 + 2
+
+
+def test_processes_on_other_hosts_stay_alive_through_their_heartbeats(store_url, tmp_path):
+    # as if on two hosts (no process can look at the other's): grace 6 s, heartbeat 1 s, every block
+    # 8 s: alive only through the heartbeat thread
+    path = _study_file(tmp_path, samples=8, batch=2)
+    results = run_together(run_study_file, 2, str(path), store_url, 8.0, 6, True)
+    assert [r[0] for r in results] == ["ok", "ok"], results
+    trials = _trials(store_url)
+    assert _abandoned(trials) == []
+    assert 8 <= len(_evaluated(trials)) <= 8 + 2
+
+
+def test_a_trial_owner_that_exited_or_whose_pid_was_reused_is_gone():
+    # a zombie (exited, not yet reaped) and a pid now held by another process are not the owner
+    import socket
+    import subprocess
+    import sys
+
+    from mechdyn.studies import kinds
+
+    host = socket.gethostname()
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        start = kinds._started(child.pid)
+        assert kinds._running_here(f"{host}:{child.pid}@{start}") is True
+        assert kinds._running_here(f"{host}:{child.pid}@{int(start) + 1}") is False  # a reused pid
+        assert kinds._running_here(f"elsewhere:{child.pid}@{start}") is None  # another host: unknown
+        assert kinds._running_here(kinds._owner()) is None  # this process
+    finally:
+        child.kill()
+    deadline = time.monotonic() + 60
+    while kinds._started(child.pid) != "gone" and time.monotonic() < deadline:  # killed, not reaped
+        time.sleep(0.01)
+    assert kinds._dead(f"{host}:{child.pid}@{start}")
+    child.wait()
+    assert kinds._dead(f"{host}:{child.pid}@{start}")
 
 
 _KILL = {

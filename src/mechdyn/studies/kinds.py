@@ -376,27 +376,50 @@ def _abandoned(trials: list[Any]) -> set[int]:
 
 
 def _owner() -> str:
+    """This process as a trial's owner: ``host:pid@start`` (the start time tells a reused pid apart)."""
     import socket
 
-    return f"{socket.gethostname()}:{os.getpid()}"
+    start = _started(os.getpid())
+    return f"{socket.gethostname()}:{os.getpid()}" + (f"@{start}" if start else "")
+
+
+def _started(pid: int) -> str | None:
+    """When a process started, in clock ticks since boot (Linux's /proc), or None where unknown;
+    ``"gone"`` for a process that has exited and waits to be reaped (a zombie)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            fields = f.read().rpartition(")")[2].split()
+    except OSError:
+        return None
+    if len(fields) < 20:
+        return None
+    return "gone" if fields[0] in ("Z", "X") else fields[19]
+
+
+def _running_here(owner: str | None) -> bool | None:
+    """Whether the process that asked a trial still runs, when it is another process on this host
+    (True or False); None when it is this process, on another host or not known."""
+    import socket
+
+    who, _, start = (owner or "").partition("@")
+    host, _, pid = who.rpartition(":")
+    if host != socket.gethostname() or not pid.isdigit() or int(pid) == os.getpid():
+        return None
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    now = _started(int(pid))
+    if now == "gone":
+        return False
+    return not start or now in (start, None)  # a reused pid is another process
 
 
 def _dead(owner: str | None) -> bool:
     """Whether the process that asked a trial is known to be gone (on this host)."""
-    import socket
-
-    if not owner:
-        return False
-    host, _, pid = owner.rpartition(":")
-    if host != socket.gethostname() or not pid.isdigit() or int(pid) == os.getpid():
-        return False
-    try:
-        os.kill(int(pid), 0)
-    except ProcessLookupError:
-        return True
-    except PermissionError:
-        return False
-    return False
+    return _running_here(owner) is False
 
 
 def _fail_abandoned(study: Any, storage: Any) -> None:
@@ -406,20 +429,27 @@ def _fail_abandoned(study: Any, storage: Any) -> None:
     import optuna
     from sqlalchemy import text
 
-    optuna.storages.fail_stale_trials(study)
     running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
     if not running:
         return
+    # Optuna's own test of a stale heartbeat (against the database server's clock)
+    stale = set(storage._get_stale_trial_ids(study._study_id))
     with storage.engine.connect() as conn:
         beating = {tid for (tid,) in conn.execute(text("SELECT trial_id FROM trial_heartbeats"))}
     now = datetime.now()
     for t in running:
+        owner = t.system_attrs.get(_OWNER)
+        if _running_here(owner):
+            # another process on this host that still runs: never taken for dead, however late its
+            # heartbeat (a loaded machine delayed one past the grace period, and two processes then
+            # failed each other's trials without end)
+            continue
         silent = (
             t._trial_id not in beating
             and t.datetime_start is not None
             and ((now - t.datetime_start).total_seconds() > HEARTBEAT_GRACE)
         )
-        if silent or _dead(t.system_attrs.get(_OWNER)):
+        if t._trial_id in stale or silent or _dead(owner):
             try:
                 if storage.set_trial_state_values(t._trial_id, state=optuna.trial.TrialState.FAIL):
                     _retry(study, storage.get_trial(t._trial_id))
