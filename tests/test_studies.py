@@ -825,3 +825,28 @@ def test_a_study_shows_a_progress_bar_with_its_eta_on_a_terminal(tmp_path):
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
     assert p.returncode == 0, p.stderr
     assert "press-support-influence" in p.stderr and "━" in p.stderr and "-:--:--" in p.stderr
+
+
+def test_the_curve_plots_label_the_base_design_and_only_it(tmp_path):
+    # the bold "(base)" curve is the model as given: an OAT study's base variant by its id; a sample
+    # without the base design (a Latin hypercube, whose first variant is a random design) has none
+    import matplotlib
+
+    matplotlib.use("Agg")
+    oat = run_study(load_study(STUDIES / "press_support_influence.toml"), str(tmp_path / "r.db"))
+    assert oat.base_id == oat.findings["base_variant"] is not None
+    text = (STUDIES / "press_support_influence.toml").read_text()
+    text = text.replace('kind = "oat"', 'kind = "lhs"\nsamples = 4\nseed = 3').replace(
+        'name = "press-support-influence"', 'name = "press-lhs"'
+    )
+    text = text.replace('levels = ["-10 %", "-20 %", "-30 %"]', 'range = "±30 %"')
+    path = tmp_path / "lhs.toml"
+    path.write_text(text.replace('"../press_on_support.toml"', repr(str(EXAMPLES / "press_on_support.toml"))))
+    sample = run_study(load_study(path), str(tmp_path / "r.db"))
+    assert sample.base_id is None
+    for result, base in ((oat, oat.base_id), (sample, None)):
+        ax = next(f() for k, f in result.plots().items() if k.startswith("curves_"))
+        lines = {line.get_label(): line.get_linewidth() for line in ax.get_lines()}
+        assert len(lines) == len(result.kept)
+        bold = [k for k, w in lines.items() if w == 2.0]
+        assert [k for k in lines if "(base)" in k] == bold == ([f"variant {base} (base)"] if base else [])

@@ -192,8 +192,18 @@ def choose_curves(
     return x, [k for k, d in sorted(spread.items(), key=lambda kv: -kv[1]) if d > 0][:n]
 
 
-def curves(variants: Sequence[StoredVariant], name: str, x: str | None = None, ax: Any = None) -> Any:
-    """One stored curve of several variants, overlaid (against another stored curve, or the sample)."""
+def curves(
+    variants: Sequence[StoredVariant],
+    name: str,
+    x: str | None = None,
+    ax: Any = None,
+    base: int | None = None,
+) -> Any:
+    """One stored curve of several variants, overlaid (against another stored curve, or the sample).
+
+    ``base`` is the id of the study's base design, drawn bold and labelled "(base)" when it is among
+    the variants (a study without a base design, such as a Sobol sample, labels none).
+    """
     from mechdyn.units import key_unit
 
     ax = new_axes(ax)
@@ -202,8 +212,8 @@ def curves(variants: Sequence[StoredVariant], name: str, x: str | None = None, a
             continue
         y = v.curves[name][0]
         xs = v.curves[x][0] if x is not None and x in v.curves else np.arange(y.size)
-        label = f"variant {v.id}" + (" (base)" if v.position == 0 else "")
-        ax.plot(xs, y, label=label, lw=2.0 if v.position == 0 else 1.0)
+        label = f"variant {v.id}" + (" (base)" if v.id == base else "")
+        ax.plot(xs, y, label=label, lw=2.0 if v.id == base else 1.0)
     ax.set_xlabel(x or "sample")
     ax.set_title(f"{name}: {len(variants)} variants overlaid", fontsize=10)
     ax.set_ylabel(f"{name}" + (f" [{key_unit(name)}]" if key_unit(name) else ""))

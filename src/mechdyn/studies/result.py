@@ -237,6 +237,16 @@ class StudyResult(Result):
             rows.append(["improvement of the objective [%]", self.findings["improvement_percent"]])
         return Table(f"{st.name}: {title} (variant {d['variant']})", ["", "value"], rows)
 
+    @property
+    def base_id(self) -> int | None:
+        """The stored id of the study's base design (the model as given), or None when the study has
+        none among its variants (a Sobol or Latin-hypercube sample)."""
+        f = self.findings
+        if f.get("base_variant") is not None:
+            return int(f["base_variant"])
+        base = f.get("base")
+        return int(base["variant"]) if isinstance(base, dict) and base.get("variant") is not None else None
+
     # -- plots --------------------------------------------------------------------------------
     def plots(self, **display_units: str) -> dict[str, Any]:
         """Tornado (oat), Sobol bars, objective history and Pareto front (optimize), parameter
@@ -260,7 +270,9 @@ class StudyResult(Result):
             out["parallel_coordinates.png"] = lambda: sp.parallel(self)
         x, names = sp.curve_choice(self.kept)
         for name in names:
-            out[f"curves_{_safe(name)}.png"] = lambda name=name: sp.curves(self.kept, name, x)
+            out[f"curves_{_safe(name)}.png"] = lambda name=name: sp.curves(
+                self.kept, name, x, base=self.base_id
+            )
         return out
 
 
