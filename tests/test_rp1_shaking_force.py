@@ -8,11 +8,13 @@ period (spectrally; the carrier turns at constant speed).
 | the example's choice | 20 mm | 21.1 N | 22.3 N | engine = −Σ m a_G to 1e-6 |
 | the largest d the published planet inertia allows, √(I_o/m) | 32.0 mm | 33.8 N | 35.6 N | engine |
 | published | — | 68 N | 62 N | — |
-| the planet's rate relative to the arm for its absolute rate | 29.1 / 26.1 mm | 68 N | 62 N | here |
+| the planet's rate relative to the arm for its absolute rate | 29.1 (x) / 26.1 (y) mm | 68 N | 62 N | here |
 
-So no d the published inertia allows reaches the published ranges; they are reproduced, with d of
-29 and 26 mm, when the centripetal acceleration of the planet's centre of mass about its pivot uses
-the planet's rate relative to the carrier instead of its absolute rate. The example keeps d = 20 mm.
+So no d the published inertia allows reaches the published ranges. With the centripetal acceleration
+of the planet's centre of mass about its pivot taken with the planet's rate relative to the carrier
+instead of its absolute rate, each published range is met by some admissible d, but not both by one
+(x/y is 0.983 for every d against the published 1.097: tests/test_rp1_claims.py). The example keeps
+d = 20 mm.
 """
 
 from __future__ import annotations
