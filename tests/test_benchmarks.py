@@ -78,3 +78,21 @@ def test_spine_benchmarks_run_quick_and_print_json(name):
         assert doc["peak_growth_bytes_per_frequency"] < doc["stacked_growth_bytes_per_frequency"] / 4
     else:
         assert doc["disks"] == 2000 and doc["solver"] == "banded"
+
+
+@pytest.mark.slow
+def test_study_optimum_quick_run():
+    # the polished optimum holds the stroke in every box, is a first-order point, and goes farther
+    # than the plain sampler given the same evaluations
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "study_optimum.py"), "--quick", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=1200,
+    )
+    doc = json.loads(out.stdout)
+    assert doc["benchmark"] == "study_optimum" and [b["box"] for b in doc["boxes"]] == ["±10 %", "±30 %"]
+    for b in doc["boxes"]:
+        assert b["constraints_hold"] and b["optimality"] < 1e-6
+        assert b["reduction_percent"] > (b["plain_sampler"]["reduction_percent"] or 0.0)

@@ -28,30 +28,15 @@ def _run(args: argparse.Namespace) -> int:
         return 0
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
-    from mechdyn.studies.run import run_study
+    from mechdyn.studies.run import run_studies
     from mechdyn.studies.study import load_studies
 
     studies = load_studies(args.file)
     if args.samples is not None:  # a quick form of the study, stored under its own name
-        from dataclasses import replace
-
-        studies = [
-            replace(
-                s,
-                name=f"{s.name} [samples {args.samples}]",
-                samples=args.samples,
-                definition={**s.definition, "study": {**s.definition["study"], "samples": args.samples}},
-            )
-            for s in studies
-        ]
-    results: list[Any] = []
+        studies = [s.quick(args.samples) for s in studies]
     with ResultStore(args.db) as store:
-        for study in studies:
-            if results and results[-1].findings.get("best"):  # a wider box starts from the last optimum
-                best = results[-1].findings["best"]["parameters"]
-                study = study.starting_from([[best[p.name] for p in study.parameters]])
-            progress = not args.json and sys.stderr.isatty()
-            results.append(run_study(study, store, dask=args.dask, progress=progress))
+        progress = not args.json and sys.stderr.isatty()
+        results = run_studies(studies, store, dask=args.dask, progress=progress)
         where, label = store.where, store.label
     plot_files = []
     for result in results:

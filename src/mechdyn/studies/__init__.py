@@ -24,6 +24,7 @@ __all__ = attach(
         "load_studies": "study",
         "load_study": "study",
         "recompute": "run",
+        "run_studies": "run",
         "run_study": "run",
     },
 )

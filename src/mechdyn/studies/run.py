@@ -308,6 +308,45 @@ def run_study(study: Study, store: Any = None, *, dask: str | None = None, progr
             rs.close()
 
 
+def run_studies(
+    studies: Sequence[Study], store: Any = None, *, dask: str | None = None, progress: bool = False
+) -> list[Any]:
+    """Run the studies of one study file in order (:func:`mechdyn.studies.load_studies`: one, or one
+    per box of ``[study] boxes``), each box's optimization starting from the optimum of the box before
+    it (a wider box contains it, so a box's optimum is never worse than the smaller box's).
+
+    Parameters
+    ----------
+    studies : sequence of Study
+        In order of increasing box.
+    store : ResultStore or str, optional
+        The results database (default: ``MECHDYN_DB`` or ``mechdyn.db``).
+    dask : str, optional
+        As :func:`run_study`.
+    progress : bool
+        Show a progress bar with ETA.
+
+    Returns
+    -------
+    list of StudyResult
+    """
+    from mechdyn.store.store import ResultStore
+
+    own = not isinstance(store, ResultStore)
+    rs = ResultStore(store) if own else store
+    results: list[Any] = []
+    try:
+        for study in studies:
+            if results and results[-1].findings.get("best"):
+                best = results[-1].findings["best"]["parameters"]
+                study = study.starting_from([[best[p.name] for p in study.parameters]])
+            results.append(run_study(study, rs, dask=dask, progress=progress))
+    finally:
+        if own:
+            rs.close()
+    return results
+
+
 def recompute(store: Any, variant_id: int, *, batch: bool = True, curves: bool = False) -> Evaluation:
     """Evaluate a stored variant again from what is stored: the study's definition, the model files
     as they were, and the variant's parameter values.

@@ -222,6 +222,26 @@ class Study:
 
         return replace(self, start=tuple(tuple(float(x) for x in r) for r in rows))
 
+    def quick(self, samples: int) -> Study:
+        """A quick form of the study with ``samples`` samples, stored under its own name
+        (``NAME [samples N]``) so that it never mixes with the full study's variants.
+
+        Parameters
+        ----------
+        samples : int
+            Samples (optimization trials, Sobol base samples, ...), at least 1.
+        """
+        from dataclasses import replace
+
+        if int(samples) < 1:
+            raise StudyError(f"{self.name}: samples = {samples} must be at least 1")
+        return replace(
+            self,
+            name=f"{self.name} [samples {int(samples)}]",
+            samples=int(samples),
+            definition={**self.definition, "study": {**self.definition["study"], "samples": int(samples)}},
+        )
+
     @property
     def watched(self) -> tuple[Watched, ...]:
         """Every output the study reads: the outputs, then the objectives', constraints' and targets'."""
