@@ -894,3 +894,49 @@ def test_the_curve_plots_label_the_base_design_and_only_it(tmp_path):
         assert len(lines) == len(result.kept)
         bold = [k for k, w in lines.items() if w == 2.0]
         assert [k for k in lines if "(base)" in k] == bold == ([f"variant {base} (base)"] if base else [])
+
+
+def test_an_output_that_names_no_number_is_refused_before_any_work(tmp_path):
+    # a list without its entry, an entry counted from 0, a table without its name, a name it does not
+    # hold: each would be empty for every variant; refused with the reason, nothing stored
+    from mechdyn.store import ResultStore
+
+    for output, why in (
+        (
+            "natural_frequencies_hz",
+            r"'natural_frequencies_hz' is a list of 1: name one entry.*natural_frequencies_hz\.1",
+        ),
+        ("natural_frequencies_hz.0", r"its entries count from 1 \(natural_frequencies_hz\.1\)"),
+        ("mount_force_peak_N", r"is a table: name one of its entries, mount_force_peak_N\.NAME \(support\)"),
+        (
+            "mount_force_peak_N.front",
+            r"'mount_force_peak_N\.front' is not in the result \(mount_force_peak_N holds: support\)",
+        ),
+        ("machine_mass_kg.1", r"machine_mass_kg is a single value, it has no entries"),
+    ):
+        path = write_study(
+            tmp_path,
+            f"""
+            [study]
+            name = "empty-output"
+            kind = "lhs"
+            model = "press_on_support.toml"
+            analysis = "support"
+            samples = 2
+
+            [[parameters]]
+            path = "support.stiffness"
+            range = "±10 %"
+
+            [[outputs]]
+            output = "{output}"
+            """,
+        )
+        with pytest.raises(StudyError, match=why):
+            run_study(load_study(path), str(tmp_path / "r.db"))
+    with ResultStore(str(tmp_path / "r.db")) as store:
+        assert StudyStore(store).studies() == []
+    # the entry itself is read, variant by variant
+    path.write_text(path.read_text().replace('"machine_mass_kg.1"', '"natural_frequencies_hz.1"'))
+    result = run_study(load_study(path), str(tmp_path / "r.db"))
+    assert all(v.outputs["natural_frequencies_hz.1"] > 4.0 for v in result.variants)

@@ -143,17 +143,31 @@ class Evaluator:
                 for p, x in zip(self.parameters, row, strict=True):
                     if p.apply is not None:
                         loaded = replace(loaded, model=p.apply(loaded.model, float(x)))
-                analysis = self._analysis()
-                options = dict(self.options)
-                if analysis.uses_store:
-                    options.setdefault("store", None)
-                result = analysis.run(loaded, **options)
+                result = self._run(loaded)
                 summary = result.summary()
             except (MechdynError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
                 return Evaluation("failed", f"{type(exc).__name__}: {exc}", dict.fromkeys(self.outputs))
         outputs = {k: output_value(summary, k) for k in self.outputs}
         kept = result.arrays() if curves else {}
         return Evaluation("ok", None, outputs, tuple(str(w.message) for w in caught), kept)
+
+    def _run(self, loaded: Any) -> Any:
+        """The analysis on one loaded model, with the study's options."""
+        analysis = self._analysis()
+        options = dict(self.options)
+        if analysis.uses_store:
+            options.setdefault("store", None)
+        return analysis.run(loaded, **options)
+
+    def base_summary(self) -> dict[str, Any] | None:
+        """The base model's whole summary by the single-design path, to check what the outputs name
+        (None when the base model cannot be evaluated: its variants then say why)."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                return self._run(load_source(self.source)).summary()
+            except (MechdynError, ValueError, ArithmeticError, np.linalg.LinAlgError):
+                return None
 
     def _batch(self, X: np.ndarray) -> list[Evaluation]:
         analysis = self._analysis()

@@ -69,6 +69,7 @@ class Runner:
         self.evaluator = Evaluator(
             study.source, study.analysis, study.parameters, [w.key for w in study.watched], study.options
         )
+        self._check_outputs()
         tree = study.tree
         self.stored, _ = store.open(
             study.name,
@@ -91,6 +92,22 @@ class Runner:
         self._client: Any = None
         self.progress = progress
         self._bar: Any = None
+
+    def _check_outputs(self) -> None:
+        """Refuse, before any work, an output that names no number in the base design's result
+        (a list without its entry, ``natural_frequencies_hz.0``, a table's name it does not hold):
+        every variant would store nothing for it."""
+        from mechdyn.studies.spec import StudyError, output_problem
+
+        summary = self.evaluator.base_summary()
+        if summary is None:
+            return
+        problems = [p for w in self.study.watched if (p := output_problem(summary, w.key)) is not None]
+        if problems:
+            raise StudyError(
+                f"{self.study.path or self.study.name}: [[outputs]] (or an objective, constraint or target) "
+                + "; ".join(problems)
+            )
 
     # -- evaluation ---------------------------------------------------------------------------
     def evaluate(

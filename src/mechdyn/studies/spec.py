@@ -456,6 +456,41 @@ class Constraint:
         return f"{o.key} " + " and ".join(bits)
 
 
+def output_problem(summary: Mapping[str, Any], key: str) -> str | None:
+    """Why a dotted key names no number in a summary (None when it names one): a list or table that
+    needs an entry, an entry that is not there (list entries count from 1), or a value that is not a
+    number."""
+    node: Any = summary
+    path = ""
+    for part in key.split("."):
+        here = f"{path}.{part}" if path else part
+        if isinstance(node, Mapping):
+            if part not in node:
+                names = ", ".join(map(str, list(node)[:8])) + (", …" if len(node) > 8 else "")
+                return f"{here!r} is not in the result ({path or 'it'} holds: {names})"
+            node = node[part]
+        elif isinstance(node, list):
+            if not (part.isdigit() and 1 <= int(part) <= len(node)):
+                return (
+                    f"{here!r}: {path} is a list of {len(node)}, its entries count from 1 "
+                    f"({path}.1" + (f" … {path}.{len(node)}" if len(node) > 1 else "") + ")"
+                )
+            node = node[int(part) - 1]
+        else:
+            return f"{here!r}: {path} is a single value, it has no entries; use {path!r}"
+        path = here
+    if isinstance(node, Mapping):
+        names = ", ".join(map(str, list(node)[:8])) + (", …" if len(node) > 8 else "")
+        return f"{key!r} is a table: name one of its entries, {key}.NAME ({names})"
+    if isinstance(node, list):
+        if not node:
+            return f"{key!r} is an empty list for the base design: nothing to read"
+        return f"{key!r} is a list of {len(node)}: name one entry, counting from 1 ({key}.1)"
+    if output_value(summary, key) is None and node is not None:
+        return f"{key!r} is {node!r}, not a number"
+    return None
+
+
 def output_value(summary: Mapping[str, Any], key: str) -> float | None:
     """The scalar at a dotted key of a summary (None when absent or not a number)."""
     node: Any = summary
