@@ -940,3 +940,45 @@ def test_an_output_that_names_no_number_is_refused_before_any_work(tmp_path):
     path.write_text(path.read_text().replace('"machine_mass_kg.1"', '"natural_frequencies_hz.1"'))
     result = run_study(load_study(path), str(tmp_path / "r.db"))
     assert all(v.outputs["natural_frequencies_hz.1"] > 4.0 for v in result.variants)
+
+
+def test_only_a_bad_design_fails_a_variant_a_bug_stops_the_study(tmp_path):
+    # a ModelError (the analysis refusing a design) is a failed variant with its message; any other
+    # exception is a programming error: it stops the study instead of passing for a failed variant
+    from dataclasses import replace
+
+    from mechdyn.errors import ModelError
+
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "errors"
+        kind = "lhs"
+        model = "press_on_support.toml"
+        analysis = "support"
+        samples = 2
+
+        [[parameters]]
+        path = "support.stiffness"
+        range = "±10 %"
+
+        [[outputs]]
+        output = "machine_mass_kg"
+        """,
+    )
+    study = load_study(path)
+
+    def refuse(model, x):
+        raise ModelError("this design cannot be built", element="machine", field="mass")
+
+    def bug(model, x):  # a shape mismatch: a ValueError from NumPy, not a bad design
+        return np.zeros(2) + np.zeros(3)
+
+    refused = replace(study, parameters=(Parameter.function("p", refuse, 1.0, low=0.5, high=1.5),))
+    result = run_study(refused, str(tmp_path / "r.db"))
+    assert result.failed == len(result.variants) == 3  # the base and two samples
+    assert all("this design cannot be built" in v.error for v in result.variants)
+    buggy = replace(study, name="bug", parameters=(Parameter.function("p", bug, 1.0, low=0.5, high=1.5),))
+    with pytest.raises(ValueError, match="could not be broadcast"):
+        run_study(buggy, str(tmp_path / "r.db"))
