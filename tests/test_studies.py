@@ -64,6 +64,22 @@ def test_paths_follow_the_file_and_its_references():
     assert disk.keys == ("disks", 2, "inertia")
 
 
+@pytest.mark.parametrize("name", ["press_on_mounts.toml", "press_on_pads.toml", "press_on_support.toml"])
+def test_every_listed_path_resolves_and_table_rows_are_listed_with_their_star_form(name):
+    # `mechdyn study --paths` lists the `*` form (every row at once) before the rows, as the docs
+    # recommend it for mounts; each listed path names at least one value, the star form one per row
+    tree = ModelTree(read(EXAMPLES / name))
+    paths = tree.paths()
+    assert len(paths) == len(set(paths))
+    for path in paths:
+        assert tree.resolve(path), path
+    if name == "press_on_mounts.toml":
+        assert paths.index("mounts.*.stiffness") < paths.index("mounts.front left.stiffness")
+        assert len(tree.resolve("mounts.*.stiffness.z")) == 4
+    if name == "press_on_pads.toml":
+        assert "mounts.*.mount.pad.thickness" in paths
+
+
 def test_an_unknown_path_lists_the_valid_paths_nearby():
     tree = ModelTree(read(EXAMPLES / "press_on_support.toml"))
     with pytest.raises(PathError, match=r"no value at 'support.stifness'.*support.stiffness"):

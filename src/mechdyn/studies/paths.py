@@ -72,6 +72,10 @@ def _vector(value: Any) -> bool:
     return isinstance(value, list) and 1 <= len(value) <= 3 and all(_quantity(v) for v in value)
 
 
+class _Row(str):
+    """A path word that names a row of a table array (``front left`` of ``mounts``)."""
+
+
 def _label(row: Any, index: int) -> str:
     return str(row["name"]) if isinstance(row, Mapping) and "name" in row else str(index + 1)
 
@@ -141,7 +145,7 @@ class ModelTree:
                 yield from self._walk(v, files, (*keys, k), (*words, k))
         elif isinstance(node, list) and node and all(isinstance(r, Mapping) for r in node):
             for i, row in enumerate(node):
-                yield from self._walk(row, files, (*keys, i), (*words, _label(row, i)))
+                yield from self._walk(row, files, (*keys, i), (*words, _Row(_label(row, i))))
         elif isinstance(node, str) and words and words[-1] != "name":
             inner = self._enter(self.file(files), node)
             if inner is not None and inner.path not in files:
@@ -150,13 +154,23 @@ class ModelTree:
             yield words, files, keys, node
 
     def paths(self) -> list[str]:
-        """Every path of a value a study can vary (vectors also by component)."""
+        """Every path of a value a study can vary (vectors also by component); a value in the rows of
+        a table array also by its ``*`` form (every row at once, e.g. ``mounts.*.stiffness``), listed
+        before the rows."""
         out: list[str] = []
+        every: set[str] = set()
         for words, _files, _keys, value in self._walk(self.source.data, (), (), ()):
-            path = ".".join(f'"{w}"' if "." in w else w for w in words)
-            if _vector(value):
-                out.extend(f"{path}.{c}" for c in _COMPONENTS[: len(value)])
-            out.append(path)
+            forms = [words]
+            if any(isinstance(w, _Row) for w in words):
+                star = tuple("*" if isinstance(w, _Row) else w for w in words)
+                if star not in every:
+                    every.add(star)
+                    forms.insert(0, star)
+            for form in forms:
+                path = ".".join(f'"{w}"' if "." in w else w for w in form)
+                if _vector(value):
+                    out.extend(f"{path}.{c}" for c in _COMPONENTS[: len(value)])
+                out.append(path)
         return out
 
     def resolve(self, path: str) -> list[Location]:
