@@ -158,7 +158,7 @@ class ModelTree:
         a table array also by its ``*`` form (every row at once, e.g. ``mounts.*.stiffness``), listed
         before the rows."""
         out: list[str] = []
-        every: set[str] = set()
+        every: set[tuple[str, ...]] = set()
         for words, _files, _keys, value in self._walk(self.source.data, (), (), ()):
             forms = [words]
             if any(isinstance(w, _Row) for w in words):
