@@ -51,6 +51,7 @@ import pytest
 from mechdyn.errors import ModelWarning
 from mechdyn.mechanism import GearJoint, inverse_dynamics
 from mechdyn.mechanism.planter import PlanterDesign, planter
+from test_rp1_shaking_force import _shaking_force
 
 # ``mechdyn.mechanism.planter`` as an attribute is the function; the module holds the sun's rule
 _planter_module = importlib.import_module("mechdyn.mechanism.planter")
@@ -63,45 +64,12 @@ PUBLISHED_X, PUBLISHED_Y = 68.0, 62.0
 # -- 1. the shaking force under the planet's rate relative to the carrier ---------------------------
 
 
-def _second_derivative(x: np.ndarray, period: float) -> np.ndarray:
-    n = x.size
-    w = np.fft.fftfreq(n, d=period / n) * 2 * math.pi
-    return np.real(np.fft.ifft(-(w**2) * np.fft.fft(x)))
-
-
-def _relative_rate_force(result, speed: float) -> np.ndarray:
-    """−Σ m a_G with each planet's centre of mass accelerated as a_pivot + θ̈ k×r − ω_rel² r, ω_rel the
-    planet's rate relative to the arm (as ``tests/test_rp1_shaking_force.py``, for any speed)."""
-    k, m = result.kinematics, result.mechanism
-    order = np.argsort(k.time)
-    q, qd, qdd = k.q[order], k.qd[order], k.qdd[order]
-    period = 2 * math.pi / abs(speed)
-    arm = m.body_index["arm"]
-    force = np.zeros((q.shape[0], 2))
-    for i, b in enumerate(m.bodies):
-        g = q[:, 3 * i : 3 * i + 2]
-        if b.name.startswith("planet"):
-            pivot = k.point(b.name, "P" + b.name[-1])[0][order]
-            r = g - pivot
-            a_pivot = np.column_stack([_second_derivative(pivot[:, j], period) for j in range(2)])
-            rate = qd[:, 3 * i + 2] - qd[:, 3 * arm + 2]
-            a = (
-                a_pivot
-                + qdd[:, 3 * i + 2, None] * np.column_stack([-r[:, 1], r[:, 0]])
-                - rate[:, None] ** 2 * r
-            )
-        else:
-            a = qdd[:, 3 * i : 3 * i + 2]
-        force -= b.mass * a
-    return force
-
-
 @cache
 def _ranges(d: float, rpm: float) -> dict[str, tuple[float, float]]:
     """x and y ranges of the shaking force (N): the engine's (absolute rate) and the relative reading."""
     speed = rpm * RPM
     result = inverse_dynamics(planter(dataclasses.replace(PlanterDesign(), speed=speed, com_offset=d)), 180)
-    rel = _relative_rate_force(result, speed)
+    rel = _shaking_force(result, relative_rate=True)
     eng = result.shaking_force
     return {
         "absolute": (float(np.ptp(eng[:, 0])), float(np.ptp(eng[:, 1]))),
