@@ -998,3 +998,69 @@ def test_only_a_bad_design_fails_a_variant_a_bug_stops_the_study(tmp_path):
     buggy = replace(study, name="bug", parameters=(Parameter.function("p", bug, 1.0, low=0.5, high=1.5),))
     with pytest.raises(ValueError, match="could not be broadcast"):
         run_study(buggy, str(tmp_path / "r.db"))
+
+
+def test_a_factorial_study_states_main_effects_interactions_and_its_extremes(tmp_path):
+    # 2 × 2 levels of mass and stiffness (±20 %): the machine's mass is additive in the mass alone
+    # (effects ±0.2 m0, no stiffness effect, no interaction); the static deflection d = m g / k is a
+    # product, so its cells are d0 (m/m0)(k0/k) and its interaction is d0 |Δm/m0| |Δ(k0/k)| / 4
+    # (Montgomery, Design and Analysis of Experiments, ch. 5)
+    from mechdyn.studies.run import stored_result
+
+    path = write_study(
+        tmp_path,
+        """
+        [study]
+        name = "pad-grid"
+        kind = "factorial"
+        model = "press_on_support.toml"
+        analysis = "support"
+
+        [[parameters]]
+        path = "machine.mass"
+        levels = ["-20 %", "+20 %"]
+
+        [[parameters]]
+        path = "support.stiffness"
+        levels = ["-20 %", "+20 %"]
+
+        [[outputs]]
+        output = "machine_mass_kg"
+        unit = "t"
+
+        [[outputs]]
+        output = "static_deflection_m.support"
+        unit = "mm"
+        """,
+    )
+    db = str(tmp_path / "r.db")
+    result = run_study(load_study(path), db)
+    base = next(v for v in result.variants if v.position == 0)  # the model as given, evaluated first
+    m0, d0 = 600e3, base.outputs["static_deflection_m.support"]
+    mass = result.findings["factorial"]["machine_mass_kg"]
+    assert mass["mean"] == pytest.approx(m0)
+    np.testing.assert_allclose(mass["main"]["machine.mass"]["effects"], [-0.2 * m0, 0.2 * m0])
+    assert mass["main"]["support.stiffness"]["spread"] == pytest.approx(0.0, abs=1e-6)
+    assert mass["interactions"][0]["largest"] == pytest.approx(0.0, abs=1e-6)
+    defl = result.findings["factorial"]["static_deflection_m.support"]
+    m, r = np.array([0.8, 1.2]), 1 / np.array([0.8, 1.2])  # m / m0 and k0 / k at the two levels
+    assert defl["mean"] == pytest.approx(d0 * m.mean() * r.mean())
+    np.testing.assert_allclose(defl["main"]["machine.mass"]["means"], d0 * m * r.mean())
+    np.testing.assert_allclose(defl["main"]["support.stiffness"]["means"], d0 * m.mean() * r)
+    assert defl["interactions"][0]["largest"] == pytest.approx(d0 * 0.4 * abs(r[0] - r[1]) / 4)
+    by_id = {v.id: v for v in result.variants}
+    low, high = by_id[defl["lowest"]], by_id[defl["highest"]]
+    assert low.parameters["machine.mass"] == pytest.approx(0.8 * m0)  # light on a stiff support
+    assert high.parameters["machine.mass"] == pytest.approx(1.2 * m0)
+    assert high.parameters["support.stiffness"] < low.parameters["support.stiffness"]
+    # the tables say it in the study's units, and a stored study gives the same findings
+    text = "\n".join(str(t) for t in result.tables())
+    assert "main effects on static_deflection_m.support" in text and "[mm]" in text and "[t]" in text
+    assert "two-way interactions" in text and "lowest and highest" in text
+    assert stored_result(db, "pad-grid").findings["factorial"] == result.findings["factorial"]
+    import matplotlib
+
+    matplotlib.use("Agg")
+    ax = result.plots()["main_effects_static_deflection_m_support.png"]()
+    lines = {line.get_label(): line.get_ydata() for line in ax.get_lines()}
+    np.testing.assert_allclose(lines["machine.mass"], 1e3 * d0 * m * r.mean())  # in mm, as asked

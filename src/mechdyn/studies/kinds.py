@@ -83,7 +83,72 @@ def factorial(runner: Any) -> Findings:
     st = runner.study
     levels = [p.levels or (p.low, p.high) for p in st.parameters]
     variants = runner.evaluate(np.vstack([runner.base_row(), grid(levels)]))
-    return _sweep(st, variants)
+    findings, variants, best = _sweep(st, variants)
+    findings["factorial"] = factorial_effects(st, variants[1:], levels)
+    return findings, variants, best
+
+
+def factorial_effects(st: Any, variants: list[StoredVariant], levels: list[Any]) -> dict[str, Any]:
+    """Main effects, two-way interactions and the best and worst design of each output over a full
+    factorial (Montgomery, *Design and Analysis of Experiments*, ch. 5 and 6).
+
+    The main effect of level ℓ of parameter A is ȳ(A = ℓ) − ȳ; the interaction of levels ℓ, m of A
+    and B is ȳ(A = ℓ, B = m) − ȳ(A = ℓ) − ȳ(B = m) + ȳ, over the variants of the grid (the base design,
+    when it is not a point of the grid, is left out). Each output gets, per parameter, its level means
+    and the spread of its main effects (largest minus smallest), per pair of parameters the largest
+    interaction in magnitude, and the ids of the variants where it is lowest and highest. An output
+    missing from any variant of the grid gets ``{"error": ...}``.
+    """
+    P = len(st.parameters)
+    idx = np.array(
+        [
+            [
+                int(np.argmin(np.abs(np.asarray(lv, dtype=float) - v.parameters[p.name])))
+                for p, lv in zip(st.parameters, levels, strict=True)
+            ]
+            for v in variants
+        ],
+        dtype=int,
+    ).reshape(len(variants), P)
+    out: dict[str, Any] = {}
+    for w in st.watched:
+        y = np.array([_value(v, w.key) for v in variants])
+        if not len(y) or not np.isfinite(y).all():
+            out[w.key] = {"error": f"{int((~np.isfinite(y)).sum())} of {len(y)} variants have no value"}
+            continue
+        mean = float(y.mean())
+        main: dict[str, Any] = {}
+        for j, p in enumerate(st.parameters):
+            means = [float(y[idx[:, j] == k].mean()) for k in range(len(levels[j]))]
+            main[p.name] = {
+                "levels": [float(x) for x in levels[j]],
+                "means": means,
+                "effects": [m - mean for m in means],
+                "spread": max(means) - min(means),
+            }
+        pairs = []
+        for a in range(P):
+            for b in range(a + 1, P):
+                biggest = 0.0
+                for ka in range(len(levels[a])):
+                    for kb in range(len(levels[b])):
+                        cell = (idx[:, a] == ka) & (idx[:, b] == kb)
+                        inter = (
+                            y[cell].mean() - main[st.parameters[a].name]["means"][ka]
+                            - main[st.parameters[b].name]["means"][kb] + mean
+                        )  # fmt: skip
+                        biggest = max(biggest, abs(float(inter)))
+                pairs.append(
+                    {"parameters": [st.parameters[a].name, st.parameters[b].name], "largest": biggest}
+                )
+        out[w.key] = {
+            "mean": mean,
+            "main": main,
+            "interactions": sorted(pairs, key=lambda d: -d["largest"]),
+            "lowest": variants[int(np.argmin(y))].id,
+            "highest": variants[int(np.argmax(y))].id,
+        }
+    return out
 
 
 def lhs(runner: Any) -> Findings:

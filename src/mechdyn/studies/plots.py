@@ -1,5 +1,5 @@
-"""Plots of a study: tornado, Sobol bars, optimization history, Pareto front, parallel coordinates,
-and the overlaid curves of stored variants."""
+"""Plots of a study: tornado, main effects, Sobol bars, optimization history, Pareto front, parallel
+coordinates, and the overlaid curves of stored variants."""
 
 from __future__ import annotations
 
@@ -20,6 +20,7 @@ __all__ = [
     "curve_choice",
     "curves",
     "history",
+    "main_effects",
     "parallel",
     "pareto",
     "sobol_bars",
@@ -44,6 +45,29 @@ def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     ax.axvline(0.0, color="k", lw=0.8)
     ax.set_xlabel(f"change of {w.key} from the base [%]")
     ax.set_title(f"{result.study.name}: one at a time", fontsize=10)
+    return ax
+
+
+def main_effects(result: StudyResult, w: Watched, ax: Any = None) -> Any:
+    """A factorial study's main effects on one output: the mean over the grid at each level of each
+    parameter, the parameters side by side on one axis (their levels as written), the grid mean dashed."""
+    e = result.findings["factorial"][w.key]
+    params = {p.name: p for p in result.study.parameters}
+    names = sorted(e["main"], key=lambda n: -e["main"][n]["spread"])
+    ax = new_axes(ax, figsize=(7.0, 4.0))
+    ticks, labels, x0 = [], [], 0
+    for n in names:
+        m = e["main"][n]
+        x = x0 + np.arange(len(m["means"]))
+        ax.plot(x, [w.show(v) for v in m["means"]], "o-", label=n)
+        ticks += list(x)
+        labels += [params[n].shown(v) for v in m["levels"]]
+        x0 += len(m["means"]) + 1
+    ax.axhline(w.show(e["mean"]), color="k", lw=0.8, ls="--", label="grid mean")
+    ax.set_xticks(ticks, labels, rotation=30, ha="right", fontsize=8)
+    ax.set_ylabel(w.label)
+    ax.set_title(f"{result.study.name}: main effects on {w.key}", fontsize=10)
+    ax.legend(fontsize=8)
     return ax
 
 

@@ -122,6 +122,8 @@ class StudyResult(Result):
                         [[n, d["S1"], d["S1_conf"], d["ST"], d["ST_conf"]] for n, d in ranked],
                     )
                 )
+        if kind == "factorial" and "factorial" in f:
+            out += self._factorial_tables()
         if kind == "optimize" and "best" in f and f["best"] is None:
             out.append(Table(f"{st.name}: optimum", ["note"], [["no variant keeps every constraint"]]))
         for key in ("best", "base"):
@@ -228,6 +230,64 @@ class StudyResult(Result):
             )
         return Table(f"{self.study.name}: how good the optimum is", ["", "value"], rows)
 
+    def _factorial_tables(self) -> list[Table]:
+        """Per output of a factorial study: main effects by level (parameters by the spread of their
+        effects), the two-way interactions, and the designs where it is lowest and highest."""
+        st = self.study
+        by_id = {v.id: v for v in self.variants}
+        params = {p.name: p for p in st.parameters}
+        out: list[Table] = []
+        for key, e in self.findings["factorial"].items():
+            w = next(w for w in st.watched if w.key == key)
+            if "error" in e:
+                out.append(Table(f"{st.name}: effects on {w.key}", ["note"], [[e["error"]]]))
+                continue
+            unit = w.label.partition(" [")[2].rstrip("]")
+            rows = []
+            for name, m in sorted(e["main"].items(), key=lambda kv: -kv[1]["spread"]):
+                for level, mean, effect in zip(m["levels"], m["means"], m["effects"], strict=True):
+                    rows.append([name, params[name].shown(level), w.show(mean), _shown_difference(w, effect)])
+            out.append(
+                Table(
+                    f"{st.name}: main effects on {w.key} (grid mean {w.show(e['mean']):.4g}"
+                    + (f" {unit}" if unit else "")
+                    + "), largest first",
+                    ["parameter", "level", w.label, "effect" + (f" [{unit}]" if unit else "")],
+                    rows,
+                )
+            )
+            if e["interactions"]:
+                out.append(
+                    Table(
+                        f"{st.name}: two-way interactions on {w.key}, largest first",
+                        ["parameters", "largest interaction" + (f" [{unit}]" if unit else "")],
+                        [
+                            [" × ".join(d["parameters"]), _shown_difference(w, d["largest"])]
+                            for d in e["interactions"]
+                        ],
+                    )
+                )
+            rows = []
+            for what in ("lowest", "highest"):
+                v = by_id.get(e[what])
+                if v is not None:
+                    rows.append(
+                        [
+                            what,
+                            v.id,
+                            *(p.shown(v.parameters[p.name]) for p in st.parameters),
+                            w.show(v.outputs.get(key)),
+                        ]
+                    )
+            out.append(
+                Table(
+                    f"{st.name}: where {w.key} is lowest and highest",
+                    ["", "variant", *(p.name for p in st.parameters), w.label],
+                    rows,
+                )
+            )
+        return out
+
     def _variant_table(self, d: dict[str, Any], title: str) -> Table:
         st = self.study
         rows: list[list[Any]] = [[p.name, d["given"].get(p.name)] for p in st.parameters]
@@ -258,6 +318,10 @@ class StudyResult(Result):
         if kind == "oat":
             for w in self.study.watched:
                 out[f"tornado_{_safe(w.key)}.png"] = lambda w=w: sp.tornado(self, w)
+        if kind == "factorial" and "factorial" in self.findings:
+            for w in self.study.watched:
+                if "error" not in self.findings["factorial"].get(w.key, {"error": 1}):
+                    out[f"main_effects_{_safe(w.key)}.png"] = lambda w=w: sp.main_effects(self, w)
         if kind == "sobol":
             for w in self.study.watched:
                 if "error" not in self.findings["indices"].get(w.key, {"error": 1}):
@@ -298,3 +362,12 @@ def _column(name: str, suffix: str) -> str:
 
 def _safe(key: str) -> str:
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in key)
+
+
+def _shown_difference(w: Any, value: float | None) -> float | None:
+    """A difference of an output (an effect) in its display unit (a scale: the units are ratios)."""
+    if value is None:
+        return None
+    unit_one = w.show(1.0)
+    zero = w.show(0.0)
+    return None if unit_one is None or zero is None else value * (unit_one - zero)
