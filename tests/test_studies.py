@@ -232,6 +232,21 @@ def test_the_support_influence_study_against_the_closed_form_response(tmp_path):
         abs(e["outputs"]["transmitted_force_range_N"]["change_percent"]) for e in result.findings["effects"]
     ]
     assert max(changes) < 2.0
+    # a change is relative to the base value itself: the smallest floor force (negative) that grows
+    # in size on a softer support reads as growing
+    base_min = result.findings["base"]["transmitted_force_min_N"]
+    softest = next(e for e in result.findings["effects"] if e["level_percent"] == pytest.approx(-30))
+    o = softest["outputs"]["transmitted_force_min_N"]
+    assert base_min < 0 and o["value"] < base_min and o["change_percent"] > 0
+    assert o["change_percent"] == pytest.approx(100 * (o["value"] / base_min - 1))
+    # the tornado: one bar per parameter between its two ends, each end labelled with its level
+    import matplotlib
+
+    matplotlib.use("Agg")
+    ax = result.plots()["tornado_transmitted_force_min_N.png"]()
+    assert [t.get_text() for t in ax.get_yticklabels()] == ["support.damping_ratio", "support.stiffness"]
+    notes = [t.get_text().strip() for t in ax.texts]
+    assert len(notes) == 4 and any(n.startswith("-30 % (+") for n in notes)
 
 
 def test_sobol_indices_of_an_output_that_one_parameter_sets(tmp_path):

@@ -59,7 +59,9 @@ def oat(runner: Any) -> Findings:
             y0, y = _value(b, w.key), _value(v, w.key)
             effects[w.key] = {
                 "value": None if math.isnan(y) else y,
-                "change_percent": None if math.isnan(y) or not y0 else 100.0 * (y - y0) / abs(y0),
+                # relative to the base value itself: a negative output that grows in size (−294 kN
+                # to −320 kN) reads as growing (+8.8 %), as a positive one does
+                "change_percent": None if math.isnan(y) or not y0 else 100.0 * (y - y0) / y0,
             }
         table.append(
             {

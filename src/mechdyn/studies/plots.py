@@ -29,20 +29,40 @@ __all__ = [
 
 
 def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
-    """Each parameter level's change of one output, in % of the base, largest first."""
-    effects = [e for e in result.findings["effects"] if e["outputs"][w.key]["change_percent"] is not None]
-    effects.sort(key=lambda e: abs(e["outputs"][w.key]["change_percent"]))
-    ax = new_axes(ax, figsize=(7.0, 0.9 + 0.32 * max(len(effects), 1)))
-    y = np.arange(len(effects))
-    v = [e["outputs"][w.key]["change_percent"] for e in effects]
-    ax.barh(y, v, color=["tab:red" if x > 0 else "tab:blue" for x in v])
+    """One bar per parameter from its lowest to its highest level's change of one output (in % of the
+    base value; a negative output growing in size reads as growing), each end labelled with its level,
+    the parameter with the larger effect on top."""
+    by_param: dict[str, list[dict]] = {}
+    for e in result.findings["effects"]:
+        if e["outputs"][w.key]["change_percent"] is not None:
+            by_param.setdefault(e["parameter"], []).append(e)
 
-    def label(e: dict) -> str:
+    def level(e: dict) -> str:
         pct = e["level_percent"]
-        return f"{e['parameter']} {pct:+.0f} %" if pct is not None else f"{e['parameter']} {e['level']}"
+        return f"{pct:+.0f} %" if pct is not None else str(e["level"])
 
-    ax.set_yticks(y, [label(e) for e in effects], fontsize=8)
+    def change(e: dict) -> float:
+        return float(e["outputs"][w.key]["change_percent"])
+
+    names = sorted(by_param, key=lambda n: max(abs(change(e)) for e in by_param[n]))
+    ax = new_axes(ax, figsize=(7.0, 0.9 + 0.42 * max(len(names), 1)))
+    for y, n in enumerate(names):
+        lo, hi = min(by_param[n], key=change), max(by_param[n], key=change)
+        a, b = change(lo), change(hi)
+        if lo is hi:  # one level: a bar from the base
+            a, b = min(a, 0.0), max(b, 0.0)
+        # the bar spans the parameter's levels; red where the output grows, blue where it shrinks
+        if b > 0:
+            ax.barh(y, b - max(a, 0.0), left=max(a, 0.0), color="tab:red", height=0.6)
+        if a < 0:
+            ax.barh(y, min(b, 0.0) - a, left=a, color="tab:blue", height=0.6)
+        ax.annotate(f"{level(lo)} ({change(lo):+.2g} %) ", (a, y), ha="right", va="center", fontsize=7)
+        if hi is not lo:
+            ax.annotate(f" {level(hi)} ({change(hi):+.2g} %)", (b, y), ha="left", va="center", fontsize=7)
+    ax.set_yticks(np.arange(len(names)), names, fontsize=8)
     ax.axvline(0.0, color="k", lw=0.8)
+    span = max((abs(change(e)) for es in by_param.values() for e in es), default=1.0) or 1.0
+    ax.set_xlim(-1.8 * span, 1.8 * span)
     ax.set_xlabel(f"change of {w.key} from the base [%]")
     ax.set_title(f"{result.study.name}: one at a time", fontsize=10)
     return ax
