@@ -1079,3 +1079,9 @@ def test_a_factorial_study_states_main_effects_interactions_and_its_extremes(tmp
     ax = result.plots()["main_effects_static_deflection_m_support.png"]()
     lines = {line.get_label(): line.get_ydata() for line in ax.get_lines()}
     np.testing.assert_allclose(lines["machine.mass"], 1e3 * d0 * m * r.mean())  # in mm, as asked
+    # parallel coordinates: real values at each axis' ends, in the study's units, and a colour bar
+    ax = result.plots()["parallel_coordinates.png"]()
+    ends = [t.get_text() for t in ax.texts]
+    assert "480 t" in ends and "720 t" in ends and any(t.endswith(" mm") for t in ends)
+    (bar,) = [a for a in ax.figure.axes if a is not ax]
+    assert bar.get_ylabel() == "static_deflection_m.support [mm]"

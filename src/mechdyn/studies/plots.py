@@ -185,24 +185,68 @@ def pareto(result: StudyResult, ax: Any = None) -> Any:
 
 
 def parallel(result: StudyResult, ax: Any = None) -> Any:
-    """Parallel coordinates: each variant a line through its parameters and outputs, scaled 0–1."""
+    """Parallel coordinates: each variant a line through its parameters and outputs, each axis from
+    the variants' smallest to their largest value, written at its ends in the study's units; the lines
+    coloured by the objective (else the last output), with its colour bar."""
+    import matplotlib.pyplot as plt
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
     st = result.study
     ok = [v for v in result.variants if v.status == "ok"][:2000]
-    cols = [(p.name, lambda v, p=p: v.parameters.get(p.name)) for p in st.parameters]
-    cols += [(w.key, lambda v, w=w: v.outputs.get(w.key)) for w in st.watched]
-    M = np.array([[f(v) if f(v) is not None else np.nan for _, f in cols] for v in ok], dtype=float)
-    lo, hi = np.nanmin(M, axis=0), np.nanmax(M, axis=0)
+    shown: list[tuple[str, Any, Any]] = [
+        (p.name, lambda v, p=p: v.parameters.get(p.name), lambda x, p=p: p.shown(x)) for p in st.parameters
+    ]
+    watched = list(st.watched)
+    by = next((o.output for o in st.objectives), watched[-1] if watched else None)
+    if by is not None:  # the colouring output last, beside its colour bar
+        watched = [w for w in watched if w.key != by.key] + [by]
+    for w in watched:
+        unit = w.label.partition(" [")[2].rstrip("]")
+        shown.append(
+            (
+                w.key,
+                lambda v, w=w: v.outputs.get(w.key),
+                lambda x, w=w, u=unit: f"{w.show(x):.4g} {u}".strip(),
+            )
+        )
+    M = np.array([[f(v) if f(v) is not None else np.nan for _, f, _ in shown] for v in ok], dtype=float)
+    M = M.reshape(len(ok), len(shown))
+    with np.errstate(all="ignore"):
+        lo, hi = np.nanmin(M, axis=0, initial=np.inf), np.nanmax(M, axis=0, initial=-np.inf)
     S = (M - lo) / np.where(hi > lo, hi - lo, 1.0)
-    ax = new_axes(ax, figsize=(max(7.0, 1.1 * len(cols)), 4.5))
-    color = S[:, -1] if S.size else None
-    import matplotlib.pyplot as plt
-
+    ax = new_axes(ax, figsize=(max(7.5, 1.2 * len(shown)), 4.8))
     cmap = plt.get_cmap("viridis")
-    for row, c in zip(S, color if color is not None else [], strict=False):
-        ax.plot(np.arange(len(cols)), row, color=cmap(c if np.isfinite(c) else 0.0), alpha=0.25, lw=0.7)
-    ax.set_xticks(np.arange(len(cols)), [n for n, _ in cols], rotation=30, ha="right", fontsize=8)
-    ax.set_ylabel("scaled to the range of the variants")
-    ax.set_title(f"{st.name}: {len(ok)} variants, coloured by {cols[-1][0]}", fontsize=10)
+    colour = S[:, -1] if S.size else np.zeros(0)
+    x = np.arange(len(shown))
+    for row, c in zip(S, colour, strict=True):
+        ax.plot(x, row, color=cmap(c if np.isfinite(c) else 0.0), alpha=0.8 if len(ok) <= 50 else 0.3, lw=0.9)
+    for k, (_, _, text) in enumerate(shown):  # each axis' real range at its ends
+        ax.axvline(k, color="0.6", lw=0.6)
+        if np.isfinite(lo[k]):
+            ax.annotate(
+                text(lo[k]), (k, 0.0), (0, -4), textcoords="offset points", ha="center", va="top", fontsize=7
+            )
+            ax.annotate(
+                text(hi[k]),
+                (k, 1.0),
+                (0, 4),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize=7,
+            )
+    ax.set_xticks(x, [n for n, _, _ in shown], rotation=30, ha="right", fontsize=8)
+    ax.set_yticks([])
+    ax.set_ylim(-0.12, 1.12)
+    if by is not None and len(ok):
+        k = len(shown) - 1
+        norm = Normalize(
+            by.show(lo[k]) if np.isfinite(lo[k]) else 0.0, by.show(hi[k]) if np.isfinite(hi[k]) else 1.0
+        )
+        bar = ax.figure.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, pad=0.02)
+        bar.set_label(by.label, fontsize=8)
+    ax.set_title(f"{st.name}: {len(ok)} variants, coloured by {by.key if by else '—'}", fontsize=10)
     return ax
 
 
