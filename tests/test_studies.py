@@ -919,6 +919,12 @@ def test_the_curve_plots_label_the_base_design_and_only_it(tmp_path):
     path.write_text(text.replace('"../press_on_support.toml"', repr(str(EXAMPLES / "press_on_support.toml"))))
     sample = run_study(load_study(path), str(tmp_path / "r.db"))
     assert sample.base_id is None
+    # a sample states its answer: each output's range and the parameters ranked by |ρ| (Spearman)
+    (ranking,) = [t for t in sample.tables() if "rank correlation" in t.title]
+    assert [row[0] for row in ranking.rows] == [w.label for w in sample.study.watched]
+    rho = sample.findings["rank_correlation"]["transmitted_force_range_N"]
+    first = max(rho, key=lambda n: abs(rho[n]))
+    assert ranking.rows[0][3].startswith(f"{first} {rho[first]:+.2f}")
     for result, base in ((oat, oat.base_id), (sample, None)):
         ax = next(f() for k, f in result.plots().items() if k.startswith("curves_"))
         lines = {line.get_label(): line.get_linewidth() for line in ax.get_lines()}

@@ -122,6 +122,8 @@ class StudyResult(Result):
                         [[n, d["S1"], d["S1_conf"], d["ST"], d["ST_conf"]] for n, d in ranked],
                     )
                 )
+        if kind in ("lhs", "factorial") and "rank_correlation" in f:
+            out.append(self._ranking_table())
         if kind == "factorial" and "factorial" in f:
             out += self._factorial_tables()
         if kind == "optimize" and "best" in f and f["best"] is None:
@@ -229,6 +231,24 @@ class StudyResult(Result):
                 ]
             )
         return Table(f"{self.study.name}: how good the optimum is", ["", "value"], rows)
+
+    def _ranking_table(self) -> Table:
+        """Each output's range over the variants and the parameters ranked by their Spearman rank
+        correlation with it (ρ from −1 to 1; the sign says whether the output grows with the
+        parameter), the strongest first."""
+        st, f = self.study, self.findings
+        rows = []
+        for w in st.watched:
+            r = f["output_ranges"].get(w.key, {})
+            corr = f["rank_correlation"].get(w.key, {})
+            ranked = sorted(((n, c) for n, c in corr.items() if c is not None), key=lambda nc: -abs(nc[1]))
+            text = ", ".join(f"{n} {c:+.2f}" for n, c in ranked) or "—"
+            rows.append([w.label, w.show(r.get("min")), w.show(r.get("max")), text])
+        return Table(
+            f"{st.name}: outputs over the variants, parameters ranked by rank correlation ρ",
+            ["output", "lowest", "highest", "parameters by |ρ|"],
+            rows,
+        )
 
     def _factorial_tables(self) -> list[Table]:
         """Per output of a factorial study: main effects by level (parameters by the spread of their
