@@ -436,6 +436,22 @@ def test_a_pareto_front_is_not_dominated(tmp_path):
     ok = np.array([[v.outputs[k] for k in keys] for v in result.variants if v.status == "ok"])
     for p in pts:
         assert not np.any(np.all(ok <= p, axis=1) & np.any(ok < p, axis=1))
+    # its ends are the front's best in each objective; its knee is the design nearest the ideal point
+    # with each objective scaled to its range on the front (computed here from the front itself)
+    ids = [d["variant"] for d in front]
+    for j, k in enumerate(keys):
+        assert result.findings["ends"][k] == ids[int(np.argmin(pts[:, j]))]
+    scaled = (pts - pts.min(axis=0)) / np.where(np.ptp(pts, axis=0) > 0, np.ptp(pts, axis=0), 1.0)
+    assert result.findings["knee"] == ids[int(np.argmin(np.hypot(*scaled.T)))]
+    (table,) = [t for t in result.tables() if "Pareto front" in t.title]
+    roles = {row[1]: row[0] for row in table.rows}
+    assert "knee" in roles[result.findings["knee"]]
+    assert f"best {keys[0]}" in roles[result.findings["ends"][keys[0]]]
+    import matplotlib
+
+    matplotlib.use("Agg")
+    ax = result.plots()["pareto.png"]()
+    assert any(line.get_label().startswith("knee (variant") for line in ax.get_lines())
 
 
 # -- the results database: resume, kill -9, two processes ---------------------------------------

@@ -315,10 +315,10 @@ def optimize(runner: Any) -> Findings:
     findings: dict[str, Any] = {"trials": len(ids), "best": None, "improvement_percent": None}
     if multi:
         variants = [base, *variants]
-        front = _pareto(st, variants)
-        findings["pareto_front"] = [_describe(st, v) for v in front]
+        front_findings, front_ids = _front_findings(st, variants)
+        findings.update(front_findings)
         findings["base"] = _describe(st, base)
-        return findings, variants, {v.id for v in front}
+        return findings, variants, front_ids
     # the local stage: SLSQP from the best designs the sampler found (and the given starts)
     findings["polish"] = polish(runner, _starts(runner, [base, *variants]), objective=_objective(st))
     variants = [base, *(v for v in runner.all_variants() if v.id != base.id)]
@@ -616,6 +616,22 @@ def _objective(st: Any) -> Callable[[dict[str, Any]], float] | None:
     return f
 
 
+def _front_findings(st: Any, variants: list[StoredVariant]) -> tuple[dict[str, Any], set[int]]:
+    """The Pareto front, its knee and its ends: ``pareto_front`` (the designs), ``knee`` (the id of the
+    design nearest the ideal point once each objective is scaled to its range on the front: the
+    compromise solution, Zeleny 1973) and ``ends`` (per objective, the id of the front's best design
+    in it)."""
+    front = _pareto(st, variants)
+    out: dict[str, Any] = {"pareto_front": [_describe(st, v) for v in front]}
+    if front:
+        F = np.array([[o.sign * _value(v, o.output.key) for o in st.objectives] for v in front])
+        lo, hi = F.min(axis=0), F.max(axis=0)
+        scaled = (F - lo) / np.where(hi > lo, hi - lo, 1.0)
+        out["knee"] = front[int(np.argmin(np.linalg.norm(scaled, axis=1)))].id
+        out["ends"] = {o.output.key: front[int(np.argmin(F[:, j]))].id for j, o in enumerate(st.objectives)}
+    return out, {v.id for v in front}
+
+
 def _pareto(st: Any, variants: list[StoredVariant]) -> list[StoredVariant]:
     """The feasible variants no other feasible variant dominates."""
     feas = [v for v in variants[1:] if _feasible(st, v)]
@@ -791,9 +807,11 @@ def from_stored(study: Any, variants: list[StoredVariant]) -> Findings:
     base = next((v for v in variants if v.position == 0), variants[0] if variants else None)
     findings: dict[str, Any] = {"base": _describe(study, base) if base is not None else None}
     if study.kind == "optimize" and len(study.objectives) > 1:
-        front = _pareto(study, [base, *variants] if base is not None else variants)
-        findings["pareto_front"] = [_describe(study, v) for v in front]
-        return findings, variants, {v.id for v in front}
+        front_findings, front_ids = _front_findings(
+            study, [base, *variants] if base is not None else variants
+        )
+        findings.update(front_findings)
+        return findings, variants, front_ids
     if study.kind == "optimize":
         found = _optimum_findings(study, base, variants)
         best = found.pop("_best")

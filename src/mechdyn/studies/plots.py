@@ -178,6 +178,17 @@ def pareto(result: StudyResult, ax: Any = None) -> Any:
     )
     order = np.argsort(front[:, 0])
     ax.plot(front[order, 0], front[order, 1], "o-", color="tab:red", label="Pareto front")
+    ids = [d["variant"] for d in result.findings["pareto_front"]]
+    knee = result.findings.get("knee")
+    if knee in ids:
+        k = ids.index(knee)
+        ax.plot(
+            front[k, 0], front[k, 1], "*", ms=16, color="tab:orange", mec="k", label=f"knee (variant {knee})"
+        )
+    for key, v in (result.findings.get("ends") or {}).items():
+        if v in ids:
+            k = ids.index(v)
+            ax.annotate(f" best {key}", (front[k, 0], front[k, 1]), fontsize=7)
     ax.set_xlabel(a.label)
     ax.set_ylabel(b.label)
     ax.legend(fontsize=8)

@@ -137,15 +137,17 @@ class StudyResult(Result):
             ws = [o.output for o in st.objectives]
             out.append(
                 Table(
-                    f"{st.name}: Pareto front ({len(f['pareto_front'])} designs)",
-                    ["variant", *(p.name for p in st.parameters), *(w.label for w in ws)],
+                    f"{st.name}: Pareto front ({len(f['pareto_front'])} designs; the knee is nearest the "
+                    "ideal point, each objective scaled to its range on the front)",
+                    ["", "variant", *(p.name for p in st.parameters), *(w.label for w in ws)],
                     [
                         [
+                            _front_role(f, d["variant"]),
                             d["variant"],
                             *(d["given"].get(p.name) for p in st.parameters),
                             *(w.show(d["outputs"].get(w.key)) for w in ws),
                         ]
-                        for d in f["pareto_front"]
+                        for d in sorted(f["pareto_front"], key=lambda d: d["outputs"].get(ws[0].key) or 0.0)
                     ],
                 )
             )
@@ -391,3 +393,10 @@ def _shown_difference(w: Any, value: float | None) -> float | None:
     unit_one = w.show(1.0)
     zero = w.show(0.0)
     return None if unit_one is None or zero is None else value * (unit_one - zero)
+
+
+def _front_role(findings: dict[str, Any], variant: int) -> str:
+    """ "knee" and "best OUTPUT" for the designs of a Pareto front that are so."""
+    roles = ["knee"] if findings.get("knee") == variant else []
+    roles += [f"best {key}" for key, v in (findings.get("ends") or {}).items() if v == variant]
+    return ", ".join(roles)
