@@ -627,6 +627,16 @@ def test_the_study_command_prints_json_and_lists_exports_and_compares(tmp_path, 
     out = capsys.readouterr().out
     assert "variants side by side" in out and "transmitted_force_range_N" in out
     assert list((tmp_path / "c").glob("compare_*.png"))
+    # after the run, the tables show the outputs in the units the study file asked for (JSON stays SI)
+    from mechdyn.units import convert
+
+    force = convert(listed[0]["outputs"]["transmitted_force_range_N"], "N", "tonf")
+    row = re.compile(r"transmitted_force_range_N\s+tonf\s+" + f"{force:.3f}")
+    assert row.search(out), out
+    assert main(["results", "list", "--study", "press-support-influence", "--db", db]) == 0
+    out = capsys.readouterr().out
+    assert "outputs in the study's units" in out and "transmitted_force_range_N [tonf]" in out
+    assert f"{force:.2f}" in out and "displacement_max_m [mm]" in out
     pq = tmp_path / "v.parquet"
     assert (
         main(["results", "export", "--study", "press-support-influence", "--db", db, "--parquet", str(pq)])

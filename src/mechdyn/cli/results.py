@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import Any
 
 from mechdyn.cli.common import Table, print_table, write_csv
 
@@ -105,24 +106,33 @@ def _list_study(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
     from mechdyn.store.studies import StudyStore
+    from mechdyn.studies.run import display_units
 
     with ResultStore(args.db, read_only=True) as store:
         studies = StudyStore(store)
         st = studies.study(args.study)
         variants = studies.variants(args.study, limit=args.limit)
-    if args.json:
+        shown = display_units(store, args.study)
+    if args.json:  # machine-readable: SI, as stored
         print(json.dumps([jsonable(v.describe()) for v in variants], indent=2))
         return 0
     names = list(variants[0].parameters) if variants else []
     outs = list(variants[0].outputs) if variants else []
     rows = [
-        [v.id, v.status, *(v.given.get(n) for n in names), *(v.outputs.get(o) for o in outs), v.error or ""]
+        [
+            v.id,
+            v.status,
+            *(v.given.get(n) for n in names),
+            *(shown[o].show(v.outputs.get(o)) if o in shown else v.outputs.get(o) for o in outs),
+            v.error or "",
+        ]
         for v in variants
     ]
+    where = "outputs in the study's units" if shown else "outputs in SI"
     print_table(
         Table(
-            f"study {st.name!r} ({st.kind} of {st.analysis}, {len(variants)} variants; outputs in SI)",
-            ["id", "status", *names, *outs, "error"],
+            f"study {st.name!r} ({st.kind} of {st.analysis}, {len(variants)} variants; {where})",
+            ["id", "status", *names, *(shown[o].label if o in shown else o for o in outs), "error"],
             rows,
         )
     )
@@ -149,14 +159,24 @@ def _compare(args: argparse.Namespace) -> int:
                     if ev.curves:
                         studies.add_curves(v.id, ev.curves)
             variants = [studies.variant(i) for i in args.ids]
+        from mechdyn.studies.run import display_units
+
+        shown: dict[str, Any] = {}
+        for name in dict.fromkeys(v.study for v in variants):
+            shown.update(display_units(store, name))
     keys = list(dict.fromkeys(k for v in variants for k in (*v.parameters, *v.outputs)))
-    if args.json:
+    if args.json:  # machine-readable: SI, as stored
         print(json.dumps([jsonable(v.describe()) for v in variants], indent=2))
         return 0
     rows = []
     for k in keys:
-        unit = key_unit(k.split(".")[-1]) or ""
-        vals = [v.given.get(k) if k in v.given else v.outputs.get(k) for v in variants]
+        if k in shown:  # an output, in the unit its study shows it
+            w = shown[k]
+            unit = w.label.partition(" [")[2].rstrip("]")
+            vals = [w.show(v.outputs.get(k)) if k in v.outputs else None for v in variants]
+        else:
+            unit = key_unit(k.split(".")[-1]) or ""
+            vals = [v.given.get(k) if k in v.given else v.outputs.get(k) for v in variants]
         rows.append([k, unit if k not in variants[0].given else "", *vals])
     print_table(Table("variants side by side", ["", "unit", *(f"variant {v.id}" for v in variants)], rows))
     curves = sorted(set.intersection(*(set(v.curves) for v in variants))) if variants else []

@@ -395,6 +395,22 @@ def recompute(store: Any, variant_id: int, *, batch: bool = True, curves: bool =
     return ev([[v.parameters[p.name] for p in study.parameters]], curves=curves)[0]
 
 
+def display_units(store: Any, name: str) -> dict[str, Any]:
+    """The outputs of a stored study as its file asked to show them: ``{key: Watched}`` (with the
+    display unit); empty for a study built in Python, whose values are then shown in SI.
+
+    Parameters
+    ----------
+    store : ResultStore or str
+    name : str
+        The study's name.
+    """
+    try:
+        return {w.key: w for w in stored_study(store, name).watched}
+    except StudyError:
+        return {}
+
+
 def stored_study(store: Any, name: str) -> Study:
     """A stored study as it ran: its stored definition on the model files as they were stored (the
     files on disk may have changed since).
