@@ -172,7 +172,7 @@ def _compare(args: argparse.Namespace) -> int:
     for k in keys:
         if k in shown:  # an output, in the unit its study shows it
             w = shown[k]
-            unit = w.label.partition(" [")[2].rstrip("]")
+            unit = w.shown_unit
             vals = [w.show(v.outputs.get(k)) if k in v.outputs else None for v in variants]
         else:
             unit = key_unit(k.split(".")[-1]) or ""

@@ -213,7 +213,7 @@ def parallel(result: StudyResult, ax: Any = None) -> Any:
     if by is not None:  # the colouring output last, beside its colour bar
         watched = [w for w in watched if w.key != by.key] + [by]
     for w in watched:
-        unit = w.label.partition(" [")[2].rstrip("]")
+        unit = w.shown_unit
         shown.append(
             (
                 w.key,

@@ -264,7 +264,7 @@ class StudyResult(Result):
             if "error" in e:
                 out.append(Table(f"{st.name}: effects on {w.key}", ["note"], [[e["error"]]]))
                 continue
-            unit = w.label.partition(" [")[2].rstrip("]")
+            unit = w.shown_unit
             rows = []
             for name, m in sorted(e["main"].items(), key=lambda kv: -kv[1]["spread"]):
                 for level, mean, effect in zip(m["levels"], m["means"], m["effects"], strict=True):

@@ -368,12 +368,14 @@ class Watched:
         return float(convert(value, self.unit, self.display)) if self.display else value
 
     @property
+    def shown_unit(self) -> str:
+        """The unit the output is shown in (its display unit, else SI; ``""`` for a pure number)."""
+        unit = self.display or self.unit
+        return "" if unit in ("", "1") else unit
+
+    @property
     def label(self) -> str:
-        return (
-            f"{self.key} [{self.display or self.unit}]"
-            if (self.display or self.unit) not in ("", "1")
-            else self.key
-        )
+        return f"{self.key} [{self.shown_unit}]" if self.shown_unit else self.key
 
 
 @dataclass(frozen=True)
