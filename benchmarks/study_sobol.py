@@ -30,10 +30,10 @@ import numpy as np
 
 from mechdyn.io.modelfile import load_source
 from mechdyn.registry import get
-from mechdyn.store.studies import StudyStore
 from mechdyn.studies import load_study, run_study
 from mechdyn.studies.paths import ModelTree
 from mechdyn.studies.spec import Parameter
+from mechdyn.studies.storage import StudyStore
 from mechdyn.studies.study import Study
 
 ROOT = Path(__file__).resolve().parents[1]

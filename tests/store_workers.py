@@ -36,7 +36,7 @@ def _worker(target: Callable[..., Any], queue: Any, barrier: Any, *args: Any) ->
 def open_record_and_open_study(barrier: Any, url: str) -> Any:
     """Open a (new) database and store a run, all at once; then open a (new) study, all at once."""
     from mechdyn.store import ResultStore
-    from mechdyn.store.studies import StudyStore
+    from mechdyn.studies.storage import StudyStore
 
     barrier.wait()
     with ResultStore(url) as store:

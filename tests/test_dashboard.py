@@ -257,7 +257,10 @@ def test_a_designer_goes_from_the_list_to_a_comparison_in_a_real_browser(server)
         expect(page.locator("h1")).to_contain_text("press-support-influence")
         expect(page.locator("#variants tbody tr")).to_have_count(7)
         page.select_option("#xaxis", index=0)
-        page.select_option("#yaxis", label="displacement_max_m [m]")
+        # parameters and outputs in the study file's units (tonf, mm), the unit in each title
+        page.select_option("#yaxis", label="displacement_max_m [mm]")
+        expect(page.locator("#variants thead")).to_contain_text("transmitted_force_range_N [tonf]")
+        expect(page.locator("#variants thead")).to_contain_text("support.stiffness [N/m]")
         expect(page.locator("table.findings").first).to_contain_text("support.stiffness")  # the OAT table
         page.locator("#scatter").scroll_into_view_if_needed()
         x, y = page.evaluate(
@@ -297,7 +300,7 @@ def test_a_study_page_reloads_while_the_study_adds_variants(server, database):
     from playwright.sync_api import expect, sync_playwright
 
     from mechdyn.store.store import ResultStore
-    from mechdyn.store.studies import StudyStore, variant_key
+    from mechdyn.studies.storage import StudyStore, variant_key
 
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=_chromium(), args=["--no-sandbox"])

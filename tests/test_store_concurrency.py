@@ -20,7 +20,7 @@ import pytest
 from conftest import EXAMPLES
 from mechdyn.cli.main import main
 from mechdyn.store import ResultStore, resolve_url
-from mechdyn.store.studies import StudyStore, optuna_name
+from mechdyn.studies.storage import StudyStore, optuna_name
 from store_workers import open_record_and_open_study, run_study_file, run_together
 
 OPTIMIZATION = """
@@ -122,24 +122,24 @@ def test_a_trial_owner_that_exited_or_whose_pid_was_reused_is_gone():
     import subprocess
     import sys
 
-    from mechdyn.studies import kinds
+    from mechdyn.studies.kinds import liveness
 
     host = socket.gethostname()
     child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
     try:
-        start = kinds._started(child.pid)
-        assert kinds._running_here(f"{host}:{child.pid}@{start}") is True
-        assert kinds._running_here(f"{host}:{child.pid}@{int(start) + 1}") is False  # a reused pid
-        assert kinds._running_here(f"elsewhere:{child.pid}@{start}") is None  # another host: unknown
-        assert kinds._running_here(kinds._owner()) is None  # this process
+        start = liveness.started(child.pid)
+        assert liveness.running_here(f"{host}:{child.pid}@{start}") is True
+        assert liveness.running_here(f"{host}:{child.pid}@{int(start) + 1}") is False  # a reused pid
+        assert liveness.running_here(f"elsewhere:{child.pid}@{start}") is None  # another host: unknown
+        assert liveness.running_here(liveness.owner()) is None  # this process
     finally:
         child.kill()
     deadline = time.monotonic() + 60
-    while kinds._started(child.pid) != "gone" and time.monotonic() < deadline:  # killed, not reaped
+    while liveness.started(child.pid) != "gone" and time.monotonic() < deadline:  # killed, not reaped
         time.sleep(0.01)
-    assert kinds._dead(f"{host}:{child.pid}@{start}")
+    assert liveness.dead(f"{host}:{child.pid}@{start}")
     child.wait()
-    assert kinds._dead(f"{host}:{child.pid}@{start}")
+    assert liveness.dead(f"{host}:{child.pid}@{start}")
 
 
 _KILL = {
@@ -152,23 +152,23 @@ _KILL = {
     "    return t\n"
     "optuna.study.Study.ask = ask_and_die\n",
     # killed between ask and the first heartbeat (the owner is known to be gone: failed at once)
-    "before the heartbeat": "from mechdyn.studies import kinds\n"
+    "before the heartbeat": "from mechdyn.studies.kinds import liveness\n"
     "calls = []\n"
     "def die(self):\n"
     "    calls.append(1)\n"
     "    if len(calls) > {blocks}: os.kill(os.getpid(), signal.SIGKILL)\n"
     "    return enter(self)\n"
-    "enter = kinds._Heartbeat.__enter__\n"
-    "kinds._Heartbeat.__enter__ = die\n",
+    "enter = liveness.Heartbeat.__enter__\n"
+    "liveness.Heartbeat.__enter__ = die\n",
     # killed after evaluating and storing a block, before telling Optuna
-    "before tell": "from mechdyn.studies import kinds\n"
+    "before tell": "from mechdyn.studies.kinds import liveness\n"
     "calls = []\n"
     "def die(self, *exc):\n"
     "    leave(self, *exc)\n"
     "    calls.append(1)\n"
     "    if len(calls) > {blocks}: os.kill(os.getpid(), signal.SIGKILL)\n"
-    "leave = kinds._Heartbeat.__exit__\n"
-    "kinds._Heartbeat.__exit__ = die\n",
+    "leave = liveness.Heartbeat.__exit__\n"
+    "liveness.Heartbeat.__exit__ = die\n",
 }
 
 
@@ -195,8 +195,9 @@ def test_an_optimization_killed_at_any_moment_resumes_and_counts_only_its_evalua
     # resumed in a fresh process, with a short grace for the trial that never got a heartbeat;
     # a hang fails the test through the timeout
     resumed = _run(
-        "from mechdyn.studies import kinds, load_study, run_study\n"
-        "kinds.HEARTBEAT, kinds.HEARTBEAT_GRACE = 1, 2\n"
+        "from mechdyn.studies import load_study, run_study\n"
+        "from mechdyn.studies.kinds import liveness\n"
+        "liveness.HEARTBEAT, liveness.HEARTBEAT_GRACE = 1, 2\n"
         f"r = run_study(load_study({str(path)!r}), {store_url!r})\n"
         "print(r.evaluated, r.reused, r.findings['trials'])\n",
         tmp_path,

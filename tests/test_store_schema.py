@@ -18,7 +18,7 @@ from conftest import EXAMPLES
 from mechdyn.cli.main import main
 from mechdyn.store import SCHEMA_VERSION, ResultStore, StoreError
 from mechdyn.store.schema import NAME_LENGTH, VERSION_TABLE
-from mechdyn.store.studies import StudyStore
+from mechdyn.studies.storage import StudyStore
 
 TURRET = str(EXAMPLES / "turret_milling.toml")
 

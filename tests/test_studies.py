@@ -3,6 +3,7 @@ results database (resume, kill -9, two processes on PostgreSQL), Dask, and the c
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -21,7 +22,6 @@ import mechdyn
 from conftest import EXAMPLES
 from mechdyn.io.modelfile import read
 from mechdyn.store import ResultStore
-from mechdyn.store.studies import StudyStore
 from mechdyn.studies import (
     Evaluator,
     ModelTree,
@@ -33,6 +33,7 @@ from mechdyn.studies import (
     run_study,
 )
 from mechdyn.studies.paths import PathError
+from mechdyn.studies.storage import StudyStore
 from mechdyn.support.model import MountedMachine
 from mechdyn.support.response import periodic_response
 
@@ -322,9 +323,10 @@ def test_sobol_findings_of_the_ishigami_function_are_its_closed_form_indices():
         parameters=[SimpleNamespace(name=n, low=-pi, high=pi) for n in ("x1", "x2", "x3")],
         watched=[SimpleNamespace(key="y")],
     )
-    findings, variants, _ = kinds.sobol(SimpleNamespace(study=study, evaluate=evaluate))
-    assert len(variants) == 4096 * 5
-    got = findings["indices"]["y"]
+    sobol = kinds.kind("sobol")
+    X = sobol.design(study)
+    assert X.shape == (4096 * 5, 3)
+    got = sobol.findings(study, evaluate(X)).findings["indices"]["y"]
     for name, indices in exact.items():
         for which, value in indices.items():
             assert got[name][which] == pytest.approx(value, abs=0.02), (name, which)
@@ -929,8 +931,9 @@ def test_a_study_shows_a_progress_bar_with_its_eta_on_a_terminal(tmp_path):
 
 
 def test_the_curve_plots_label_the_base_design_and_only_it(tmp_path):
-    # the bold "(base)" curve is the model as given: an OAT study's base variant by its id; a sample
-    # without the base design (a Latin hypercube, whose first variant is a random design) has none
+    # the bold "(base)" curve is the model as given, by its id: the first variant of an OAT study and
+    # of a Latin hypercube (the base, then the sample); a study whose variants do not hold the base
+    # design (a Sobol sample) has none
     import matplotlib
 
     matplotlib.use("Agg")
@@ -944,14 +947,23 @@ def test_the_curve_plots_label_the_base_design_and_only_it(tmp_path):
     path = tmp_path / "lhs.toml"
     path.write_text(text.replace('"../press_on_support.toml"', repr(str(EXAMPLES / "press_on_support.toml"))))
     sample = run_study(load_study(path), str(tmp_path / "r.db"))
-    assert sample.base_id is None
+    assert sample.base_id == sample.variants[0].id
+    assert sample.variants[0].parameters == {p.name: p.base for p in sample.study.parameters}
+    assert sample.findings["base"]["variant"] == sample.base_id
     # a sample states its answer: each output's range and the parameters ranked by |ρ| (Spearman)
     (ranking,) = [t for t in sample.tables() if "rank correlation" in t.title]
     assert [row[0] for row in ranking.rows] == [w.label for w in sample.study.watched]
     rho = sample.findings["rank_correlation"]["transmitted_force_range_N"]
     first = max(rho, key=lambda n: abs(rho[n]))
     assert ranking.rows[0][3].startswith(f"{first} {rho[first]:+.2f}")
-    for result, base in ((oat, oat.base_id), (sample, None)):
+    sobol = run_study(
+        dataclasses.replace(load_study(path), name="press-sobol", kind="sobol", samples=2),
+        str(tmp_path / "r.db"),
+    )
+    assert sobol.base_id is None and all(
+        v.parameters != sample.variants[0].parameters for v in sobol.variants
+    )
+    for result, base in ((oat, oat.base_id), (sample, sample.base_id), (sobol, None)):
         ax = next(f() for k, f in result.plots().items() if k.startswith("curves_"))
         lines = {line.get_label(): line.get_linewidth() for line in ax.get_lines()}
         assert len(lines) == len(result.kept)

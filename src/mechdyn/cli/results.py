@@ -7,7 +7,7 @@ import argparse
 import json
 from typing import Any
 
-from mechdyn.cli.common import Table, print_table, write_csv
+from mechdyn.cli.common import Table, print_table
 
 __all__ = ["register"]
 
@@ -105,8 +105,8 @@ def _show(args: argparse.Namespace) -> int:
 def _list_study(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
-    from mechdyn.store.studies import StudyStore
     from mechdyn.studies.run import display_units
+    from mechdyn.studies.storage import StudyStore
 
     with ResultStore(args.db, read_only=True) as store:
         studies = StudyStore(store)
@@ -144,7 +144,7 @@ def _compare(args: argparse.Namespace) -> int:
 
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
-    from mechdyn.store.studies import StudyStore
+    from mechdyn.studies.storage import StudyStore
     from mechdyn.units import key_unit
 
     with ResultStore(args.db, read_only=not args.plots) as store:  # --plots keeps the curves it computes
@@ -204,8 +204,9 @@ def _unknown_curve(name: str, curves: list[str]) -> None:
 def _export(args: argparse.Namespace) -> int:
     import pandas as pd
 
+    from mechdyn.reports.columns import stored_columns
     from mechdyn.store import ResultStore
-    from mechdyn.store.studies import StudyStore
+    from mechdyn.studies.storage import StudyStore
 
     if not (args.csv or args.parquet):
         from mechdyn.errors import MechdynError
@@ -213,25 +214,56 @@ def _export(args: argparse.Namespace) -> int:
         raise MechdynError("give --csv FILE or --parquet FILE (or both)")
     with ResultStore(args.db, read_only=True) as store:
         variants = StudyStore(store).variants(args.study)
+        columns = stored_columns(store, args.study, variants)
+    if args.csv:  # for people: the study's units, each in its column's header
+        rows = []
+        for v in variants:
+            row: dict[str, Any] = {"variant": v.id, "status": v.status, "error": v.error}
+            row |= {f"{c.role}:{c.label}": c.of(v) for c in columns}
+            rows.append(row)
+        header = ["variant", "status", "error", *(f"{c.role}:{c.label}" for c in columns)]
+        frame = pd.DataFrame(rows, columns=header)
+        frame.to_csv(args.csv, index=False, float_format="%.10g")
+        print(f"wrote {args.csv} ({len(frame)} variants, in the study's units)")
+    if args.parquet:  # for programs: SI as stored, each column's unit in the file's schema
+        _write_parquet(variants, columns, args.parquet)
+        print(f"wrote {args.parquet} ({len(variants)} variants, SI; each column's unit in its metadata)")
+    return 0
+
+
+def _write_parquet(variants: list[Any], columns: list[Any], path: str) -> None:
+    """Variants as Parquet, SI as stored (``parameter:NAME``, ``output:KEY``); each column's field
+    metadata holds ``unit`` (its SI unit, ``""`` for a pure number) and ``shown_unit`` (the study's)."""
+    import pandas as pd
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
     rows = []
     for v in variants:
-        row = {"variant": v.id, "status": v.status, "error": v.error}
+        row: dict[str, Any] = {"variant": v.id, "status": v.status, "error": v.error}
         row |= {f"parameter:{k}": x for k, x in v.parameters.items()}
         row |= {f"output:{k}": x for k, x in v.outputs.items()}
         rows.append(row)
+    names = [f"{c.role}:{c.key}" for c in columns]
     frame = pd.DataFrame(rows)
-    if args.csv:
-        write_csv(frame, args.csv)
-        print(f"wrote {args.csv} ({len(frame)} variants)")
-    if args.parquet:
-        frame.to_parquet(args.parquet, index=False)
-        print(f"wrote {args.parquet} ({len(frame)} variants)")
-    return 0
+    extra = [n for n in frame.columns if n not in names and n not in ("variant", "status", "error")]
+    frame = frame.reindex(columns=["variant", "status", "error", *names, *extra])
+    for n in [*names, *extra]:
+        frame[n] = pd.to_numeric(frame[n], errors="coerce").astype("float64")
+    table = pa.Table.from_pandas(frame, preserve_index=False)
+    units = {f"{c.role}:{c.key}": c for c in columns}
+    fields = [
+        f.with_metadata({b"unit": units[f.name].si_unit.encode(), b"shown_unit": units[f.name].unit.encode()})
+        if f.name in units
+        else f
+        for f in table.schema
+    ]
+    pq.write_table(table.cast(pa.schema(fields, metadata=table.schema.metadata)), path)
 
 
 def _delete(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
-    from mechdyn.store.studies import StudyStore
+    from mechdyn.studies.storage import StudyStore
 
     with ResultStore(args.db) as store:
         n = StudyStore(store).delete(args.study)
@@ -241,7 +273,7 @@ def _delete(args: argparse.Namespace) -> int:
 
 def _studies(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
-    from mechdyn.store.studies import StudyStore
+    from mechdyn.studies.storage import StudyStore
 
     with ResultStore(args.db, read_only=True) as store:
         studies = StudyStore(store)
@@ -289,12 +321,26 @@ def _import(args: argparse.Namespace) -> int:
     return 0
 
 
+_EXPORT_UNITS = """\
+A study's variants, one row each: id, status, error, parameters and outputs.
+
+--csv is for people and spreadsheets: each parameter and output in the unit the study file
+gives it (a parameter in the unit its model file writes it in, an output in its [[outputs]]
+row's unit), the unit in the column's header: "parameter:points.C.x [mm]",
+"output:transmitted_force_range_N [tonf]". A study built in Python has no file units: SI,
+with the SI unit named.
+
+--parquet is for programs: SI, as the database holds it (and as `results list --json`
+prints it), columns named "parameter:NAME" and "output:KEY"; each column's SI unit is in its
+Parquet field metadata "unit" ("" for a pure number), the study's unit in "shown_unit"."""
+
 _EXAMPLES = {
     "list": "  mechdyn results list --limit 10\n"
     "  mechdyn results list --study press-support-influence --json",
     "show": "  mechdyn results show 3 --model",
     "compare": "  mechdyn results compare 4 7 --plots plots",
-    "export": "  mechdyn results export --study press-sobol --parquet sobol.parquet",
+    "export": "  mechdyn results export --study press-sobol --parquet sobol.parquet\n"
+    "  mechdyn results export --study press-support-influence --csv influence.csv",
     "delete": "  mechdyn results delete --study press-sobol",
     "studies": "  mechdyn results studies",
     "upgrade": "  mechdyn results upgrade --db old.db",
@@ -318,7 +364,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         ("list", _list, "list stored runs, newest first, or a study's variants (--study)"),
         ("show", _show, "show one stored run"),
         ("compare", _compare, "study variants side by side, with their curves overlaid"),
-        ("export", _export, "a study's variants as CSV or Parquet (one row per variant)"),
+        ("export", _export, "a study's variants as CSV (the study's units) or Parquet (SI), one row each"),
         ("delete", _delete, "remove a study with all of it (variants, curves, optimizer trials)"),
         ("studies", _studies, "list the studies of the database"),
         ("upgrade", _upgrade, "bring a database written by an older mechdyn to this one's schema"),
@@ -352,5 +398,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         elif name in ("delete", "export"):
             q.add_argument("--study", required=True, help="the study's name")
             if name == "export":
-                q.add_argument("--csv", metavar="FILE")
-                q.add_argument("--parquet", metavar="FILE")
+                q.description = _EXPORT_UNITS  # raw: kept as written
+                q.add_argument(
+                    "--csv",
+                    metavar="FILE",
+                    help="for people and spreadsheets: values in the study's units, the unit in each "
+                    'header ("output:transmitted_force_range_N [tonf]")',
+                )
+                q.add_argument(
+                    "--parquet",
+                    metavar="FILE",
+                    help="for programs: SI as stored, columns named as in the database "
+                    '("output:transmitted_force_range_N"), each column\'s SI unit in its field metadata',
+                )

@@ -23,8 +23,12 @@ def _run(args: argparse.Namespace) -> int:
         from mechdyn.io.modelfile import read
         from mechdyn.studies.paths import ModelTree
 
-        for p in ModelTree(read(args.file)).paths():
-            print(p)
+        entries = ModelTree(read(args.file)).entries()
+        if args.json:
+            print(json.dumps([e.as_dict() for e in entries], indent=2, ensure_ascii=False))
+        else:
+            for e in entries:
+                print(e.line())
         return 0
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
@@ -128,7 +132,10 @@ def _text(path: str) -> str | None:
 
 
 def _safe(name: str) -> str:
-    return "".join(c if c.isalnum() or c in "_-" else "_" for c in name).strip("_")
+    """A study's name as part of a file name."""
+    from mechdyn.studies.kinds.base import safe
+
+    return safe(name).strip("_")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -155,5 +162,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="N",
         help="override [study] samples (a quick form, stored as 'NAME [samples N]')",
     )
-    p.add_argument("--paths", action="store_true", help="list the paths of a model file's values and stop")
+    p.add_argument(
+        "--paths",
+        action="store_true",
+        help="list every value of a model file a study can vary (path = value, and for a whole number or "
+        "a choice what it takes; with --json as JSON) and stop",
+    )
     p.set_defaults(func=_run)

@@ -17,16 +17,15 @@ it may have no internet).
 from __future__ import annotations
 
 import json
-import math
 import threading
 from collections.abc import Sequence
 from datetime import date, datetime
 from pathlib import Path
 from typing import Any
 
-from mechdyn.reports.html import _cell
+from mechdyn.reports.html import _cell, toml_text
 from mechdyn.store.store import ResultStore, StoreError
-from mechdyn.store.studies import StudyStore
+from mechdyn.studies.storage import StudyStore
 
 __all__ = ["create_app"]
 
@@ -52,10 +51,6 @@ def _date(text: str | None) -> date | None:
 
 def _utc(t: datetime) -> str:
     return t.strftime("%Y-%m-%d %H:%M:%S")
-
-
-def _number(v: Any) -> float | None:
-    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
 
 
 def _line_figures(
@@ -142,11 +137,22 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
 
     drawing = threading.Lock()  # matplotlib's figures are drawn one at a time
     kept: dict[tuple[int, int], tuple[list[Any], list[Any], str]] = {}
+    shown_as: dict[tuple[int, bool], list[Any]] = {}
+
+    def shown_columns(st: Any, variants: Sequence[Any]) -> list[Any]:
+        """A study's parameters and outputs as its study file shows them (SI for a study built in
+        Python), rebuilt once per study (a stored study's definition does not change)."""
+        from mechdyn.reports.columns import stored_columns
+
+        key = (st.id, bool(variants))  # a Python study's units are read from its variants
+        if key not in shown_as:
+            shown_as[key] = stored_columns(store, st.name, variants[:10])
+        return shown_as[key]
 
     def drawn(st: Any, n_variants: int) -> tuple[list[Any], list[Any], str]:
         """A study's findings tables and pictures, drawn once for each number of stored variants
         (a running study adds variants; a finished one is drawn once)."""
-        from mechdyn.reports.html import _figures, _table
+        from mechdyn.reports.html import _figures, study_tables
         from mechdyn.studies.run import stored_result
         from mechdyn.studies.spec import StudyError
 
@@ -155,7 +161,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             if key not in kept:
                 try:
                     result = stored_result(store, st.name)
-                    kept[key] = ([_table(t) for t in result.tables()], _figures(result.plots()), "")
+                    kept[key] = (study_tables(result), _figures(result.plots()), "")
                 except (StudyError, StoreError) as exc:
                     kept[key] = ([], [], f"The findings appear when every variant is stored: {exc}")
             return kept[key]
@@ -264,7 +270,14 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             for i in variant_ids:
                 v = studies.variant(i)
                 columns.append(f"variant {i} ({v.study})")
-                values.append({**v.given, **v.outputs, "status": v.status})
+                outputs: dict[str, Any] = dict(v.outputs)
+                if not run_ids:  # variants alone: each output in its study's unit (with runs: SI)
+                    st = studies.study(v.study)
+                    shown = {c.key: c for c in shown_columns(st, [v]) if c.role == "output"}
+                    for k in [k for k in outputs if k in shown]:
+                        outputs[k] = shown[k].shown(outputs[k])
+                        units[k] = shown[k].unit
+                values.append({**v.given, **outputs, "status": v.status})
                 units.update({k: "" for k in v.given})
                 if v.curves:
                     curves.append((f"variant {i}", v.curves))
@@ -292,28 +305,16 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         if st is None:
             return missing(f"There is no study {study_id} in this database.")
         variants = studies.variants(st.name)
-        from mechdyn.units import key_unit
-
-        def unit(key: str) -> str:
-            u = key_unit(key.split(".")[-1])
-            return f" [{u}]" if u and u != "1" else ""
-
-        axes = [*(f"{p} [SI]" for p in st.parameter_names), *(o + unit(o) for o in st.output_names)]
+        # parameters and outputs in the study file's units, the unit in each axis title and header
+        shown = shown_columns(st, variants)
+        axes = [c.label for c in shown]
         ok = [v for v in variants if v.status == "ok"][:MAX_POINTS]
-        points = {
-            "ids": [v.id for v in ok],
-            "values": [
-                [_number(v.parameters.get(p)) for p in st.parameter_names]
-                + [_number(v.outputs.get(o)) for o in st.output_names]
-                for v in ok
-            ],
-        }
+        points = {"ids": [v.id for v in ok], "values": [[c.of(v) for c in shown] for v in ok]}
         table = [
             {
                 "id": v.id,
                 "status": v.status,
-                "cells": [_cell(v.parameters.get(p)) for p in st.parameter_names]
-                + [_cell(v.outputs.get(o)) for o in st.output_names],
+                "cells": [_cell(c.of(v)) for c in shown],
                 "error": v.error or "",
             }
             for v in variants[:MAX_ROWS]
@@ -331,7 +332,8 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             axes=axes,
             points=points,
             table=table,
-            definition=json.dumps(st.definition, indent=2, default=str, ensure_ascii=False),
+            definition=toml_text(st.definition),
+            python="study" not in st.definition,
         )
 
     def study_count(request: Request) -> JSONResponse:

@@ -109,6 +109,8 @@ def variant(v, args):
                 r1, r2, sg = fdata[v, o, 0], fdata[v, o, 1], fdata[v, o, 2]
                 d = pos[k2] - pos[k1]
                 dist = abs(d)
+                if dist == 0.0:  # the two known points coincide: no dyad (complex division would raise)
+                    dist = np.nan
                 x = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist)
                 h2 = r1 * r1 - x * x
                 if h2 < 0.0:
@@ -186,6 +188,8 @@ def variant(v, args):
                     m1 = need_m[b1] - _cross(Pp - pos[P + b1], f1)
                     m2 = _cross(a2, f1 + f2) - need_m[b2] + _cross(Pp - pos[P + b2], f2)
                     det = _cross(a1, a2)
+                    if det == 0.0:  # the links in line: the forces are undefined
+                        det = np.nan
                     F1 = (a2 * m1 - a1 * m2) / det
                     F2 = f1 + f2 - F1
                     Fp = F1 - f1
@@ -207,7 +211,10 @@ def variant(v, args):
                     n = kf[o, 0] + 1j * kf[o, 1]
                     m1 = need_m[b1] - _cross(Pp - pos[P + b1], need_f[b1])
                     total = need_f[b1] + need_f[sl]
-                    normal = (_cross(a1, total) - m1) / _cross(a1, n)
+                    across = _cross(a1, n)
+                    if across == 0.0:  # the link along the guide: the forces are undefined
+                        across = np.nan
+                    normal = (_cross(a1, total) - m1) / across
                     Fp = need_f[sl] - normal * n
                     F1 = need_f[b1] + Fp
                     mom = need_m[sl] - _cross(Pp - pos[P + sl], need_f[sl])

@@ -17,7 +17,17 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Report", "render", "run_report", "study_report", "write"]
+__all__ = [
+    "Report",
+    "render",
+    "run_report",
+    "study_report",
+    "study_tables",
+    "toml_text",
+    "variant_counts",
+    "variants_table",
+    "write",
+]
 
 # summary keys that record a check the analysis ran (a residual, a deviation, a convergence figure)
 _CHECK_WORDS = ("residual", "deviation", "convergence", "rigid_body_modes", "richardson", "error_relative")
@@ -220,20 +230,160 @@ def run_report(
     return Report(model_name or Path(model_path).stem, f"{analysis} analysis", meta, sections)
 
 
-def study_report(result: Any, *, database: str = "", study_text: str | None = None) -> Report:
-    """The report of a design study: its tables and plots, the parameters, the study file and the
-    model file.
+# the table of a study's counts (:meth:`mechdyn.studies.result.StudyResult.tables`)
+_COUNT_COLUMNS = ["variants", "evaluated now", "reused", "failed"]
+MAX_VARIANT_ROWS = 1000  # variants listed in a study's report (all are in `mechdyn results export`)
+
+
+def variant_counts(result: Any) -> dict[str, int]:
+    """A study's variants counted once each: ``variants`` = ``evaluated`` (now, by the run that made
+    ``result``) + ``reused`` (found stored; all of a result read from the database alone); ``failed``
+    counts the variants among them that could not be evaluated.
 
     Parameters
     ----------
     result : StudyResult
-        :func:`mechdyn.studies.run_study` (for a stored study, run again: every variant is reused).
+        A run's result, or a stored study's.
+
+    Returns
+    -------
+    dict
+        ``variants``, ``evaluated``, ``reused`` and ``failed`` (counts).
+    """
+    return {
+        "variants": result.evaluated + result.reused,
+        "evaluated": result.evaluated,
+        "reused": result.reused,
+        "failed": result.failed,
+    }
+
+
+def _counts_text(counts: Mapping[str, int]) -> str:
+    """``4 = 1 evaluated now + 3 reused (found stored); none failed``: the counts add up."""
+    f = counts["failed"]
+    return (
+        f"{counts['variants']} = {counts['evaluated']} evaluated now + {counts['reused']} reused (found "
+        f"stored); {f'{f} of them failed' if f else 'none failed'}"
+    )
+
+
+def study_tables(result: Any) -> list[HtmlTable]:
+    """A study's findings tables (:meth:`~mechdyn.studies.result.StudyResult.tables`, outputs in the
+    study's units) as HTML cells, its counts counted once per variant (:func:`variant_counts`).
+
+    Parameters
+    ----------
+    result : StudyResult
+        A run's result, or a stored study's.
+    """
+    counts = variant_counts(result)
+    tables = []
+    for t in result.tables():
+        table = _table(t)
+        if list(t.columns) == _COUNT_COLUMNS:
+            table.rows = [[_cell(counts[k]) for k in ("variants", "evaluated", "reused", "failed")]]
+        tables.append(table)
+    return tables
+
+
+def variants_table(columns: Sequence[Any], variants: Sequence[Any], limit: int | None = None) -> HtmlTable:
+    """One row per variant: its id, status, parameters and outputs in the study's units (the unit in
+    each column's header), and its error.
+
+    Parameters
+    ----------
+    columns : sequence of Column
+        :func:`mechdyn.reports.columns.study_columns` or :func:`~mechdyn.reports.columns.stored_columns`.
+    variants : sequence of StoredVariant
+        The variants (each listed once), their values in SI.
+    limit : int, optional
+        At most this many rows (count).
+    """
+    rows = [
+        [Cell(str(v.id)), Cell(v.status), *(_cell(c.of(v)) for c in columns), Cell(v.error or "")]
+        for v in list(variants)[:limit]
+    ]
+    return HtmlTable("", ["variant", "status", *(c.label for c in columns), "error"], rows)
+
+
+def toml_text(data: Mapping[str, Any]) -> str:
+    """A study file's content (as the database stores it: parsed, its comments gone) written back as
+    TOML: what ``tomllib.loads`` reads back to ``data``, every character as itself (``§``, not
+    ``\\u00a7``).
+
+    Parameters
+    ----------
+    data : mapping
+        Tables, arrays of tables and values (text, numbers, booleans, dates, lists).
+    """
+
+    def key(k: Any) -> str:
+        k = str(k)
+        bare = bool(k) and all(c.isascii() and (c.isalnum() or c in "_-") for c in k)
+        return k if bare else json.dumps(k, ensure_ascii=False)
+
+    def value(v: Any) -> str:
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return json.dumps(v, ensure_ascii=False)
+        if isinstance(v, float):
+            return repr(v) if math.isfinite(v) else ("nan" if math.isnan(v) else "inf" if v > 0 else "-inf")
+        if isinstance(v, int):
+            return str(v)
+        if isinstance(v, Mapping):
+            return "{ " + ", ".join(f"{key(k)} = {value(x)}" for k, x in v.items()) + " }" if v else "{}"
+        if isinstance(v, (list, tuple)):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        if hasattr(v, "isoformat"):
+            return v.isoformat()
+        return json.dumps(str(v), ensure_ascii=False)
+
+    def is_rows(v: Any) -> bool:
+        return isinstance(v, (list, tuple)) and bool(v) and all(isinstance(x, Mapping) for x in v)
+
+    lines: list[str] = []
+
+    def table(path: list[str], d: Mapping[str, Any], header: str | None) -> None:
+        if header is not None:
+            lines.extend(["", header] if lines else [header])
+        nested = []
+        for k, v in d.items():
+            if isinstance(v, Mapping) and v and header is None:
+                nested.append((k, v))
+            elif is_rows(v):
+                nested.append((k, v))
+            else:
+                lines.append(f"{key(k)} = {value(v)}")
+        for k, v in nested:
+            sub = [*path, key(k)]
+            if isinstance(v, Mapping):
+                table(sub, v, "[" + ".".join(sub) + "]")
+            else:
+                for row in v:
+                    table(sub, row, "[[" + ".".join(sub) + "]]")
+
+    table([], data, None)
+    return "\n".join(lines) + "\n"
+
+
+def study_report(result: Any, *, database: str = "", study_text: str | None = None) -> Report:
+    """The report of a design study: its tables and plots, the parameters, every variant, the study
+    file and the model file; parameters and outputs in the study file's units, the unit in each column
+    header (a study built in Python: SI, the SI unit named).
+
+    Parameters
+    ----------
+    result : StudyResult
+        :func:`mechdyn.studies.run_study`, or :func:`mechdyn.studies.run.stored_result` for a stored
+        study (read from the database, nothing evaluated).
     database : str
         Where it is stored.
     study_text : str, optional
-        The study file as written (default: its stored content as JSON).
+        The study file as written (default: its stored content, written back as TOML).
     """
     from mechdyn import __version__
+    from mechdyn.reports.columns import study_columns
 
     st = result.study
     stored = result.stored
@@ -245,32 +395,54 @@ def study_report(result: Any, *, database: str = "", study_text: str | None = No
         ("mechdyn", __version__),
         ("database", database),
         ("created", stored.created_at.strftime("%Y-%m-%d %H:%M:%S UTC")),
-        ("variants", f"{len(result.variants)} ({result.failed} failed)"),
+        ("variants", _counts_text(variant_counts(result))),
     ]
+    columns = study_columns(st)
+    shown = {c.key: c for c in columns if c.role == "parameter"}
     params = HtmlTable(
         "",
-        ["parameter", "base", "low", "high", "levels", "unit"],
+        ["parameter [unit]", "base", "low", "high", "levels"],
         [
             [
-                Cell(p.name),
-                _cell(p.base / p.factor),
-                _cell(None if p.low is None else p.low / p.factor),
-                _cell(None if p.high is None else p.high / p.factor),
-                Cell(", ".join(_number(v / p.factor) for v in p.levels) or "—"),
-                Cell(p.unit),
+                Cell(shown[p.name].label),
+                _cell(shown[p.name].shown(p.base)),
+                _cell(shown[p.name].shown(p.low)),
+                _cell(shown[p.name].shown(p.high)),
+                Cell(", ".join(_cell(shown[p.name].shown(v)).text for v in p.levels) or "—"),
             ]
             for p in st.parameters
         ],
     )
+    distinct = list({v.id: v for v in result.variants}.values())  # a variant listed twice, once
+    units_note = (
+        "A study built in Python has no study file to give units: values in SI (an output in the display "
+        "unit it was given, if any), the unit in each header."
+        if not st.definition
+        else "Values in the units the study file gives (outputs) and the model file writes (parameters), "
+        "the unit in each header; the results database holds them in SI."
+    )
+    rows_note = ""
+    if len(distinct) > MAX_VARIANT_ROWS:
+        rows_note = (
+            f" The first {MAX_VARIANT_ROWS} of {len(distinct)} variants: `mechdyn results export` gives all."
+        )
+    if study_text is not None:  # the file as written
+        study_note = st.path
+    elif st.definition:
+        study_note = (
+            "The study file as stored in the results database, written back as TOML (its comments are "
+            "not kept)."
+        )
+        study_text = toml_text(st.definition)
+    else:
+        study_note, study_text = "Built in Python: no study file.", None
+    variants = variants_table(columns, distinct, MAX_VARIANT_ROWS)
     sections = [
-        Section("Parameters", tables=[params]),
-        Section("Findings", tables=[_table(t) for t in result.tables()]),
+        Section("Parameters", note=units_note, tables=[params]),
+        Section("Findings", tables=study_tables(result)),
         Section("Plots", figures=_figures(result.plots())),
-        Section(
-            "Study file",
-            note=st.path,
-            text=study_text if study_text is not None else json.dumps(st.definition, indent=2, default=str),
-        ),
+        Section("Variants", note=units_note + rows_note, tables=[variants]),
+        Section("Study file", note=study_note, text=study_text),
         Section("Model file", note=st.source.path, text=st.source.text),
     ]
     return Report(st.name, f"design study: {st.kind} of {st.analysis}", meta, sections)

@@ -83,7 +83,7 @@ def import_unsaved(store: ResultStore, path: str | os.PathLike[str]) -> str:
     path : str or path
         The file.
     """
-    from mechdyn.store.studies import StudyStore
+    from mechdyn.studies.storage import StudyStore
 
     try:
         doc = json.loads(Path(path).read_text(encoding="utf-8"))

@@ -3,7 +3,9 @@
 The :class:`Evaluator` holds the base model's files, the analysis and what to read from its summary.
 Given a block of variants it first offers them to the analysis' batch evaluation
 (:attr:`mechdyn.registry.Analysis.batch`: a mechanism's variants in one compiled cycle), and
-otherwise builds each variant from its files and runs the analysis on it. A variant that cannot be
+otherwise builds each variant from its files and runs the analysis on it. A whole number or a choice
+(a tooth count, a material) is never a batch column: the variants that share those values are one
+batch on the model file written with them. A variant that cannot be
 evaluated (a linkage that does not assemble at some angle) is returned as failed, with the message;
 the others go on. An evaluator is plain data, so it can be sent to Dask workers.
 """
@@ -38,6 +40,9 @@ class Evaluation:
     outputs : dict of str → float or None
         The wanted summary values, SI (None where the summary has no number).
     warnings : tuple of str
+        What the model and the analysis warned of for this variant (stored with it): as the model
+        was built, as the analysis ran (a batch: as its block ran), and what the result itself warns
+        of (:attr:`mechdyn.results.Result.warnings`; one by one).
     curves : dict of str → (ndarray, unit)
         The result's arrays, when they were asked for.
     """
@@ -84,9 +89,10 @@ class Evaluator:
         self.batch = batch and all(p.apply is None for p in self.parameters)
         self._tree: ModelTree | None = None
         self._base: Any = None
+        self._base_warnings: tuple[str, ...] = ()
 
     def __getstate__(self) -> dict[str, Any]:
-        return {**self.__dict__, "_tree": None, "_base": None}
+        return {**self.__dict__, "_tree": None, "_base": None, "_base_warnings": ()}
 
     @property
     def tree(self) -> ModelTree:
@@ -146,10 +152,12 @@ class Evaluator:
                 result = self._run(loaded)
                 summary = result.summary()
             except MechdynError as exc:  # a bad design; anything else is a bug and stops the study
-                return Evaluation("failed", f"{type(exc).__name__}: {exc}", dict.fromkeys(self.outputs))
+                error = f"{type(exc).__name__}: {exc}"
+                return Evaluation("failed", error, dict.fromkeys(self.outputs), _said(caught))
         outputs = {k: output_value(summary, k) for k in self.outputs}
         kept = result.arrays() if curves else {}
-        return Evaluation("ok", None, outputs, tuple(str(w.message) for w in caught), kept)
+        said = _said(caught, getattr(result, "warnings", ()))
+        return Evaluation("ok", None, outputs, said, kept)
 
     def _run(self, loaded: Any) -> Any:
         """The analysis on one loaded model, with the study's options."""
@@ -170,23 +178,70 @@ class Evaluator:
                 return None
 
     def _batch(self, X: np.ndarray) -> list[Evaluation]:
+        """The block through the analysis' batch evaluation: the quantities as columns, once per
+        combination of the whole numbers and choices, on the model written with those."""
         analysis = self._analysis()
         if analysis.batch is None:
             raise NotBatchable(f"{analysis.name} has no batch evaluation")
-        if self._base is None:
-            self._base = load_source(self.source)
-        columns: dict[Any, np.ndarray] = {}
-        for j, p in enumerate(self.parameters):
-            for loc, col in p.location_values(X[:, j]).items():
-                columns[(loc.files, loc.keys)] = col
-        with warnings.catch_warnings(record=True):
-            warnings.simplefilter("always")
-            values, errors = analysis.batch(self._base, columns, list(self.outputs), **self.options)
-        out = []
-        for v, err in enumerate(errors):
-            if err is not None:
-                out.append(Evaluation("failed", err, dict.fromkeys(self.outputs)))
+        fixed = [j for j, p in enumerate(self.parameters) if p.discrete]
+        varied = [j for j, p in enumerate(self.parameters) if not p.discrete]
+        if fixed and not varied:
+            raise NotBatchable("only whole numbers and choices vary: each variant is a model of its own")
+        groups: dict[tuple[float, ...], list[int]] = {}
+        for v, row in enumerate(X):
+            groups.setdefault(tuple(float(x) for x in row[fixed]), []).append(v)
+        out: list[Evaluation | None] = [None] * len(X)
+        for values, rows in groups.items():
+            built = self._group_base(dict(zip(fixed, values, strict=True)))
+            if isinstance(built, Evaluation):  # the model with these values cannot be built
+                for v in rows:
+                    out[v] = built
                 continue
-            row = {k: float(values[k][v]) if np.isfinite(values[k][v]) else None for k in self.outputs}
-            out.append(Evaluation("ok", None, row))
-        return out
+            base, load_warnings = built
+            sub = X[rows]
+            columns: dict[Any, np.ndarray] = {}
+            for j in varied:
+                for loc, col in self.parameters[j].location_values(sub[:, j]).items():
+                    columns[(loc.files, loc.keys)] = col
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                got, errors = analysis.batch(base, columns, list(self.outputs), **self.options)
+            # what the model warned of as it was built, and what the block warned of as it ran (the
+            # batch says no more than that: a warning of the block is stored with each of its variants)
+            said = _said(load_warnings, caught)
+            for i, (v, err) in enumerate(zip(rows, errors, strict=True)):
+                if err is not None:
+                    out[v] = Evaluation("failed", err, dict.fromkeys(self.outputs), said)
+                    continue
+                row = {k: float(got[k][i]) if np.isfinite(got[k][i]) else None for k in self.outputs}
+                out[v] = Evaluation("ok", None, row, said)
+        return [e for e in out if e is not None]
+
+    def _group_base(self, values: Mapping[int, float]) -> Any:
+        """The loaded model with the whole numbers and choices at ``values`` (parameter index → value;
+        the base model when there are none, or all are at base) and what it warned of as it was built,
+        or the failed :class:`Evaluation` when it cannot be built."""
+        if all(self.parameters[j].base == x for j, x in values.items()):
+            if self._base is None:
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always")
+                    self._base = load_source(self.source)
+                self._base_warnings = _said(caught)
+            return self._base, self._base_warnings
+        edits: dict[Any, Any] = {}
+        for j, x in values.items():
+            edits.update(self.parameters[j].file_values(x))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                loaded = load_source(self.tree.variant(edits))
+            except MechdynError as exc:
+                return Evaluation(
+                    "failed", f"{type(exc).__name__}: {exc}", dict.fromkeys(self.outputs), _said(caught)
+                )
+        return loaded, _said(caught)
+
+
+def _said(*sources: Any) -> tuple[str, ...]:
+    """Warning messages, each once, in order: caught warnings (``warnings.WarningMessage``) or text."""
+    return tuple(dict.fromkeys(str(getattr(w, "message", w)) for ws in sources for w in ws))

@@ -6,6 +6,12 @@ A path walks the file's tables: ``support.stiffness``, ``points.C`` (a point: it
 row). A value that names another model file (a support's ``excitation.mechanism``, a mount row's
 ``mount``) is entered as if its tables were written there: ``excitation.mechanism.points.C``.
 
+A value is a *quantity* (a number, with its unit or without), a *whole number* (a tooth count, a
+number of crank angles: a field the file's schema reads as an integer) or a *choice* (an option the
+schema names, a material by its name in the materials database, another model file of the same type,
+true or false); the file's schema (:func:`mechdyn.io.modelfile.schema_of`) tells which. Names (of
+rows, of the disks a shaft joins) and free text are not values a study varies.
+
 A variant is the base files with some values replaced, built in memory
 (:attr:`mechdyn.io.ModelSource.includes`); the files on disk and the base model are never changed.
 """
@@ -17,17 +23,24 @@ import difflib
 import hashlib
 import json
 import re
+import tomllib
+import types
+import typing
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from pathlib import Path
+from typing import Any, Literal, get_args, get_origin
 
 from mechdyn.errors import MechdynError
 from mechdyn.io.modelfile import ModelSource, reference_path, referenced
 
-__all__ = ["Location", "ModelTree", "PathError"]
+__all__ = ["Entry", "Location", "ModelTree", "Nature", "PathError"]
 
 _COMPONENTS = ("x", "y", "z")
 _NUMBER = re.compile(r"^\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?(?:\s|$)")
+# a table that a file of one type holds inline in the form of another type's file
+_INLINE = {("support", "estimate"): "mount"}
+_UNKNOWN: tuple[Any, ...] = ()
 
 
 class PathError(MechdynError):
@@ -53,23 +66,148 @@ class Location:
     path: str
 
 
+@dataclass(frozen=True)
+class Nature:
+    """What a model value is to a study.
+
+    Attributes
+    ----------
+    kind : {"quantity", "integer", "choice"}
+        A quantity (a number, with its unit or without) takes ranges and levels; a whole number (a
+        tooth count) and a choice take levels only.
+    choices : tuple
+        A choice: the values the model accepts, as the file writes them (for a model file, the files
+        of its type beside it; any file of that type is accepted).
+    of : str
+        A choice: what its values are (``"material"``, ``"option"``, ``"true or false"``, ``"mount model
+        file"``).
+    model_type : str
+        A reference to another model file: the type that file must have (``""`` otherwise).
+    """
+
+    kind: str
+    choices: tuple[Any, ...] = ()
+    of: str = ""
+    model_type: str = ""
+
+    def describe(self) -> str:
+        """The value's kind in words, with the valid choices (for ``mechdyn study --paths``)."""
+        if self.kind == "quantity":
+            return ""
+        if self.kind == "integer":
+            return "a whole number"
+        listed = ", ".join(file_text(c) for c in self.choices)
+        if self.model_type:
+            return f"a {self.of}" + (f"; beside it: {listed}" if listed else "")
+        if self.of == "option":
+            return f"one of {listed}"
+        return f"a {self.of}: {listed}" if self.of != "true or false" else "true or false"
+
+
+_QUANTITY = Nature("quantity")
+_INTEGER = Nature("integer")
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One addressable value of a model, as ``mechdyn study --paths`` lists it.
+
+    Attributes
+    ----------
+    path : str
+        Its path (a ``*`` form names the value of every row).
+    value : Any
+        As the file writes it (a ``*`` form: the rows' value when they all hold the same, else None).
+    nature : Nature
+        What it is to a study.
+    rows : int
+        A ``*`` form: how many values it names (1 otherwise).
+    """
+
+    path: str
+    value: Any
+    nature: Nature
+    rows: int = 1
+
+    def line(self) -> str:
+        """``PATH = VALUE``, the value as the file writes it, and what it is when not a quantity."""
+        value = "(differs by row)" if self.value is None else file_text(self.value)
+        note = self.nature.describe()
+        return f"{self.path} = {value}" + (f"  # {note}" if note else "")
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready: ``path``, ``value``, ``kind``, ``choices``, ``of`` and ``rows``."""
+        return {
+            "path": self.path,
+            "value": self.value,
+            "kind": self.nature.kind,
+            "choices": list(self.nature.choices),
+            "of": self.nature.of,
+            "rows": self.rows,
+        }
+
+
+def file_text(value: Any) -> str:
+    """A value as a TOML file writes it (``"600 t"`` with quotes, ``true``, ``18``, ``[...]``)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, list):
+        return "[" + ", ".join(file_text(v) for v in value) + "]"
+    return repr(value) if isinstance(value, float) else str(value)
+
+
 def split(path: str) -> list[str]:
     """The segments of a path; a segment with dots or spaces may be quoted: ``bodies."rod 1".mass``."""
     parts = re.findall(r'"([^"]*)"|([^.]+)', path.strip())
     return [a or b for a, b in parts]
 
 
-def _quantity(value: Any) -> bool:
-    """A value a study can vary: a float, or text that starts with a number (``"4.5e8 N/m"``).
-
-    Integers are counts (angles per revolution, disk numbers), not design values."""
+def _numeric(value: Any) -> bool:
+    """Text that starts with a number (``"4.5e8 N/m"``), or a float."""
     if isinstance(value, float):
         return True
     return isinstance(value, str) and bool(_NUMBER.match(value)) and not value.endswith(".toml")
 
 
-def _vector(value: Any) -> bool:
-    return isinstance(value, list) and 1 <= len(value) <= 3 and all(_quantity(v) for v in value)
+def _unwrap(annotation: Any) -> list[Any]:
+    """The types an annotation allows: ``Annotated`` and ``Optional`` taken apart."""
+    if annotation is None or annotation is type(None):
+        return []
+    origin = get_origin(annotation)
+    if origin is typing.Annotated:
+        return _unwrap(get_args(annotation)[0])
+    if origin in (typing.Union, types.UnionType):
+        return [t for a in get_args(annotation) for t in _unwrap(a)]
+    return [annotation]
+
+
+def _step(annotation: Any, key: str | int) -> list[Any] | None:
+    """The annotations one key below ``annotation`` (None: the schema does not say)."""
+    from pydantic import BaseModel
+
+    out: list[Any] = []
+    for t in _unwrap(annotation):
+        if t is Any:
+            return None
+        origin = get_origin(t)
+        args = get_args(t)
+        if origin is None and isinstance(t, type) and issubclass(t, BaseModel):
+            if isinstance(key, str) and key in t.model_fields:
+                out.append(t.model_fields[key].annotation)
+        elif origin in (list, Sequence) and isinstance(key, int) and args:
+            out.append(args[0])
+        elif origin is tuple and isinstance(key, int) and args:
+            if len(args) == 2 and args[1] is Ellipsis:
+                out.append(args[0])
+            elif key < len(args):
+                out.append(args[key])
+        elif origin in (dict, Mapping) and isinstance(key, str) and len(args) == 2:
+            if args[1] is Any:
+                return None
+            out.append(args[1])
+    return out
 
 
 class _Row(str):
@@ -92,6 +230,11 @@ class ModelTree:
     def __init__(self, source: ModelSource):
         self.source = source
         self._files: dict[str, ModelSource] = {source.path: source}
+        self._entered = False
+        self._alternatives: dict[str, ModelSource] = {}
+        self._leaves: dict[tuple[str, tuple[str | int, ...]], tuple[Any, ...] | None] = {}
+        self._materials: dict[str, tuple[str, ...]] = {}
+        self._beside: dict[tuple[str, str], tuple[str, ...]] = {}
 
     # -- files --------------------------------------------------------------------------------
     def file(self, files: tuple[str, ...]) -> ModelSource:
@@ -105,7 +248,7 @@ class ModelTree:
         if not files:
             return self.source
         if files[-1] not in self._files:
-            self.paths()  # enters every file the model refers to
+            self._enter_all()
         return self._files[files[-1]]
 
     def _enter(self, parent: ModelSource, relative: str) -> ModelSource | None:
@@ -113,17 +256,50 @@ class ModelTree:
             return None
         path = reference_path(parent, relative)
         if path not in self._files:
-            found = referenced(parent, relative)
+            found = self._alternatives.get(path) or referenced(parent, relative)
             if found is None:
                 return None
             self._files[path] = found
+            self._alternatives.pop(path, None)
         return self._files[path]
+
+    def _enter_all(self) -> None:
+        """Enter every file the model refers to, however deep."""
+        if self._entered:
+            return
+
+        def follow(node: Any, source: ModelSource, files: tuple[str, ...]) -> None:
+            if isinstance(node, Mapping):
+                for k, v in node.items():
+                    if k not in ("model", "name"):
+                        follow(v, source, files)
+            elif isinstance(node, list):
+                for v in node:
+                    if isinstance(v, Mapping):
+                        follow(v, source, files)
+            elif isinstance(node, str):
+                inner = self._enter(source, node)
+                if inner is not None and inner.path not in files:
+                    follow(inner.data, inner, (*files, inner.path))
+
+        follow(self.source.data, self.source, ())
+        self._entered = True
 
     @property
     def texts(self) -> dict[str, str]:
-        """Every file of the model (the base and the files it refers to) by path: its exact text."""
-        self.paths()  # enters every reference
-        return {p: s.text for p, s in self._files.items()}
+        """Every file of the model (the base, the files it refers to, and the model files a study's
+        choice may name instead) by path: its exact text."""
+        self._enter_all()
+        out = {p: s.text for p, s in self.source.includes.items()}
+        out.update({p: s.text for p, s in self._alternatives.items()})
+        out.update({p: s.text for p, s in self._files.items()})
+        return out
+
+    @property
+    def alternatives(self) -> dict[str, ModelSource]:
+        """The model files that a choice names instead of the model's own (:meth:`model_file`), by
+        path: a study's variants read them, so they belong to its model files."""
+        return dict(self._alternatives)
 
     @property
     def sha256(self) -> str:
@@ -133,48 +309,218 @@ class ModelTree:
             h.update(p.encode() + b"\0" + text.encode() + b"\0")
         return h.hexdigest()
 
+    def model_file(self, loc: Location, relative: Any) -> ModelSource | None:
+        """The model file that the reference at ``loc`` would name if it were ``relative`` (None
+        when there is no such model file); a file the model does not refer to yet is kept among
+        :attr:`alternatives`.
+
+        Parameters
+        ----------
+        loc : Location
+            A reference to another model file (a mount row's ``mount``).
+        relative : str
+            The file, relative to the file that holds the reference.
+        """
+        from mechdyn.io.modelfile import read_check
+
+        if not isinstance(relative, str) or not relative.endswith(".toml"):
+            return None
+        parent = self.file(loc.files)
+        path = reference_path(parent, relative)
+        self._enter_all()
+        if path in self._files:
+            return self._files[path]
+        if path not in self._alternatives:
+            try:
+                found = referenced(parent, relative)
+                if found is None:
+                    return None
+                self._alternatives[path] = read_check(found)
+            except MechdynError:
+                return None
+        return self._alternatives[path]
+
+    # -- what a value is ----------------------------------------------------------------------
+    def _schema_leaves(self, files: tuple[str, ...], keys: tuple[str | int, ...]) -> tuple[Any, ...] | None:
+        """The types the file's schema allows at ``keys`` (None: no schema says)."""
+        source = self.file(files)
+        model = source.data.get("model")
+        file_type = model.get("type") if isinstance(model, Mapping) else None
+        if not isinstance(file_type, str):
+            return None
+        cache = (file_type, keys)
+        if cache not in self._leaves:
+            self._leaves[cache] = _leaves(file_type, keys)
+        return self._leaves[cache]
+
+    def _nature(self, files: tuple[str, ...], keys: tuple[str | int, ...], value: Any) -> Nature | None:
+        """What the value at ``keys`` of a file is to a study (None: not a value a study varies)."""
+        if not keys or isinstance(value, (Mapping, list)) or value is None:
+            return None
+        leaves = self._schema_leaves(files, keys)
+        known = leaves is not None
+        allowed = leaves or ()
+        if isinstance(value, bool):
+            return Nature("choice", (False, True), "true or false") if not known or bool in allowed else None
+        if isinstance(value, int):
+            if known and float in allowed:
+                return _QUANTITY  # a number the field reads as a float (a Shore hardness of 60)
+            return _INTEGER if not known or int in allowed else None
+        if isinstance(value, float):
+            return _QUANTITY if not known or float in allowed else None
+        if not isinstance(value, str):
+            return None
+        options = tuple(a for t in allowed if get_origin(t) is Literal for a in get_args(t))
+        if value in options:  # (a field that also takes a quantity, "bdc" or an angle: not a choice)
+            return Nature("choice", options, "option") if float not in allowed else None
+        if _numeric(value) and (not known or float in allowed):
+            return _QUANTITY
+        if known and str not in allowed:
+            return None
+        if value.endswith(".toml"):
+            parent = self.file(files)
+            inner = self._enter(parent, value)
+            if inner is None or not isinstance(inner.data.get("model"), Mapping):
+                return None
+            kind = str(inner.data["model"].get("type", ""))
+            return Nature("choice", self._model_files(parent, kind, value), f"{kind} model file", kind)
+        if str(keys[-1]).endswith("material"):
+            return Nature("choice", self._material_names(files), "material")
+        return None
+
+    def _vector_nature(
+        self, files: tuple[str, ...], keys: tuple[str | int, ...], value: Any
+    ) -> Nature | None:
+        """A vector of one to three quantities or whole numbers: what its components are."""
+        if not isinstance(value, list) or not 1 <= len(value) <= 3:
+            return None
+        natures = {self._nature(files, (*keys, i), v) for i, v in enumerate(value)}
+        if len(natures) == 1 and (n := natures.pop()) in (_QUANTITY, _INTEGER):
+            return n
+        return None
+
+    def nature(self, loc: Location) -> Nature:
+        """What the value at a resolved location is to a study.
+
+        Parameters
+        ----------
+        loc : Location
+            From :meth:`resolve`.
+        """
+        found = self._nature(loc.files, loc.keys, self.value(loc))
+        if found is None:
+            raise PathError(f"{self.source.path}: {loc.path!r} names no value a study varies")
+        return found
+
+    def _material_names(self, files: tuple[str, ...]) -> tuple[str, ...]:
+        """The materials a mount file may name: the shipped ones and those of its ``[materials] files``."""
+        source = self.file(files)
+        if source.path not in self._materials:
+            from mechdyn.mounts.materials import default_materials
+
+            db = default_materials()
+            table = source.data.get("materials")
+            extra = table.get("files", []) if isinstance(table, Mapping) else []
+            for name in extra if isinstance(extra, list) else []:
+                p = Path(source.path).parent / str(name)
+                try:
+                    db = db.with_file(p)
+                except (MechdynError, OSError):
+                    pass  # the model's own check says what is wrong with the file
+            self._materials[source.path] = tuple(db.names())
+        return self._materials[source.path]
+
+    def _model_files(self, parent: ModelSource, model_type: str, current: str) -> tuple[str, ...]:
+        """The model files of a type beside the file that refers to one (the current one first)."""
+        directory = Path(parent.path).parent
+        cache = (str(directory), model_type)
+        if cache not in self._beside:
+            found = []
+            for p in sorted(directory.glob("*.toml")) if directory.is_dir() else []:
+                try:
+                    data = tomllib.loads(p.read_text(encoding="utf-8"))
+                except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+                    continue
+                model = data.get("model")
+                if isinstance(model, dict) and model.get("type") == model_type:
+                    found.append(p.name)
+            for path, inc in self.source.includes.items():  # a stored study's files
+                if Path(path).parent == directory and inc.data.get("model", {}).get("type") == model_type:
+                    found.append(Path(path).name)
+            self._beside[cache] = tuple(dict.fromkeys(found))
+        return tuple(dict.fromkeys((current, *self._beside[cache])))
+
     # -- paths --------------------------------------------------------------------------------
     def _walk(
         self, node: Any, files: tuple[str, ...], keys: tuple[str | int, ...], words: tuple[str, ...]
-    ) -> Iterator[tuple[tuple[str, ...], tuple[str, ...], tuple[str | int, ...], Any]]:
-        """Every (words, files, keys, value) of a quantity or a vector below ``node``."""
+    ) -> Iterator[tuple[tuple[str, ...], tuple[str, ...], tuple[str | int, ...], Any, Nature]]:
+        """Every (words, files, keys, value, nature) of a value a study varies below ``node``
+        (vectors whole; a reference to another file before the values in it)."""
         if isinstance(node, Mapping):
             for k, v in node.items():
                 if k in ("model", "name"):
                     continue
                 yield from self._walk(v, files, (*keys, k), (*words, k))
-        elif isinstance(node, list) and node and all(isinstance(r, Mapping) for r in node):
+            return
+        if isinstance(node, list) and node and all(isinstance(r, Mapping) for r in node):
             for i, row in enumerate(node):
                 yield from self._walk(row, files, (*keys, i), (*words, _Row(_label(row, i))))
-        elif isinstance(node, str) and words and words[-1] != "name":
+            return
+        if not words:
+            return
+        nature = self._vector_nature(files, keys, node) or self._nature(files, keys, node)
+        if nature is not None:
+            yield words, files, keys, node, nature
+        if isinstance(node, str):
             inner = self._enter(self.file(files), node)
             if inner is not None and inner.path not in files:
                 yield from self._walk(inner.data, (*files, inner.path), (), words)
-        if _quantity(node) or _vector(node):
-            yield words, files, keys, node
+
+    def entries(self) -> list[Entry]:
+        """Every value a study can vary, with its value and what it is (vectors also by component); a
+        value in the rows of a table array also by its ``*`` form (every row at once, e.g.
+        ``mounts.*.stiffness``), listed before the rows."""
+        out: list[Entry] = []
+        stars: dict[tuple[str, ...], list[Any]] = {}
+        for words, _files, _keys, value, nature in self._walk(self.source.data, (), (), ()):
+            forms = [words]
+            if any(isinstance(w, _Row) for w in words):
+                star = tuple("*" if isinstance(w, _Row) else w for w in words)
+                if star not in stars:
+                    stars[star] = []
+                    forms.insert(0, star)
+                stars[star].append(value)
+            for form in forms:
+                path = ".".join(f'"{w}"' if "." in w else w for w in form)
+                if isinstance(value, list):
+                    out.extend(
+                        Entry(f"{path}.{c}", v, nature) for c, v in zip(_COMPONENTS, value, strict=False)
+                    )
+                out.append(Entry(path, value, nature))
+        # a * form: the rows' value if they all hold the same, and how many rows it names
+        by_path = {
+            ".".join(f'"{w}"' if "." in w else w for w in star): values for star, values in stars.items()
+        }
+        for i, e in enumerate(out):
+            head, _, component = e.path.rpartition(".")
+            if e.path in by_path:
+                held = by_path[e.path]
+            elif head in by_path and component in _COMPONENTS:
+                held = [v[_COMPONENTS.index(component)] for v in by_path[head] if isinstance(v, list)]
+            else:
+                continue
+            same = bool(held) and all(v == held[0] for v in held)
+            out[i] = Entry(e.path, held[0] if same else None, e.nature, len(held))
+        return out
 
     def paths(self) -> list[str]:
         """Every path of a value a study can vary (vectors also by component); a value in the rows of
         a table array also by its ``*`` form (every row at once, e.g. ``mounts.*.stiffness``), listed
         before the rows."""
-        out: list[str] = []
-        every: set[tuple[str, ...]] = set()
-        for words, _files, _keys, value in self._walk(self.source.data, (), (), ()):
-            forms = [words]
-            if any(isinstance(w, _Row) for w in words):
-                star = tuple("*" if isinstance(w, _Row) else w for w in words)
-                if star not in every:
-                    every.add(star)
-                    forms.insert(0, star)
-            for form in forms:
-                path = ".".join(f'"{w}"' if "." in w else w for w in form)
-                if _vector(value):
-                    out.extend(f"{path}.{c}" for c in _COMPONENTS[: len(value)])
-                out.append(path)
-        return out
+        return [e.path for e in self.entries()]
 
     def resolve(self, path: str) -> list[Location]:
-        """The values a path names (several with ``*``), each a quantity (vectors by component).
+        """The values a path names (several with ``*``), each one a study varies (vectors by component).
 
         Parameters
         ----------
@@ -203,9 +549,9 @@ class ModelTree:
         found: list[Location],
     ) -> None:
         if not words:
-            if _vector(node):
+            if self._vector_nature(files, keys, node) is not None:
                 found.extend(Location(files, (*keys, i), path) for i in range(len(node)))
-            elif _quantity(node):
+            elif self._nature(files, keys, node) is not None:
                 found.append(Location(files, keys, path))
             return
         word, rest = words[0], words[1:]
@@ -216,9 +562,10 @@ class ModelTree:
             return
         if isinstance(node, Mapping):
             for k in node if word == "*" else ([word] if word in node else []):
-                self._resolve(node[k], files, (*keys, k), rest, path, found)
+                if k not in ("model", "name"):
+                    self._resolve(node[k], files, (*keys, k), rest, path, found)
         elif isinstance(node, list):
-            if _vector(node) and word in _COMPONENTS[: len(node)] and not rest:
+            if self._vector_nature(files, keys, node) and word in _COMPONENTS[: len(node)] and not rest:
                 found.append(Location(files, (*keys, _COMPONENTS.index(word)), path))
                 return
             for i, row in enumerate(node):
@@ -253,12 +600,15 @@ class ModelTree:
     # -- variants -----------------------------------------------------------------------------
     def variant(self, values: Mapping[Location, Any]) -> ModelSource:
         """The base model with the values at the given locations replaced (as file values, e.g.
-        ``"0.61 m"`` or ``0.05``), built in memory; the base is left as it is.
+        ``"0.61 m"``, ``0.05``, ``18`` or ``"rubber shore 50"``), built in memory; the base is left as
+        it is. Every file of the model, and every model file a choice names, is given to the variant
+        in memory (a stored study's files, not those on disk, when the base came from the store).
 
         Parameters
         ----------
         values : mapping of Location to value
             The new file values."""
+        self._enter_all()
         data: dict[str, Any] = {}
         for loc, v in values.items():
             path = loc.files[-1] if loc.files else self.source.path
@@ -273,13 +623,39 @@ class ModelTree:
                 self.source.sha256 + json.dumps(sorted((_key(loc), repr(v)) for loc, v in values.items()))
             ).encode()
         ).hexdigest()
-        # every changed file sees every other one, however deep it refers (one shared mapping)
+        # every file sees every other one, however deep it refers (one shared mapping)
         includes: dict[str, ModelSource] = {}
-        for p, d in data.items():
+        given = {**self.source.includes, **self._alternatives, **self._files}
+        for p, s in given.items():
             if p != self.source.path:
-                includes[p] = ModelSource(p, self._files[p].text, stamp, d, includes)
+                d = data.get(p, s.data)
+                includes[p] = ModelSource(p, s.text, stamp if p in data else s.sha256, d, includes)
         base = data.get(self.source.path, self.source.data)
         return ModelSource(self.source.path, self.source.text, stamp, base, includes)
+
+
+def _leaves(file_type: str, keys: tuple[str | int, ...]) -> tuple[Any, ...] | None:
+    """The types the schema of a file type allows at ``keys`` (None: it does not say)."""
+    from mechdyn.io.modelfile import schema_of
+
+    try:
+        annotations: list[Any] = [schema_of(file_type)]
+    except KeyError:
+        return None
+    for i, k in enumerate(keys):
+        inline = _INLINE.get((file_type, str(k)))
+        if inline is not None and i > 0:  # a table written inline in the form of another type's file
+            annotations = [schema_of(inline)]
+            continue
+        below: list[Any] = []
+        for a in annotations:
+            step = _step(a, k)
+            if step is None:
+                return None
+            below.extend(step)
+        annotations = below
+    leaves = tuple(t for a in annotations for t in _unwrap(a))
+    return None if any(t is Any for t in leaves) else leaves
 
 
 def _key(loc: Location) -> str:

@@ -11,9 +11,9 @@ import numpy as np
 from mechdyn.plotting import new_axes
 
 if TYPE_CHECKING:
-    from mechdyn.store.studies import StoredVariant
     from mechdyn.studies.result import StudyResult
     from mechdyn.studies.spec import Watched
+    from mechdyn.studies.storage import StoredVariant
 
 __all__ = [
     "choose_curves",

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.store.studies import StoredVariant, variant_key
+from mechdyn.studies.storage import StoredVariant, variant_key
 
 __all__ = ["STEP", "optimality", "polish", "stencil", "target_cost"]
 
@@ -357,7 +357,7 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
                 "name": entry["name"],
                 "kind": entry["kind"],
                 # a synthesis' cost has no unit a designer reads: only what holds the fit is told
-                "worth": _shown_difference(o, worth_si) if o is not None else None,
+                "worth": o.difference(worth_si) if o is not None else None,
                 "per": entry["per"],
             }
         )
@@ -366,10 +366,3 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
         "active": active,
         "unit": (o.display or o.unit) if o is not None else "",
     }
-
-
-def _shown_difference(w: Any, value: float) -> float:
-    """A difference of an output (SI) in its display unit (a scale, no offset)."""
-    if not w.display:
-        return float(value)
-    return float(value) * _one_unit_in_si(w.unit, w.display) ** -1

@@ -1,25 +1,7 @@
 """Running a study: the design of each kind, evaluation in blocks (in-process or on Dask), every
 variant stored as it is finished, and what each kind finds.
 
-Kinds
------
-``oat``
-    One at a time: the base, then each parameter at each of its levels with the others at base
-    (as both publications did); each output's change in % of the base.
-``factorial``
-    Every combination of the parameters' levels.
-``lhs``
-    Latin hypercube over the ranges (:class:`scipy.stats.qmc.LatinHypercube`).
-``sobol``
-    First- and total-order Sobol indices with 95 % confidence intervals (Saltelli's sampling and
-    Jansen's estimators, by SALib: Saltelli et al., *Global Sensitivity Analysis. The Primer*, 2008).
-``optimize``
-    Optuna: TPE for one objective, NSGA-II for several (the Pareto front); constraints through
-    ``trial.set_constraint``; a failed variant is infeasible.
-``synthesis``
-    Fit targets (each ``equals`` within its ``tolerance``): differential evolution
-    (:func:`scipy.optimize.differential_evolution`, a whole generation evaluated as one block) on
-    the sum of squared residuals over tolerance, constraints as penalties.
+What each kind designs and finds is its own (:mod:`mechdyn.studies.kinds`).
 
 Resuming: a variant's key is a hash of its parameter values, unique within its study; a run looks
 up every key before it evaluates, so running a study again reuses what is stored (the designs and
@@ -28,7 +10,6 @@ the optimizers are seeded, so the second run asks for the same variants).
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Callable, Sequence
 from contextlib import nullcontext
@@ -39,9 +20,9 @@ import numpy as np
 
 from mechdyn import __version__
 from mechdyn.store.store import StoreError
-from mechdyn.store.studies import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.evaluate import Evaluation, Evaluator
 from mechdyn.studies.spec import StudyError
+from mechdyn.studies.storage import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.study import Study
 
 __all__ = ["Runner", "recompute", "run_study", "stored_result", "stored_study"]
@@ -248,9 +229,13 @@ class Runner:
         return np.array([p.base for p in self.study.parameters])
 
     def run(self) -> Any:
-        from mechdyn.studies.kinds import KIND_RUNNERS
+        """Run the study's kind (:mod:`mechdyn.studies.kinds`): evaluate its variants, state its
+        findings from them (the function a stored study's findings come from too), keep the curves
+        of the base and the best, and count what was evaluated now and what was reused."""
+        from mechdyn.studies.kinds import kind
         from mechdyn.studies.result import StudyResult
 
+        k = kind(self.study.kind)
         bar: Any = nullcontext()
         if self.progress:
             from rich.console import Console
@@ -263,28 +248,30 @@ class Runner:
         try:
             with bar as b:
                 self._bar = b
-                findings, variants, best = KIND_RUNNERS[self.study.kind](self)
+                ran = k.run(self)
+                found = k.findings(self.study, ran.variants)
+                findings = {**ran.extra, **found.findings}
+                findings.update(k.confirm(self, found))
         finally:
             self._bar = None
             self.close()
-        if len(variants) <= self.study.curves:
-            kept = list(variants)
-        else:
-            kept = [v for v in variants if v.position == 0 or (best is not None and v.id in best)]
+        variants = ran.variants
+        kept = _kept(variants, found.best, self.study.curves)
         self.keep_curves(kept)
         with_curves = tuple(
             self.store.variant(v.id) for v in kept[: self.study.curves or 2] if v.status == "ok"
         )
-        failed = sum(1 for v in variants if v.status != "ok")
-        # the counts add up: each variant of the result was stored before this run, or since
-        reused = sum(1 for v in variants if v.key in self.stored_before)
+        # the counts add up: each variant of the result (once, though a design may list one twice:
+        # a factorial's base that is also a point of its grid) was stored before this run, or since
+        distinct = {v.key: v for v in variants}
+        reused = sum(1 for k in distinct if k in self.stored_before)
         return StudyResult(
             self.study,
             self.stored,
             tuple(variants),
-            len(variants) - reused,
+            len(distinct) - reused,
             reused,
-            failed,
+            sum(1 for v in distinct.values() if v.status != "ok"),
             findings,
             with_curves,
         )
@@ -444,7 +431,9 @@ def stored_study(store: Any, name: str) -> Study:
 
 def stored_result(store: Any, name: str) -> Any:
     """A stored study's result from the database alone, without evaluating or writing anything (a
-    read-only dashboard): :func:`mechdyn.studies.kinds.from_stored`.
+    read-only dashboard): the kind's findings (:meth:`mechdyn.studies.kinds.Kind.findings`) of its
+    stored variants, as a run states them (less what only a run knows: Optuna's trial count, the
+    polish, the single-design check).
 
     Parameters
     ----------
@@ -454,24 +443,35 @@ def stored_result(store: Any, name: str) -> Any:
     Returns
     -------
     StudyResult
-        ``evaluated`` and ``reused`` are 0 (nothing ran); ``kept`` holds the base and the best with
-        their curves where stored.
+        ``evaluated`` is 0 and ``reused`` the number of variants (nothing ran); ``kept`` holds the
+        base and the best with their curves where stored.
+
+    Raises
+    ------
+    StudyError
+        When a fixed design's variants are not all stored yet (the study is still running).
     """
     from mechdyn.store.store import ResultStore
-    from mechdyn.studies.kinds import from_stored
+    from mechdyn.studies.kinds import kind
     from mechdyn.studies.result import StudyResult
 
     rs = store if isinstance(store, ResultStore) else ResultStore(store, read_only=True)
     studies = StudyStore(rs)
     study = stored_study(rs, name)
-    variants = studies.variants(name)
-    findings, ordered, best = from_stored(study, variants)
-    kept = [v for v in ordered if v.position == 0 or (best is not None and v.id in best)]
-    with_curves = tuple(studies.variant(v.id) for v in kept[:4])
-    failed = sum(1 for v in ordered if v.status != "ok")
-    return StudyResult(study, studies.study(name), tuple(ordered), 0, 0, failed, findings, with_curves)
+    k = kind(study.kind)
+    variants = k.order(study, studies.variants(name))
+    found = k.findings(study, variants)
+    with_curves = tuple(studies.variant(v.id) for v in _kept(variants, found.best, 0)[:4])
+    distinct = {v.key: v for v in variants}
+    failed = sum(1 for v in distinct.values() if v.status != "ok")
+    return StudyResult(
+        study, studies.study(name), tuple(variants), 0, len(distinct), failed, found.findings, with_curves
+    )
 
 
-def grid(levels: Sequence[Sequence[float]]) -> np.ndarray:
-    """Every combination of the levels (rows)."""
-    return np.array(list(itertools.product(*levels)), dtype=float)
+def _kept(variants: Sequence[StoredVariant], best: frozenset[int], curves: int) -> list[StoredVariant]:
+    """The variants whose curves a result keeps: all of a study of up to ``curves`` variants, else the
+    first stored (the base design, where the kind has one) and the best."""
+    if len(variants) <= curves:
+        return list(variants)
+    return [v for v in variants if v.position == 0 or v.id in best]

@@ -6,6 +6,12 @@ A parameter's range is absolute (``["1.2 m", "1.6 m"]``), relative to the model'
 may move several values together (``mounts.*.stiffness``, or ``tie`` = more paths): each moves by the
 same factor from its own base value. In Python a parameter may instead be any function
 ``(model, value) -> model``.
+
+A value that is not a quantity takes levels only: a whole number (a tooth count: ``[17, 19]``, or
+relative levels that land on whole numbers) or a choice (a material by name, an option, another model
+file of the same type, true or false: the names themselves). A choice's value in a variant's row is
+the index of its level in :attr:`Parameter.choices` (the model's own value first), so that every
+variant is still a row of numbers; :meth:`Parameter.shown` gives the name.
 """
 
 from __future__ import annotations
@@ -17,7 +23,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from mechdyn.errors import MechdynError
-from mechdyn.studies.paths import Location, ModelTree
+from mechdyn.studies.paths import Location, ModelTree, Nature, file_text
 
 __all__ = ["Constraint", "Objective", "Parameter", "StudyError", "Watched", "parse_relative"]
 
@@ -92,6 +98,12 @@ class Parameter:
         Every location's base value, SI.
     apply : callable or None
         ``(model, value) -> model`` for a parameter that is a Python function.
+    choices : tuple
+        A choice (a material, an option, a model file, true or false): the values it sets, as the
+        file writes them, the model's own first; the parameter's value is the index of one of them
+        (``base`` 0, ``levels`` the indices of the study's levels). Empty for a number.
+    integer : bool
+        A whole number (a tooth count): levels only, and the file gets whole numbers.
     """
 
     name: str
@@ -104,6 +116,8 @@ class Parameter:
     levels: tuple[float, ...] = ()
     bases: tuple[float, ...] = ()
     apply: Callable[[Any, float], Any] | None = field(default=None, compare=False)
+    choices: tuple[Any, ...] = ()
+    integer: bool = False
 
     # -- construction ------------------------------------------------------------------------
     @classmethod
@@ -130,7 +144,8 @@ class Parameter:
         range : str or [low, high], optional
             ``"±10 %"``, or two quantities with units (``["1.2 m", "1.6 m"]``).
         levels : list, optional
-            Relative (``"-10 %"``) or absolute (``"1.2 m"``) values.
+            Relative (``"-10 %"``) or absolute (``"1.2 m"``) values; whole numbers for a whole
+            number (``[17, 19]``), names for a choice (``["rubber shore 50", "rubber shore 70"]``).
         tie : list of str
             More paths that move with this one, by the same factor.
         name : str, optional
@@ -144,7 +159,8 @@ class Parameter:
         locations = tree.resolve(path)
         tied = [loc for p in tie for loc in tree.resolve(p)]
         groups: list[tuple[str, list[Location]]] = [(path, [*locations, *tied])]
-        if _coordinates(tree, locations):  # a point: each coordinate is a parameter of its own
+        # a point: each coordinate is a parameter of its own
+        if tree.nature(locations[0]).kind == "quantity" and _coordinates(tree, locations):
             n = len(locations)
             head = name or path
             groups = [(f"{head}.{'xyz'[i]}", [loc, *tied[i::n]]) for i, loc in enumerate(locations)]
@@ -159,6 +175,15 @@ class Parameter:
     def _one(
         cls, tree: ModelTree, name: str, locs: list[Location], range_: Any, levels: Any, where: str
     ) -> Parameter:
+        natures = [tree.nature(loc) for loc in locs]
+        if any(n.kind != natures[0].kind or n.of != natures[0].of for n in natures):
+            kinds = sorted({_what(n) for n in natures})
+            raise StudyError(
+                f"{where}: {name!r} moves values of different kinds together ({', '.join(kinds)}); give "
+                "each kind a parameter of its own"
+            )
+        if natures[0].kind != "quantity":
+            return cls._discrete(tree, name, locs, natures[0], range_, levels, where)
         values = [tree.value(loc) for loc in locs]
         unit = _file_unit(values[0])
         bases = []
@@ -235,6 +260,58 @@ class Parameter:
         return cls(name, tuple(locs), base, unit, factor, low, high, lv, tuple(bases))
 
     @classmethod
+    def _discrete(
+        cls,
+        tree: ModelTree,
+        name: str,
+        locs: list[Location],
+        nature: Nature,
+        range_: Any,
+        levels: Any,
+        where: str,
+    ) -> Parameter:
+        """A whole number or a choice: levels only, checked against what the model accepts."""
+        values = [tree.value(loc) for loc in locs]
+        shown = file_text(values[0])
+        what = _what(nature)
+        integer = nature.kind == "integer"
+        if integer:
+            b = int(values[0])
+            example = f"[{b - 1}, {b + 1}]" if b > 1 else f"[{b + 1}, {b + 2}]"
+        else:
+            others = [c for c in nature.choices if c != values[0]][:2] or [values[0]]
+            example = "[" + ", ".join(file_text(c) for c in others) + "]"
+        if range_ is not None:
+            raise StudyError(
+                f"{where}: {name!r} is {what} ({shown} in the model), not a quantity: it takes levels, "
+                f"not a range; give levels = {example} (studies of kind {' or '.join(level_kinds())} "
+                "take levels)"
+            )
+        if not isinstance(levels, (list, tuple)) or not levels:
+            raise StudyError(f"{where}: levels of {name!r} must be a non-empty list, e.g. {example}")
+        if integer:
+            bases = tuple(float(v) for v in values)
+            lv = tuple(_whole_level(q, name, bases, shown, example, where) for q in levels)
+            return cls(name, tuple(locs), bases[0], "", 1.0, None, None, lv, bases, integer=True)
+        if any(v != values[0] for v in values):
+            held = ", ".join(sorted({file_text(v) for v in values}))
+            raise StudyError(
+                f"{where}: {name!r} names {len(values)} values that differ in the model ({held}); a choice "
+                "sets them all to one value: give each its own parameter (one row each)"
+            )
+        choices = [values[0]]
+        lv_choice: list[float] = []
+        for q in levels:
+            c = _choice_level(tree, locs[0], nature, q, name, shown, where)
+            if c not in choices:
+                choices.append(c)
+            lv_choice.append(float(choices.index(c)))
+        zeros = tuple(0.0 for _ in locs)
+        return cls(
+            name, tuple(locs), 0.0, "", 1.0, None, None, tuple(lv_choice), zeros, choices=tuple(choices)
+        )
+
+    @classmethod
     def function(
         cls,
         name: str,
@@ -286,35 +363,168 @@ class Parameter:
         ----------
         value : float
             The parameter's value, in its SI unit."""
+        if self.choices:
+            choice = self.choice(value)
+            return dict.fromkeys(self.locations, choice)
+        if self.integer:
+            return {loc: round(v) for loc, v in self.location_values(value).items()}
         return {
             loc: f"{v / self.factor!r} {self.unit}" if self.unit else v
             for loc, v in self.location_values(value).items()
         }
 
-    def shown(self, value: float) -> str:
-        """The value in the file's unit, as text.
+    def choice(self, value: float) -> Any:
+        """The file value that a choice's ``value`` (the index of one of :attr:`choices`) stands for.
 
         Parameters
         ----------
         value : float
-            The parameter's value, in its SI unit.
+            An index into :attr:`choices`.
+
+        Raises
+        ------
+        StudyError
+            For a value that is not the index of one of them.
         """
+        i = round(value) if math.isfinite(value) else -1
+        if not (self.choices and abs(value - i) < 1e-9 and 0 <= i < len(self.choices)):
+            raise StudyError(
+                f"{self.name!r}: {value!r} is not one of its choices' indices (0 to {len(self.choices) - 1}: "
+                + ", ".join(file_text(c) for c in self.choices)
+                + ")"
+            )
+        return self.choices[i]
+
+    @property
+    def discrete(self) -> bool:
+        """A whole number or a choice: levels only (one-at-a-time and factorial studies)."""
+        return bool(self.choices) or self.integer
+
+    def shown(self, value: float) -> str:
+        """The value in the file's unit, as text (a choice: its name; a whole number: the number).
+
+        Parameters
+        ----------
+        value : float
+            The parameter's value, in its SI unit (a choice: the index of the choice).
+        """
+        if self.choices:
+            try:
+                c = self.choice(value)
+            except StudyError:
+                return f"{value:g}"
+            return c if isinstance(c, str) else file_text(c)
+        if self.integer and math.isfinite(value) and value == round(value):
+            return f"{round(value):d}"
         v = value / self.factor
         return f"{v:.6g} {self.unit}".strip()
 
     def relative(self, value: float) -> float | None:
-        """Change from the base value, as a fraction (None when the base is 0).
+        """Change from the base value, as a fraction (None when the base is 0, and for a choice).
 
         Parameters
         ----------
         value : float
             The parameter's value, in its SI unit.
         """
+        if self.choices:
+            return None
         return value / self.base - 1.0 if self.base else None
 
     @property
     def bounded(self) -> bool:
         return self.low is not None and self.high is not None and math.isfinite(self.high - self.low)
+
+
+def level_kinds() -> tuple[str, ...]:
+    """The study kinds that take levels (one-at-a-time and factorial): those a whole number or a
+    choice can be a parameter of."""
+    from mechdyn.studies.kinds import KINDS
+
+    return tuple(name for name, k in KINDS.items() if k.uses == "levels")
+
+
+def _what(nature: Nature) -> str:
+    """A value's kind in words, for messages (``"a whole number"``, ``"a material"``)."""
+    if nature.kind == "integer":
+        return "a whole number"
+    if nature.kind == "quantity":
+        return "a quantity"
+    if nature.of == "true or false":
+        return "true or false"
+    return "an option" if nature.of == "option" else f"a {nature.of}"
+
+
+def _whole_level(q: Any, name: str, bases: tuple[float, ...], shown: str, example: str, where: str) -> float:
+    """A level of a whole number: a number, or relative to the model's value; it must land on a
+    whole number at every value the parameter sets."""
+    base = bases[0]
+    r = parse_relative(q)
+    if r is not None:
+        if r[0] == "±":
+            raise StudyError(f'{where}: level {q!r} for {name!r}: a level is one value, e.g. "+10 %"')
+        if base == 0:
+            raise StudyError(
+                f"{where}: {name!r} is 0 in the model, so a relative level {q!r} moves nothing; give whole "
+                f"numbers, e.g. levels = {example}"
+            )
+        x = base * (1.0 + r[1])
+    elif isinstance(q, bool) or not isinstance(q, (int, float)) or not math.isfinite(q):
+        raise StudyError(
+            f"{where}: level {q!r} of {name!r}: {name!r} is a whole number ({shown} in the model); give "
+            f"whole numbers without a unit or quotes, e.g. levels = {example}"
+        )
+    else:
+        x = float(q)
+    for b in bases:
+        y = x if b == base else b * x / base
+        if abs(y - round(y)) > 1e-9 * max(1.0, abs(y)):
+            moved = "" if b == base else f" moves {b:g} to {y:.6g}, which"
+            raise StudyError(
+                f"{where}: level {q!r} of {name!r}{moved} is {y:.6g}, not a whole number ({name!r} is "
+                f"{shown} in the model); give whole numbers, e.g. levels = {example}"
+            )
+    return float(round(x))
+
+
+def _choice_level(
+    tree: ModelTree, loc: Location, nature: Nature, q: Any, name: str, shown: str, where: str
+) -> Any:
+    """A level of a choice, as the file would write it, checked against what the model accepts."""
+    import difflib
+
+    listed = ", ".join(file_text(c) for c in nature.choices)
+    if nature.of == "true or false":
+        if isinstance(q, bool):
+            return q
+        if isinstance(q, str) and q.strip().lower() in ("true", "false"):
+            return q.strip().lower() == "true"
+        raise StudyError(f"{where}: level {q!r} of {name!r}: give true or false ({shown} in the model)")
+    if not isinstance(q, str) or parse_relative(q) is not None:
+        raise StudyError(
+            f"{where}: level {q!r} of {name!r}: {name!r} is {_what(nature)} ({shown} in the model); its "
+            f"levels are names, not numbers or changes; the choices: {listed}"
+        )
+    if nature.model_type:
+        found = tree.model_file(loc, q)
+        if found is None or found.model_type != nature.model_type:
+            from mechdyn.io.modelfile import reference_path
+
+            target = reference_path(tree.file(loc.files), q)
+            why = "no such model file" if found is None else f"a {found.model_type!r} model"
+            raise StudyError(
+                f"{where}: level {q!r} of {name!r}: {why} ({target}); give a {nature.of} relative to "
+                f"{tree.file(loc.files).path}, e.g. {listed}"
+            )
+        return q
+    if q not in nature.choices:
+        near = difflib.get_close_matches(q, [str(c) for c in nature.choices], n=3)
+        hint = f" (did you mean {', '.join(map(repr, near))}?)" if near else ""
+        raise StudyError(
+            f"{where}: level {q!r} of {name!r} is not {_what(nature)} the model accepts{hint}; the choices: "
+            f"{listed}"
+        )
+    return q
 
 
 def _coordinates(tree: ModelTree, locations: Sequence[Location]) -> bool:
@@ -366,6 +576,23 @@ class Watched:
         if value is None or not math.isfinite(value):
             return None
         return float(convert(value, self.unit, self.display)) if self.display else value
+
+    def difference(self, value: float | None) -> float | None:
+        """A difference of the output (an effect, a margin: ``value`` SI) in the display unit: a scale,
+        no offset (a difference of 1 K is 1 °C); None for a missing value.
+
+        Parameters
+        ----------
+        value : float or None
+            The difference, in the output's SI unit.
+        """
+        from mechdyn.units import convert
+
+        if value is None:
+            return None
+        if not self.display or self.display == self.unit:
+            return float(value)
+        return float(value) / float(convert(1.0, self.display, self.unit))
 
     @property
     def shown_unit(self) -> str:
@@ -460,8 +687,16 @@ class Constraint:
 
 def output_problem(summary: Mapping[str, Any], key: str) -> str | None:
     """Why a dotted key names no number in a summary (None when it names one): a list or table that
-    needs an entry, an entry that is not there (list entries count from 1), or a value that is not a
-    number."""
+    needs an entry, an entry that is not there (list entries count from 1), a list that is empty, or a
+    value that is not a number.
+
+    Parameters
+    ----------
+    summary : mapping
+        An analysis' summary (SI).
+    key : str
+        The output, nested with dots (``crossings.1.speed_rpm``).
+    """
     node: Any = summary
     path = ""
     for part in key.split("."):
@@ -472,6 +707,12 @@ def output_problem(summary: Mapping[str, Any], key: str) -> str | None:
                 return f"{here!r} is not in the result ({path or 'it'} holds: {names})"
             node = node[part]
         elif isinstance(node, list):
+            if not node:
+                return (
+                    f"{here!r}: {path} is empty for the base design (a list without entries), so there is "
+                    f"nothing to read; choose an output the base design has, or change what leaves {path} "
+                    "empty (the model, or the analysis' options)"
+                )
             if not (part.isdigit() and 1 <= int(part) <= len(node)):
                 return (
                     f"{here!r}: {path} is a list of {len(node)}, its entries count from 1 "

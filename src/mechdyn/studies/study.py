@@ -29,16 +29,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from mechdyn.io.modelfile import ModelSource, read
 from mechdyn.store.schema import NAME_LENGTH
 from mechdyn.studies.paths import ModelTree, PathError
 from mechdyn.studies.spec import Constraint, Objective, Parameter, StudyError, Watched
 
-__all__ = ["KINDS", "Study", "load_studies", "load_study", "study_from_data"]
-
-KINDS = ("oat", "factorial", "lhs", "sobol", "optimize", "synthesis")
+__all__ = ["Study", "load_studies", "load_study", "study_from_data"]
 
 
 class _Row(BaseModel):
@@ -48,9 +46,22 @@ class _Row(BaseModel):
 class _StudyTable(_Row):
     name: str = Field(min_length=1, max_length=NAME_LENGTH - 16)  # room for a box: "NAME ±10 %"
     """The study's name in the results database; running a study of a stored name resumes it."""
-    kind: Literal["oat", "factorial", "lhs", "sobol", "optimize", "synthesis"]
+    kind: str
     """``oat`` (one at a time), ``factorial``, ``lhs`` (Latin hypercube), ``sobol`` (Sobol indices),
-    ``optimize`` (Optuna) or ``synthesis`` (differential evolution to targets)."""
+    ``optimize`` (Optuna) or ``synthesis`` (differential evolution to targets): the kinds registered in
+    :mod:`mechdyn.studies.kinds`."""
+
+    @field_validator("kind")
+    @classmethod
+    def _registered(cls, v: str) -> str:
+        from mechdyn.studies.kinds import KINDS
+
+        if v not in KINDS:
+            close = difflib.get_close_matches(v, KINDS, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ValueError(f"{v!r} is not a study kind{hint}; the kinds are {', '.join(map(repr, KINDS))}")
+        return v
+
     model: str = Field(description="the base model file, relative to the study file")
     analysis: str = Field(description="a registered analysis (`mechdyn analyses` lists them)")
     description: str = ""
@@ -88,14 +99,17 @@ class _ParameterRow(_Row):
     path: str
     """The model value, as the model file spells it: ``support.stiffness``, ``points.C.y``,
     ``bodies.slide.mass``, ``mounts.*.stiffness``; through a referenced file:
-    ``excitation.mechanism.points.C``."""
+    ``excitation.mechanism.points.C``; a whole number or a choice: ``gear_pairs.*.pinion.teeth``,
+    ``mounts.*.mount.pad.material``, ``mounts.*.mount`` (``mechdyn study --paths MODEL`` lists them)."""
     name: str | None = Field(default=None, min_length=1, max_length=200)
     """The parameter's name in tables (default: the path)."""
     range: str | list[Any] | None = None
     """Low and high with units (``["1.2 m", "1.6 m"]``), relative (``"±10 %"``), or ``"box"`` (each of the
-    study's ``boxes``)."""
+    study's ``boxes``); a quantity only (a whole number or a choice takes levels)."""
     levels: list[Any] | None = None
-    """Levels with units, or relative (``["-10 %", "-20 %"]``), for ``oat`` and ``factorial``."""
+    """Levels with units, or relative (``["-10 %", "-20 %"]``), for ``oat`` and ``factorial``; a whole
+    number (a tooth count) takes whole numbers (``[17, 21]``), a choice its names (a material:
+    ``["rubber shore 50", "rubber shore 70"]``; another mount file: ``["wedge_mount.toml"]``)."""
     tie: list[str] = Field(default_factory=list)
     """More paths that move with this parameter, each by the same factor from its own value."""
 
@@ -461,21 +475,27 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
     for i, row in enumerate(f.parameters):
         where = f"{src_path}: [[parameters]] #{i + 1} (path = {row.path!r})"
         try:
-            params.extend(
-                Parameter.from_spec(
-                    tree,
-                    row.path,
-                    range=row.range,
-                    levels=row.levels,
-                    tie=row.tie,
-                    name=row.name,
-                    where=where,
-                )
+            made = Parameter.from_spec(
+                tree,
+                row.path,
+                range=row.range,
+                levels=row.levels,
+                tie=row.tie,
+                name=row.name,
+                where=where,
             )
         except PathError as exc:
             raise StudyError(f"{where}: {exc}") from None
         except UnitError as exc:
             raise StudyError(f"{where}: {exc}") from None
+        from mechdyn.studies.kinds import kind
+
+        kind(s.kind).refuse_discrete(made, where)
+        params.extend(made)
+    if tree.alternatives:  # model files a choice names: the variants read them, the study stores them
+        from dataclasses import replace as _replace
+
+        base = _replace(base, includes={**base.includes, **tree.alternatives})
     if not params:
         raise StudyError(f"{src_path}: give at least one [[parameters]] row")
     seen: dict[str, int] = {}
@@ -486,7 +506,8 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
                 'own (give the second a different path, or name = "...")'
             )
         seen[p.name] = 1
-    moved = [loc for p in params for loc in p.locations]
+    # (a wildcard through a file that several rows share names its values once per row)
+    moved = [loc for p in params for loc in dict.fromkeys(p.locations)]
     for loc in moved:
         if moved.count(loc) > 1:
             owners = [p.name for p in params if loc in p.locations]
@@ -589,23 +610,11 @@ def _option_value(o: Any, v: Any, here: str) -> Any:
 
 
 def check(study: Study) -> None:
-    """What each kind needs: levels for one-at-a-time and factorial, ranges for the others,
-    objectives for optimization, targets for synthesis."""
+    """What the study's kind needs (:meth:`mechdyn.studies.kinds.Kind.check`: levels or ranges,
+    objectives, targets) and the outputs to look at."""
+    from mechdyn.studies.kinds import kind
+
     where = study.path or study.name
-    levels_kinds = ("oat", "factorial")
-    for p in study.parameters:
-        if study.kind in levels_kinds and not p.levels and not p.bounded:
-            raise StudyError(
-                f"{where}: parameter {p.name!r} needs levels or a range for a {study.kind} study"
-            )
-        if study.kind not in levels_kinds and not p.bounded:
-            raise StudyError(
-                f'{where}: parameter {p.name!r} needs a range ("±10 %" or [low, high]) '
-                f"for a {study.kind} study"
-            )
-    if study.kind == "optimize" and not study.objectives:
-        raise StudyError(f"{where}: an optimize study needs [[objectives]] (output and goal)")
-    if study.kind == "synthesis" and not study.targets:
-        raise StudyError(f"{where}: a synthesis study needs [[targets]] (output, equals, tolerance)")
+    kind(study.kind).check(study)
     if not study.watched:
         raise StudyError(f"{where}: give the [[outputs]] to look at")

@@ -1,4 +1,5 @@
-"""Design studies in the results database: each study, every variant it evaluated, their curves.
+"""Design studies in the results database (the tables of :mod:`mechdyn.store.schema`): each study,
+every variant it evaluated, their curves.
 
 A variant is stored once: its key (a hash of its parameter values, or an optimizer's trial number)
 is unique within its study, and a block of variants is written in one transaction, so a study
@@ -35,7 +36,7 @@ def optuna_name(study: str) -> str:
     return f"mechdyn:{study}"
 
 
-def variant_key(values: Sequence[float]) -> str:
+def variant_key(values: Sequence[float] | np.ndarray) -> str:
     """The key of a variant: a hash of its parameter values (SI, exactly as evaluated)."""
     return hashlib.sha256(json.dumps([float(v).hex() for v in values]).encode()).hexdigest()[:40]
 

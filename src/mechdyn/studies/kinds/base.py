@@ -1,0 +1,271 @@
+"""The protocol of a study kind, its registry, and what the kinds share.
+
+A kind is one object (a subclass of :class:`Kind`, registered once with :func:`register`) that
+designs the variants of a study, evaluates them through a runner, and states what they show:
+
+- :meth:`Kind.check` — what the kind needs of a study (levels or ranges, objectives, targets);
+- :meth:`Kind.design` — the rows of a fixed design (``None`` for a search that adapts);
+- :meth:`Kind.run` — the evaluation: a fixed design is evaluated as it is, a search asks for its
+  variants as it goes; it returns the study's variants and what only the run knows (trials, the
+  polish);
+- :meth:`Kind.order` — the stored variants in the order :meth:`findings` expects them;
+- :meth:`Kind.findings` — a pure function of the study and its variants (JSON-ready, SI), the same
+  after a run and from the database alone;
+- :meth:`Kind.tables` and :meth:`Kind.plots` — how the result shows them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from mechdyn.results import Table
+from mechdyn.studies.spec import StudyError, level_kinds
+from mechdyn.studies.storage import StoredVariant, variant_key
+
+if TYPE_CHECKING:
+    from mechdyn.studies.result import StudyResult
+    from mechdyn.studies.spec import Parameter
+    from mechdyn.studies.study import Study
+
+__all__ = ["KINDS", "Found", "Kind", "Ran", "kind", "register"]
+
+
+@dataclass(frozen=True)
+class Found:
+    """What a kind found.
+
+    Attributes
+    ----------
+    findings : dict
+        JSON-ready, SI (see each kind's ``findings``).
+    best : frozenset of int
+        Ids of the variants whose curves are always kept (the base, the optimum, the front).
+    """
+
+    findings: dict[str, Any]
+    best: frozenset[int] = frozenset()
+
+
+@dataclass(frozen=True)
+class Ran:
+    """What a run of a kind gives: the study's variants (in the order of :meth:`Kind.order`) and the
+    findings only the run knows (Optuna's trials, the polish, the optimum evaluated again)."""
+
+    variants: list[StoredVariant]
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+class Kind:
+    """A study kind. Subclasses set :attr:`name`, :attr:`title` and :attr:`uses`, and define
+    :meth:`findings`; a kind with a fixed design defines :meth:`design`, a search :meth:`run`."""
+
+    name: ClassVar[str]
+    title: ClassVar[str]
+    """How the docs and the study file's field help name it (``"one at a time"``)."""
+    uses: ClassVar[str] = "ranges"
+    """``"levels"`` (levels, or a range's two ends) or ``"ranges"`` (a continuous range each)."""
+
+    # -- the study ----------------------------------------------------------------------------
+    def check(self, study: Study) -> None:
+        """Refuse a study this kind cannot run (:class:`StudyError` naming the file and the fix)."""
+        where = study.path or study.name
+        self.refuse_discrete(study.parameters, where)
+        for p in study.parameters:
+            if self.uses == "levels" and not p.levels and not p.bounded:
+                raise StudyError(
+                    f"{where}: parameter {p.name!r} needs levels or a range for a {self.name} study"
+                )
+            if self.uses == "ranges" and not p.bounded:
+                raise StudyError(
+                    f'{where}: parameter {p.name!r} needs a range ("±10 %" or [low, high]) '
+                    f"for a {self.name} study"
+                )
+
+    def refuse_discrete(self, parameters: Sequence[Parameter], where: str) -> None:
+        """Refuse a whole number or a choice (levels only) in a kind that varies continuous ranges.
+
+        Parameters
+        ----------
+        parameters : sequence of Parameter
+        where : str
+            The study file and row, for the message.
+        """
+        from mechdyn.studies.paths import file_text
+
+        if self.uses == "levels":
+            return
+        for p in parameters:
+            if not p.discrete:
+                continue
+            what = "a whole number" if p.integer else "a choice"
+            if p.choices:
+                example = "[" + ", ".join(file_text(c) for c in p.choices[1:3]) + "]"
+            else:
+                example = f"[{round(p.base) + 1}, {round(p.base) + 2}]"
+            raise StudyError(
+                f"{where}: {p.name!r} is {what} ({p.shown(p.base)} in the model), which takes levels, not a "
+                f"range: a {self.name} study varies continuous ranges only. Vary it in a study of kind "
+                f"{' or '.join(level_kinds())}, with levels = {example}"
+            )
+
+    def design(self, study: Study) -> np.ndarray | None:
+        """The variants of a fixed design, one row of parameter values (SI) each; ``None`` for a
+        search, whose variants depend on what it finds."""
+        return None
+
+    # -- running ------------------------------------------------------------------------------
+    def run(self, runner: Any) -> Ran:
+        """Evaluate the study's variants through ``runner`` (:class:`mechdyn.studies.run.Runner`:
+        ``evaluate(X)`` returns the stored variants of the rows of X, evaluating those not stored)."""
+        X = self.design(runner.study)
+        if X is None:
+            raise NotImplementedError(f"the {self.name} kind defines neither a design nor a run")
+        return Ran(runner.evaluate(X))
+
+    def confirm(self, runner: Any, found: Found) -> dict[str, Any]:
+        """Findings that need one more evaluation once the others are known (the optimum through the
+        single-design path); none by default."""
+        return {}
+
+    def order(self, study: Study, variants: Sequence[StoredVariant]) -> list[StoredVariant]:
+        """The stored variants of a study in the order :meth:`findings` expects: a fixed design's rows
+        in design order; a search's variants, the base first, then in the order stored.
+
+        Raises
+        ------
+        StudyError
+            When a fixed design's variants are not all stored yet (the study is still running).
+        """
+        X = self.design(study)
+        if X is None:
+            base = base_variant(study, variants)
+            rest = sorted((v for v in variants if base is None or v.id != base.id), key=lambda v: v.id)
+            return [base, *rest] if base is not None else rest
+        by_key = {v.key: v for v in variants}
+        keys = [variant_key(r) for r in np.atleast_2d(X)]
+        missing = sum(1 for k in keys if k not in by_key)
+        if missing:
+            raise StudyError(
+                f"{missing} of the study's {len(keys)} variants are not stored yet (is it still running?)"
+            )
+        return [by_key[k] for k in keys]
+
+    def findings(self, study: Study, variants: list[StoredVariant]) -> Found:
+        """What the variants show (a pure function: nothing evaluated, nothing written)."""
+        raise NotImplementedError
+
+    # -- showing ------------------------------------------------------------------------------
+    def tables(self, result: StudyResult) -> list[Table]:
+        """The tables a designer expects of the kind, in the study's units."""
+        return []
+
+    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+        """The kind's plots: file name → a function that draws it."""
+        return {}
+
+
+KINDS: dict[str, Kind] = {}
+"""Every study kind by name (:func:`register`)."""
+
+
+def register(cls: type[Kind]) -> type[Kind]:
+    """Register a kind (a class decorator): its one instance becomes ``KINDS[cls.name]``."""
+    if cls.name in KINDS:
+        raise ValueError(f"a study kind {cls.name!r} is registered already")
+    KINDS[cls.name] = cls()
+    return cls
+
+
+def kind(name: str) -> Kind:
+    """The registered kind of this name.
+
+    Raises
+    ------
+    StudyError
+        For a name no kind has, listing those there are.
+    """
+    from mechdyn.studies import kinds as _  # noqa: F401  (registers the kinds)
+
+    try:
+        return KINDS[name]
+    except KeyError:
+        raise StudyError(f"no study kind {name!r}: the kinds are {', '.join(KINDS)}") from None
+
+
+# -- what the kinds share ---------------------------------------------------------------------
+def value(v: StoredVariant, key: str) -> float:
+    """An output of a variant, NaN where it has none (or failed)."""
+    x = v.outputs.get(key)
+    return float(x) if x is not None and v.status == "ok" else math.nan
+
+
+def base_row(study: Study) -> np.ndarray:
+    """The base design's parameter values (SI)."""
+    return np.array([p.base for p in study.parameters], dtype=float)
+
+
+def base_variant(study: Study, variants: Sequence[StoredVariant]) -> StoredVariant | None:
+    """The stored variant of the base design (the model as given), if there is one."""
+    key = variant_key(base_row(study))
+    return next((v for v in variants if v.key == key), None)
+
+
+def feasible(study: Study, v: StoredVariant) -> bool:
+    """Evaluated, and every constraint of the study holds."""
+    return v.status == "ok" and all(c.violation(v.outputs.get(c.output.key)) <= 0 for c in study.constraints)
+
+
+def best(study: Study, variants: Sequence[StoredVariant]) -> StoredVariant | None:
+    """The feasible variant best in the first objective (None without objective or feasible variant)."""
+    if not study.objectives:
+        return None
+    o = study.objectives[0]
+    cands = [v for v in variants if feasible(study, v) and math.isfinite(value(v, o.output.key))]
+    return min(cands, key=lambda v: o.sign * value(v, o.output.key)) if cands else None
+
+
+def describe(study: Study, v: StoredVariant) -> dict[str, Any]:
+    """A variant as findings hold it: id, parameters (SI and as given), outputs, and each constraint
+    with its value and whether it holds."""
+    return {
+        "variant": v.id,
+        "parameters": v.parameters,
+        "given": v.given,
+        "outputs": v.outputs,
+        "constraints": [
+            {
+                "constraint": c.describe(),
+                "value": v.outputs.get(c.output.key),
+                "holds": c.violation(v.outputs.get(c.output.key)) <= 0,
+            }
+            for c in study.constraints
+        ],
+    }
+
+
+def variant_table(result: StudyResult, d: dict[str, Any], title: str) -> Table:
+    """One variant of the findings (:func:`describe`) as a table in the study's units."""
+    st = result.study
+    rows: list[list[Any]] = [[p.name, d["given"].get(p.name)] for p in st.parameters]
+    rows += [[w.label, w.show(d["outputs"].get(w.key))] for w in st.watched]
+    rows += [[c["constraint"], "holds" if c["holds"] else "VIOLATED"] for c in d.get("constraints", [])]
+    if title == "optimum" and result.findings.get("improvement_percent") is not None:
+        rows.append(["improvement of the objective [%]", result.findings["improvement_percent"]])
+    return Table(f"{st.name}: {title} (variant {d['variant']})", ["", "value"], rows)
+
+
+def safe(key: str) -> str:
+    """An output key as part of a file name."""
+    return "".join(c if c.isalnum() or c in "_-" else "_" for c in key)
+
+
+def parallel_plot(result: StudyResult) -> dict[str, Callable[[], Any]]:
+    """The parallel-coordinates plot of the variants."""
+    from mechdyn.studies import plots as sp
+
+    return {"parallel_coordinates.png": lambda: sp.parallel(result)}

@@ -1,0 +1,412 @@
+"""Constrained optimization (``optimize``): one objective, or several and their Pareto front."""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.results import Table
+from mechdyn.studies.kinds import liveness
+from mechdyn.studies.kinds.base import (
+    Found,
+    Kind,
+    Ran,
+    base_row,
+    best,
+    describe,
+    feasible,
+    parallel_plot,
+    register,
+    value,
+    variant_table,
+)
+from mechdyn.studies.polish import optimality, polish
+from mechdyn.studies.spec import StudyError
+from mechdyn.studies.storage import StoredVariant, variant_key
+
+if TYPE_CHECKING:
+    from mechdyn.studies.result import StudyResult
+    from mechdyn.studies.study import Study
+
+__all__ = ["FIRST_ORDER", "TIE", "Optimize", "objective_of", "pareto_front"]
+
+FIRST_ORDER = 1e-4
+"""A KKT residual below this (relative) is a first-order point."""
+TIE = 1e-6
+"""Relative: a polished design (with its proof) within this of the best is the optimum."""
+
+
+@register
+class Optimize(Kind):
+    """Optuna (Akiba et al., KDD 2019): for one objective a global stage (TPE, random or scrambled
+    Sobol points) and a constrained SLSQP polish of its best designs (:mod:`mechdyn.studies.polish`);
+    for several, NSGA-II (Deb et al., *IEEE Trans. Evol. Comput.* 6, 2002) and the Pareto front.
+    Constraints through ``trial.set_constraint``; a failed variant is infeasible. Trials are asked in
+    batches of ``batch``, each batch evaluated as one block; several processes may share the study
+    (:mod:`mechdyn.studies.kinds.liveness`)."""
+
+    name = "optimize"
+    title = "optimization"
+
+    def check(self, study: Study) -> None:
+        super().check(study)
+        if not study.objectives:
+            raise StudyError(
+                f"{study.path or study.name}: an optimize study needs [[objectives]] (output and goal)"
+            )
+
+    # -- running ------------------------------------------------------------------------------
+    def run(self, runner: Any) -> Ran:
+        import optuna
+
+        from mechdyn.studies.storage import optuna_name
+
+        st = runner.study
+        optuna.logging.set_verbosity(optuna.logging.WARNING)
+        multi = len(st.objectives) > 1
+        sampler = optuna.samplers.NSGAIISampler(seed=st.seed) if multi else _sampler(st)
+        with runner.store.store.schema_lock(), warnings.catch_warnings():  # Optuna's tables, once
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            # a trial whose process died (kill -9) has no heartbeat after HEARTBEAT_GRACE s: it is
+            # failed then, marked abandoned and asked again (liveness.retry)
+            storage = optuna.storages.RDBStorage(
+                runner.store.store.url,
+                heartbeat_interval=liveness.HEARTBEAT,
+                grace_period=liveness.HEARTBEAT_GRACE,
+                heartbeat_stale_trial_callback=liveness.retry,
+            )
+        try:
+            study = optuna.create_study(
+                study_name=optuna_name(st.name),
+                storage=storage,
+                sampler=sampler,
+                directions=[o.sense for o in st.objectives],
+                load_if_exists=True,
+            )
+            if not study.trials:  # the base design first, then given starts (the optimum of a smaller box)
+                for row in (runner.base_row(), *st.start):
+                    study.enqueue_trial({p.name: float(x) for p, x in zip(st.parameters, row, strict=True)})
+            with warnings.catch_warnings():  # the heartbeats are recorded here, around ask and tell
+                warnings.filterwarnings(
+                    "ignore", "Heartbeat of storage is supposed to be used with Study.optimize"
+                )
+                warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+                ids = _trials(runner, study, storage)
+        finally:
+            storage.remove_session()
+            storage.engine.dispose()
+        base = runner.evaluate(runner.base_row())[0]
+        extra: dict[str, Any] = {"trials": len(ids)}
+        if not multi:  # the local stage: SLSQP from the best designs the sampler found (and the starts)
+            found = runner.store.by_ids(ids)
+            extra["polish"] = polish(runner, _starts(runner, [base, *found]), objective=objective_of(st))
+        return Ran(self.order(st, runner.all_variants()), extra)
+
+    def confirm(self, runner: Any, found: Found) -> dict[str, Any]:
+        """The optimum evaluated again through the analysis itself (not the batch): the objective's
+        relative difference (round-off when both paths agree)."""
+        from mechdyn.studies.evaluate import Evaluator
+
+        st = runner.study
+        b = found.findings.get("best")
+        if len(st.objectives) > 1 or not b:
+            return {}
+        key = st.objectives[0].output.key
+        x = np.array([[b["parameters"][p.name] for p in st.parameters]])
+        again = Evaluator(st.source, st.analysis, st.parameters, [key], st.options, batch=False)(x)[0]
+        y0, y1 = b["outputs"].get(key), again.outputs.get(key)
+        diff = abs(y1 - y0) / abs(y0) if y1 is not None and y0 else None
+        return {"single_design_check": {"status": again.status, "value": y1, "relative_difference": diff}}
+
+    # -- findings -----------------------------------------------------------------------------
+    def findings(self, study: Study, variants: list[StoredVariant]) -> Found:
+        """One objective: ``best`` (preferring a polished design whose first-order optimality can be
+        shown), ``base``, ``improvement_percent`` (of the objective over the base, > 0 when better),
+        ``optimality`` (:func:`mechdyn.studies.polish.optimality`) and ``evaluations``. Several:
+        ``pareto_front`` with its ``knee`` and ``ends`` (:func:`pareto_front`) and ``base``."""
+        base = variants[0] if variants and variants[0].key == variant_key(base_row(study)) else None
+        if len(study.objectives) > 1:
+            front = pareto_front(study, [v for v in variants if base is None or v.id != base.id])
+            ends = {**front, "base": describe(study, base) if base is not None else None}
+            return Found(ends, frozenset(d["variant"] for d in front["pareto_front"]))
+        o = study.objectives[0]
+        by_key = {v.key: v for v in variants}
+        plain = best(study, [v for v in variants if base is None or v.id != base.id] or variants)
+        chosen, proof = plain, None
+        if plain is not None:
+            best_value = o.sign * value(plain, o.output.key)
+            limit = best_value + TIE * abs(best_value)  # a polished design this close is as good
+            ranked = sorted(
+                (v for v in variants if feasible(study, v) and math.isfinite(value(v, o.output.key))),
+                key=lambda v: o.sign * value(v, o.output.key),
+            )
+            for v in ranked:
+                if o.sign * value(v, o.output.key) > limit:
+                    break
+                proof = optimality(study, v, by_key)
+                if proof is not None:
+                    chosen = v
+                    break
+        out: dict[str, Any] = {
+            "best": describe(study, chosen) if chosen is not None else None,
+            "base": describe(study, base) if base is not None else None,
+            "improvement_percent": None,
+            "optimality": proof,
+            "evaluations": len(variants),
+        }
+        if chosen is not None and base is not None:
+            y0, y1 = value(base, o.output.key), value(chosen, o.output.key)
+            out["improvement_percent"] = 100.0 * (y0 - y1) / abs(y0) * o.sign if y0 else None
+        return Found(out, frozenset({chosen.id}) if chosen is not None else frozenset())
+
+    # -- showing ------------------------------------------------------------------------------
+    def tables(self, result: StudyResult) -> list[Table]:
+        st, f = result.study, result.findings
+        out: list[Table] = []
+        if "pareto_front" in f:
+            out.append(_front_table(result))
+            if f.get("base"):
+                out.append(variant_table(result, f["base"], "base design"))
+            return out
+        if f.get("best") is None:
+            out.append(Table(f"{st.name}: optimum", ["note"], [["no variant keeps every constraint"]]))
+        else:
+            out.append(variant_table(result, f["best"], "optimum"))
+        if f.get("base"):
+            out.append(variant_table(result, f["base"], "base design"))
+        if f.get("best"):
+            out.append(_optimality_table(result))
+        return out
+
+    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+        from mechdyn.studies import plots as sp
+
+        out: dict[str, Callable[[], Any]] = {"history.png": lambda: sp.history(result)}
+        if "pareto_front" in result.findings:
+            out["pareto.png"] = lambda: sp.pareto(result)
+        return out | parallel_plot(result)
+
+
+def pareto_front(study: Study, variants: list[StoredVariant]) -> dict[str, Any]:
+    """The Pareto front of the feasible variants (Optuna's non-dominated sort,
+    :attr:`optuna.study.Study.best_trials`), its knee and its ends: ``pareto_front`` (the designs,
+    :func:`~mechdyn.studies.kinds.base.describe`), ``knee`` (the id of the design nearest the ideal
+    point once each objective is scaled to its range on the front: the compromise solution, Zeleny,
+    *Multiple Criteria Decision Making*, 1973) and ``ends`` (per objective, the id of the front's best
+    design in it)."""
+    import optuna
+
+    feas = [
+        v
+        for v in variants
+        if feasible(study, v) and all(math.isfinite(value(v, o.output.key)) for o in study.objectives)
+    ]
+    out: dict[str, Any] = {"pareto_front": []}
+    if not feas:
+        return out
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    senses: list[Any] = [o.sense for o in study.objectives]
+    s = optuna.create_study(directions=senses)
+    s.add_trials(
+        [
+            optuna.trial.create_trial(
+                values=[value(v, o.output.key) for o in study.objectives],
+                params={},
+                distributions={},
+                user_attrs={"i": i},
+            )
+            for i, v in enumerate(feas)
+        ]
+    )
+    front = [feas[i] for i in sorted(t.user_attrs["i"] for t in s.best_trials)]
+    F = np.array([[o.sign * value(v, o.output.key) for o in study.objectives] for v in front])
+    lo, hi = F.min(axis=0), F.max(axis=0)
+    scaled = (F - lo) / np.where(hi > lo, hi - lo, 1.0)
+    out["pareto_front"] = [describe(study, v) for v in front]
+    out["knee"] = front[int(np.argmin(np.linalg.norm(scaled, axis=1)))].id
+    out["ends"] = {o.output.key: front[int(np.argmin(F[:, j]))].id for j, o in enumerate(study.objectives)}
+    return out
+
+
+def _front_role(findings: dict[str, Any], variant: int) -> str:
+    """ "knee" and "best OUTPUT" for the designs of a Pareto front that are so."""
+    roles = ["knee"] if findings.get("knee") == variant else []
+    roles += [f"best {key}" for key, v in (findings.get("ends") or {}).items() if v == variant]
+    return ", ".join(roles)
+
+
+def _front_table(result: StudyResult) -> Table:
+    st, f = result.study, result.findings
+    ws = [o.output for o in st.objectives]
+    return Table(
+        f"{st.name}: Pareto front ({len(f['pareto_front'])} designs; the knee is nearest the "
+        "ideal point, each objective scaled to its range on the front)",
+        ["", "variant", *(p.name for p in st.parameters), *(w.label for w in ws)],
+        [
+            [
+                _front_role(f, d["variant"]),
+                d["variant"],
+                *(d["given"].get(p.name) for p in st.parameters),
+                *(w.show(d["outputs"].get(w.key)) for w in ws),
+            ]
+            for d in sorted(f["pareto_front"], key=lambda d: d["outputs"].get(ws[0].key) or 0.0)
+        ],
+    )
+
+
+def _optimality_table(result: StudyResult) -> Table:
+    """How far the optimum can be trusted: the first-order measure, what holds it (the active
+    constraints and bounds, each with what relaxing it by one unit is worth), the evaluations,
+    and the optimum evaluated again through the analysis itself."""
+    f = result.findings
+    proof = f.get("optimality")
+    o = result.study.objectives[0]
+    verb = "lowers" if o.sense == "minimize" else "raises"
+    rows: list[list[Any]] = []
+    if proof is None:
+        rows.append(["first-order optimality", "not shown (no gradient stored at the optimum)"])
+    else:
+        rows.append(["first-order optimality (KKT residual, relative)", proof["measure"]])
+        if not proof["active"]:
+            rows.append(["held by", "nothing: an interior optimum"])
+        for a in proof["active"]:
+            rows.append(
+                [
+                    f"{a['per']} more on {a['name']}",
+                    f"{verb} the objective by {a['worth']:.4g} {proof['unit']}",
+                ]
+            )
+    polished = f.get("polish")
+    if polished:
+        rows.append(
+            [
+                "polish",
+                f"{polished['method']} from {polished['starts']} start(s), "
+                f"{polished['iterations']} iterations",
+            ]
+        )
+    rows.append(["variants evaluated in all", f.get("evaluations")])
+    check = f.get("single_design_check")
+    if check:
+        diff = check.get("relative_difference")
+        rows.append(
+            [
+                "optimum through the analysis itself",
+                "failed: " + str(check.get("status")) if diff is None else f"agrees to {diff:.1e} (relative)",
+            ]
+        )
+    return Table(f"{result.study.name}: how good the optimum is", ["", "value"], rows)
+
+
+def _sampler(st: Study) -> Any:
+    """The global stage's Optuna sampler for one objective."""
+    import optuna
+
+    if st.sampler == "random":
+        return optuna.samplers.RandomSampler(seed=st.seed)
+    if st.sampler == "qmc":
+        with warnings.catch_warnings():  # experimental in Optuna, stable in use
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            return optuna.samplers.QMCSampler(qmc_type="sobol", scramble=True, seed=st.seed)
+    return optuna.samplers.TPESampler(seed=st.seed)
+
+
+def _starts(runner: Any, variants: list[StoredVariant]) -> list[np.ndarray]:
+    """Where the polish starts: the best designs evaluated (feasible ones by objective, then the
+    others by how far they break a constraint), the given starts and the base, without repeats."""
+    st = runner.study
+    o = st.objectives[0]
+
+    def rank(v: StoredVariant) -> tuple[float, float]:
+        y = value(v, o.output.key)
+        if v.status != "ok" or not math.isfinite(y):
+            return (math.inf, math.inf)
+        worst = max((c.violation(v.outputs.get(c.output.key)) for c in st.constraints), default=0.0)
+        return (max(worst, 0.0), o.sign * y)
+
+    ranked = sorted((v for v in variants if rank(v)[0] < math.inf), key=rank)
+    rows = [np.array([v.parameters[p.name] for p in st.parameters], dtype=float) for v in ranked[:1]]
+    rows += [np.asarray(r, dtype=float) for r in st.start]
+    rows.append(np.asarray(runner.base_row(), dtype=float))
+    seen: set[str] = set()
+    out = []
+    for r in rows:
+        k = variant_key(r.tolist())
+        if k not in seen:
+            seen.add(k)
+            out.append(r)
+    return out
+
+
+def _trials(runner: Any, study: Any, storage: Any) -> list[int]:
+    """Ask batches of trials, evaluate each batch as one block, tell the results; stop when the
+    study holds ``samples`` evaluated trials (counting those of other processes on the same study,
+    never those abandoned by a process that died). Returns the variant ids of the evaluated trials."""
+    import optuna
+
+    st = runner.study
+    n_trials = st.samples or 100
+    dists = {
+        p.name: optuna.distributions.FloatDistribution(float(p.low), float(p.high)) for p in st.parameters
+    }
+    State = optuna.trial.TrialState
+    me = liveness.owner()
+
+    def evaluated() -> list[Any]:
+        trials = study.get_trials(deepcopy=False)
+        gone = liveness.abandoned(trials)
+        return [
+            t for t in trials if t.state.is_finished() and "variant" in t.user_attrs and t.number not in gone
+        ]
+
+    while True:
+        liveness.fail_abandoned(study, storage)
+        finished = len(evaluated())
+        running = len(study.get_trials(deepcopy=False, states=(State.RUNNING,)))
+        if finished >= n_trials:
+            break
+        n = min(st.batch, n_trials - finished - running)
+        if n <= 0:  # the rest is being evaluated by another process (or will be failed as abandoned)
+            time.sleep(0.5)
+            continue
+        trials = []
+        for _ in range(n):
+            t = study.ask(dists)
+            storage.set_trial_system_attr(t._trial_id, liveness.OWNER, me)
+            trials.append(t)
+        X = np.array([[t.params[p.name] for p in st.parameters] for t in trials])
+        with liveness.Heartbeat(storage, [t._trial_id for t in trials]):
+            variants = runner.evaluate(X, objective=objective_of(st))
+        for t, v in zip(trials, variants, strict=True):
+            try:
+                t.set_user_attr("variant", v.id)
+                if v.status != "ok" or not all(math.isfinite(value(v, o.output.key)) for o in st.objectives):
+                    study.tell(t, state=State.FAIL)
+                    continue
+                for i, c in enumerate(st.constraints):  # feasible where ≤ 0 (Optuna's convention)
+                    t.set_constraint(f"{i + 1}: {c.describe()}", c.violation(v.outputs.get(c.output.key)))
+                study.tell(t, [value(v, o.output.key) for o in st.objectives])
+            except (optuna.exceptions.UpdateFinishedTrialError, RuntimeError, ValueError):
+                # failed meanwhile by another process that took this one for dead: the trial is
+                # asked again, and its variant is stored, so nothing is lost or recomputed
+                continue
+    return [t.user_attrs["variant"] for t in evaluated()]
+
+
+def objective_of(study: Study) -> Callable[[dict[str, Any]], float] | None:
+    """The first objective's value in a variant's outputs (NaN where missing), stored with the variant;
+    None without objective."""
+    if not study.objectives:
+        return None
+    key = study.objectives[0].output.key
+
+    def f(outputs: dict[str, Any]) -> float:
+        v = outputs.get(key)
+        return float(v) if v is not None else math.nan
+
+    return f
