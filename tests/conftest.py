@@ -84,3 +84,29 @@ def postgres_url():
     """A fresh, empty database on the PostgreSQL server of the test command."""
     with _fresh_postgres_database() as url:
         yield url
+
+
+@contextmanager
+def serving(app):
+    """A real uvicorn server for ``app`` on a free local port, in a thread; yields its address."""
+    import socket
+    import threading
+    import time
+
+    import uvicorn
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
+    thread = threading.Thread(target=srv.run, daemon=True)
+    thread.start()
+    deadline = time.time() + 30
+    while not srv.started and time.time() < deadline:
+        time.sleep(0.05)
+    try:
+        yield f"http://127.0.0.1:{port}"
+    finally:
+        srv.should_exit = True
+        thread.join(10)
+        app.state.store.close()

@@ -7,14 +7,12 @@ import os
 import shutil
 import socket
 import threading
-import time
 import urllib.error
 import urllib.request
-from contextlib import contextmanager
 
 import pytest
 
-from conftest import EXAMPLES
+from conftest import EXAMPLES, serving
 from mechdyn.cli.main import main
 
 
@@ -60,28 +58,6 @@ def database(tmp_path_factory):
     return db
 
 
-@contextmanager
-def _serving(app):
-    """A real uvicorn server for ``app`` on a free local port, in a thread; yields its address."""
-    import uvicorn
-
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
-    thread = threading.Thread(target=srv.run, daemon=True)
-    thread.start()
-    deadline = time.time() + 30
-    while not srv.started and time.time() < deadline:
-        time.sleep(0.05)
-    try:
-        yield f"http://127.0.0.1:{port}"
-    finally:
-        srv.should_exit = True
-        thread.join(10)
-        app.state.store.close()
-
-
 def _write_refused(url: str, message: str) -> None:
     from mechdyn.store.store import ResultStore
 
@@ -105,7 +81,7 @@ def _write_refused(url: str, message: str) -> None:
 def server(database):
     from mechdyn.dashboard.app import create_app
 
-    with _serving(create_app(database)) as address:
+    with serving(create_app(database)) as address:
         yield address
 
 
@@ -120,7 +96,7 @@ def _get(url: str, headers: dict[str, str] | None = None) -> tuple[int, str]:
 def test_only_trusted_host_names_are_answered(database):
     from mechdyn.dashboard.app import create_app
 
-    with _serving(create_app(database, allowed_hosts=["lab-pc.example.org"])) as address:
+    with serving(create_app(database, allowed_hosts=["lab-pc.example.org"])) as address:
         port = address.rsplit(":", 1)[1]
         assert _get(address + "/")[0] == 200
         assert _get(address + "/", {"Host": f"localhost:{port}"})[0] == 200
@@ -188,7 +164,7 @@ def test_a_slow_study_page_does_not_hold_up_a_run_page(database):
         with lock:
             finished.append(tag)
 
-    with _serving(create_app(database)) as address, ThreadPoolExecutor(24) as pool:
+    with serving(create_app(database)) as address, ThreadPoolExecutor(24) as pool:
         studies = [pool.submit(get, address, "/studies/1", "study") for _ in range(20)]
         pool.submit(get, address, "/runs/2", "run").result()
         for f in studies:
@@ -212,7 +188,7 @@ def test_pages_name_the_database_without_its_location(postgres_url):
     from mechdyn.dashboard.app import create_app
 
     assert main(["modal", str(EXAMPLES / "turret_indexing.toml"), "--db", postgres_url, "--json"]) == 0
-    with _serving(create_app(postgres_url)) as address:
+    with serving(create_app(postgres_url)) as address:
         status, body = _get(address + "/")
     host = postgres_url.split("@")[1].split("/")[0]
     assert status == 200 and host not in body and "mechdyn@" not in body and "postgresql://" not in body
@@ -332,6 +308,6 @@ def test_the_dashboard_serves_a_postgresql_database_read_only(postgres_url):
 
     assert main(["modal", str(EXAMPLES / "turret_indexing.toml"), "--db", postgres_url, "--json"]) == 0
     _write_refused(postgres_url, r"read-only transaction")
-    with _serving(create_app(postgres_url)) as address:
+    with serving(create_app(postgres_url)) as address:
         status, body = _get(address + "/runs/1")
     assert status == 200 and "turret" in body.lower() and "frequencies_hz" in body

@@ -10,16 +10,13 @@ from __future__ import annotations
 import html as htmllib
 import json
 import re
-import socket
-import threading
-import time
 import tomllib
 import urllib.request
 from contextlib import contextmanager
 
 import pytest
 
-from conftest import EXAMPLES
+from conftest import EXAMPLES, serving
 from mechdyn.cli.main import main
 from mechdyn.store import ResultStore
 from mechdyn.studies.storage import StudyStore
@@ -218,27 +215,11 @@ def test_export_help_says_which_units_each_format_has(capsys):
 
 @contextmanager
 def _dashboard(db: str):
-    """The dashboard over ``db`` served by uvicorn on a free local port (as tests/test_dashboard.py)."""
-    import uvicorn
-
+    """The dashboard over ``db`` served by uvicorn on a free local port."""
     from mechdyn.dashboard.app import create_app
 
-    app = create_app(db)
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
-    thread = threading.Thread(target=srv.run, daemon=True)
-    thread.start()
-    deadline = time.time() + 30
-    while not srv.started and time.time() < deadline:
-        time.sleep(0.05)
-    try:
-        yield f"http://127.0.0.1:{port}"
-    finally:
-        srv.should_exit = True
-        thread.join(10)
-        app.state.store.close()
+    with serving(create_app(db)) as url:
+        yield url
 
 
 def _get(url: str) -> str:
