@@ -181,6 +181,60 @@ def test_a_factorial_over_a_material_name_and_a_shore_hardness_equals_hand_writt
     assert {"rubber shore 40", "rubber shore 70"} <= cells
 
 
+def test_a_choice_is_exported_and_plotted_by_its_name(tmp_path):
+    """A choice's column holds the index of its level in the database; the CSV and Parquet exports
+    write the level's name, and the dashboard plots the index on an axis labelled with the names."""
+    import urllib.request
+
+    import pandas as pd
+
+    from conftest import serving
+    from mechdyn.cli.main import main
+    from mechdyn.dashboard.app import create_app
+
+    machine(tmp_path)
+    path = study(
+        tmp_path,
+        """
+        [study]
+        name = "rubbers"
+        kind = "oat"
+        model = "machine.toml"
+        analysis = "support"
+
+        [[parameters]]
+        path = "mounts.right.mount.pad.material"
+        name = "rubber"
+        levels = ["rubber shore 40", "rubber shore 70"]
+
+        [[outputs]]
+        output = "static_deflection_m.right"
+        unit = "mm"
+        """,
+    )
+    db = str(tmp_path / "r.db")
+    result = run_study(load_study(path), db)
+    names = {v.id: v.given["rubber"] for v in result.variants}
+    assert set(names.values()) == {"rubber shore 60", "rubber shore 40", "rubber shore 70"}
+    for fmt in ("csv", "parquet"):
+        out = tmp_path / f"v.{fmt}"
+        assert main(["results", "export", "--study", "rubbers", "--db", db, f"--{fmt}", str(out)]) == 0
+        frame = pd.read_csv(out) if fmt == "csv" else pd.read_parquet(out)
+        column = next(c for c in frame.columns if c.startswith("parameter:rubber"))
+        assert {int(i): r for i, r in zip(frame["variant"], frame[column], strict=True)} == names, fmt
+    with ResultStore(db, read_only=True) as store:
+        sid = StudyStore(store).study("rubbers").id
+    with serving(create_app(db)) as address:
+        with urllib.request.urlopen(f"{address}/studies/{sid}") as r:
+            page = r.read().decode()
+    data = json.loads(re.search(r"const data = (\{.*?\});\n", page).group(1))
+    levels = data["levels"][0]
+    assert levels == ["rubber shore 60", "rubber shore 40", "rubber shore 70"] and data["levels"][1] == []
+    for i, row in zip(data["ids"], data["values"], strict=True):
+        assert levels[int(row[0])] == names[i]  # a number on the axis, its tick the level's name
+    assert "tickvals" in page and "ticktext: data.levels[i]" in page
+
+
 def test_an_oat_over_a_tooth_count_equals_the_gear_data_written_by_hand(tmp_path):
     model = gears(tmp_path)
     path = study(

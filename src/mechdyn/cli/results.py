@@ -232,8 +232,9 @@ def _export(args: argparse.Namespace) -> int:
 
 
 def _write_parquet(variants: list[Any], columns: list[Any], path: str) -> None:
-    """Variants as Parquet, SI as stored (``parameter:NAME``, ``output:KEY``); each column's field
-    metadata holds ``unit`` (its SI unit, ``""`` for a pure number) and ``shown_unit`` (the study's)."""
+    """Variants as Parquet, SI as stored (``parameter:NAME``, ``output:KEY``), a choice by the name of
+    its level; each column's field metadata holds ``unit`` (its SI unit, ``""`` for a pure number or a
+    choice) and ``shown_unit`` (the study's)."""
     import pandas as pd
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -248,8 +249,11 @@ def _write_parquet(variants: list[Any], columns: list[Any], path: str) -> None:
     frame = pd.DataFrame(rows)
     extra = [n for n in frame.columns if n not in names and n not in ("variant", "status", "error")]
     frame = frame.reindex(columns=["variant", "status", "error", *names, *extra])
+    levels = {f"{c.role}:{c.key}": c.levels for c in columns if c.levels}
     for n in [*names, *extra]:
         frame[n] = pd.to_numeric(frame[n], errors="coerce").astype("float64")
+        if n in levels:  # a choice: the name of its level, not the index the database holds
+            frame[n] = [levels[n][int(i)] if i == i and 0 <= i < len(levels[n]) else None for i in frame[n]]
     table = pa.Table.from_pandas(frame, preserve_index=False)
     units = {f"{c.role}:{c.key}": c for c in columns}
     fields = [

@@ -309,7 +309,11 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         shown = shown_columns(st, variants)
         axes = [c.label for c in shown]
         ok = [v for v in variants if v.status == "ok"][:MAX_POINTS]
-        points = {"ids": [v.id for v in ok], "values": [[c.of(v) for c in shown] for v in ok]}
+        points = {
+            "ids": [v.id for v in ok],
+            "values": [[c.number(v) for c in shown] for v in ok],
+            "levels": [list(c.levels) for c in shown],  # a choice's axis: its index, labelled by name
+        }
         table = [
             {
                 "id": v.id,

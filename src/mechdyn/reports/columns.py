@@ -50,6 +50,22 @@ class Column:
     si_unit: str
     convert: Callable[[float], Any] = field(default=_identity, compare=False, repr=False)
     """(a choice's column: the index → its name)"""
+    levels: tuple[str, ...] = ()
+    """A choice's names, in the order of the indices the database holds; empty for a number."""
+
+    def number(self, variant: Any) -> float | None:
+        """This column's value of a stored variant as a number for a plot axis: the shown value, or a
+        choice's index (its axis labelled with :attr:`levels`).
+
+        Parameters
+        ----------
+        variant : StoredVariant
+            A variant, its parameters and outputs in SI.
+        """
+        if not self.levels:
+            return self.of(variant)
+        x = (variant.parameters if self.role == "parameter" else variant.outputs).get(self.key)
+        return float(x) if isinstance(x, (int, float)) and math.isfinite(x) else None
 
     @property
     def label(self) -> str:
@@ -107,7 +123,7 @@ def _key_si_unit(key: str) -> str:
 
 def _parameter(p: Any) -> Column:
     if getattr(p, "choices", ()):  # a choice's value is the index of its level: shown by its name
-        return Column(p.name, "parameter", "", "", p.shown)
+        return Column(p.name, "parameter", "", "", p.shown, tuple(p.shown(i) for i in range(len(p.choices))))
     unit = "" if p.unit in ("1", "dimensionless") else p.unit
     factor = float(p.factor)
     return Column(p.name, "parameter", unit, _si_unit(unit, factor), lambda v: v / factor)
