@@ -244,7 +244,7 @@ def test_every_kind_states_the_same_findings_after_a_run_and_from_the_database_a
     ran = run_study(load_study(path), db)
     stored = stored_result(db, ran.study.name)
     assert [v.id for v in stored.variants] == [v.id for v in ran.variants]
-    only_a_run_knows = {"trials", "polish", "generations", "single_design_check"}
+    only_a_run_knows = {"trials", "polish", "generations", "stages", "single_design_check"}
     assert {k: v for k, v in ran.findings.items() if k not in only_a_run_knows} == stored.findings
     assert ran.evaluated + ran.reused == len({v.key for v in ran.variants}) == stored.reused  # each once
     assert ran.tables() and [t.title for t in ran.tables()] == [t.title for t in stored.tables()]

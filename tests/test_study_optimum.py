@@ -14,7 +14,7 @@ from dataclasses import replace
 import pytest
 
 from conftest import EXAMPLES
-from mechdyn.studies import load_studies, run_study
+from mechdyn.studies import load_studies, load_study, run_study
 from mechdyn.studies.run import stored_result
 
 RELOCATION = EXAMPLES / "studies" / "press_link_relocation.toml"
@@ -103,6 +103,13 @@ def test_a_target_the_limits_make_unreachable_says_what_holds_the_fit(tmp_path):
     assert "points.A.x at its upper bound" in result.findings["missed_because"]
     text = "\n".join(str(t) for t in result.tables())
     assert "MISSED by" in text
+    # a target missed after a stage restarts the search from a new seed, up to STAGES stages
+    from mechdyn.studies.kinds.synthesis import STAGES
+
+    stages = result.findings["stages"]
+    assert len(stages) == STAGES and not any(s["targets_met"] for s in stages)
+    assert len({s["seed"] for s in stages}) == STAGES and stages[0]["seed"] == 1
+    assert "stage 6 (seed" in text
 
 
 @pytest.mark.slow
@@ -118,3 +125,18 @@ def test_every_box_of_the_shipped_relocation_reaches_one_optimum_by_two_seeds_an
         assert r.findings["optimality"]["measure"] < 1e-4, (sampler, r.findings["optimality"])
         found.append(r.findings["best"]["outputs"][KEY])
     assert found[0] == pytest.approx(found[1], rel=1e-3)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [11, 1])
+def test_the_shipped_synthesis_meets_every_published_target_from_two_seeds(seed, tmp_path):
+    """Not luck: examples/studies/press_synthesis.toml from its own seed and from another meets all
+    six published targets within their tolerances inside both limits. (Each stage of evolution, fit
+    and polish meets them from about half the seeds tried; the shipped seed's first stage ends in a
+    basin where targets stay missed, and its second stage meets them.)"""
+    study = replace(load_study(EXAMPLES / "studies" / "press_synthesis.toml"), seed=seed)
+    r = run_study(study, str(tmp_path / "r.db"), progress=False)
+    f = r.findings
+    assert f["missed_because"] is None and all(t["holds"] for t in f["targets"]), f["targets"]
+    assert all(c["holds"] for c in f["best"]["constraints"])
+    assert f["stages"][-1]["targets_met"] and not any(s["targets_met"] for s in f["stages"][:-1])

@@ -5,7 +5,9 @@ least of all against an equality held to a tolerance (a stroke to ±1 mm). From 
 found, :func:`polish` runs SciPy's SLSQP (sequential least squares quadratic programming: Kraft,
 "A software package for sequential quadratic programming", DFVLR-FB 88-28, 1988) with the study's
 constraints as constraints (``equals`` ± ``tolerance`` as two inequalities) and the parameter
-ranges as bounds.
+ranges as bounds. A synthesis first runs :func:`fit`, a least-squares method for its residuals
+(y − target)/tolerance, which gets near the targets in far fewer steps than SLSQP on their sum of
+squares.
 
 Gradients are central differences with a step of :data:`STEP` times each parameter's range
 (one-sided at a bound): all 2n + 1 variants of one point go to the evaluator as one block, so a
@@ -32,7 +34,7 @@ import numpy as np
 
 from mechdyn.studies.storage import StoredVariant, variant_key
 
-__all__ = ["STEP", "optimality", "polish", "stencil", "target_cost"]
+__all__ = ["STEP", "fit", "optimality", "polish", "stencil", "target_cost"]
 
 STEP = 1e-6
 """Finite-difference step, as a fraction of each parameter's range."""
@@ -366,3 +368,84 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
         "active": active,
         "unit": (o.display or o.unit) if o is not None else "",
     }
+
+
+_SQRT_PENALTY = 30.0  # weight of a constraint's scaled violation among a synthesis' residuals
+
+
+def _residuals(study: Any, v: StoredVariant) -> np.ndarray:
+    """A synthesis' residuals: (y − target) / tolerance per target, then √penalty · violation / scale
+    per constraint side (0 where it holds); NaN where the variant failed."""
+    out = []
+    for t in study.targets:
+        y = v.outputs.get(t.output.key) if v.status == "ok" else None
+        out.append((float(y) - t.equals) / t.tolerance if y is not None else math.nan)
+    _, g = _values(study, v)
+    scale = np.array([s for *_, s in _limits(study)])
+    return np.concatenate([np.array(out), _SQRT_PENALTY * np.maximum(0.0, -g / scale)])
+
+
+def fit(
+    runner: Any,
+    start: np.ndarray,
+    *,
+    objective: Callable[[dict[str, Any]], float] | None = None,
+    max_evaluations: int = 100,
+) -> dict[str, Any]:
+    """A synthesis' least-squares fit from ``start``: the trust-region reflective method
+    (:func:`scipy.optimize.least_squares`, ``method="trf"``; Branch, Coleman & Li, *SIAM J. Sci.
+    Comput.* 21, 1999) on the residuals (y − target) / tolerance, the ranges as bounds and each
+    constraint's violation as a penalty residual. It is Gauss–Newton where the residuals are small,
+    so it reaches a fit far faster than a quasi-Newton method on their sum of squares; the constrained
+    polish (:func:`polish`) then proves the fit with the constraints as constraints. The Jacobian is
+    the central-difference stencil (:func:`stencil`), evaluated as one block.
+
+    Parameters
+    ----------
+    runner : Runner
+        Evaluates (and stores) blocks of variants.
+    start : ndarray
+        (n,) the first point, SI.
+    objective : callable, optional
+        What each stored variant keeps as its objective value.
+    max_evaluations : int
+        Residual evaluations (each Jacobian is one more block).
+
+    Returns
+    -------
+    dict
+        ``x`` (the end point, SI), ``cost`` (Σ residual²), ``message`` and ``evaluations``
+        (variants asked for, stored ones included).
+    """
+    from scipy.optimize import least_squares
+
+    st = runner.study
+    low, high = _range(st)
+    span = np.where(high > low, high - low, 1.0)
+    asked = 0
+
+    def at(u: np.ndarray) -> np.ndarray:
+        return np.clip(low + u * span, low, high)
+
+    def lookup(rows: np.ndarray) -> list[StoredVariant]:
+        nonlocal asked
+        asked += len(rows)
+        return runner.evaluate(rows, objective=objective)
+
+    def fun(u: np.ndarray) -> np.ndarray:
+        r = _residuals(st, lookup(at(u)[None, :])[0])
+        return np.where(np.isfinite(r), r, 1e6)  # a failed design: far from every target
+
+    def jac(u: np.ndarray) -> np.ndarray:
+        x = at(u)
+        rows, width = stencil(x, low, high)
+        R = np.array([_residuals(st, v) for v in lookup(rows)])
+        n = x.size
+        J = (R[1 : n + 1] - R[n + 1 :]) / width[:, None] * span[:, None]
+        return np.where(np.isfinite(J), J, 0.0).T
+
+    u0 = np.clip((np.asarray(start, dtype=float) - low) / span, 0.0, 1.0)
+    res = least_squares(
+        fun, u0, jac=jac, bounds=(0.0, 1.0), method="trf", x_scale="jac", max_nfev=max_evaluations
+    )
+    return {"x": at(res.x), "cost": float(2.0 * res.cost), "message": str(res.message), "evaluations": asked}

@@ -21,7 +21,7 @@ from mechdyn.studies.kinds.base import (
     variant_table,
 )
 from mechdyn.studies.kinds.optimize import FIRST_ORDER, TIE
-from mechdyn.studies.polish import optimality, polish, target_cost
+from mechdyn.studies.polish import fit, optimality, polish, stencil, target_cost
 from mechdyn.studies.spec import StudyError
 from mechdyn.studies.storage import StoredVariant, variant_key
 
@@ -33,13 +33,29 @@ __all__ = ["Synthesis"]
 
 _PENALTY = 1e3  # weight of a squared, scaled constraint violation in the evolution's cost
 
+FITS = 3
+"""Least-squares fits per stage, from the best members of the evolution's last population that lie
+in distinct basins."""
+
+STAGES = 6
+
+_JUDGED = 1e-3
+"""Relative: a missed target is judged at the best fit whose gradient is stored within this of the
+best cost (a step of the gradient's own stencil may land a hair below the point it was taken at)."""
+"""At most this many stages (evolution, fits, polish), each from a new seed, until every target holds."""
+
 
 @register
 class Synthesis(Kind):
-    """Fit targets (each ``equals`` within its ``tolerance``): differential evolution (Storn & Price,
-    *J. Global Optim.* 11, 1997; :func:`scipy.optimize.differential_evolution`, a whole generation
-    evaluated as one block) on the sum of squared residuals over tolerance, constraints as penalties,
-    then a constrained SLSQP polish of its best fit (:mod:`mechdyn.studies.polish`)."""
+    """Fit targets (each ``equals`` within its ``tolerance``), in stages until every target holds (at
+    most :data:`STAGES`). A stage is differential evolution (Storn & Price, *J. Global Optim.* 11,
+    1997; :func:`scipy.optimize.differential_evolution`, a whole generation evaluated as one block)
+    on the sum of squared residuals over tolerance with the constraints as penalties, a least-squares
+    fit (:func:`mechdyn.studies.polish.fit`, Gauss–Newton with a trust region) from the best members
+    of its last population that lie in distinct basins, and a constrained SLSQP polish of the best
+    fit (:func:`mechdyn.studies.polish.polish`). The first stage starts from the study's seed and the
+    base design; each later one from a seed spawned off it (a restart: a fit in the wrong basin is a
+    local optimum that more generations rarely leave)."""
 
     name = "synthesis"
     title = "synthesis to targets"
@@ -52,9 +68,51 @@ class Synthesis(Kind):
             )
 
     def run(self, runner: Any) -> Ran:
+        st = runner.study
+        bounds = np.array([(p.low, p.high) for p in st.parameters], dtype=float)
+        # later stages draw from streams spawned off the study's seed: the first stage is the seed's own
+        spawned = np.random.SeedSequence(st.seed).spawn(STAGES - 1)
+        seeds = [st.seed, *(int(s.generate_state(1)[0]) for s in spawned)]
+        stages = []
+        for k, seed in enumerate(seeds):
+            stage = self._stage(runner, seed, bounds, first=k == 0)
+            stages.append(stage)
+            if stage["targets_met"]:
+                break
+        # the stencil of the best fit, so that its first-order optimality can always be judged
+        best = self._best(st, runner.all_variants())
+        if best is not None:
+            runner.evaluate(stencil(self._row(st, best), *bounds.T)[0], objective=self._objective(st))
+        extra = {
+            "generations": sum(s["generations"] for s in stages),
+            "stages": stages,
+            "polish": stages[-1]["polish"],
+        }
+        return Ran(self.order(st, runner.all_variants()), extra)
+
+    @staticmethod
+    def _objective(st: Study) -> Callable[[dict[str, Any]], float]:
+        return lambda outputs: target_cost(st, outputs)
+
+    @staticmethod
+    def _row(st: Study, v: StoredVariant) -> np.ndarray:
+        return np.array([v.parameters[p.name] for p in st.parameters], dtype=float)
+
+    @staticmethod
+    def _best(st: Study, variants: list[StoredVariant]) -> StoredVariant | None:
+        fits = [
+            v for v in variants if v.objective is not None and math.isfinite(v.objective) and feasible(st, v)
+        ]
+        return min(fits, key=lambda v: v.objective or 0.0, default=None)
+
+    def _stage(self, runner: Any, seed: int, bounds: np.ndarray, *, first: bool) -> dict[str, Any]:
+        """One stage: the evolution from ``seed`` (the first from the base design too), the
+        least-squares fits of the best members of its last population in distinct basins, and the
+        constrained polish of the best fit."""
         from scipy.optimize import differential_evolution
 
         st = runner.study
+        objective = self._objective(st)
 
         def cost_of(v: StoredVariant) -> float:
             total = target_cost(st, v.outputs) if v.status == "ok" else math.inf
@@ -67,36 +125,38 @@ class Synthesis(Kind):
                 )
             return total
 
-        def objective_outputs(outputs: dict[str, Any]) -> float:
-            return target_cost(st, outputs)
-
         def f(X: np.ndarray) -> np.ndarray:
-            vs = runner.evaluate(np.asarray(X).T, objective=objective_outputs)
-            return np.array([cost_of(v) for v in vs])
+            return np.array([cost_of(v) for v in runner.evaluate(np.asarray(X).T, objective=objective)])
 
-        bounds = [(p.low, p.high) for p in st.parameters]
         res = differential_evolution(
             f,
             bounds,
             maxiter=st.samples or 100,
             popsize=st.population or 15,
-            seed=st.seed,
+            seed=seed,
             vectorized=True,
             updating="deferred",
             polish=False,
             tol=1e-8,
-            x0=np.clip(runner.base_row(), *np.array(bounds).T),  # the base design, moved into the ranges
+            x0=np.clip(runner.base_row(), *bounds.T) if first else None,  # the base, moved into the ranges
         )
-        runner.evaluate(runner.base_row())
-        # the local stage: SLSQP on the target cost from the evolution's best, constraints as constraints
-        found = [v for v in runner.all_variants() if v.objective is not None and math.isfinite(v.objective)]
-        found.sort(key=lambda v: (not feasible(st, v), v.objective))
-        starts = [np.array([v.parameters[p.name] for p in st.parameters]) for v in found[:1]]
-        polished = polish(
-            runner, starts or [np.clip(res.x, *np.array(bounds).T)], objective=objective_outputs
+        if first:
+            runner.evaluate(runner.base_row())
+        fits = [fit(runner, x, objective=objective) for x in _distinct(res, bounds, FITS)]
+        fitted = min(fits, key=lambda r: r["cost"])
+        polished = polish(runner, [fitted["x"]], objective=objective)
+        best = self._best(st, runner.all_variants())
+        met = best is not None and all(
+            abs(best.outputs[t.output.key] - t.equals) <= t.tolerance for t in st.targets
         )
-        extra = {"generations": int(res.nit), "polish": polished}
-        return Ran(self.order(st, runner.all_variants()), extra)
+        return {
+            "seed": seed,
+            "generations": int(res.nit),
+            "evolution_cost": float(res.fun),
+            "fit": [{k: r[k] for k in ("cost", "message", "evaluations")} for r in fits],
+            "polish": polished,
+            "targets_met": bool(met),
+        }
 
     def findings(self, study: Study, variants: list[StoredVariant]) -> Found:
         """The fit (the variant nearest the targets among those that keep every constraint, preferring
@@ -111,11 +171,13 @@ class Synthesis(Kind):
         best_v, proof = (fits[0] if fits else None), None
         by_key = {v.key: v for v in variants}
         for v in fits:  # a fit as good whose first-order optimality can be shown, if there is one
-            if (v.objective or 0.0) > (best_v.objective or 0.0) * (1.0 + TIE) + TIE:  # type: ignore[union-attr]
+            near = (v.objective or 0.0) - (best_v.objective or 0.0)  # type: ignore[union-attr]
+            if near > _JUDGED * abs(best_v.objective or 0.0) + TIE:  # type: ignore[union-attr]
                 break
             proof = optimality(study, v, by_key)
             if proof is not None:
-                best_v = v
+                if near <= TIE * (1.0 + abs(best_v.objective or 0.0)):  # type: ignore[union-attr]
+                    best_v = v
                 break
         targets = []
         for t in study.targets:
@@ -137,12 +199,15 @@ class Synthesis(Kind):
         if not missed:
             why = None
         elif proof is None:
-            why = "the search stopped short: no gradient was stored at the fit"
+            why = "the search stopped short: no gradient could be formed near the fit"
         elif proof["measure"] > FIRST_ORDER:
             why = f"the search stopped short (first-order residual {proof['measure']:.2g})"
         elif proof["active"]:
-            why = "the limits make it unreachable: the fit is held by " + ", ".join(
-                a["name"] for a in proof["active"]
+            why = (
+                "the limits make it unreachable from this fit: it is a first-order point held by "
+                + ", ".join(a["name"] for a in proof["active"])
+                + " (a local optimum; the global search found no better one, which does not prove "
+                "there is none)"
             )
         else:
             why = "the targets cannot all be met together by these parameters (a least-squares compromise)"
@@ -192,9 +257,51 @@ class Synthesis(Kind):
         )
         if f.get("missed_because"):
             out.append(Table(f"{st.name}: why a target is missed", ["note"], [[f["missed_because"]]]))
+        out.append(_search_table(result))
         return out
 
     def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
         from mechdyn.studies import plots as sp
 
         return {"history.png": lambda: sp.history(result)} | parallel_plot(result)
+
+
+def _distinct(res: Any, bounds: np.ndarray, n: int, apart: float = 0.1) -> list[np.ndarray]:
+    """Up to ``n`` members of the evolution's last population, best first, each at least ``apart``
+    (a fraction of every range, in the largest coordinate) from those before it: starts in distinct
+    basins. SI."""
+    low, high = bounds.T
+    span = np.where(high > low, high - low, 1.0)
+    chosen: list[np.ndarray] = []
+    for x in res.population[np.argsort(res.population_energies)]:  # SI
+        if all(np.abs((x - c) / span).max() >= apart for c in chosen):
+            chosen.append(x)
+        if len(chosen) == n:
+            break
+    return chosen
+
+
+def _search_table(result: StudyResult) -> Table:
+    """How the fit was found: each stage's seed, generations, best least-squares fit and whether it
+    met every target (a run only: a stored study keeps its variants, not its stages), the first-order
+    measure at the fit and the variants evaluated."""
+    f = result.findings
+    rows: list[list[Any]] = []
+    for k, stage in enumerate(f.get("stages") or [], start=1):
+        best = min((x["cost"] for x in stage["fit"]), default=math.nan)
+        rows.append(
+            [
+                f"stage {k} (seed {stage['seed']})",
+                f"{stage['generations']} generations, best fit Σ((y − target)/tolerance)² = {best:.4g}: "
+                + ("every target holds" if stage["targets_met"] else "a target missed"),
+            ]
+        )
+    proof = f.get("optimality")
+    rows.append(
+        [
+            "first-order optimality (KKT residual, relative)",
+            f"{proof['measure']:.2g}" if proof is not None else "not shown (no gradient stored at the fit)",
+        ]
+    )
+    rows.append(["variants evaluated in all", f"{f.get('evaluations')}"])
+    return Table(f"{result.study.name}: search", ["", "value"], rows)
