@@ -52,8 +52,9 @@ FORCE = "shaking_force_max_N"
 
 
 def _g(x: float) -> str:
-    """A number as the report and the dashboard write it (six significant digits)."""
-    return f"{x:.6g}"
+    """A number as the report and the dashboard write it (six significant digits; a whole number of
+    six or seven digits in full)."""
+    return f"{x:.0f}" if 1e5 <= abs(x) < 1e7 else f"{x:.6g}"
 
 
 @pytest.fixture(scope="module")

@@ -55,12 +55,61 @@ def test_rows_are_labelled_in_words_and_every_number_column_has_one_format(name,
         text = out.getvalue()
         assert not re.search(r"(?<![\w.])-0(?:\.0*)?(?:e[+-]00)?(?![\w.])", text), text
         for i in range(len(t.columns)):
+            if "unit" in t.columns:  # each row another quantity: each value formatted on its own
+                continue
             spec = _column_spec([r[i] for r in t.rows])
             if spec is None:
                 continue
             shown = [_fmt(r[i], spec) for r in t.rows if r[i] is not None and not isinstance(r[i], int)]
             decimals = {len(s.split("e")[0].split(".")[1]) if "." in s else 0 for s in shown if s != "—"}
             assert len(decimals) <= 1, f"{t.title}, column {t.columns[i]!r}: {shown}"
+
+
+# light options for the analyses that would otherwise integrate or sweep at length
+_LIGHT = {"mechanism": {"angles": 72}, "support": {"cycles": 1}, "frf": {"points": 200}}
+
+
+def _significant(text: str) -> int:
+    """The significant digits a number is written with ("1496.3" 5, "0.0012" 2, "2.1e-16" 2)."""
+    mantissa = text.lstrip("-").split("e")[0]
+    digits = mantissa.replace(".", "").lstrip("0")
+    return len(digits)
+
+
+def _unit_tables():
+    from mechdyn.io.modelfile import read
+    from mechdyn.registry import analyses
+
+    for path in sorted(EXAMPLES.glob("*.toml")):
+        kind = read(path).model_type
+        for name, a in analyses().items():
+            if kind in a.model_types:
+                yield pytest.param(name, path.name, id=f"{name}-{path.stem}")
+
+
+@pytest.mark.parametrize(("name", "example"), list(_unit_tables()))
+def test_every_summary_of_every_example_reads_in_words_with_three_significant_digits(name, example, tmp_path):
+    """Each row of a summary is another quantity: its value is written on its own, in the unit a
+    designer reads it in (a stroke in mm, not "1 m"), with at least three significant digits, and its
+    label is words, not a result key."""
+    from mechdyn.store import ResultStore
+
+    with ResultStore(str(tmp_path / "r.db")) as store:
+        tables = _run(name, example, store, **_LIGHT.get(name, {})).tables()
+    for t in (t for t in tables if "unit" in t.columns):
+        out = io.StringIO()
+        print_table(t, file=out)
+        lines = out.getvalue().splitlines()
+        for row in t.rows:
+            label = str(row[0])
+            raw_key = SNAKE.match(label) or re.search(r"[a-z]{2,}_[a-z]{2,}", label)  # a symbol (k_c) is fine
+            assert not raw_key, f"{example} {name}, {t.title}: {label!r}"
+            for v in row[1:]:
+                if isinstance(v, bool) or not isinstance(v, float) or v == 0 or not np.isfinite(v):
+                    continue
+                line = next(ln for ln in lines if ln.startswith(label + " "))
+                numbers = re.findall(r"-?\d+(?:\.\d+)?(?:e[+-]\d+)?", line[len(label) :])
+                assert numbers and all(_significant(x) >= 3 for x in numbers[:1]), (example, t.title, line)
 
 
 def test_a_column_keeps_one_precision_and_negative_zero_prints_as_zero():

@@ -70,7 +70,11 @@ def frame_arrays(frame: pd.DataFrame) -> dict[str, tuple[np.ndarray, str]]:
 
 
 def summary_table(summary: dict[str, Any], skip: tuple[str, ...] = ()) -> Table:
-    """The scalars of a summary as a table: each key in words, its value, its unit.
+    """The scalars of a summary as a table: each key in words, its value in the unit a designer reads
+    it in (:func:`mechdyn.units.readable`: a stroke in mm, a force in kN), that unit.
+
+    The crank angle of an extreme reads "… at" ("inertia force max at 114 deg" beside "inertia force
+    max 529.6 kN").
 
     Parameters
     ----------
@@ -79,14 +83,59 @@ def summary_table(summary: dict[str, Any], skip: tuple[str, ...] = ()) -> Table:
     skip : tuple of str
         Keys to leave out.
     """
-    from mechdyn.units import key_label
+    from mechdyn.units import key_label, readable
 
+    scalars = {
+        k: v
+        for k, v in summary.items()
+        if isinstance(v, (int, float, str)) and not isinstance(v, bool) and k not in skip
+    }
+    labels = {k: key_label(k) for k in scalars}
+    words = [label for label, _ in labels.values()]
     rows = []
-    for k, v in summary.items():
-        if isinstance(v, (int, float, str)) and not isinstance(v, bool) and k not in skip:
-            label, unit = key_label(k)
-            rows.append([label, v, unit])
+    for k, v in scalars.items():
+        label, unit = labels[k]
+        if unit == "deg" and words.count(label) > 1:  # the angle of an extreme named beside it
+            label += " at"
+        if isinstance(v, (int, float)) and not isinstance(v, int):
+            v, unit = readable(float(v), unit)
+        rows.append([label, v, unit])
     return Table("summary", ["quantity", "value", "unit"], rows)
+
+
+def nested_tables(summary: dict[str, Any]) -> list[Table]:
+    """The nested values of a summary (a dict per key: peaks per joint, per mount, per mode) as one
+    table each, titled in words, each value in the unit a designer reads it in.
+
+    Parameters
+    ----------
+    summary : dict
+        A result's summary (SI values, keys ending with their unit).
+    """
+    from mechdyn.units import key_label, key_unit, readable
+
+    tables = []
+    for key, value in summary.items():
+        if not isinstance(value, dict) or not value:
+            continue
+        title, unit = key_label(key)
+        rows: list[list[Any]] = []
+
+        def add(path: list[str], v: Any, unit: str, rows: list[list[Any]] = rows) -> None:
+            if isinstance(v, dict):
+                for k, x in v.items():
+                    words, u = key_label(str(k))
+                    add([*path, words], x, u if key_unit(str(k)) else unit)
+                return
+            if isinstance(v, (list, tuple)):
+                v = ", ".join(f"{x:.4g}" if isinstance(x, float) else str(x) for x in v) or "none"
+            elif isinstance(v, float):
+                v, unit = readable(v, unit)
+            rows.append([" · ".join(path), v, unit])
+
+        add([], value, unit)
+        tables.append(Table(title, ["quantity", "value", "unit"], rows))
+    return tables
 
 
 def _as_written(plot: Callable[..., Any]) -> Callable[..., Any]:

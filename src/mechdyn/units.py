@@ -13,6 +13,7 @@ not pay for importing pint.
 from __future__ import annotations
 
 import functools
+import math
 import re
 from typing import TYPE_CHECKING, Any
 
@@ -491,3 +492,53 @@ def show(value: float, unit: str, display: str, spec: str = "g") -> str:
         Format specification of the number (``"g"``, ``".3f"``).
     """
     return f"{convert(value, unit, display):{spec}} {display}"
+
+
+# (SI unit, [(smallest magnitude, display unit as pint reads it, as shown)], largest first): the unit a
+# table shows a quantity in, by its size; a quantity of another unit is shown in its own
+_READABLE: dict[str, list[tuple[float, str, str]]] = {
+    "m": [(10.0, "m", "m"), (1e-3, "mm", "mm"), (0.0, "um", "µm")],
+    "N": [(1e7, "MN", "MN"), (1e4, "kN", "kN"), (0.0, "N", "N")],
+    "N·m": [(1e7, "MN*m", "MN·m"), (1e4, "kN*m", "kN·m"), (0.0, "N*m", "N·m")],
+    "N/m": [(1e6, "kN/mm", "kN/mm"), (1e3, "N/mm", "N/mm"), (0.0, "N/m", "N/m")],
+    "W": [(1e6, "MW", "MW"), (1e3, "kW", "kW"), (0.0, "W", "W")],
+    "Pa": [(1e6, "MPa", "MPa"), (1e3, "kPa", "kPa"), (0.0, "Pa", "Pa")],
+}
+
+
+def readable(value: float, unit: str) -> tuple[float, str]:
+    """A value in the unit a designer reads it in, picked by its kind and size: a 1.5 m stroke in
+    mm, a 20 µm displacement in µm, a 530 kN force in kN, a 2.4 MN force in MN, a mount's 4·10⁸ N/m
+    in kN/mm. Units not listed, zero and non-finite values stay as they are.
+
+    Parameters
+    ----------
+    value : float
+        The value in ``unit``.
+    unit : str
+        Its SI unit as :func:`key_label` shows it (``"m"``, ``"N"``, ``"N·m"``, ``"N/m"``, ``"W"``,
+        ``"Pa"``).
+
+    Returns
+    -------
+    (float, str)
+        The value and its unit as shown.
+
+    Examples
+    --------
+    >>> from mechdyn.units import readable
+    >>> readable(1.4963, "m")
+    (1496.3, 'mm')
+    """
+    choices = _READABLE.get(unit)
+    if not choices or not math.isfinite(value) or value == 0:
+        return value, unit
+    a = abs(value)
+    for smallest, display, shown in choices:
+        if a >= smallest:
+            si = _SHOWN_TO_SI.get(unit, unit)
+            return float(convert(value, si, display)), shown
+    return value, unit
+
+
+_SHOWN_TO_SI = {shown: si for si, shown in _SHOWN_UNITS.items()}

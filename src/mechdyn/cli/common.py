@@ -103,7 +103,9 @@ def print_table(t: Table, file: Any = None, max_rows: int = MAX_ROWS) -> None:
     hidden = len(rows) - _HEAD - _TAIL if len(rows) > max_rows else 0
     if hidden:
         rows = [*rows[:_HEAD], ["⋮"] * len(t.columns), *rows[-_TAIL:]]
-    specs = [_column_spec([r[i] for r in t.rows]) for i in range(len(t.columns))]
+    # a table with a unit column holds another quantity in each row: each value is formatted on its own
+    per_value = "unit" in t.columns
+    specs = [None if per_value else _column_spec([r[i] for r in t.rows]) for i in range(len(t.columns))]
     cells = [[_fmt(v, specs[i]) if i < len(specs) else _fmt(v) for i, v in enumerate(r)] for r in rows]
     widths = [max([len(c), *(len(r[i]) for r in cells)]) for i, c in enumerate(t.columns)]
     # as wide as the table needs: a results table is never squeezed into dropping columns

@@ -230,10 +230,21 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             run = store.get(run_id)
         except StoreError:
             return missing(f"There is no run {run_id} in this database.")
-        from mechdyn.reports.html import _summary_table
+        from mechdyn.reports.html import _cell
+        from mechdyn.results import nested_tables, summary_table
+        from mechdyn.units import key_label
 
-        table = _summary_table(run.scalars, {})
-        summary = [(r[0].text, r[1], r[2].text) for r in table.rows]
+        # as the report shows it: in words and in the units a designer reads, nested values by name
+        scalars = run.scalars
+        summary = [
+            (str(r[0]) if t.title == "summary" else f"{t.title} · {r[0]}", _cell(r[1]), r[2])
+            for t in [summary_table(scalars), *nested_tables(scalars)]
+            for r in t.rows
+        ]
+        for k, v in scalars.items():  # lists of numbers (natural frequencies) in one row each
+            if k != "warnings" and isinstance(v, list) and all(isinstance(x, (int, float)) for x in v):
+                label, unit = key_label(k)
+                summary.append((label, _cell(v), unit))
         figures = _line_figures([(f"run {run.id}", run.arrays)])
         return page(
             "run.html.j2",

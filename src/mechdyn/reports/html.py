@@ -78,7 +78,9 @@ def _number(v: float) -> str:
     if not math.isfinite(v):
         return str(v)
     a = abs(v)
-    return f"{v:.6g}" if 1e-4 <= a < 1e7 else f"{v:.4e}"
+    if 1e5 <= a < 1e7:  # every digit of the whole number, not 1.80545e+06
+        return f"{v:.0f}"
+    return f"{v:.6g}" if 1e-4 <= a < 1e5 else f"{v:.4e}"
 
 
 def _cell(v: Any) -> Cell:
@@ -126,34 +128,11 @@ def _figures(plots: Mapping[str, Callable[[], Any]]) -> list[Figure]:
     return [Figure(Path(name).stem.replace("_", " "), _png(make)) for name, make in plots.items()]
 
 
-def _summary_table(summary: Mapping[str, Any], units: Mapping[str, str]) -> HtmlTable:
-    """Every value of a summary, one row each; nested tables flattened (``excitation · stroke_m``),
-    the unit read from the innermost key that names one."""
-    from mechdyn.units import key_unit
-
-    rows: list[list[Cell]] = []
-
-    def add(path: list[str], value: Any, unit: str) -> None:
-        if isinstance(value, Mapping):
-            for k, v in value.items():
-                add([*path, str(k)], v, key_unit(str(k)) or unit)
-            return
-        if isinstance(value, (list, tuple)) and any(isinstance(v, Mapping) for v in value):
-            rows.append([Cell(" · ".join(path)), Cell(f"{len(value)} rows: see the tables below"), Cell("")])
-            return
-        rows.append([Cell(" · ".join(path)), _cell(value), Cell(unit if unit != "1" else "")])
-
-    for key, value in summary.items():
-        if key != "warnings":
-            add([key], value, units.get(key) or key_unit(key) or "")
-    return HtmlTable("", ["quantity", "value", "unit (SI)"], rows)
-
-
 def _checks(summary: Mapping[str, Any]) -> HtmlTable | None:
-    from mechdyn.units import key_unit
+    from mechdyn.units import key_label
 
     rows = [
-        [Cell(k), _cell(v), Cell(key_unit(k) or "")]
+        [Cell(key_label(k)[0]), _cell(v), Cell(key_label(k)[1])]
         for k, v in summary.items()
         if any(w in k for w in _CHECK_WORDS) and not isinstance(v, (dict, list))
     ]
@@ -198,10 +177,8 @@ def run_report(
         A line under the summary (e.g. that the result was recomputed from the stored model).
     """
     from mechdyn import __version__
-    from mechdyn.registry import get
 
     summary = result.summary()
-    units = get(analysis).output_units
     when = created or datetime.now(UTC)
     meta = [
         ("analysis", analysis),
@@ -213,7 +190,16 @@ def run_report(
     ]
     if options:
         meta.append(("options", ", ".join(f"{k} = {v}" for k, v in options.items())))
-    sections = [Section("Summary", note=note, tables=[_summary_table(summary, units)])]
+    from mechdyn.results import nested_tables, summary_table
+
+    tables = result.tables()
+    # the summary in words and in the units a designer reads, its nested values as tables of their
+    # own (the database and --json keep every value in SI)
+    first = [t for t in tables if t.title == "summary"] or [summary_table(summary)]
+    labels = [[str(r[0]) for r in t.rows] for t in tables]  # a nested value a table already shows
+    nested = [t for t in nested_tables(summary) if [str(r[0]) for r in t.rows] not in labels]
+    shown = [_table(t) for t in [*first, *nested]]
+    sections = [Section("Summary", note=note, tables=shown)]
     all_warnings = list(dict.fromkeys([*warnings, *getattr(result, "warnings", ())]))
     checks = _checks(summary)
     sections.append(
@@ -224,7 +210,7 @@ def run_report(
             items=all_warnings or ["no warnings"],
         )
     )
-    sections.append(Section("Tables", tables=[_table(t) for t in result.tables()]))
+    sections.append(Section("Tables", tables=[_table(t) for t in tables if t.title != "summary"]))
     sections.append(Section("Plots", figures=_figures(result.plots())))
     sections.append(Section("Model file", note=model_path, text=model_text))
     return Report(model_name or Path(model_path).stem, f"{analysis} analysis", meta, sections)
