@@ -161,3 +161,29 @@ def test_an_empty_crossings_table_says_why():
     assert crossings.rows == []
     assert "none (" in crossings.title and "below the lowest natural frequency" in crossings.title
     assert "no gear-mesh orders: mesh 1, mesh 2 give no teeth" in crossings.title
+
+
+def test_the_command_line_shows_forces_and_lengths_in_the_units_asked_for(tmp_path, capsys):
+    """`--force-unit tonf --length-unit m`: the press's summary in tonnes-force and metres (the
+    published figures are in tonf); without them, kN and mm; a unit of the wrong kind is refused
+    with the value and an example."""
+    from mechdyn.cli.main import main
+
+    args = [
+        "mechanism",
+        str(EXAMPLES / "press_link_drive.toml"),
+        "--db",
+        str(tmp_path / "r.db"),
+        "--angles",
+        "72",
+    ]
+    assert main([*args, "--force-unit", "tonf", "--length-unit", "m"]) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"inertia force max\s+5[34]\.\d+\s+tonf", out), out
+    assert re.search(r"stroke\s+1\.496\d*\s+m\s", out), out
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"inertia force max\s+529\.\d+\s+kN", out) and re.search(r"stroke\s+1496\.\d+\s+mm", out)
+    with pytest.raises(SystemExit):
+        main([*args, "--force-unit", "mm"])
+    assert "'mm' is not a unit of force (e.g. kN, tonf" in capsys.readouterr().err

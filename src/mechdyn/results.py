@@ -27,7 +27,7 @@ registered analysis (:mod:`mechdyn.registry`) and checks it.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -69,7 +69,9 @@ def frame_arrays(frame: pd.DataFrame) -> dict[str, tuple[np.ndarray, str]]:
     return {str(c): (frame[c].to_numpy(), key_unit(str(c)) or "") for c in frame.columns}
 
 
-def summary_table(summary: dict[str, Any], skip: tuple[str, ...] = ()) -> Table:
+def summary_table(
+    summary: dict[str, Any], *, skip: tuple[str, ...] = (), display_units: Mapping[str, str] | None = None
+) -> Table:
     """The scalars of a summary as a table: each key in words, its value in the unit a designer reads
     it in (:func:`mechdyn.units.readable`: a stroke in mm, a force in kN), that unit.
 
@@ -82,9 +84,14 @@ def summary_table(summary: dict[str, Any], skip: tuple[str, ...] = ()) -> Table:
         A result's summary (SI values, keys ending with their unit).
     skip : tuple of str
         Keys to leave out.
+    display_units : mapping, optional
+        ``force_unit`` (e.g. ``"tonf"``) and ``length_unit`` (e.g. ``"m"``) show every force and
+        every length in that unit instead.
     """
-    from mechdyn.units import key_label, readable
+    from mechdyn.units import convert, key_label, readable
 
+    display_units = display_units or {}
+    chosen = {"N": display_units.get("force_unit"), "m": display_units.get("length_unit")}
     scalars = {
         k: v
         for k, v in summary.items()
@@ -98,7 +105,11 @@ def summary_table(summary: dict[str, Any], skip: tuple[str, ...] = ()) -> Table:
         if unit == "deg" and words.count(label) > 1:  # the angle of an extreme named beside it
             label += " at"
         if isinstance(v, (int, float)) and not isinstance(v, int):
-            v, unit = readable(float(v), unit)
+            pick = chosen.get(unit)
+            if pick:
+                v, unit = float(convert(float(v), unit, pick)), pick
+            else:
+                v, unit = readable(float(v), unit)
         rows.append([label, v, unit])
     return Table("summary", ["quantity", "value", "unit"], rows)
 
@@ -173,8 +184,9 @@ class Result:
         raise NotImplementedError
 
     def tables(self, **display_units: str) -> list[Table]:
-        """Titled tables for the terminal; the default lists the summary's scalars with units."""
-        return [summary_table(self.summary())]
+        """Titled tables for the terminal; the default lists the summary's scalars with units
+        (``force_unit`` and ``length_unit``: see :func:`summary_table`)."""
+        return [summary_table(self.summary(), display_units=display_units)]
 
     def plots(self, **display_units: str) -> dict[str, Callable[[], Any]]:
         """File name → callable drawing one figure and returning its matplotlib axes."""

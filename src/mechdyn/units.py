@@ -497,13 +497,32 @@ def show(value: float, unit: str, display: str, spec: str = "g") -> str:
 # (SI unit, [(smallest magnitude, display unit as pint reads it, as shown)], largest first): the unit a
 # table shows a quantity in, by its size; a quantity of another unit is shown in its own
 _READABLE: dict[str, list[tuple[float, str, str]]] = {
-    "m": [(10.0, "m", "m"), (1e-3, "mm", "mm"), (0.0, "um", "µm")],
+    "m": [(10.0, "m", "m"), (1e-4, "mm", "mm"), (0.0, "um", "µm")],
     "N": [(1e7, "MN", "MN"), (1e4, "kN", "kN"), (0.0, "N", "N")],
     "N·m": [(1e7, "MN*m", "MN·m"), (1e4, "kN*m", "kN·m"), (0.0, "N*m", "N·m")],
     "N/m": [(1e6, "kN/mm", "kN/mm"), (1e3, "N/mm", "N/mm"), (0.0, "N/m", "N/m")],
     "W": [(1e6, "MW", "MW"), (1e3, "kW", "kW"), (0.0, "W", "W")],
     "Pa": [(1e6, "MPa", "MPa"), (1e3, "kPa", "kPa"), (0.0, "Pa", "Pa")],
 }
+
+
+def readable_unit(value: float, unit: str) -> tuple[str, str]:
+    """The unit a designer reads a value of this size in (see :func:`readable`): as pint reads it and
+    as shown, e.g. ``("um", "µm")``; the unit itself where none is listed.
+
+    Parameters
+    ----------
+    value : float
+        The value (or a column's largest magnitude) in ``unit``.
+    unit : str
+        Its SI unit as :func:`key_label` shows it.
+    """
+    si = _SHOWN_TO_SI.get(unit, unit)
+    choices = _READABLE.get(unit)
+    if not choices or not math.isfinite(value) or value == 0:
+        return si, unit
+    a = abs(value)
+    return next(((display, shown) for smallest, display, shown in choices if a >= smallest), (si, unit))
 
 
 def readable(value: float, unit: str) -> tuple[float, str]:
@@ -530,15 +549,10 @@ def readable(value: float, unit: str) -> tuple[float, str]:
     >>> readable(1.4963, "m")
     (1496.3, 'mm')
     """
-    choices = _READABLE.get(unit)
-    if not choices or not math.isfinite(value) or value == 0:
+    display, shown = readable_unit(value, unit)
+    if shown == unit:
         return value, unit
-    a = abs(value)
-    for smallest, display, shown in choices:
-        if a >= smallest:
-            si = _SHOWN_TO_SI.get(unit, unit)
-            return float(convert(value, si, display)), shown
-    return value, unit
+    return float(convert(value, _SHOWN_TO_SI.get(unit, unit), display)), shown
 
 
 _SHOWN_TO_SI = {shown: si for si, shown in _SHOWN_UNITS.items()}

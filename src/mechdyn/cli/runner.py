@@ -13,7 +13,7 @@ import json
 import math
 import sys
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -78,6 +78,24 @@ def _add_option(p: argparse.ArgumentParser, o: Option) -> None:
     p.add_argument(o.flag, **kw)
 
 
+def _display_unit(si: str, kind: str) -> Callable[[str], str]:
+    """An argparse type: a unit of ``kind`` (compatible with ``si``), else a message naming the value
+    and what is expected."""
+
+    def parse(text: str) -> str:
+        from mechdyn.units import registry
+
+        try:
+            ok = registry().Quantity(1.0, text).is_compatible_with(si)
+        except Exception:  # pint raises several kinds of errors for a unit it cannot read
+            ok = False
+        if not ok:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a unit of {kind} (e.g. kN, tonf for a force)")
+        return text
+
+    return parse
+
+
 def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> None:
     """Add ``mechdyn NAME``: the common options, then the analysis' own."""
     epilog = None
@@ -96,6 +114,18 @@ def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> 
     p.add_argument("--plots", metavar="DIR", help="write the plots (PNG) into DIR")
     p.add_argument("--csv", metavar="FILE", help="write the result table (columns named with their units)")
     p.add_argument("--report", metavar="FILE", help="write a self-contained HTML report of the run")
+    p.add_argument(
+        "--force-unit",
+        metavar="UNIT",
+        type=_display_unit("N", "force"),
+        help="show forces in this unit (kN, tonf, lbf; default: by their size)",
+    )
+    p.add_argument(
+        "--length-unit",
+        metavar="UNIT",
+        type=_display_unit("m", "length"),
+        help="show lengths in this unit (mm, m, in; default: by their size)",
+    )
     p.add_argument(
         "--db",
         metavar="URL",
@@ -200,7 +230,8 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     from mechdyn.cli.common import print_table
 
     print(f"{loaded.name}  ({source.path})")
-    for t in result.tables():
+    shown = {k: u for k in ("force_unit", "length_unit") if (u := getattr(args, k, None))}
+    for t in result.tables(**shown):
         print_table(t)
     for p in plot_files:
         print(f"plot: {p}")

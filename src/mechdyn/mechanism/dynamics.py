@@ -259,7 +259,11 @@ class DynamicsResult(Result):
         length = display_units.get("length_unit", "mm")
         summary = self.summary()
         tables = [
-            summary_table({k: v for k, v in summary.items() if not isinstance(v, str)}, skip=("n_angles",)),
+            summary_table(
+                {k: v for k, v in summary.items() if not isinstance(v, str)},
+                skip=("n_angles",),
+                display_units=display_units,
+            ),
             Table(
                 "joint forces (largest over the cycle)",
                 ["joint", "force [N]"],

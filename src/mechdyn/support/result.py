@@ -113,23 +113,26 @@ class SupportAnalysis(Result):
     def tables(self, **display_units: str) -> list[Table]:
         """Steady state, modes and (several mounts) the mounts.
 
-        ``force_unit`` (default ``"tonf"``) and ``length_unit`` (default ``"mm"``) give the display
-        column's units.
+        Forces and displacements are shown in the units a designer reads them in
+        (:func:`mechdyn.units.readable`: kN or MN, mm or µm), or in ``force_unit`` (e.g.
+        ``"tonf"``) and ``length_unit`` where given.
         """
-        from mechdyn.units import convert
+        from mechdyn.units import convert, readable, readable_unit
 
-        fu = display_units.get("force_unit", "tonf")
-        lu = display_units.get("length_unit", "mm")
+        fu = display_units.get("force_unit")
+        lu = display_units.get("length_unit") or "mm"
         s = self.summary()
         machine = self.machine
 
         def row(label: str, key: str, unit: str) -> list[Any]:
-            show = fu if unit == "N" else lu
-            return [label, s[key], unit, convert(s[key], unit, show)]
+            chosen = fu if unit == "N" else display_units.get("length_unit")
+            if chosen:
+                return [label, convert(s[key], unit, chosen), chosen]
+            return [label, *readable(s[key], unit)]
 
         steady = Table(
             "steady state (frequency domain)",
-            ["quantity", "value", "unit", f"{fu} / {lu}"],
+            ["quantity", "value", "unit"],
             [
                 row("exciting (inertia) force max", "inertia_force_max_N", "N"),
                 row("exciting (inertia) force min", "inertia_force_min_N", "N"),
@@ -143,7 +146,6 @@ class SupportAnalysis(Result):
                     "start-up: last cycle off the steady state",
                     s["startup_last_cycle_deviation_relative"],
                     "of the range",
-                    None,
                 ],
             ],
         )
@@ -157,17 +159,24 @@ class SupportAnalysis(Result):
         )
         tables = [steady, modes_table]
         if len(machine.mounts) > 1:
+            static = [float(-f[2]) for f in machine.static_mount_forces]
+            peaks = [s["mount_force_peak_N"][m.name] for m in machine.mounts]
+            force, shown = (
+                (fu, fu) if fu else readable_unit(max(map(abs, [*static, *peaks]), default=0.0), "N")
+            )
             tables.append(
                 Table(
                     "mounts",
-                    ["mount", "static force [N]", f"static deflection [{lu}]", "dynamic force peak [N]"],
                     [
-                        [m.name, float(-f[2]), convert(float(dz), "m", lu), s["mount_force_peak_N"][m.name]]
-                        for m, f, dz in zip(
-                            machine.mounts,
-                            machine.static_mount_forces,
-                            machine.static_deflection,
-                            strict=True,
+                        "mount",
+                        f"static force [{shown}]",
+                        f"static deflection [{lu}]",
+                        f"dynamic force peak [{shown}]",
+                    ],
+                    [
+                        [m.name, convert(f, "N", force), convert(float(dz), "m", lu), convert(p, "N", force)]
+                        for m, f, dz, p in zip(
+                            machine.mounts, static, machine.static_deflection, peaks, strict=True
                         )
                     ],
                 )
