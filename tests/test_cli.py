@@ -404,7 +404,18 @@ def test_the_isolation_table_says_whether_the_mount_isolates_or_amplifies(db, ca
         ("mount_frf.toml", "isolates: 59 %"),
     ):
         assert main(["mount", str(EXAMPLES / name)]) == 0
-        assert word in capsys.readouterr().out, name
+        out = capsys.readouterr().out
+        assert f"The mount {word}" in out, name
+        assert not re.search(r"^verdict ", out, flags=re.M)  # a sentence under the table, not in a cell
+        assert max(len(line) for line in out.splitlines()) <= 110, name
+
+
+def test_a_transmissibility_of_one_is_not_called_an_amplification():
+    from mechdyn.mounts.tables import isolation_verdict
+
+    assert isolation_verdict(1.0003).startswith("passes the disturbing force to the floor almost unchanged")
+    assert isolation_verdict(0.9990).startswith("passes") and isolation_verdict(1.2).startswith("amplifies")
+    assert isolation_verdict(0.41).startswith("isolates: 59 %")
 
 
 def test_the_readme_first_session_is_what_the_command_prints(tmp_path):

@@ -49,11 +49,15 @@ class Table:
         Column headers, each with its unit in brackets where it has one.
     rows : list of list
         Rows of values: numbers (formatted by the renderer), text, or None (shown as "—").
+    note : str
+        A sentence under the table (a verdict, what the numbers mean), shown by every renderer;
+        a sentence never sits in a cell, where it would stretch its column.
     """
 
     title: str
     columns: list[str]
     rows: list[list[Any]]
+    note: str = ""
 
 
 def frame_arrays(frame: pd.DataFrame) -> dict[str, tuple[np.ndarray, str]]:

@@ -129,5 +129,7 @@ def print_table(t: Table, file: Any = None, max_rows: int = MAX_ROWS) -> None:
         )
     console.print(f"\n[bold]{escape(t.title)}[/bold]")
     console.print(rt)
+    if t.note:  # a verdict under the table, wrapped, never stretching a column
+        console.print(escape(t.note))
     if hidden:
         console.print(f"({hidden} of {len(t.rows)} rows not shown; --json has every value)")

@@ -142,14 +142,14 @@ class MountResult(Result):
     def tables(self, **display_units: str) -> list[Table]:
         """The estimate, the frusta, the FE convergence, the contact pressure, calibration, FRF fit,
         isolation. ``length_unit`` (default ``"mm"``), ``pressure_unit`` (``"MPa"``) and
-        ``stiffness_unit`` (``"N/m"``)."""
+        ``stiffness_unit`` (default: the one the mount's stiffness reads best in, kN/mm for most)."""
         from mechdyn.mounts.tables import mount_tables
 
         return mount_tables(
             self,
             display_units.get("length_unit", "mm"),
             display_units.get("pressure_unit", "MPa"),
-            display_units.get("stiffness_unit", "N/m"),
+            display_units.get("stiffness_unit"),
         )
 
     def plots(self, **display_units: str) -> dict[str, Any]:

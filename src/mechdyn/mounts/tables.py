@@ -5,33 +5,77 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from mechdyn.results import Table
-from mechdyn.units import convert, key_label
+from mechdyn.units import convert, key_label, readable, readable_unit
 
 if TYPE_CHECKING:
     from mechdyn.mounts.analysis import MountResult
 
-__all__ = ["mount_tables"]
+__all__ = ["isolation_verdict", "mount_tables"]
 
 
 def _rows(d: dict[str, Any]) -> list[list[Any]]:
-    """The scalar and text parts of a breakdown as (quantity, value, unit) rows, in words."""
+    """The scalar and text parts of a breakdown as (quantity, value, unit) rows, in words, each value
+    in the unit its size reads best in (:func:`mechdyn.units.readable`: kN/mm, MPa, mm)."""
     rows = []
     for k, v in d.items():
+        label, unit = key_label(k)
         if isinstance(v, bool):
             v = "yes" if v else "no"
-        elif not isinstance(v, (int, float, str)):
+        elif isinstance(v, float):
+            v, unit = readable(v, unit)
+        elif not isinstance(v, (int, str)):
             continue
-        label, unit = key_label(k)
         rows.append([label, v, unit])
     return rows
 
 
+_LONG = 40  # a text longer than this is a sentence: it goes under the table, not into a cell
+
+
+def _table(title: str, rows: list[list[Any]], note: str = "") -> Table:
+    """A (quantity, value, unit) table whose sentences (a provenance, a verdict) are written under it."""
+    sentences = [f"{r[0]}: {r[1]}" for r in rows if isinstance(r[1], str) and len(r[1]) > _LONG]
+    kept = [r for r in rows if not (isinstance(r[1], str) and len(r[1]) > _LONG)]
+    return Table(
+        title, ["quantity", "value", "unit"], kept, " ".join([*(s + "." for s in sentences), note]).strip()
+    )
+
+
+def isolation_verdict(transmissibility: float) -> str:
+    """What a mount does to the disturbing force, as a sentence: isolates (T < 1), amplifies (T > 1),
+    or passes it almost unchanged (T within 0.5 % of 1, near the crossover at √2 times the natural
+    frequency, where "amplifies 1.00 times" would say nothing).
+
+    Parameters
+    ----------
+    transmissibility : float
+        T, the amplitude of the force on the floor over the disturbing force.
+    """
+    T = transmissibility
+    if abs(T - 1.0) < 5e-3:
+        return (
+            f"passes the disturbing force to the floor almost unchanged (transmissibility {T:.4f}): the "
+            "disturbing frequency is near √2 times the natural frequency; a softer mount would isolate"
+        )
+    if T < 1:
+        return f"isolates: {100 * (1 - T):.0f} % of the disturbing force is kept from the floor"
+    return (
+        f"amplifies: the floor gets {T:.2f} times the disturbing force (the disturbing frequency is below "
+        "√2 times the natural frequency; a softer mount would isolate)"
+    )
+
+
 def mount_tables(
-    result: MountResult, length_unit: str = "mm", pressure_unit: str = "MPa", stiffness_unit: str = "N/m"
+    result: MountResult,
+    length_unit: str = "mm",
+    pressure_unit: str = "MPa",
+    stiffness_unit: str | None = None,
 ) -> list[Table]:
     """The estimate, frusta, FE convergence, contact pressure, calibration, FRF fit and isolation,
-    lengths, pressures and stiffnesses in the given display units."""
+    lengths, pressures and stiffnesses in the given display units (a stiffness, by default, in the unit
+    the mount's own stiffness reads best in: kN/mm for most)."""
     s = result.data
+    stiffness_unit = stiffness_unit or readable_unit(s["stiffness_N_per_m"], "N/m")[0]
 
     def K(v: float) -> float:
         return float(convert(v, "N/m", stiffness_unit))
@@ -43,9 +87,8 @@ def mount_tables(
         return float(convert(v, "Pa", pressure_unit))
 
     tables = [
-        Table(
+        _table(
             f"{result.name} ({result.kind})",
-            ["quantity", "value", "unit"],
             [
                 ["stiffness along the main axis", K(s["stiffness_N_per_m"]), stiffness_unit],
                 *_rows({"adjusts_height": s["adjusts_height"], "damps": s["damps"]}),
@@ -118,18 +161,13 @@ def mount_tables(
             )
         )
     if "calibration" in s:
-        tables.append(Table("calibration", ["quantity", "value", "unit"], _rows(s["calibration"])))
+        tables.append(_table("calibration", _rows(s["calibration"])))
     if "frf_fit" in s:
-        tables.append(Table("fit to the measured FRF", ["quantity", "value", "unit"], _rows(s["frf_fit"])))
+        tables.append(_table("fit to the measured FRF", _rows(s["frf_fit"])))
     if "isolation" in s:
         iso = s["isolation"]
-        T = iso["transmissibility"]
-        verdict = (
-            f"isolates: {100 * (1 - T):.0f} % of the disturbing force is kept from the floor"
-            if T < 1
-            else f"amplifies: the floor gets {T:.2f} times the disturbing force (the disturbing frequency "
-            "is below √2 times the natural frequency; a softer mount would isolate)"
+        verdict = "The mount " + isolation_verdict(iso["transmissibility"]) + "."
+        tables.append(
+            Table("isolation on the given load", ["quantity", "value", "unit"], _rows(iso), verdict)
         )
-        rows = [*_rows(iso), ["verdict", verdict, ""]]
-        tables.append(Table("isolation on the given load", ["quantity", "value", "unit"], rows))
     return tables

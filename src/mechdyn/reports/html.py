@@ -44,6 +44,7 @@ class HtmlTable:
     title: str
     columns: list[str]
     rows: list[list[Cell]]
+    note: str = ""
 
 
 @dataclass
@@ -104,7 +105,7 @@ def _cell(v: Any) -> Cell:
 
 def _table(t: Any) -> HtmlTable:
     """A :class:`mechdyn.results.Table` as HTML cells."""
-    return HtmlTable(t.title, list(t.columns), [[_cell(v) for v in row] for row in t.rows])
+    return HtmlTable(t.title, list(t.columns), [[_cell(v) for v in row] for row in t.rows], t.note)
 
 
 def _png(make: Callable[[], Any]) -> str:
