@@ -96,3 +96,22 @@ def test_study_optimum_quick_run():
     for b in doc["boxes"]:
         assert b["constraints_hold"] and b["optimality"] < 1e-6
         assert b["reduction_percent"] > (b["plain_sampler"]["reduction_percent"] or 0.0)
+
+
+@pytest.mark.slow
+def test_the_plots_benchmark_times_every_quick_example_with_and_without_its_plots():
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "plots.py"), "--quick", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=1200,  # a hang guard
+    )
+    doc = json.loads(out.stdout)
+    assert doc["benchmark"] == "plots" and len(doc["examples"]) == 3
+    for r in doc["examples"]:
+        assert (
+            r["plots"] >= 1
+            and r["seconds_without_plots"] > 0
+            and r["ratio"] == pytest.approx(r["seconds_with_plots"] / r["seconds_without_plots"])
+        )

@@ -62,6 +62,11 @@ def plain_text(fig: Any) -> None:
         t.set_parse_math(False)
 
 
+def _clear(box: Any, width: float, margin: float) -> bool:
+    """Whether a text's box lies within the figure's width, ``margin`` from each edge (pixels)."""
+    return bool(box.x0 >= margin and box.x1 <= width - margin)
+
+
 def fit_titles(fig: Any) -> None:
     """Shrink, then wrap, every title that reaches past the figure's edge, so that none is clipped.
 
@@ -72,25 +77,29 @@ def fit_titles(fig: Any) -> None:
     """
     import textwrap
 
-    fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     width = fig.bbox.width
     texts = [a.title for a in fig.axes] + [t for a in fig.axes for t in (a._left_title, a._right_title)]
     if fig._suptitle is not None:
         texts.append(fig._suptitle)
+    texts = [t for t in texts if t.get_text()]
+    # the layout moves the axes by their margins only: a title that keeps a tenth of the figure's
+    # width from both edges where the axes stand before it cannot be clipped after it, and the
+    # figure is not drawn here (a draw with its layout is most of what a plot costs)
+    if all(_clear(t.get_window_extent(renderer), width, 0.1 * width) for t in texts):
+        return
+    fig.canvas.draw()
+    # the figure is drawn once, for the titles' places; a title's extent then follows its own text
+    # and size without drawing the figure again (once per title, that was most of a run with --plots)
     for t in texts:
-        if not t.get_text():
-            continue
         for _ in range(4):
-            box = t.get_window_extent(renderer)
-            if box.x0 >= 0 and box.x1 <= width:
+            if _clear(t.get_window_extent(renderer), width, 0.0):
                 break
             if t.get_fontsize() > 8:
                 t.set_fontsize(t.get_fontsize() - 1)
             else:
                 text = t.get_text().replace("\n", " ")
                 t.set_text(textwrap.fill(text, max(20, len(text) * 2 // 3)))
-        fig.canvas.draw()
 
 
 def dead_centre_marks(ax: Any, angles_deg: dict[str, float]) -> None:
