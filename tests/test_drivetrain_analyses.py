@@ -23,7 +23,7 @@ def test_turret_c_lines_and_mesh_order(turret_c):
         {
             "1× shaft lines 1–2, 3–5, 6–7": 1.0,
             "2× shaft lines 1–2, 3–5, 6–7": 2.0,
-            "1× meshes mesh 1 (19/19 teeth), mesh 2 (19/19 teeth)": 19.0,
+            "1× mesh frequency of mesh 1 (19/19 teeth), mesh 2 (19/19 teeth)": 19.0,
         }
     )
 

@@ -31,8 +31,8 @@ class ExcitationLine:
     Attributes
     ----------
     label : str
-        E.g. ``"1× shaft line 3–4"``, ``"1× mesh G1 (24/96 teeth)"``, or for coinciding lines
-        ``"1× shaft lines 1–2, 3–5"``.
+        E.g. ``"1× shaft line 3–4"``, ``"1× mesh frequency of G1 (24/96 teeth)"``, or for coinciding
+        lines ``"1× shaft lines 1–2, 3–5"``.
     kind : {"shaft", "mesh"}
     per_rev : float
         Excitation cycles per revolution of the reference disk.
@@ -257,13 +257,16 @@ def campbell(
         for h in mesh_orders:
             lines.append(
                 ExcitationLine(
-                    f"{h:g}× mesh {mesh.name} ({mesh.teeth[0]}/{mesh.teeth[1]} teeth)",
+                    f"{h:g}× mesh frequency of {mesh.name} ({mesh.teeth[0]}/{mesh.teeth[1]} teeth)",
                     "mesh",
                     h * mesh.teeth[0] * ratio,
                 )
             )
     result = modes if modes is not None else modal(drivetrain, rigid_gears=rigid_gears)
     return CampbellResult(result, ref, (lo, hi), _merge(lines))
+
+
+_MESH = "mesh frequency of "
 
 
 def _merge(lines: list[ExcitationLine]) -> tuple[ExcitationLine, ...]:
@@ -277,9 +280,8 @@ def _merge(lines: list[ExcitationLine]) -> tuple[ExcitationLine, ...]:
         if len(same) == 1:
             merged.append(same[0])
             continue
-        order, _, first = same[0].label.partition(" ")
-        noun = "shaft lines" if kind == "shaft" else "meshes"
-        rest = [ln.label.partition(" ")[2].removeprefix("shaft line ").removeprefix("mesh ") for ln in same]
-        rest[0] = first.removeprefix("shaft line ").removeprefix("mesh ")
+        order = same[0].label.partition(" ")[0]
+        noun, prefix = ("shaft lines", "shaft line ") if kind == "shaft" else ("mesh frequency of", _MESH)
+        rest = [ln.label.partition(" ")[2].removeprefix(prefix) for ln in same]
         merged.append(ExcitationLine(f"{order} {noun} {', '.join(rest)}", kind, same[0].per_rev))
     return tuple(merged)
