@@ -137,3 +137,23 @@ def test_display_unit_picks_the_largest_unit_that_keeps_a_number_above_one():
     assert display_unit(np.array([50.0]), "N*m") == ("N·m", 1.0)
     assert display_unit(np.array([1.8e6]), "N") == ("MN", 1e-6)
     assert display_unit(np.array([]), "N") == ("N", 1.0)
+
+
+def test_the_support_mode_shape_side_view_draws_the_machine_s_side_face():
+    """The side view (x–z) is the face y = lo of the outline box, drawn as a rectangle as wide as the
+    box in x and as tall in z (it once joined corners of the face x = lo: the machine drew as a
+    vertical line beside its mounts); the top view is the face z = lo."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        r = get("support").run(load_model(EXAMPLES / "press_on_mounts.toml"), cycles=1)
+    ax = r.plots()["mode_shapes.png"]()
+    side, top = ax, ax.figure.axes[len(r.modes.frequencies_hz)]
+    pos = np.array([mt.position for mt in r.machine.mounts])
+    for view, (i, j) in ((side, (0, 2)), (top, (0, 1))):
+        outline = view.lines[0]  # the box at rest, dotted
+        x, y = np.asarray(outline.get_xdata()), np.asarray(outline.get_ydata())
+        assert outline.get_linestyle() == ":" and len(x) == 5
+        # a rectangle around the mounts, with an area (not a line)
+        assert x.min() < pos[:, i].min() and x.max() > pos[:, i].max() and y.min() < pos[:, j].min()
+        assert np.ptp(y) > 0.5 and len(set(np.round(x, 9))) == 2 and len(set(np.round(y, 9))) == 2
+    plt.close("all")

@@ -145,7 +145,8 @@ def plot_mode_shapes(m: SupportModes) -> Any:
     size = float(np.max(hi - lo))
     n = len(m.frequencies_hz)
     fig, axes = plt.subplots(2, n, figsize=(2.4 * n + 0.6, 5.2), layout="constrained", squeeze=False)
-    side = [0, 1, 3, 2, 0]  # corner order around the face y = lo (x, z)
+    # corner k is (x, y, z) = (lo or hi by the bits 4, 2, 1 of k)
+    side = [0, 1, 5, 4, 0]  # corner order around the face y = lo (x, z)
     top = [0, 2, 6, 4, 0]  # around the face z = lo (x, y)
     for k in range(n):
         u = T @ m.shapes[:, k]  # (8, 3)
