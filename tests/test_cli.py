@@ -437,3 +437,30 @@ def test_the_readme_first_session_is_what_the_command_prints(tmp_path):
     )
     printed = run.stderr + run.stdout
     assert [ln.rstrip() for ln in printed.splitlines()] == [ln.rstrip() for ln in shown.splitlines()]
+
+
+@pytest.mark.parametrize("file_type", ["drivetrain", "mechanism", "support", "mount", "study"])
+def test_fields_prints_every_table_and_field_of_a_file_type_from_its_schema(file_type, capsys):
+    """`mechdyn fields TYPE`: the reference the documentation renders, in the terminal, without the
+    built site: every table, every field with its unit, default and meaning."""
+    from mechdyn.io.modelfile import schema_of
+    from mechdyn.io.reference import reference
+
+    assert main(["fields", file_type]) == 0
+    out = capsys.readouterr().out
+    tables, undocumented = reference(file_type)
+    assert not undocumented
+    for t in tables:
+        assert f"\n{t.header}  (" in out, t.header
+        for f in t.fields:
+            assert f"  {f.name}: " in out, (t.header, f.name)
+    assert set(schema_of(file_type).model_fields) <= {t.path.split(".")[0] for t in tables}
+    assert main(["fields", file_type, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [d["header"] for d in doc] == [t.header for t in tables]
+
+
+def test_fields_of_an_unknown_type_names_the_known_ones(capsys):
+    assert main(["fields", "gearbox"]) == 2
+    err = capsys.readouterr().err
+    assert "no file type 'gearbox'; give one of drivetrain" in err and "support" in err
