@@ -115,3 +115,26 @@ def test_the_report_help_ends_with_examples(command, capsys):
     with pytest.raises(SystemExit):
         main(command)
     assert "examples:\n  mechdyn report" in capsys.readouterr().out
+
+
+def test_a_run_report_opens_with_its_headline_figures_and_checks(tmp_path):
+    """The figures that matter first, in words and readable units (the press: stroke in mm, torque in
+    kN·m), then the checks it passed; a key the result lacks (a four-bar has no stroke) is passed over."""
+    import re as _re
+
+    from mechdyn.cli.main import main as cli
+
+    for example, expect in (
+        (
+            "press_link_drive.toml",
+            r"stroke 1496 mm; driving torque peak 356\.\d kN·m; shaking force max 529\.\d kN",
+        ),
+        ("fourbar.toml", r"driving torque peak [0-9.]+ N·m"),
+    ):
+        out = tmp_path / f"{example}.html"
+        args = ["mechanism", str(EXAMPLES / example), "--db", str(tmp_path / "r.db"), "--report", str(out)]
+        assert cli(args) == 0
+        lines = _re.findall(r'<p class="headline">([^<]*)</p>', out.read_text())
+        assert lines and _re.match(expect, lines[0]), lines
+        assert "stroke" not in lines[0] or example == "press_link_drive.toml"
+        assert lines[1].startswith("checks: power balance residual relative ")

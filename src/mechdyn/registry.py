@@ -166,6 +166,9 @@ class Analysis:
         a failed variant); ``errors`` holds each variant's error message or None. It raises
         :class:`NotBatchable` for a value or output it does not handle; it must give what
         :meth:`run` would give variant by variant.
+    headline : tuple of str
+        The few summary keys a report names first (a press's stroke, peak torque and shaking force);
+        keys a result does not have are passed over.
     """
 
     name: str
@@ -178,6 +181,7 @@ class Analysis:
     uses_store: bool = False
     model_noun: str = ""
     batch: Callable[..., Any] | None = None
+    headline: tuple[str, ...] = ()
 
     @property
     def output_units(self) -> dict[str, str]:

@@ -144,6 +144,7 @@ register(
         ("drivetrain",),
         _modal,
         "natural frequencies, mode shapes and modal energy of a drivetrain",
+        headline=("frequencies_hz",),
         options=(
             Option("rigid_gears", "flag", "treat every gear mesh as a rigid constraint"),
             Option(
@@ -183,6 +184,7 @@ register(
         ("drivetrain",),
         _campbell,
         "Campbell (interference) diagram and its crossings",
+        headline=("frequencies_hz",),
         options=(
             Option(
                 "speed_range",
@@ -215,6 +217,7 @@ register(
         ("drivetrain",),
         _frf,
         "steady-state response to harmonic torques",
+        headline=("natural_frequencies_hz",),
         options=(
             Option(
                 "excite",

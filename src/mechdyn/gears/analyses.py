@@ -31,6 +31,7 @@ register(
         ("gear_pair", "tooth_pair"),
         _gear,
         "tooth and mesh stiffness of a gear pair, against ISO 6336-1",
+        headline=("mesh_stiffness_mean_N_per_m", "contact_ratio", "iso_c_gamma_N_per_mm_um"),
         model_noun="gear",
         outputs=(
             Output("contact_ratio", "transverse contact ratio ε_α", "1"),

@@ -48,6 +48,7 @@ register(
         ("mechanism", "planting_mechanism"),
         _mechanism,
         "kinematics and inverse dynamics of a planar mechanism",
+        headline=("stroke_m", "driving_torque_peak_Nm", "shaking_force_max_N", "inertia_force_max_N"),
         batch=_mechanism_batch,
         options=(
             Option("angles", "int", "crank angles per revolution (default: the file's, else 360)", minimum=3),

@@ -22,6 +22,7 @@ register(
         ("mount",),
         _mount,
         "a mount's stiffness from the drawing, FE reference and calibration",
+        headline=("stiffness_N_per_m", "shear_stiffness_N_per_m"),
         uses_store=True,
         outputs=(
             Output("mount_type", "pad, anchor, bolted, wedge, foot, damping_pad or spring", ""),

@@ -71,6 +71,7 @@ class Report:
     subtitle: str
     meta: list[tuple[str, str]]
     sections: list[Section]
+    headline: list[str] = field(default_factory=list)
 
 
 def _number(v: float) -> str:
@@ -127,6 +128,51 @@ def _png(make: Callable[[], Any]) -> str:
 
 def _figures(plots: Mapping[str, Callable[[], Any]]) -> list[Figure]:
     return [Figure(Path(name).stem.replace("_", " "), _png(make)) for name, make in plots.items()]
+
+
+def _figure(value: Any, unit: str) -> str | None:
+    """A summary value as a headline writes it: four significant digits in the unit its size reads
+    best in; a list by its first three values."""
+    from mechdyn.units import readable
+
+    if isinstance(value, list):  # in the key's own unit (natural frequencies in Hz)
+        numbers = [f"{v:.4g}" for v in value[:3] if isinstance(v, (int, float)) and math.isfinite(v)]
+        more = ", …" if len(value) > 3 else ""
+        return f"{', '.join(numbers)}{more} {unit}".strip() if numbers else None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return None
+    v, shown_unit = readable(float(value), unit)
+    return f"{v:.4g} {shown_unit}".strip()
+
+
+def headline(summary: Mapping[str, Any], keys: Sequence[str]) -> list[str]:
+    """What a reviewer reads first: the figures that matter (``keys``, an analysis' ``headline``), each
+    in words and readable units, then the checks the result passed with their figure.
+
+    Parameters
+    ----------
+    summary : mapping
+        A result's summary (SI).
+    keys : sequence of str
+        Its headline keys (:attr:`mechdyn.registry.Analysis.headline`); missing ones are passed over.
+    """
+    from mechdyn.units import key_label
+
+    figures = []
+    for k in keys:
+        label, unit = key_label(k)
+        shown = _figure(summary.get(k), unit)
+        if shown is not None:
+            figures.append(f"{label} {shown}")
+    lines = ["; ".join(figures)] if figures else []
+    checks = [
+        f"{key_label(k)[0]} {v:.2g}"
+        for k, v in summary.items()
+        if "residual" in k and isinstance(v, float) and not isinstance(v, bool)
+    ]
+    if checks:
+        lines.append("checks: " + "; ".join(checks))
+    return lines
 
 
 def _checks(summary: Mapping[str, Any]) -> HtmlTable | None:
@@ -214,7 +260,10 @@ def run_report(
     sections.append(Section("Tables", tables=[_table(t) for t in tables if t.title != "summary"]))
     sections.append(Section("Plots", figures=_figures(result.plots())))
     sections.append(Section("Model file", note=model_path, text=model_text))
-    return Report(model_name or Path(model_path).stem, f"{analysis} analysis", meta, sections)
+    from mechdyn.registry import get
+
+    lines = headline(summary, get(analysis).headline)
+    return Report(model_name or Path(model_path).stem, f"{analysis} analysis", meta, sections, lines)
 
 
 # the table of a study's counts (:meth:`mechdyn.studies.result.StudyResult.tables`)

@@ -47,6 +47,7 @@ register(
         ("support",),
         _support,
         "a machine on its supports: modes, steady state, start-up, floor forces",
+        headline=("transmitted_force_range_N", "displacement_max_m", "natural_frequencies_hz"),
         uses_store=True,
         batch=_support_batch,
         options=(
