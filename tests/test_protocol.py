@@ -352,3 +352,28 @@ def test_tables_take_display_units_as_keywords():
     label, value, unit = first.rows[0]
     assert label == "stiffness along the main axis"
     assert unit == "kN/mm" and value == pytest.approx(mount.summary()["stiffness_N_per_m"] / 1e6)
+
+
+@pytest.mark.parametrize(
+    ("analysis", "example", "options", "first"),
+    [
+        ("mechanism", "press_link_drive.toml", {"angles": 36}, "driving torque max "),
+        ("modal", "turret_milling.toml", {}, "frequencies "),
+        ("support", "press_on_mounts.toml", {"cycles": 1}, "inertia force max "),
+        ("gear", "spur_pair.toml", {}, "contact ratio "),
+    ],
+)
+def test_a_result_reads_in_one_line_and_as_html_tables_in_a_notebook(analysis, example, options, first):
+    """The repr is one short line of the first figures in readable units (it was the whole dataclass:
+    36 794 characters for a four-bar); ``_repr_html_`` shows the tables as the report does."""
+    from conftest import EXAMPLES
+    from mechdyn.io import load_model
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = get(analysis).run(load_model(EXAMPLES / example), **options)
+    text = repr(r)
+    assert text.startswith(f"<{type(r).__name__}: {first}") and len(text) < 200 and "\n" not in text, text
+    html = r._repr_html_()
+    for t in r.tables():
+        assert f"<h4>{t.title}</h4>" in html.replace("&#x27;", "'") and "<table>" in html

@@ -27,6 +27,7 @@ registered analysis (:mod:`mechdyn.registry`) and checks it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -116,6 +117,30 @@ def summary_table(
                 v, unit = readable(float(v), unit)
         rows.append([label, v, unit])
     return Table("summary", ["quantity", "value", "unit"], rows)
+
+
+def figure_text(value: Any, unit: str) -> str | None:
+    """A summary value as a headline or a repr writes it: four significant digits in the unit its
+    size reads best in (:func:`mechdyn.units.readable`); a list of numbers by its first three values
+    in its own unit; None for anything else (text, a table, a count).
+
+    Parameters
+    ----------
+    value : any
+        A summary value, SI.
+    unit : str
+        Its unit as :func:`mechdyn.units.key_label` shows it.
+    """
+    from mechdyn.units import readable
+
+    if isinstance(value, list):  # in the key's own unit (natural frequencies in Hz)
+        numbers = [f"{v:.4g}" for v in value[:3] if isinstance(v, (int, float)) and math.isfinite(v)]
+        more = ", …" if len(value) > 3 else ""
+        return f"{', '.join(numbers)}{more} {unit}".strip() if numbers else None
+    if not isinstance(value, float) or not math.isfinite(value):
+        return None
+    v, shown_unit = readable(float(value), unit)
+    return f"{v:.4g} {shown_unit}".strip()
 
 
 def nested_tables(summary: dict[str, Any]) -> list[Table]:
@@ -208,6 +233,28 @@ class Result:
         super().__init_subclass__(**kwargs)
         if "plot" in cls.__dict__:  # a result's own plot() shows its texts as written too
             cls.plot = _as_written(cls.__dict__["plot"])  # type: ignore[method-assign]
+
+    def __repr__(self) -> str:
+        """One line: the class and the first figures of the summary in words and readable units (the
+        arrays a result holds would fill a screen). Results are ``@dataclass(repr=False)`` so that
+        this one is theirs."""
+        from mechdyn.units import key_label
+
+        figures = []
+        for key, value in self.summary().items():
+            label, unit = key_label(key)
+            shown = figure_text(value, unit)
+            if shown is not None:
+                figures.append(f"{label} {shown}")
+            if len(figures) == 4:
+                break
+        return f"<{type(self).__name__}: {', '.join(figures)}>" if figures else f"<{type(self).__name__}>"
+
+    def _repr_html_(self) -> str:
+        """Its tables as HTML, for a notebook (the same cells as the report's)."""
+        from mechdyn.reports.html import tables_html
+
+        return tables_html(self.tables())
 
     def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
         """Named arrays with units for the results database; by default the columns of :meth:`to_frame`."""

@@ -47,7 +47,7 @@ class ExcitationLine:
         return self.per_rev * np.asarray(speed_rad_s) / (2.0 * np.pi)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class CampbellResult(Result):
     """Excitation lines and natural frequencies over a reference speed range.
 

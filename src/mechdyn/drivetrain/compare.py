@@ -65,7 +65,7 @@ def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return num / np.where(den == 0, 1.0, den)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class ModeComparison(Result):
     """Flexible-mesh modes next to the rigid-gear modes of the same shape.
 

@@ -81,7 +81,7 @@ def stiffness_factor(asm: Assembly) -> sp.csr_array | None:
     return F if asm.T.shape[0] == asm.T.shape[1] else sp.csr_array(F @ asm.T)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class ModalResult(Result, Modes):
     """Undamped modes of a drivetrain.
 

@@ -105,7 +105,7 @@ class RayleighDamping:
         return cls(alpha=2 * zeta * w1 * w2 / (w1 + w2), beta=2 * zeta / (w1 + w2))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class FRFResult(Result):
     """Steady-state complex amplitudes over frequency.
 

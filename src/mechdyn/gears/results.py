@@ -43,7 +43,7 @@ def _terms_table(title: str, rows: dict[str, float]) -> Table:
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class GearPairResult(Result):
     """Stiffness of a gear pair along the line of action.
 
@@ -228,7 +228,7 @@ def gear_pair_stiffness(pair: GearPair, points: int = 400, specific_load: float 
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class ToothPairResult(Result):
     """Two truncated-triangle teeth in series at their load points.
 

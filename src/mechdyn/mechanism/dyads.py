@@ -137,7 +137,7 @@ def plan(mechanism: Mechanism) -> list[Step]:
     return steps
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class CycleBatch(Result):
     """Kinematics and frame loads of many design variants over one revolution.
 
@@ -825,7 +825,7 @@ def _same_topology(base: Mechanism, m: Mechanism, i: int) -> None:
             differs(what.replace("_", " "))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class DesignBatch(Result):
     """Variants run design by design on the general engine: one result per variant, with its status.
 

@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 __all__ = ["DynamicsResult", "inverse_dynamics"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class DynamicsResult(Result):
     """Inverse dynamics over one crank revolution (all arrays over the N crank angles).
 

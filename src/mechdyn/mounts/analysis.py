@@ -54,7 +54,7 @@ class _Draft:
     frf: tuple[np.ndarray, np.ndarray, SdofFit] | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class MountResult(Result):
     """Everything one mount analysis found: the estimate and its parts, the FE reference with its
     mesh convergence, the contact pressure, the calibration, the FRF fit, the isolation (SI).

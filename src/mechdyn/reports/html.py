@@ -109,6 +109,31 @@ def _table(t: Any) -> HtmlTable:
     return HtmlTable(t.title, list(t.columns), [[_cell(v) for v in row] for row in t.rows], t.note)
 
 
+def tables_html(tables: Sequence[Any]) -> str:
+    """Tables (:class:`mechdyn.results.Table`) as an HTML fragment, each with its title and note, the
+    cells as the report writes them (a result's ``_repr_html_`` in a notebook).
+
+    Parameters
+    ----------
+    tables : sequence of Table
+    """
+    from html import escape
+
+    parts = []
+    for t in map(_table, tables):
+        head = "".join(f"<th>{escape(c)}</th>" for c in t.columns)
+        body = "".join(
+            "<tr>" + "".join(f'<td class="{c.css}">{escape(c.text)}</td>' for c in row) + "</tr>"
+            for row in t.rows
+        )
+        parts.append(
+            f"<h4>{escape(t.title)}</h4><table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+        )
+        if t.note:
+            parts.append(f"<p>{escape(t.note)}</p>")
+    return "\n".join(parts)
+
+
 def _png(make: Callable[[], Any]) -> str:
     import matplotlib
 
@@ -130,21 +155,6 @@ def _figures(plots: Mapping[str, Callable[[], Any]]) -> list[Figure]:
     return [Figure(Path(name).stem.replace("_", " "), _png(make)) for name, make in plots.items()]
 
 
-def _figure(value: Any, unit: str) -> str | None:
-    """A summary value as a headline writes it: four significant digits in the unit its size reads
-    best in; a list by its first three values."""
-    from mechdyn.units import readable
-
-    if isinstance(value, list):  # in the key's own unit (natural frequencies in Hz)
-        numbers = [f"{v:.4g}" for v in value[:3] if isinstance(v, (int, float)) and math.isfinite(v)]
-        more = ", …" if len(value) > 3 else ""
-        return f"{', '.join(numbers)}{more} {unit}".strip() if numbers else None
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        return None
-    v, shown_unit = readable(float(value), unit)
-    return f"{v:.4g} {shown_unit}".strip()
-
-
 def headline(summary: Mapping[str, Any], keys: Sequence[str]) -> list[str]:
     """What a reviewer reads first: the figures that matter (``keys``, an analysis' ``headline``), each
     in words and readable units, then the checks the result passed with their figure.
@@ -156,12 +166,13 @@ def headline(summary: Mapping[str, Any], keys: Sequence[str]) -> list[str]:
     keys : sequence of str
         Its headline keys (:attr:`mechdyn.registry.Analysis.headline`); missing ones are passed over.
     """
+    from mechdyn.results import figure_text
     from mechdyn.units import key_label
 
     figures = []
     for k in keys:
         label, unit = key_label(k)
-        shown = _figure(summary.get(k), unit)
+        shown = figure_text(summary.get(k), unit)
         if shown is not None:
             figures.append(f"{label} {shown}")
     lines = ["; ".join(figures)] if figures else []

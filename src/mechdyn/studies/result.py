@@ -15,7 +15,7 @@ from mechdyn.studies.study import Study
 __all__ = ["StudyResult"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class StudyResult(Result):
     """What a study found, and every variant it holds.
 

@@ -22,7 +22,7 @@ from mechdyn.vibration.modes import Modes
 __all__ = ["SupportModes", "elastic_centre", "modes"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class SupportModes(Result, Modes):
     """Undamped modes of a machine on its mounts (the shared :class:`~mechdyn.vibration.Modes`).
 

@@ -68,7 +68,7 @@ def extremes(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return peak(y, -1.0)[1], peak(y, 1.0)[1]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class SupportResponse(Result):
     """Motion of the machine and the forces through its mounts, over time.
 

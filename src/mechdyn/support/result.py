@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 __all__ = ["SupportAnalysis", "support_analysis"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the short repr of Result
 class SupportAnalysis(Result):
     """A machine on its supports under a periodic load: every view of it.
 
