@@ -38,11 +38,11 @@ FITS = 3
 in distinct basins."""
 
 STAGES = 6
+"""At most this many stages (evolution, fits, polish), each from a new seed, until every target holds."""
 
 _JUDGED = 1e-3
 """Relative: a missed target is judged at the best fit whose gradient is stored within this of the
 best cost (a step of the gradient's own stencil may land a hair below the point it was taken at)."""
-"""At most this many stages (evolution, fits, polish), each from a new seed, until every target holds."""
 
 
 @register
