@@ -157,3 +157,24 @@ def test_the_support_mode_shape_side_view_draws_the_machine_s_side_face():
         assert x.min() < pos[:, i].min() and x.max() > pos[:, i].max() and y.min() < pos[:, j].min()
         assert np.ptp(y) > 0.5 and len(set(np.round(x, 9))) == 2 and len(set(np.round(y, 9))) == 2
     plt.close("all")
+
+
+def test_curves_that_would_hide_one_another_are_drawn_once_and_named_together():
+    """Symmetric mounts carry one force and the crank's two pins nearly one: each such group is one
+    line, its label naming all ("=" to round-off, "≈" within OVERLAP of the largest value); curves
+    apart stay apart."""
+    from mechdyn.plotting import OVERLAP, overlaid
+
+    x = np.linspace(0.0, 1.0, 50)
+    assert [k for k, _ in overlaid({"a": np.sin(x), "b": np.sin(x), "d": np.cos(x)})] == ["a = b", "d"]
+    got = dict(overlaid({"a": np.sin(x), "b": np.sin(x), "c": np.sin(x) + 0.5 * OVERLAP, "d": np.cos(x)}))
+    assert list(got) == ["a ≈ b ≈ c", "d"]
+    np.testing.assert_array_equal(got["d"], np.cos(x))
+    assert len(overlaid({"a": np.sin(x), "c": np.sin(x) + 2 * OVERLAP})) == 2
+    support = _run("support", "press_on_mounts.toml", cycles=1)
+    legend = support.plots()["mount_forces.png"]().get_legend()
+    assert [t.get_text() for t in legend.get_texts()] == [
+        "front left = rear left",
+        "front right = rear right",
+    ]
+    plt.close("all")

@@ -5,7 +5,15 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["dead_centre_marks", "display_unit", "fit_titles", "new_axes", "plain_text", "save_figure"]
+__all__ = [
+    "dead_centre_marks",
+    "display_unit",
+    "fit_titles",
+    "new_axes",
+    "overlaid",
+    "plain_text",
+    "save_figure",
+]
 
 # SI units and their larger display units, smallest first
 _LADDERS = {
@@ -44,6 +52,43 @@ def display_unit(values: Any, unit: str) -> tuple[str, float]:
         if peak * convert(1.0, unit, candidate) >= 1.0:
             chosen = candidate
     return _SHOWN.get(chosen, chosen), float(convert(1.0, unit, chosen))
+
+
+OVERLAP = 5e-3
+"""Curves closer than this fraction of the largest value everywhere would hide one another."""
+
+
+def overlaid(curves: dict[str, Any]) -> list[tuple[str, Any]]:
+    """Curves to draw, those that would hide one another drawn once: a machine's symmetric joints or
+    mounts carry equal forces, and the second line would cover the first. The label names them all,
+    ``"front left = rear left"`` where equal to round-off, ``"A ≈ B"`` where within :data:`OVERLAP`
+    of the largest value.
+
+    Parameters
+    ----------
+    curves : dict of str to ndarray
+        Label → values over one abscissa, all in one unit.
+
+    Returns
+    -------
+    list of (str, ndarray)
+        One entry per distinct curve, in the order of the first of each group.
+    """
+    import numpy as np
+
+    arrays = {k: np.asarray(v, dtype=float) for k, v in curves.items()}
+    scale = max((float(np.nanmax(np.abs(a))) for a in arrays.values() if a.size), default=0.0)
+    groups: list[dict[str, Any]] = []  # names, the first curve, whether all are equal to round-off
+    for name, a in arrays.items():
+        for g in groups:
+            gap = float(np.nanmax(np.abs(g["curve"] - a))) if g["curve"].shape == a.shape else np.inf
+            if gap <= OVERLAP * scale:
+                g["names"].append(name)
+                g["exact"] = g["exact"] and gap <= 1e-12 * scale
+                break
+        else:
+            groups.append({"names": [name], "curve": a, "exact": True})
+    return [((" = " if g["exact"] else " ≈ ").join(g["names"]), g["curve"]) for g in groups]
 
 
 def plain_text(fig: Any) -> None:

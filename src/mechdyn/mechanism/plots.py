@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from mechdyn.plotting import dead_centre_marks, display_unit, new_axes
+from mechdyn.plotting import dead_centre_marks, display_unit, new_axes, overlaid
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -215,8 +215,8 @@ def plot_joint_forces(result: DynamicsResult, joints: list[str] | None = None, a
         if joints is None or j.name in joints
     }
     unit, factor = display_unit(np.concatenate([*forces.values(), [0.0]]), "N")
-    for name, f in forces.items():
-        ax.plot(deg, f * factor, lw=1.2, label=name)
+    for name, f in overlaid({k: f * factor for k, f in forces.items()}):  # equal forces drawn once
+        ax.plot(deg, f, lw=1.2, label=name)
     teeth = bool(m.gear_laws)
     ax.set_xlabel("crank angle (deg)")
     ax.set_ylabel(f"{'joint and tooth force' if teeth else 'joint force'} ({unit})")

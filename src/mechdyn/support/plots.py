@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import new_axes
+from mechdyn.plotting import new_axes, overlaid
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -93,8 +93,9 @@ def plot_mount_forces(r: SupportResponse, ax: Any = None, force_unit: str | None
     ax = new_axes(ax)
     scale, unit = _force_scale(r.mount_forces[..., 2], force_unit)
     x, label = _abscissa(r)
-    for i, m in enumerate(r.machine.mounts):
-        ax.plot(x, r.mount_forces[:, i, 2] / scale, lw=1.2, label=m.name)
+    forces = {m.name: r.mount_forces[:, i, 2] / scale for i, m in enumerate(r.machine.mounts)}
+    for name, f in overlaid(forces):  # symmetric mounts carry one force: drawn once, named together
+        ax.plot(x, f, lw=1.2, label=name)
     ax.set_xlabel(label)
     ax.set_ylabel(f"vertical mount force, dynamic part ({unit})")
     ax.set_title(f"{r.machine.name}: mount forces on the floor, steady state, without the weight")
