@@ -178,3 +178,17 @@ def test_curves_that_would_hide_one_another_are_drawn_once_and_named_together():
         "front right = rear right",
     ]
     plt.close("all")
+
+
+def test_the_shaking_polar_plot_labels_crank_angles_without_overprinting():
+    """Where the press's shaking force lingers near zero (180–300°) the twelve angle labels printed over
+    one another; a label now keeps 8 % of the largest force from every other."""
+    r = _run("mechanism", "press_link_drive.toml", angles=72)
+    ax = r.plots()["shaking_force_polar.png"]()
+    anchors = np.array([t.xy for t in ax.texts if t.get_text().endswith("°")])
+    assert ax.get_xlabel().endswith("(kN)")  # the press's shaking force is drawn in kN
+    reach = 1e-3 * float(np.abs(r.shaking_force).max())
+    assert 4 <= len(anchors) < 12
+    gaps = np.hypot(*(anchors[:, None, :] - anchors[None, :, :]).transpose(2, 0, 1))
+    assert gaps[np.triu_indices(len(anchors), 1)].min() >= 0.08 * reach * (1 - 1e-9)
+    plt.close("all")

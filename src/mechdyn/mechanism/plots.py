@@ -233,8 +233,21 @@ def plot_shaking_polar(result: DynamicsResult, ax: Any = None) -> Any:
     F = result.shaking_force * factor
     ax.plot(F[:, 0], F[:, 1], lw=1.5)
     ax.plot([0], [0], "k+", ms=10)
+    # crank angles along the trace, each labelled point a dot; a label that would print over one
+    # already placed (where the force lingers near zero) is left out
+    reach = float(np.abs(F).max()) if F.size else 0.0
+    placed: list[np.ndarray] = []
     for k in range(0, len(F), max(1, len(F) // 12)):
-        ax.annotate(f"{np.degrees(result.angle[k]):.0f}°", F[k], fontsize="x-small")
+        if all(np.hypot(*(F[k] - q)) >= 0.08 * reach for q in placed):
+            placed.append(F[k])
+            ax.plot(*F[k], "o", color="C0", ms=3)
+            ax.annotate(
+                f"{np.degrees(result.angle[k]):.0f}°",
+                F[k],
+                (4, 4),
+                textcoords="offset points",
+                fontsize="x-small",
+            )
     ax.set_xlabel(f"shaking force Fx ({unit})")
     ax.set_ylabel(f"shaking force Fy ({unit})")
     ax.set_aspect("equal", adjustable="datalim")
