@@ -67,7 +67,7 @@ def overlaid(curves: dict[str, Any]) -> list[tuple[str, Any]]:
     Parameters
     ----------
     curves : dict of str to ndarray
-        Label → values over one abscissa, all in one unit.
+        Label → values over one abscissa, all in the unit the plot shows them in.
 
     Returns
     -------
