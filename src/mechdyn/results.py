@@ -109,7 +109,7 @@ def summary_table(
         label, unit = labels[k]
         if unit == "deg" and words.count(label) > 1:  # the angle of an extreme named beside it
             label += " at"
-        if isinstance(v, (int, float)) and not isinstance(v, int):
+        if isinstance(v, float):  # a count or a text stays as it is
             pick = chosen.get(unit)
             if pick:
                 v, unit = float(convert(float(v), unit, pick)), pick
