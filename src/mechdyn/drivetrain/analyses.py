@@ -13,6 +13,7 @@ from mechdyn.registry import Analysis, Option, Output, register
 from mechdyn.units import convert
 
 if TYPE_CHECKING:  # the numerical modules are imported when an analysis runs, not for --help
+    from mechdyn.drivetrain.response import Method
     from mechdyn.vibration.eigen import Solver
 
 __all__: list[str] = []
@@ -118,6 +119,7 @@ def _frf(
     frequency_range: tuple[float, float] | None = None,
     points: int | None = None,
     damping: float | None = None,
+    method: Method = "auto",
 ) -> Any:
     import numpy as np
 
@@ -135,7 +137,7 @@ def _frf(
     else:
         zeta = resp.damping if resp else ModalDamping()
     outputs = tuple(resp.outputs) if resp and resp.outputs else tuple(model.disk_names)
-    return frf(model, np.geomspace(lo, hi, n), excitation, damping=zeta, outputs=outputs)
+    return frf(model, np.geomspace(lo, hi, n), excitation, damping=zeta, outputs=outputs, method=method)
 
 
 register(
@@ -235,12 +237,19 @@ register(
             ),
             Option("points", "int", "number of frequencies (log-spaced), at least 2", minimum=2),
             Option("damping", "float", "modal damping ratio for every mode, e.g. 0.02", minimum=0.0),
+            Option(
+                "method",
+                "choice",
+                "sum the modes where exact, else solve at each frequency (auto); or insist on one",
+                choices=("auto", "modal", "direct"),
+            ),
         ),
         outputs=(
             Output("excitation", "complex torque amplitude at each excited disk, N·m", ""),
             Output("frequency_range_hz", "lowest and highest excitation frequency"),
             Output("points", "number of frequencies", ""),
             Output("damping", "the added damping", ""),
+            Output("method", "how the response was computed: modal superposition, or direct and why", ""),
             Output("natural_frequencies_hz", "undamped natural frequencies"),
             Output("peaks", "per output disk and element: largest amplitude, unit, frequency (Hz)", ""),
         ),

@@ -4,19 +4,19 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import scipy.sparse as sp
 
 from mechdyn.checks import check_array, check_number
-from mechdyn.drivetrain.assembly import assemble
-from mechdyn.drivetrain.modal import modal
+from mechdyn.drivetrain.assembly import Assembly, assemble
+from mechdyn.drivetrain.modal import ModalResult, modal
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelError
 from mechdyn.results import Result, Table
 from mechdyn.units import si_field
-from mechdyn.vibration.harmonic import harmonic_solve
+from mechdyn.vibration.harmonic import harmonic_solve, modal_superposition
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -129,6 +129,9 @@ class FRFResult(Result):
         The damping added to the model's own dampers.
     outputs : tuple of str
         The disks to report and plot (all disks when empty).
+    method : str
+        How the response was computed: modal superposition over all modes, or a direct solve at
+        each frequency and why.
     """
 
     frequencies_hz: np.ndarray
@@ -142,6 +145,7 @@ class FRFResult(Result):
     excitation: Mapping[str, complex] = field(default_factory=dict)
     damping: Any = None
     outputs: tuple[str, ...] = ()
+    method: str = ""
 
     @property
     def peaks(self) -> dict[str, dict[str, Any]]:
@@ -163,6 +167,7 @@ class FRFResult(Result):
             "frequency_range_hz": [float(f.min()), float(f.max())],
             "points": int(f.size),
             "damping": repr(self.damping),
+            "method": self.method,
             "natural_frequencies_hz": self.natural_frequencies_hz.tolist(),
             "peaks": self.peaks,
         }
@@ -184,6 +189,7 @@ class FRFResult(Result):
                 "resonance peaks: largest local maximum of each amplitude over the frequency range",
                 ["output", "peak", "unit", "at [Hz]"],
                 rows,
+                note=f"Computed by {self.method}." if self.method else "",
             )
         ]
 
@@ -258,6 +264,7 @@ def frf(
     *,
     damping: ModalDamping | RayleighDamping | None = None,
     outputs: Sequence[str] = (),
+    method: Method = "auto",
 ) -> FRFResult:
     """Steady-state response of a drivetrain to harmonic torques.
 
@@ -273,6 +280,10 @@ def frf(
         Added to the model's own dampers; default ``ModalDamping(0.02)``.
     outputs : sequence of str
         Disks to report and plot (default: all).
+    method : {"auto", "modal", "direct"}
+        ``"auto"`` sums the modes where that is exact and solves directly otherwise; ``"modal"``
+        insists on the modes (a :class:`~mechdyn.errors.ModelError` says why where they cannot carry
+        the damping); ``"direct"`` solves at each frequency. :attr:`FRFResult.method` says which ran.
 
     Returns
     -------
@@ -280,11 +291,17 @@ def frf(
 
     Notes
     -----
-    Solves (K + iω C − ω² M) Q = Tᵀ F on the reduced coordinates for each ω
-    (:func:`mechdyn.vibration.harmonic_solve`: one frequency at a time, so memory does not grow with
-    the number of frequencies) and recovers every disk as Θ = T Q. Modal damping adds
-    C_m = M Φ diag(2 ζ_r ω_r) Φᵀ M over the M-normalised flexible modes Φ (e.g. Craig & Kurdila,
-    *Fundamentals of Structural Dynamics*, 2nd ed., 2006).
+    The response solves (K + iω C − ω² M) Q = Tᵀ F on the reduced coordinates and recovers every
+    disk as Θ = T Q. Modal damping adds C_m = M Φ diag(2 ζ_r ω_r) Φᵀ M over the M-normalised flexible
+    modes Φ (e.g. Craig & Kurdila, *Fundamentals of Structural Dynamics*, 2nd ed., 2006, §10.4).
+
+    Where the damping does not couple the modes — modal damping or Rayleigh damping added to a model
+    whose own dampers are absent or proportional (ΦᵀCΦ diagonal to 1e-10) — the response is the sum
+    over all n modes, rigid-body ones included (:func:`mechdyn.vibration.modal_superposition`):
+    exact, and n_f · n² operations instead of n_f dense solves of n³/3. Otherwise (a damper between
+    two disks of a chain with modal damping on top, say) it is solved frequency by frequency
+    (:func:`mechdyn.vibration.harmonic_solve`). Memory does not grow with the number of frequencies
+    either way beyond the result itself.
     """
     damping = ModalDamping() if damping is None else damping
     asm = assemble(drivetrain)
@@ -311,65 +328,152 @@ def frf(
             )
         else:
             force[idx[disk]] += si_field("frf", field, amp, "N*m", what="torque amplitude")
-    M = sp.diags_array(asm.mass)
-    K, C = asm.K, asm.C
     modes = modal(asm)
-    Phi_r = modes.reduced_shapes
-    if isinstance(damping, RayleighDamping):
-        C = C + damping.alpha * M + damping.beta * K
-    else:
-        zeta = np.atleast_1d(np.asarray(damping.ratio, dtype=float))
-        if zeta.size == 1:
-            zeta = np.full(modes.omega.size, zeta[0])
-        if zeta.size != modes.omega.size:
-            raise ModelError(
-                f"{zeta.size} modal damping ratios given for {modes.omega.size} flexible modes",
-                element="modal damping",
-                field="ratio",
-            )
-        MPhi = asm.mass[:, None] * Phi_r
-        C = C.toarray() + (MPhi * (2 * zeta * modes.omega)) @ MPhi.T  # full: modal damping couples all
+    zeta = _modal_ratios(damping, modes)
     w = 2 * np.pi * f
-    F = np.asarray(asm.T.T @ force)
     if asm.n_rigid_body and np.any(w == 0):
         raise ModelError(
             "a free drivetrain has no static response at 0 Hz; start the frequencies above 0",
             element="frf",
             field="frequencies_hz",
         )
-    Q = harmonic_solve(K, C, M, F, w)  # frequency by frequency: memory independent of len(f)
-    overflow = ~np.isfinite(Q).all(axis=1)
-    if overflow.any():
-        k = int(np.argmax(overflow))
+    if method not in ("auto", "modal", "direct"):
         raise ModelError(
-            f"the response at {f[k]:g} Hz is not finite (the dynamic stiffness is singular there, or the "
-            "response overflows: a free drivetrain's grows as 1/f² towards 0 Hz); leave that frequency "
-            "out or start the frequencies higher",
-            element="frf",
-            field="frequencies_hz",
+            f"method {method!r}: give 'auto', 'modal' or 'direct'", element="frf", field="method"
         )
-    theta = np.asarray((asm.T @ Q.T).T)
-    names, units, loads = [], [], []
-    for e, b in drivetrain.element_blocks:
-        if b.load_row is None:
-            continue
-        th = theta[:, [idx[d] for d in b.disks]]
-        load = th @ b.load_row
-        if b.load_rate_row is not None:
-            load = load + 1j * w * (th @ b.load_rate_row)
-        names.append(e.name)
-        units.append(b.load_unit)
-        loads.append(load)
+    F = np.asarray(asm.T.T @ force)
+    basis = _modal_basis(asm, modes, damping, zeta) if method != "direct" else "as asked"
+    if isinstance(basis, str) and method == "modal":
+        raise ModelError(
+            f"modal superposition is not exact here: {basis}; use method='direct' (or 'auto')",
+            element="frf",
+            field="method",
+        )
+    # a response that is not finite (an undamped resonance, a free drivetrain near 0 Hz) is refused by
+    # the core, naming the frequency
+    if isinstance(basis, str):
+        chosen = f"direct solve at each frequency ({basis})"
+        if isinstance(damping, RayleighDamping):
+            C = asm.C + damping.alpha * sp.diags_array(asm.mass) + damping.beta * asm.K
+        else:
+            assert zeta is not None  # modal damping has its ratios
+            C = _with_modal_damping(asm, modes, zeta)
+        Q = harmonic_solve(asm.K, C, sp.diags_array(asm.mass), F, w)
+        theta = np.asarray((asm.T @ Q.T).T)
+    else:
+        P, lam, c = basis
+        chosen = f"modal superposition over all {lam.size} modes"
+        theta = modal_superposition(np.asarray(asm.T @ P), lam, c, P.T @ F, w)
+    names, units, L, L_rate = _load_rows(drivetrain)
+    loads = np.asarray((L @ theta.T).T)
+    if L_rate.nnz:
+        loads = loads + 1j * w[:, None] * np.asarray((L_rate @ theta.T).T)
     return FRFResult(
         f,
         drivetrain.disk_names,
         theta,
-        tuple(names),
-        np.column_stack(loads) if loads else np.zeros((f.size, 0), dtype=complex),
-        tuple(units),
+        names,
+        loads,
+        units,
         modes.frequencies_hz,
         drivetrain.name,
         {d: complex(force[idx[d]]) for d in excitation},
         damping,
         tuple(outputs),
+        chosen,
     )
+
+
+Method = Literal["auto", "modal", "direct"]
+
+
+def _load_rows(drivetrain: Drivetrain) -> tuple[tuple[str, ...], tuple[str, ...], sp.csr_array, sp.csr_array]:
+    """The elements that carry a load, their units, and the sparse rows giving each load from the
+    disk angles (N·m/rad or N/rad) and from their rates (N·m·s/rad or N·s/rad)."""
+    idx = drivetrain.disk_index
+    names: list[str] = []
+    units: list[str] = []
+    rows: list[int] = []
+    cols: list[int] = []
+    vals: list[np.ndarray] = []
+    rate_vals: list[np.ndarray] = []
+    for e, b in drivetrain.element_blocks:
+        if b.load_row is None:
+            continue
+        i = len(names)
+        names.append(e.name)
+        units.append(b.load_unit)
+        rows += [i] * len(b.disks)
+        cols += [idx[d] for d in b.disks]
+        vals.append(b.load_row)
+        rate_vals.append(b.load_rate_row if b.load_rate_row is not None else np.zeros(len(b.disks)))
+    shape = (len(names), len(drivetrain.disks))
+    if not names:
+        return (), (), sp.csr_array(shape), sp.csr_array(shape)
+    L = sp.csr_array((np.concatenate(vals), (rows, cols)), shape=shape)
+    L_rate = sp.csr_array((np.concatenate(rate_vals), (rows, cols)), shape=shape)
+    L_rate.eliminate_zeros()
+    return tuple(names), tuple(units), L, L_rate
+
+
+def _modal_ratios(damping: ModalDamping | RayleighDamping, modes: ModalResult) -> np.ndarray | None:
+    """ζ for every flexible mode (None for Rayleigh damping), refusing a count that does not match."""
+    if isinstance(damping, RayleighDamping):
+        return None
+    zeta = np.atleast_1d(np.asarray(damping.ratio, dtype=float))
+    if zeta.size == 1:
+        return np.full(modes.omega.size, zeta[0])
+    if zeta.size != modes.omega.size:
+        raise ModelError(
+            f"{zeta.size} modal damping ratios given for {modes.omega.size} flexible modes",
+            element="modal damping",
+            field="ratio",
+        )
+    return zeta
+
+
+def _with_modal_damping(asm: Assembly, modes: ModalResult, zeta: np.ndarray) -> np.ndarray:
+    """C + M Φ diag(2 ζ_r ω_r) Φᵀ M over the flexible modes: full, modal damping couples every disk."""
+    MPhi = asm.mass[:, None] * modes.reduced_shapes
+    return np.asarray(asm.C.toarray() + (MPhi * (2 * zeta * modes.omega)) @ MPhi.T)
+
+
+def _modal_basis(
+    asm: Assembly, modes: ModalResult, damping: ModalDamping | RayleighDamping, zeta: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | str:
+    """All n M-normalised modes on the reduced coordinates (rigid-body ones first), their eigenvalues
+    (rad/s)² and modal damping (1/s); or, where summing them would not be exact, why not.
+
+    The rigid-body modes are the assembly's exact rigid motions, M-orthonormalised; the flexible ones
+    the eigen solver's. Two random probes check ΦᵀMΦ = I (a set that is not complete or not
+    orthonormal would give a wrong sum) at O(n²) cost; the model's own dampers are carried to the modes
+    and must come out diagonal.
+    """
+    n, n_rb = asm.n, asm.n_rigid_body
+    if modes.omega.size + n_rb != n:
+        return f"{modes.omega.size + n_rb} of {n} modes"
+    col = asm.T.tocsc()
+    first = np.asarray(col.argmax(axis=0)).ravel()  # the disk each coordinate is (T = 1 there)
+    R = asm.rigid_body_vectors[first]
+    if n_rb:
+        L = np.linalg.cholesky(R.T @ (asm.mass[:, None] * R))
+        R = np.linalg.solve(L, R.T).T  # RᵀMR = I
+    P = np.hstack([R, modes.reduced_shapes])
+    lam = np.concatenate([np.zeros(n_rb), modes.omega**2])
+    probe = np.random.default_rng(0).standard_normal((n, 2))
+    misfit = P.T @ (asm.mass[:, None] * (P @ probe)) - probe
+    if not np.all(np.abs(misfit) <= 1e-9 * np.abs(probe).max()):
+        return "the modes are not orthonormal to 1e-9"
+    c = np.zeros(n)
+    if asm.C.nnz and np.any(asm.C.data):
+        Cm = P.T @ (asm.C @ P)
+        off = Cm - np.diag(np.diag(Cm))
+        if np.abs(off).max() > 1e-10 * np.abs(Cm).max():
+            return "the model's own dampers couple the modes"
+        c += np.diag(Cm)
+    if isinstance(damping, RayleighDamping):
+        c += damping.alpha + damping.beta * lam
+    else:
+        assert zeta is not None  # modal damping has its ratios
+        c[n_rb:] += 2 * zeta * modes.omega
+    return P, lam, c

@@ -18,6 +18,7 @@ __all__ = attach(
         "check_matrices": "checks",
         "dynamic_stiffness": "harmonic",
         "harmonic_solve": "harmonic",
+        "modal_superposition": "harmonic",
         "solve_eigen": "eigen",
     },
 )
