@@ -62,6 +62,35 @@ def test_small_model_baselines_agree_with_mechdyn():
     assert f["max_rel_diff_torque_vs_bare"] < 1e-10
 
 
+def test_frf_speed_baselines_agree_with_mechdyn():
+    import frf_speed
+
+    c = frf_speed.frf_case(100, quick=True)
+    assert c["method"] == "modal superposition over all 100 modes"
+    assert c["max_rel_diff_vs_direct"] < 1e-9
+    assert c["max_rel_diff_vs_opentorsion"] < 1e-8
+    # the textbook sum treats eigh's rigid-body λ (about 1e-10, not 0) as a mode: 1e-7 at 1 Hz
+    assert c["max_rel_diff_vs_plain_superposition"] < 1e-6
+    block = frf_speed.study_block_case(quick=True)
+    assert block["max_rel_diff_vs_bare"] < 1e-12
+    assert block["max_rel_diff_vs_opentorsion"] < 1e-10
+
+
+@pytest.mark.slow
+def test_frf_speed_quick_run():
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "frf_speed.py"), "--quick", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=600,
+    )
+    doc = json.loads(out.stdout)
+    assert [c["disks"] for c in doc["frf"]] == [10, 100, 400]
+    assert all(c["method"].startswith("modal superposition") for c in doc["frf"])
+    assert doc["study_block"]["variants"] == 1000
+
+
 @pytest.mark.parametrize("name", ["model_loading", "frf_memory"])
 def test_spine_benchmarks_run_quick_and_print_json(name):
     out = subprocess.run(

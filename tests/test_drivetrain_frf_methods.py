@@ -3,12 +3,14 @@ apply, the direct solve where only it is exact, and the method said in the resul
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 import mechdyn
 from conftest import EXAMPLES
-from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, GroundDamper, GroundSpring, Shaft, frf
+from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, GroundDamper, GroundSpring, Shaft, frf, modal
 from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
 from mechdyn.errors import ModelError
 from mechdyn.registry import get
@@ -133,3 +135,73 @@ def test_an_unknown_method_and_an_undamped_resonance_are_refused():
     f_n = np.sqrt(8e4 / 0.2) / (2 * np.pi)
     with pytest.raises(ModelError, match="not finite"):
         frf(dt, [f_n], {"a": 1.0}, damping=ModalDamping(0.0))
+
+
+# -- a study's block of drivetrain variants, assembled and solved as a batch -------------------------
+
+
+def _rows(params, n, seed=0):
+    rng = np.random.default_rng(seed)
+    return np.array([[rng.uniform(p.low, p.high) for p in params] for _ in range(n)])
+
+
+@pytest.mark.filterwarnings("ignore::mechdyn.errors.ModelWarning")
+@pytest.mark.parametrize(
+    ("name", "paths", "options"),
+    [
+        ("turret_milling.toml", ("disks.*.inertia", "shafts.*.stiffness", "meshes.*.stiffness"), {}),
+        ("turret_milling.toml", ("disks.3.inertia", "shafts.shaft 2.stiffness"), {"rigid_gears": True}),
+        ("turret_indexing.toml", ("disks.*.inertia", "meshes.mesh 1.stiffness"), {"modes": 3}),
+    ],
+)
+def test_the_modal_batch_equals_the_modal_analysis_variant_by_variant(name, paths, options):
+    from mechdyn.io.modelfile import read
+    from mechdyn.studies import Evaluator, ModelTree, Parameter
+
+    source = read(EXAMPLES / name)
+    tree = ModelTree(source)
+    params = [q for p in paths for q in Parameter.from_spec(tree, p, range="±40 %")]
+    n_out = options.get("modes", 3)
+    outputs = [f"frequencies_hz.{m}" for m in range(1, n_out + 1)] + [
+        "modes.2.frequency_hz",
+        "rigid_body_modes",
+    ]
+    X = _rows(params, 6)
+    fast_eval = Evaluator(source, "modal", params, outputs, options)
+    fast = fast_eval(X)
+    assert fast_eval.batch  # the batch took the block
+    slow = Evaluator(source, "modal", params, outputs, options, batch=False)(X)
+    for a, b in zip(fast, slow, strict=True):
+        assert a.status == b.status == "ok"
+        for k in outputs:
+            assert a.outputs[k] == pytest.approx(b.outputs[k], rel=1e-11), k
+
+
+def test_the_modal_batch_hands_back_what_it_does_not_compute_and_solves_doubtful_variants_alone(tmp_path):
+    from mechdyn.drivetrain.batch import modal_batch
+    from mechdyn.registry import NotBatchable
+
+    loaded = mechdyn.load(EXAMPLES / "turret_milling.toml")
+    col = {((), ("disks", 0, "inertia")): np.array([1e-3, 2e-3])}
+    with pytest.raises(NotBatchable, match="natural frequencies only"):
+        modal_batch(loaded, col, ["modes.1.dominant_element"])
+    with pytest.raises(NotBatchable, match="does not vary"):
+        modal_batch(loaded, {((), ("disks", 0, "thickness")): np.array([1.0])}, ["frequencies_hz.1"])
+    with pytest.raises(NotBatchable, match="not positive"):
+        modal_batch(loaded, {((), ("disks", 0, "inertia")): np.array([-1.0])}, ["frequencies_hz.1"])
+    with pytest.raises(NotBatchable, match="rigid-gear"):
+        modal_batch(loaded, col, ["frequencies_hz.1"], compare_rigid=True)
+    # a disk 10¹² times lighter than the rest: the batched solve cannot vouch for the lowest mode,
+    # and the variant is solved by the single path's accurate solvers (the same answer as modal())
+    tiny = np.array([loaded.model.disks[0].inertia, 1e-15])
+    got, errors = modal_batch(
+        loaded, {((), ("disks", 0, "inertia")): tiny}, ["frequencies_hz.1", "frequencies_hz.6"]
+    )
+    assert errors == [None, None]
+    light = dataclasses.replace(
+        loaded.model,
+        disks=(dataclasses.replace(loaded.model.disks[0], inertia=1e-15), *loaded.model.disks[1:]),
+    )
+    want = modal(light).frequencies_hz
+    assert got["frequencies_hz.1"][1] == pytest.approx(want[0], rel=1e-9)
+    assert got["frequencies_hz.6"][1] == pytest.approx(want[5], rel=1e-9)

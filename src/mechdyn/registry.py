@@ -14,13 +14,13 @@ This module and the registration modules import no numerical library, so that li
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["Analysis", "NotBatchable", "Option", "Output", "analyses", "get", "register"]
+__all__ = ["Analysis", "NotBatchable", "Option", "Output", "analyses", "get", "register", "summary_columns"]
 
 # The modules in which the capabilities register their analyses, imported on first look-up.
 CAPABILITIES = (
@@ -268,3 +268,37 @@ def get(name: str) -> Analysis:
     if name not in found:
         raise MechdynError(f"no analysis named {name!r}; registered: {', '.join(found)}")
     return found[name]
+
+
+def summary_columns(summary: Mapping[str, Any], keys: Sequence[str], V: int) -> dict[str, Any]:
+    """The wanted keys (nested with dots) of a batch summary, each an ndarray of V values.
+
+    Parameters
+    ----------
+    summary : mapping
+        A batch evaluation's figures, nested as the analysis' ``summary()`` (a list as a mapping of
+        ``"1"``, ``"2"``, … to its entries), each leaf V values in the output's unit.
+    keys : sequence of str
+        The summary keys a study reads.
+    V : int
+        The number of variants.
+
+    Raises
+    ------
+    NotBatchable
+        For a key the batch summary does not hold.
+    """
+    import numpy as np
+
+    out = {}
+    for key in keys:
+        node: Any = summary
+        for part in key.split("."):
+            if not isinstance(node, Mapping) or part not in node:
+                raise NotBatchable(f"the batch does not compute {key}")
+            node = node[part]
+        arr = np.asarray(node, dtype=float)
+        if arr.shape != (V,):
+            raise NotBatchable(f"{key} is not one number per variant")
+        out[key] = arr
+    return out

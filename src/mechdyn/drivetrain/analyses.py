@@ -78,6 +78,12 @@ _DEFAULT_MODES = 20
 _MAX_SHAPE_VALUES = 1_000_000
 
 
+def _modal_batch(loaded: Any, columns: Any, keys: Any, **options: Any) -> Any:
+    from mechdyn.drivetrain.batch import modal_batch
+
+    return modal_batch(loaded, columns, keys, **options)
+
+
 def _where(loaded: Any) -> str:
     return loaded.source.path if loaded.source is not None else repr(loaded.name)
 
@@ -147,6 +153,7 @@ register(
         _modal,
         "natural frequencies, mode shapes and modal energy of a drivetrain",
         headline=("frequencies_hz",),
+        batch=_modal_batch,
         options=(
             Option("rigid_gears", "flag", "treat every gear mesh as a rigid constraint"),
             Option(

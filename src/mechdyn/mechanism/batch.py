@@ -10,14 +10,14 @@ numbers.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
-from mechdyn.registry import NotBatchable
+from mechdyn.registry import NotBatchable, summary_columns  # noqa: F401 - where callers find it
 
-__all__ = ["cycle_columns", "summary_columns"]
+__all__ = ["cycle_columns"]
 
 
 def cycle_columns(
@@ -81,25 +81,3 @@ def cycle_columns(
         first = next(iter(mechanism.points))
         points[first] = np.tile(np.asarray(mechanism.points[first], float), (V, 1))
     return cycle(mechanism, n_angles, points, masses, inertias=inertias, store_points=False, errors="nan")
-
-
-def summary_columns(summary: Mapping[str, Any], keys: Sequence[str], V: int) -> dict[str, np.ndarray]:
-    """The wanted keys (nested with dots) of a batch summary, each (V,).
-
-    Raises
-    ------
-    NotBatchable
-        For a key the batch summary does not hold.
-    """
-    out = {}
-    for key in keys:
-        node: Any = summary
-        for part in key.split("."):
-            if not isinstance(node, Mapping) or part not in node:
-                raise NotBatchable(f"the batch does not compute {key}")
-            node = node[part]
-        arr = np.asarray(node, dtype=float)
-        if arr.shape != (V,):
-            raise NotBatchable(f"{key} is not one number per variant")
-        out[key] = arr
-    return out

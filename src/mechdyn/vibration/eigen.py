@@ -74,6 +74,23 @@ def _dense(A: np.ndarray, k: int, B: np.ndarray | None = None) -> tuple[np.ndarr
     return sla.eigh(A, B, subset_by_index=select, driver="gvx" if select else "gvd")
 
 
+def doubt_below(norm: Any) -> Any:
+    """The eigenvalue below which a backward-stable solve cannot promise :data:`ACCURACY`.
+
+    Parameters
+    ----------
+    norm : float or ndarray
+        ‖A‖ of A = M^-½ K M^-½, (rad/s)².
+
+    Returns
+    -------
+    float or ndarray
+        ε ‖A‖ · _MARGIN / (2 · ACCURACY), (rad/s)²: a flexible λ below it has an error estimate
+        ε‖A‖/(2λ) on its ω = √λ above ``ACCURACY``/_MARGIN.
+    """
+    return _EPS * norm * _MARGIN / (2.0 * ACCURACY)
+
+
 def solve_eigen(
     K: sp.csr_array | np.ndarray,
     mass: np.ndarray,
@@ -284,7 +301,7 @@ def _checked(
         norm = float(np.max((Kabs @ d) * d))
     # the relative error of ω = √λ is about ε‖A‖/(2λ) (a flexible λ ≤ 0 is lost altogether): more than
     # ACCURACY/_MARGIN for the s lowest flexible λ, those below this bound
-    s = int(np.searchsorted(flex, _EPS * norm * _MARGIN / (2.0 * ACCURACY)))
+    s = int(np.searchsorted(flex, doubt_below(norm)))
     if s == 0:
         return lam, Q, used
     if F is None:
