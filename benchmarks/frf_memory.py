@@ -4,9 +4,10 @@
     python benchmarks/frf_memory.py --quick    # 200 disks, 50 / 100 / 200 frequencies
     python benchmarks/frf_memory.py --json     # one JSON object with memory, times and ratios
 
-``frf`` solves the dynamic stiffness frequency by frequency (LAPACK on blocks of at most 2¹⁸
-matrix entries, SuperLU for sparse models), so its peak memory is the model's matrices plus the
-(frequencies × disks) result, never (frequencies × n × n). Each case is measured with
+``frf`` sums the modes over blocks of frequencies of at most 2¹⁸ modal amplitudes (or, where the
+damping couples the modes, solves the dynamic stiffness frequency by frequency: LAPACK on blocks of
+at most 2¹⁸ matrix entries, SuperLU for sparse models), so its peak memory is the model's matrices
+plus the (frequencies × disks) result, never (frequencies × n × n). Each case is measured with
 :mod:`tracemalloc` (NumPy reports its buffers to it). The baseline, measured in the same run, is
 what the old all-at-once solve needs for its stacked matrix alone: frequencies × n² complex
 entries; ``ratio_vs_stacked`` is that over the measured peak.
