@@ -205,3 +205,26 @@ def test_the_modal_batch_hands_back_what_it_does_not_compute_and_solves_doubtful
     want = modal(light).frequencies_hz
     assert got["frequencies_hz.1"][1] == pytest.approx(want[0], rel=1e-9)
     assert got["frequencies_hz.6"][1] == pytest.approx(want[5], rel=1e-9)
+
+
+def test_the_frf_plots_draw_disk_angles_shaft_torques_and_mesh_forces_with_their_phase(tmp_path):
+    from mechdyn.plotting import save_figure
+
+    result = get("frf").run(mechdyn.load(EXAMPLES / "turret_milling.toml"), points=200)
+    plots = result.plots()
+    assert set(plots) == {"frf.png", "frf_torques.png", "frf_mesh_forces.png"}
+    ax = plots["frf_mesh_forces.png"]()
+    magnitude, phase = ax.figure.axes
+    assert magnitude is ax and phase.get_ylabel() == "phase (deg)"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["mesh 1", "mesh 2"]
+    j = result.element_names.index("mesh 1")
+    np.testing.assert_allclose(
+        phase.lines[0].get_ydata(), np.degrees(np.unwrap(np.angle(result.element_loads[:, j])))
+    )
+    np.testing.assert_allclose(ax.lines[0].get_ydata(), np.abs(result.element_loads[:, j]))  # N: under 1 kN
+    torques = plots["frf_torques.png"]()
+    assert "shaft torque amplitude (N·m)" == torques.get_ylabel()
+    # the log axes' tick labels (10⁻¹, 10⁰) stay mathtext when names are shown as written
+    save_figure(ax, tmp_path / "forces.png")
+    assert all(t.get_parse_math() for t in magnitude.yaxis.get_ticklabels())
+    assert not ax.title.get_parse_math()

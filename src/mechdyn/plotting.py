@@ -103,8 +103,16 @@ def plain_text(fig: Any) -> None:
     """
     from matplotlib.text import Text
 
+    # tick labels are the formatters' own (a log axis writes 10⁻³ as mathtext): left as they are
+    ticks = {
+        id(t)
+        for ax in fig.axes
+        for axis in (ax.xaxis, ax.yaxis)
+        for t in (*axis.get_ticklabels(which="both"), axis.get_offset_text())
+    }
     for t in fig.findobj(Text):
-        t.set_parse_math(False)
+        if id(t) not in ticks:
+            t.set_parse_math(False)
 
 
 def _clear(box: Any, width: float, margin: float) -> bool:

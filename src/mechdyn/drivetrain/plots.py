@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from mechdyn.drivetrain.modal import ModalResult
     from mechdyn.drivetrain.response import FRFResult
 
-__all__ = ["plot_campbell", "plot_frf", "plot_mode_shapes"]
+__all__ = ["plot_campbell", "plot_frf", "plot_frf_loads", "plot_mode_shapes"]
 
 
 def _hz(f: float) -> str:
@@ -148,19 +148,97 @@ def plot_campbell(result: CampbellResult, ax: Any = None, max_frequency_hz: floa
     return ax
 
 
-def plot_frf(result: FRFResult, outputs: Sequence[str] | None = None, ax: Any = None) -> Any:
-    """Magnitude of disk angles (rad per unit excitation) against frequency, log-log."""
-    ax = new_axes(ax)
-    names = list(outputs) if outputs else list(result.disk_names)
-    for n in names:
-        ax.loglog(
-            result.frequencies_hz, np.abs(result.angles[:, result.disk_names.index(n)]), label=f"disk {n}"
+def _bode(result: FRFResult, curves: dict[str, np.ndarray], unit: str, ax: Any) -> Any:
+    """Magnitude (log-log) of each complex curve in ``unit`` and, on a new figure, its phase under it."""
+    import matplotlib.pyplot as plt
+
+    from mechdyn.plotting import display_unit
+
+    f = result.frequencies_hz
+    if ax is None:
+        _, (ax, phase) = plt.subplots(
+            2, 1, figsize=(7.0, 6.0), sharex=True, layout="constrained", height_ratios=(2, 1)
         )
-    for f in result.natural_frequencies_hz:
-        if result.frequencies_hz[0] <= f <= result.frequencies_hz[-1]:
-            ax.axvline(f, color="0.7", lw=0.8, ls=":")
-    ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel("angle amplitude (rad)")
-    ax.set_title(f"{result.model_name}: steady-state response to the harmonic torques")
+    else:  # the caller's axes take the magnitudes alone
+        phase = None
+    shown, factor = display_unit(np.abs(np.column_stack(list(curves.values()))), unit)
+    for label, y in overlaid_complex(curves):
+        line = ax.loglog(f, np.abs(y) * factor, label=label)[0]
+        if phase is not None:
+            phase.semilogx(f, np.degrees(np.unwrap(np.angle(y))), color=line.get_color())
+    for fn in result.natural_frequencies_hz:
+        if f[0] <= fn <= f[-1]:
+            for a in (ax, phase) if phase is not None else (ax,):
+                a.axvline(fn, color="0.7", lw=0.8, ls=":")
     ax.legend(fontsize="small")
+    if phase is not None:
+        phase.set_xlabel("frequency (Hz)")
+        phase.set_ylabel("phase (deg)")
+    else:
+        ax.set_xlabel("frequency (Hz)")
+    return ax, shown
+
+
+def overlaid_complex(curves: dict[str, np.ndarray]) -> list[tuple[str, np.ndarray]]:
+    """:func:`mechdyn.plotting.overlaid` for complex curves: equal ones (magnitude and phase) drawn once."""
+    from mechdyn.plotting import overlaid
+
+    stacked = {k: np.concatenate([np.real(v), np.imag(v)]) for k, v in curves.items()}
+    kept = overlaid(stacked)
+    first = {}
+    for label, _ in kept:
+        first[label] = curves[label.replace(" ≈ ", " = ").split(" = ")[0]]
+    return [(label, first[label]) for label, _ in kept]
+
+
+def plot_frf(result: FRFResult, outputs: Sequence[str] | None = None, ax: Any = None) -> Any:
+    """Disk angles per unit excitation against frequency: magnitude (log-log) and phase (deg).
+
+    Parameters
+    ----------
+    result : FRFResult
+    outputs : sequence of str, optional
+        Disks to draw (default: every disk).
+    ax : matplotlib.axes.Axes, optional
+        Axes for the magnitudes alone (default: a new figure with the phase under them).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The magnitude axes.
+    """
+    names = [n for n in (outputs or result.disk_names) if n in result.disk_names]
+    curves = {f"disk {n}": result.angles[:, result.disk_names.index(n)] for n in names}
+    ax, _ = _bode(result, curves, "rad", ax)
+    ax.set_ylabel("angle amplitude (rad)")
+    ax.set_title(f"{result.model_name}: disk angles in the steady state of the harmonic torques")
+    return ax
+
+
+def plot_frf_loads(result: FRFResult, unit: str = "N*m", ax: Any = None) -> Any:
+    """Shaft torques (``unit="N*m"``) or mesh forces (``unit="N"``) against frequency: magnitude
+    (log-log, in kN·m or kN where large) and phase (deg), per unit excitation.
+
+    Parameters
+    ----------
+    result : FRFResult
+    unit : {"N*m", "N"}
+        Which loads: those of shafts and grounded springs (N·m), or of flexible meshes (N).
+    ax : matplotlib.axes.Axes, optional
+        Axes for the magnitudes alone (default: a new figure with the phase under them).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The magnitude axes.
+    """
+    curves = {
+        n: result.element_loads[:, j]
+        for j, (n, u) in enumerate(zip(result.element_names, result.element_units, strict=True))
+        if u == unit
+    }
+    ax, shown = _bode(result, curves, unit, ax)
+    what = "shaft torque" if unit == "N*m" else "mesh force"
+    ax.set_ylabel(f"{what} amplitude ({shown})")
+    ax.set_title(f"{result.model_name}: {what}s in the steady state of the harmonic torques")
     return ax

@@ -194,8 +194,16 @@ class FRFResult(Result):
         ]
 
     def plots(self, **display_units: str) -> dict[str, Any]:
-        """``frf.png``: the output disks' amplitudes over frequency."""
-        return {"frf.png": lambda: self.plot(list(self.outputs) or None)}
+        """``frf.png``: the output disks' angles; ``frf_torques.png`` and ``frf_mesh_forces.png``: the
+        shaft torques and mesh forces (what a drivetrain is sized on); magnitude and phase each."""
+        from mechdyn.drivetrain.plots import plot_frf_loads
+
+        out: dict[str, Any] = {"frf.png": lambda: self.plot(list(self.outputs) or None)}
+        if "N*m" in self.element_units:
+            out["frf_torques.png"] = lambda: plot_frf_loads(self, "N*m")
+        if "N" in self.element_units:
+            out["frf_mesh_forces.png"] = lambda: plot_frf_loads(self, "N")
+        return out
 
     def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
         """Frequencies (Hz), complex disk angles (rad) and element loads (N·m or N)."""
