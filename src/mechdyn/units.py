@@ -501,6 +501,7 @@ _READABLE: dict[str, list[tuple[float, str, str]]] = {
     "N": [(1e7, "MN", "MN"), (1e4, "kN", "kN"), (0.0, "N", "N")],
     "N·m": [(1e7, "MN*m", "MN·m"), (1e4, "kN*m", "kN·m"), (0.0, "N*m", "N·m")],
     "N/m": [(1e6, "kN/mm", "kN/mm"), (1e3, "N/mm", "N/mm"), (0.0, "N/m", "N/m")],
+    "N·m/rad": [(1e7, "MN*m/rad", "MN·m/rad"), (1e4, "kN*m/rad", "kN·m/rad"), (0.0, "N*m/rad", "N·m/rad")],
     "W": [(1e6, "MW", "MW"), (1e3, "kW", "kW"), (0.0, "W", "W")],
     "Pa": [(1e6, "MPa", "MPa"), (1e3, "kPa", "kPa"), (0.0, "Pa", "Pa")],
 }

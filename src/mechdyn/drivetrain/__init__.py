@@ -3,7 +3,8 @@
 Build a :class:`Drivetrain` from :class:`Disk`, :class:`Shaft`, :class:`GearMesh`,
 :class:`GroundSpring` and :class:`GroundDamper` (or load a model file with :func:`mechdyn.load`), then
 run :func:`modal`, :func:`campbell`, :func:`frf` or :func:`compare_rigid`. :func:`assemble` gives the
-checked matrices; :func:`check_matrices` checks a hand-made pair.
+checked matrices; :func:`check_matrices` checks a hand-made pair; :func:`model_table` shows the model as
+assembled and where each value came from.
 """
 
 from mechdyn._lazy import attach
@@ -31,5 +32,7 @@ __all__ = attach(
         "frf": "response",
         "mac": "compare",
         "modal": "modal",
+        "model_frame": "summary",
+        "model_table": "summary",
     },
 )

@@ -114,7 +114,9 @@ class CampbellResult(Result):
         }
 
     def tables(self, **display_units: str) -> list[Table]:
-        """The excitation lines and their crossings with the natural frequencies."""
+        """The excitation lines and their crossings with the natural frequencies; the model as assembled."""
+        from mechdyn.drivetrain.summary import model_table
+
         lo, hi = self.speed_range_rpm
         return [
             Table(
@@ -131,6 +133,7 @@ class CampbellResult(Result):
                 ["line", "mode", "frequency [Hz]", "speed [rpm]"],
                 [[x["line"], x["mode"], x["frequency_hz"], x["speed_rpm"]] for x in self.crossings],
             ),
+            model_table(self.modal.drivetrain),
         ]
 
     def _why_no_crossing(self) -> str:

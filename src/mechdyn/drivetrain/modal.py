@@ -209,7 +209,8 @@ class ModalResult(Result, Modes):
         }
 
     def tables(self, **display_units: str) -> list[Table]:
-        """Frequencies with the owning element and disk; shapes, strain energy, rigid-body modes."""
+        """Frequencies with the owning element and disk; shapes, strain energy, rigid-body modes; the
+        model as assembled."""
         title = self.label
         names, share = self.strain_energy
         rows = []
@@ -255,7 +256,9 @@ class ModalResult(Result, Modes):
                     [[d, *self.rigid_body_shapes[i].tolist()] for i, d in enumerate(self.disk_names)],
                 )
             )
-        return tables
+        from mechdyn.drivetrain.summary import model_table
+
+        return [*tables, model_table(self.drivetrain)]
 
     def plots(self, **display_units: str) -> dict[str, Any]:
         """``mode_shapes.png``."""

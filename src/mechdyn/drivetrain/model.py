@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
@@ -47,6 +47,10 @@ class Drivetrain:
         Shafts, gear meshes, grounded springs and dampers; each refers to disks by name.
     name : str
         A title for tables, plots and the results store.
+    provenance : mapping of str → str, optional
+        Where a disk's inertia or an element's stiffness came from, by name, where it was not given as
+        a number (``"from geometry: l = 120 mm, d = 30 mm, G = 80 GPa"``); shown by
+        :func:`mechdyn.drivetrain.model_table`. Not part of the model's identity (equality).
 
     Notes
     -----
@@ -57,6 +61,7 @@ class Drivetrain:
     disks: tuple[Disk, ...]
     elements: tuple[Element, ...] = ()
     name: str = "drivetrain"
+    provenance: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "disks", tuple(self.disks))
@@ -88,6 +93,13 @@ class Drivetrain:
                         element=e.name,
                         field="disks",
                     )
+
+    def to_frame(self) -> Any:
+        """The model as assembled, one row per disk and element: name, kind, disks, value (SI), unit
+        and where it came from (:func:`mechdyn.drivetrain.model_frame`)."""
+        from mechdyn.drivetrain.summary import model_frame
+
+        return model_frame(self)
 
     # -- naming -------------------------------------------------------------------------------
     @cached_property

@@ -132,6 +132,8 @@ class FRFResult(Result):
     method : str
         How the response was computed: modal superposition over all modes, or a direct solve at
         each frequency and why.
+    drivetrain : Drivetrain or None
+        The model, for its table as assembled.
     """
 
     frequencies_hz: np.ndarray
@@ -146,6 +148,7 @@ class FRFResult(Result):
     damping: Any = None
     outputs: tuple[str, ...] = ()
     method: str = ""
+    drivetrain: Drivetrain | None = None
 
     @property
     def peaks(self) -> dict[str, dict[str, Any]]:
@@ -173,7 +176,9 @@ class FRFResult(Result):
         }
 
     def tables(self, **display_units: str) -> list[Table]:
-        """The resonance peak of every output and element (see :meth:`peak`)."""
+        """The resonance peak of every output and element (see :meth:`peak`); the model as assembled."""
+        from mechdyn.drivetrain.summary import model_table
+
         shown = {"N*m": "N·m"}
         rows = [
             [
@@ -190,7 +195,8 @@ class FRFResult(Result):
                 ["output", "peak", "unit", "at [Hz]"],
                 rows,
                 note=f"Computed by {self.method}." if self.method else "",
-            )
+            ),
+            *([model_table(self.drivetrain)] if self.drivetrain is not None else []),
         ]
 
     def plots(self, **display_units: str) -> dict[str, Any]:
@@ -389,6 +395,7 @@ def frf(
         damping,
         tuple(outputs),
         chosen,
+        drivetrain,
     )
 
 

@@ -41,6 +41,7 @@ from mechdyn.io.fields import (
     TorsionalStiffness,
 )
 from mechdyn.io.modelfile import ModelSource, field_context, validate
+from mechdyn.units import show
 
 __all__ = ["CampbellSettings", "DrivetrainFile", "ResponseSettings", "build", "settings"]
 
@@ -312,6 +313,7 @@ def build(source: ModelSource) -> Drivetrain:
     _check_names(source, f)
     mat = f.material
     disks: list[Disk] = []
+    said: dict[str, str] = {}  # where a value not given as a number came from
     # one context per table, not per row (it costs a warnings filter each): errors name their row
     rows = {d.name: _where("disks", i, d.name) for i, d in enumerate(f.disks)}
     with field_context(source, "[[disks]]", rows):
@@ -331,6 +333,11 @@ def build(source: ModelSource) -> Drivetrain:
                         inner_diameter=d.inner_diameter,
                         density=rho,
                     )
+                )
+                said[d.name] = (
+                    f"from geometry: h = {_mm(d.thickness)}, D = {_mm(d.outer_diameter)}"
+                    + (f", d = {_mm(d.inner_diameter)}" if d.inner_diameter else "")
+                    + f", ρ = {rho:.5g} kg/m³"
                 )
     elements: list[Element] = []
     rows = {s.name: _where("shafts", i, s.name) for i, s in enumerate(f.shafts)}
@@ -352,6 +359,11 @@ def build(source: ModelSource) -> Drivetrain:
                         shear_modulus=shear_modulus,
                         damping=s.damping,
                     )
+                )
+                said[s.name] = (
+                    f"from geometry: l = {_mm(s.length)}, d = {_mm(s.diameter)}"
+                    + (f", dᵢ = {_mm(s.inner_diameter)}" if s.inner_diameter else "")
+                    + f", G = {show(float(shear_modulus), 'Pa', 'GPa', '.4g')}"
                 )
     pairs = {}
     for i, gp in enumerate(f.gear_pairs):
@@ -378,6 +390,8 @@ def build(source: ModelSource) -> Drivetrain:
                 elements.append(
                     GearMesh.from_gear_pair(m.name, m.disks, pairs[m.gear_pair], damping=m.damping)
                 )
+                model = next(gp.tooth_model for gp in f.gear_pairs if gp.name == m.gear_pair)
+                said[m.name] = f"gear pair {m.gear_pair!r}: mean over a mesh cycle, {model} teeth"
                 continue
             elements.append(
                 GearMesh(
@@ -403,7 +417,11 @@ def build(source: ModelSource) -> Drivetrain:
         for i, row in enumerate(getattr(f, table))
     }
     with field_context(source, "[model]", tables):
-        return Drivetrain(tuple(disks), tuple(elements), name=f.model.name)
+        return Drivetrain(tuple(disks), tuple(elements), name=f.model.name, provenance=said)
+
+
+def _mm(length_m: Any) -> str:
+    return show(float(length_m), "m", "mm", ".5g")
 
 
 @dataclass(frozen=True)
