@@ -1,3 +1,5 @@
+import math
+
 import pytest
 
 from mechdyn.units import Q_, UnitError, to_si
@@ -52,6 +54,14 @@ def test_a_speed_given_for_a_frequency_counts_cycles():
     assert to_si("314.159265 rad/s", "Hz") == pytest.approx(50.0)
     assert to_si("2 kHz", "Hz") == 2000.0
     assert to_si("1500 rpm", "rad/s") == pytest.approx(157.0796, rel=1e-6)
+
+
+def test_a_frequency_given_for_a_speed_counts_turns():
+    # and back: pint takes 1 Hz as 1/s, so "25 Hz" as an angular speed was 25 rad/s, 2π too slow
+    assert to_si("25 Hz", "rad/s") == pytest.approx(2 * math.pi * 25, rel=1e-15)
+    assert to_si("1 kHz", "rad/s") == pytest.approx(2 * math.pi * 1000, rel=1e-15)
+    assert to_si("25 Hz", "rpm") == pytest.approx(1500.0, rel=1e-15)
+    assert to_si("10 rad/s", "rad/s") == 10.0  # a speed in radians stays
 
 
 def test_an_angle_where_a_frequency_goes_is_refused_as_an_angle():

@@ -181,6 +181,9 @@ def _slow_to_si(value: Any, unit: str) -> float:
     ):
         # a speed asked for as a frequency: "1500 rpm" is 25 Hz (cycles), not 157 1/s (radians)
         q = q.to("turn/s").magnitude * ureg.Quantity(1.0, "1/s")
+    elif _angular(target) and not _angular(q) and any(u.endswith("hertz") for u, _ in q.unit_items()):
+        # a frequency asked for as a speed: "25 Hz" is 25 turns a second (157 rad/s), not 25 rad/s
+        q = ureg.Quantity(q.to("Hz").magnitude, "turn/s")
     if q.dimensionless and not target.dimensionless:
         what = "is an angle" if _angular(q) else "has no unit"
         raise UnitError(

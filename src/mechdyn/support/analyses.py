@@ -32,6 +32,7 @@ def _support(loaded: Any, cycles: int | None = None, store: Any = None) -> Any:
         method=s.start_up_method,
         mounts=mounts_from_drawing(machine, spec.estimates, applied),
         excitation=spec.dynamics.summary() if spec.dynamics is not None else None,
+        speeds=spec.sweep_speeds(),
     )
 
 
@@ -46,7 +47,7 @@ register(
         "support",
         ("support",),
         _support,
-        "a machine on its supports: modes, steady state, start-up, floor forces",
+        "a machine on its supports: modes, steady state, start-up, floor forces (an unbalance's over speed)",
         headline=("transmitted_force_range_N", "displacement_max_m", "natural_frequencies_hz"),
         uses_store=True,
         batch=_support_batch,
@@ -85,6 +86,29 @@ register(
                 "the summary of the mechanism whose shaking is the load (its stroke_m, ...), when it is one",
                 "",
             ),
+            Output("running_speed_rpm", "the first unbalanced rotor's running speed (rotors only)"),
+            Output(
+                "unbalance_force_N", "largest magnitude of the rotors' unbalance force at the running speed"
+            ),
+            Output("unbalance_floor_force_N", "largest magnitude of the floor force at the running speed"),
+            Output(
+                "unbalance_transmissibility_ratio", "floor force over unbalance force at the running speed"
+            ),
+            Output("unbalance_isolation_efficiency_percent", "1 − transmissibility (negative: amplifies)"),
+            Output("unbalance_verdict", "what the mounts do to the unbalance force, in words", ""),
+            Output("speed_range_rpm", "the first rotor's speeds swept"),
+            Output("unbalance_floor_force_peak_N", "largest floor force over the speed range"),
+            Output("unbalance_floor_force_peak_speed_rpm", "the speed of the largest floor force"),
+            Output(
+                "resonance_speeds_rpm", "the first rotor's speeds at which a rotor meets a natural frequency"
+            ),
+            Output(
+                "mount_isolation",
+                "each mount on its own at the running speed, as mechdyn mount rates it: static load (N), "
+                "natural frequency (Hz), frequency ratio, damping ratio, transmissibility, isolation (%), "
+                "verdict",
+                "",
+            ),
             Output(
                 "mounts_from_drawing",
                 "each mount estimated from its drawing: type, source, stiffness along its axes (N/m), "
@@ -96,6 +120,7 @@ register(
             "mechdyn support examples/press_on_support.toml --plots plots",
             "mechdyn support examples/press_on_mounts.toml --cycles 2 --csv steady.csv",
             "mechdyn support examples/press_on_pads.toml --plots plots",
+            "mechdyn support examples/pump_set_unbalance.toml --plots plots",
         ),
     )
 )

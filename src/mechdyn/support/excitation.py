@@ -42,9 +42,14 @@ class PeriodicLoad:
         (H + 1, 6) complex Fourier coefficients c_h of (Fx, Fy, Fz, Mx, My, Mz about the origin),
         N and N·m, finite and at most 1e11 in magnitude.
     angle : ndarray or None
-        (N,) crank angle of each sample, rad, when the load came from a mechanism (for plots).
+        (N,) crank angle of each sample, rad, when the load came from a mechanism (for plots); for
+        rotors, the angle 2π t/T of their common fundamental (the shaft angle when they turn at one
+        speed).
     n_samples : int or None
         N, when the load came from samples: results are given at the same instants by default.
+    rotors : tuple of Rotor
+        The unbalanced rotors the load came from (:meth:`from_unbalance`), else empty: a speed sweep
+        (:func:`mechdyn.support.unbalance_sweep`) rebuilds the load at other speeds from them.
 
     Raises
     ------
@@ -56,6 +61,7 @@ class PeriodicLoad:
     coefficients: np.ndarray
     angle: np.ndarray | None = None
     n_samples: int | None = None
+    rotors: tuple[Any, ...] = ()
 
     def __post_init__(self) -> None:
         T = si_field("load", "period", self.period, "s", positive=True)
@@ -72,6 +78,7 @@ class PeriodicLoad:
             object.__setattr__(self, "angle", check_array("load", "angle", self.angle, "rad", what="angles"))
         if self.n_samples is not None:
             object.__setattr__(self, "n_samples", check_count("load", "n_samples", self.n_samples, low=2))
+        object.__setattr__(self, "rotors", tuple(self.rotors))
 
     # -- constructors --------------------------------------------------------------------------
     @classmethod
@@ -246,6 +253,42 @@ class PeriodicLoad:
             return cls.from_samples(period, samples[order], angle[order])
         return cls.from_times(period, t[order], samples[order], angle[order])
 
+    @classmethod
+    def from_unbalance(cls, rotors: Any) -> PeriodicLoad:
+        """The rotating force and moment of one or several unbalanced rotors.
+
+        Each rotor's force U Ω² turns in the plane normal to its axis, its moment about the machine
+        origin is r × F (Rao, *Mechanical Vibrations*, §3.7); the rotors add. Their speeds must be
+        whole multiples of a common fundamental Ω₀ (the same speed, a 2:1 gear): the load's period is
+        2π/Ω₀ and each rotor's force its harmonic of order ``abs(Ω/Ω₀)``
+        (:func:`mechdyn.support.unbalance.unbalance_coefficients`). Results are given at 16 steps a
+        period of the highest order (at least 64), against the fundamental's angle.
+
+        Parameters
+        ----------
+        rotors : Rotor or sequence of Rotor
+            The rotors (:class:`mechdyn.support.Rotor`: unbalance kg·m, speed rad/s, axis, position m,
+            phase rad), with distinct names.
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            When two speeds are not in a whole-number ratio (naming both, and the fix).
+
+        Examples
+        --------
+        >>> from mechdyn.support import PeriodicLoad, Rotor
+        >>> load = PeriodicLoad.from_unbalance(Rotor("0.02 kg*m", "1500 rpm", "y"))
+        >>> round(load.period, 6), round(float(abs(load.value(0.0)[2])), 1)  # s; N, up at t = 0
+        (0.04, 493.5)
+        """
+        from mechdyn.support.unbalance import rotor_tuple, unbalance_coefficients
+
+        rotors = rotor_tuple(rotors)
+        period, c = unbalance_coefficients(rotors)
+        n = max(16 * (c.shape[0] - 1), 64)
+        return cls(period, c, 2 * math.pi * np.arange(n) / n, n, rotors)
+
     # -- evaluation ----------------------------------------------------------------------------
     @property
     def n_harmonics(self) -> int:
@@ -300,7 +343,9 @@ class PeriodicLoad:
             Dimensionless, finite (the scaled load must stay within its own bounds).
         """
         factor = check_number("load", "factor", factor, what="scale factor")
-        return PeriodicLoad(self.period, self.coefficients * factor, self.angle, self.n_samples)
+        # rotors scaled by a positive factor are the scaled load's rotors; by another, no rotors are
+        rotors = tuple(r.scaled(factor) for r in self.rotors) if factor > 0 else ()
+        return PeriodicLoad(self.period, self.coefficients * factor, self.angle, self.n_samples, rotors)
 
 
 def series_on_grid(coefficients: np.ndarray, n: int) -> np.ndarray:

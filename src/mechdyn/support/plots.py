@@ -1,5 +1,5 @@
 """Plots of a machine on its supports: bed displacement, exciting and transmitted forces, mount
-forces, mode shapes."""
+forces, mode shapes, and a rotating unbalance's floor force over speed."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from mechdyn.units import convert
 if TYPE_CHECKING:
     from mechdyn.support.modes import SupportModes
     from mechdyn.support.response import SupportResponse
+    from mechdyn.support.sweep import UnbalanceSweep
 
 __all__ = [
     "plot_displacement",
@@ -21,6 +22,7 @@ __all__ = [
     "plot_modes",
     "plot_mount_forces",
     "plot_transmitted_vs_exciting",
+    "plot_unbalance_sweep",
 ]
 
 
@@ -32,9 +34,11 @@ def _force_scale(values: np.ndarray, force_unit: str | None) -> tuple[float, str
 
 
 def _abscissa(r: SupportResponse) -> tuple[np.ndarray, str]:
-    """Crank angle when the load came from a mechanism and the response is one steady period."""
+    """Crank (or rotors' shaft) angle when the load has one and the response is one steady period."""
     a = r.load.angle
     if a is not None and r.kind == "steady state" and a.size == r.time.size:
+        if r.load.rotors:
+            return np.degrees(a), "shaft angle (deg)"
         return np.degrees(a), "crank angle from the datum (deg)"
     return r.time, "time (s)"
 
@@ -166,3 +170,54 @@ def plot_mode_shapes(m: SupportModes) -> Any:
         axes[0, k].set_title(f"{k + 1}: {m.frequencies_hz[k]:.3g} Hz\n{m.dominant[k]}", fontsize="small")
     fig.suptitle(f"{mach.name}: mode shapes")
     return axes[0, 0]
+
+
+def plot_unbalance_sweep(sweep: UnbalanceSweep, force_unit: str | None = None) -> Any:
+    """A rotating unbalance over speed: its force and the floor force above, the transmissibility
+    below (log scale), the running speed and the speeds that meet a natural frequency marked.
+
+    Parameters
+    ----------
+    sweep : UnbalanceSweep
+        The sweep (:func:`mechdyn.support.unbalance_sweep`).
+    force_unit : str, optional
+        The unit the forces are shown in (by default N, or kN from 1 kN).
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter
+
+    rpm = convert(sweep.speed, "rad/s", "rpm")
+    scale, unit = _force_scale(np.concatenate([sweep.unbalance_force, sweep.floor_force]), force_unit)
+    _, (top, low) = plt.subplots(2, 1, sharex=True, figsize=(8.0, 6.0), layout="constrained")
+    top.plot(rpm, sweep.unbalance_force / scale, label="unbalance force U Ω² (on the machine)")
+    top.plot(rpm, sweep.floor_force / scale, ls="--", label="floor force (through the mounts)")
+    top.set_ylabel(f"largest force in a period ({unit})")
+    top.set_title(f"{sweep.machine.name}: unbalance over speed")
+    low.semilogy(rpm, sweep.transmissibility, color="C2", label="transmissibility")
+    # plain numbers on the log axis: the saved figures show no mathtext (mechdyn.plotting.plain_text)
+    low.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    # between the decades only 2 and 5 are labelled, so that the labels do not overprint
+    low.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "25" else ""))
+    low.axhline(1.0, color="0.5", ls=":", lw=1, label="T = 1 (below: isolates)")
+    low.set_ylabel("floor force / unbalance force")
+    low.set_xlabel("speed of the first rotor (rpm)")
+    running = convert(sweep.running_speed, "rad/s", "rpm")
+    for ax in (top, low):
+        ax.axvline(running, color="k", lw=1, label=f"running speed {running:.6g} rpm" if ax is top else None)
+        for s, f, _ in sweep.resonance_speeds:
+            at = convert(s, "rad/s", "rpm")
+            if rpm[0] <= at <= rpm[-1]:
+                ax.axvline(at, color="C3", ls=":", lw=1)
+                if ax is top:
+                    ax.annotate(
+                        f"{f:.3g} Hz",
+                        (at, 1.0),
+                        xycoords=("data", "axes fraction"),
+                        xytext=(2, -12),
+                        textcoords="offset points",
+                        fontsize="small",
+                        color="C3",
+                    )
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="small", loc="best")
+    return top

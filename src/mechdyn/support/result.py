@@ -19,6 +19,7 @@ from mechdyn.support.excitation import PeriodicLoad
 from mechdyn.support.model import MountedMachine
 from mechdyn.support.modes import SupportModes, elastic_centre, modes
 from mechdyn.support.response import SupportResponse, periodic_response, startup_response
+from mechdyn.support.sweep import UnbalanceSweep, unbalance_sweep
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -44,6 +45,8 @@ class SupportAnalysis(Result):
     excitation : dict
         The summary of the mechanism whose shaking is the load, when it is one (its stroke, its
         inertia-force extremes...), so that a study can hold the mechanism to them.
+    unbalance : UnbalanceSweep or None
+        When the load is unbalanced rotors: the floor force and the isolation over their speed range.
     """
 
     steady: SupportResponse
@@ -52,6 +55,7 @@ class SupportAnalysis(Result):
     method: str
     mounts: dict[str, dict[str, Any]] = field(default_factory=dict)
     excitation: dict[str, Any] = field(default_factory=dict)
+    unbalance: UnbalanceSweep | None = None
 
     @property
     def machine(self) -> MountedMachine:
@@ -98,6 +102,8 @@ class SupportAnalysis(Result):
         if ec is not None:
             out["elastic_centre_m"] = [float(v) for v in ec[0]]
             out["elastic_centre_residual"] = ec[1]
+        if self.unbalance is not None:
+            out |= self.unbalance.summary()
         return out
 
     def to_frame(self) -> pd.DataFrame:
@@ -105,13 +111,16 @@ class SupportAnalysis(Result):
         return self.steady.to_frame()
 
     def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
-        return super().arrays() | {
+        out = super().arrays() | {
             "startup_time_s": (self.startup.time, "s"),
             "startup_z_m": (self.startup.vertical_displacement, "m"),
         }
+        if self.unbalance is not None:
+            out |= {f"sweep_{k}": v for k, v in self.unbalance.arrays().items()}
+        return out
 
     def tables(self, **display_units: str) -> list[Table]:
-        """Steady state, modes and (several mounts) the mounts.
+        """Steady state, modes, (several mounts) the mounts and (rotors) the unbalance over speed.
 
         Forces and displacements are shown in the units a designer reads them in
         (:func:`mechdyn.units.readable`: kN or MN, mm or µm), or in ``force_unit`` (e.g.
@@ -181,11 +190,13 @@ class SupportAnalysis(Result):
                     ],
                 )
             )
+        if self.unbalance is not None:
+            tables += self.unbalance.tables(**display_units)
         return tables
 
     def plots(self, **display_units: str) -> dict[str, Any]:
         """Bed displacement (start-up and steady state), forces, F_T against F, modes; with several
-        mounts also the mount forces and the mode shapes."""
+        mounts also the mount forces and the mode shapes; with rotors the forces over their speeds."""
         from mechdyn.support import plots as sp
 
         out = {
@@ -198,6 +209,8 @@ class SupportAnalysis(Result):
         if len(self.machine.mounts) > 1:
             out["mount_forces.png"] = lambda: sp.plot_mount_forces(self.steady)
             out["mode_shapes.png"] = lambda: sp.plot_mode_shapes(self.modes)
+        if self.unbalance is not None:
+            out |= self.unbalance.plots(**display_units)
         return out
 
 
@@ -209,8 +222,9 @@ def support_analysis(
     method: str = "DOP853",
     mounts: dict[str, dict[str, Any]] | None = None,
     excitation: dict[str, Any] | None = None,
+    speeds: Any = None,
 ) -> SupportAnalysis:
-    """Steady state, start-up from rest, modes and the support's influence, in one result.
+    """Steady state, start-up from rest, modes and, for unbalanced rotors, the sweep over their speeds.
 
     Parameters
     ----------
@@ -224,15 +238,20 @@ def support_analysis(
         What the mounts estimated from their drawings are (:func:`mounts_from_drawing`), reported.
     excitation : dict, optional
         The summary of the mechanism that makes the load, reported.
+    speeds : array_like or quantity, optional
+        For a load of unbalanced rotors (:meth:`PeriodicLoad.from_unbalance`): the first rotor's speeds
+        to sweep, rad/s (:func:`mechdyn.support.unbalance_sweep`; by default 0 to 1.2 times its running
+        speed). Ignored for other loads.
 
     Returns
     -------
     SupportAnalysis
     """
+    sweep = unbalance_sweep(machine, load, speeds) if load.rotors else None  # first: it checks the rotors
     steady = periodic_response(machine, load)
     startup = startup_response(machine, load, cycles, method=method)
     return SupportAnalysis(
-        steady, startup, modes(machine), method, dict(mounts or {}), dict(excitation or {})
+        steady, startup, modes(machine), method, dict(mounts or {}), dict(excitation or {}), sweep
     )
 
 

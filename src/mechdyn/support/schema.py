@@ -4,10 +4,11 @@
 one-degree-of-freedom ``[support]`` (stiffness and damping ratio, as published for press A) or on
 ``[[mounts]]`` (position, stiffness and damping along three local axes, orientation, anchored).
 ``[excitation]`` is a mechanism model file (its shaking force and moment, placed in the machine by
-``origin``, ``x_axis`` and ``y_axis``) or a vertical force over one ``period`` given as samples or
-harmonics. ``[analysis]`` picks the planar or spatial model, the start-up cycles and the factors of
-the stiffness and damping study. See ``examples/press_on_support.toml`` and
-``examples/press_on_mounts.toml``.
+``origin``, ``x_axis`` and ``y_axis``), a vertical force over one ``period`` given as samples or
+harmonics, or unbalanced rotors (``[[excitation.rotors]]``, with an optional ``speed_range`` to sweep).
+``[analysis]`` picks the planar or spatial model, the start-up cycles and the factors of
+the stiffness and damping study. See ``examples/press_on_support.toml``,
+``examples/press_on_mounts.toml`` and ``examples/pump_set_unbalance.toml``.
 """
 
 from __future__ import annotations
@@ -15,15 +16,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
-from pydantic import Field, model_validator
+from pydantic import BeforeValidator, Field, model_validator
 
 from mechdyn.errors import ModelFileError
 from mechdyn.io.fields import (
     Acceleration,
     Angle,
+    AngularSpeed,
     Dimensionless,
     FileModel,
     Force,
@@ -34,6 +36,7 @@ from mechdyn.io.fields import (
     Mass,
     ModelTableBase,
     Time,
+    quantity,
 )
 from mechdyn.io.modelfile import (
     ModelSource,
@@ -45,11 +48,27 @@ from mechdyn.io.modelfile import (
 )
 from mechdyn.support.excitation import PeriodicLoad, Placement
 from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
-from mechdyn.units import STANDARD_GRAVITY
+from mechdyn.support.unbalance import Rotor, frequency_given_as_speed
+from mechdyn.units import STANDARD_GRAVITY, convert
 
 __all__ = ["MechanismExcitation", "PlacedEstimate", "SupportFile", "SupportSpec", "build"]
 
 Vector3 = tuple[float, float, float]
+if TYPE_CHECKING:
+    Unbalance = float
+else:
+    Unbalance = quantity("kg*m")
+
+
+def _not_a_frequency(value: Any) -> Any:
+    """A rotor's speed in Hz would be read as rad/s (2π too slow): refused with the speed in rpm."""
+    wrong = frequency_given_as_speed(value)
+    if wrong:
+        raise ValueError(wrong)
+    return value
+
+
+RotorSpeed = Annotated[AngularSpeed, BeforeValidator(_not_a_frequency)]
 
 
 class ModelTable(ModelTableBase):
@@ -129,6 +148,24 @@ class MountTable(FileModel):
         return self
 
 
+class RotorTable(FileModel):
+    name: str | None = None
+    """The rotor's name, unique among the rotors (default: "rotor 1", "rotor 2", ...)."""
+    unbalance: Unbalance = Field(gt=0.0)
+    """Its residual unbalance U = m·e, e.g. "0.02 kg*m" or "20 kg*mm" (ISO 21940-11 gives U = G m / Ω
+    for a rotor of mass m balanced to grade G)."""
+    speed: RotorSpeed
+    """Its running speed, e.g. "1480 rpm" (not in Hz); a negative speed turns it the other way about its
+    axis. The rotors' speeds must be in a whole-number ratio (one shaft, a gear, a belt)."""
+    axis: str | Vector3
+    """Its spin axis: "x", "y" or "z", or a direction [ax, ay, az] in machine coordinates (z up)."""
+    position: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    """The centre of its plane of unbalance (a point on its axis), [x, y, z]: the force's moment about
+    the machine origin is r × F."""
+    phase: Angle = 0.0
+    """The heavy spot's angle at t = 0, from up (+z; from +x for a vertical axis), turning with the rotor."""
+
+
 class ExcitationTable(FileModel):
     mechanism: str | None = None
     """A mechanism model file (relative to this file) whose shaking force and moment load the machine."""
@@ -149,14 +186,31 @@ class ExcitationTable(FileModel):
     """The vertical force as rows [order, amplitude, phase] (instead of ``mechanism``)."""
     mean_force_z: Force = 0.0
     """A constant vertical force added to samples or harmonics."""
+    rotors: list[RotorTable] | None = Field(
+        default=None,
+        description="unbalanced rotors whose rotating force U Ω² and moment r × F load the machine "
+        "(instead of mechanism, force_z or harmonics); several add",
+    )
+    speed_range: tuple[RotorSpeed, RotorSpeed] | None = None
+    """The first rotor's speeds to sweep for the floor force and the isolation, [from, to], e.g.
+    ["0 rpm", "3000 rpm"] (default: 0 to 1.2 times its running speed); the other rotors keep their ratio
+    to it."""
 
     @model_validator(mode="after")
     def _one_source(self) -> ExcitationTable:
-        given = [k for k in ("mechanism", "force_z", "harmonics") if getattr(self, k) is not None]
+        given = [k for k in ("mechanism", "force_z", "harmonics", "rotors") if getattr(self, k) is not None]
         if len(given) != 1:
             raise ValueError(
                 "give exactly one of mechanism (a mechanism model file), force_z (samples over one "
-                f"period) or harmonics ([order, amplitude, phase] rows); got {given or 'none'}"
+                "period), harmonics ([order, amplitude, phase] rows) or [[excitation.rotors]] "
+                f"(unbalanced rotors); got {given or 'none'}"
+            )
+        if self.rotors is not None:
+            self._rotors_alone()
+            return self
+        if self.speed_range is not None:
+            raise ValueError(
+                "speed_range sweeps the speed of unbalanced rotors: give [[excitation.rotors]], or remove it"
             )
         if self.mechanism is None and self.period is None:
             raise ValueError('samples and harmonics need the period, e.g. period = "4 s"')
@@ -165,6 +219,38 @@ class ExcitationTable(FileModel):
         if (self.x_axis is None) != (self.y_axis is None):
             raise ValueError("give both x_axis and y_axis, or neither (the output axis then points up)")
         return self
+
+    def _rotors_alone(self) -> None:
+        """Rotors set their own period and place themselves; what belongs to other loads is refused."""
+        rotors = self.rotors or []
+        if not rotors:
+            raise ValueError(
+                'give at least one rotor: [[excitation.rotors]] with unbalance = "0.02 kg*m", '
+                'speed = "1480 rpm" and axis = "y"'
+            )
+        if self.period is not None:
+            raise ValueError("the rotors' speeds set the period; remove period")
+        if self.mean_force_z != 0.0:
+            raise ValueError(
+                "mean_force_z adds to samples or harmonics; a rotor's force has no mean: remove it"
+            )
+        if self.x_axis is not None or self.y_axis is not None or any(v != 0.0 for v in self.origin):
+            raise ValueError(
+                "origin, x_axis and y_axis place a mechanism; a rotor is placed by its own position and "
+                "axis: remove them"
+            )
+        names = [r.name for r in rotors if r.name is not None]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ValueError(f"rotor names {dup} appear more than once; give each rotor its own name")
+        if self.speed_range is not None:
+            lo, hi = self.speed_range
+            if not 0.0 <= lo < hi:
+                rpm = convert(1.0, "rad/s", "rpm")
+                raise ValueError(
+                    f"speed_range [{lo * rpm:.6g} rpm, {hi * rpm:.6g} rpm] must rise from a speed ≥ 0 to a "
+                    'higher one, e.g. speed_range = ["0 rpm", "3000 rpm"]'
+                )
 
 
 class AnalysisTable(FileModel):
@@ -282,6 +368,18 @@ class SupportSpec:
     excitation: PeriodicLoad | MechanismExcitation
     settings: AnalysisTable
     estimates: dict[str, PlacedEstimate] = field(default_factory=dict)
+    speed_range: tuple[float, float] | None = None
+    """The first rotor's speeds to sweep, rad/s, when the load is unbalanced rotors and the file gives
+    them (else the sweep's default, 0 to 1.2 times the running speed)."""
+
+    def sweep_speeds(self) -> np.ndarray | None:
+        """The speeds of the unbalance sweep, rad/s: :data:`~mechdyn.support.sweep.DEFAULT_SPEED_STEPS`
+        over :attr:`speed_range`, or None for the sweep's default."""
+        if self.speed_range is None:
+            return None
+        from mechdyn.support.sweep import DEFAULT_SPEED_STEPS
+
+        return np.linspace(*self.speed_range, DEFAULT_SPEED_STEPS)
 
     def calibrated(self, store: Any) -> tuple[MountedMachine, dict[str, Any]]:
         """The machine with the stored calibrations applied to the mounts that ask for them.
@@ -381,6 +479,8 @@ def _excitation(f: SupportFile, source: ModelSource) -> PeriodicLoad | Mechanism
             else:
                 place = Placement(e.origin, e.x_axis, e.y_axis)
         return MechanismExcitation(spec.mechanism, e.angles or spec.n_angles, place, str(path))
+    if e.rotors is not None:
+        return _rotors(e.rotors, source)
     with field_context(source, "[excitation]"):
         if e.force_z is not None:
             samples = np.asarray(e.force_z, dtype=float)
@@ -393,6 +493,19 @@ def _excitation(f: SupportFile, source: ModelSource) -> PeriodicLoad | Mechanism
                 raise ValueError(f"harmonic order {order} must be ≥ 1 and appear once")
             amps[order] = amp * complex(math.cos(phase), math.sin(phase))
         return PeriodicLoad.from_harmonics(e.period, amps, e.mean_force_z)
+
+
+def _rotors(rows: list[RotorTable], source: ModelSource) -> PeriodicLoad:
+    """The load of the ``[[excitation.rotors]]``: each rotor checked in its own table, then together
+    (a speed ratio that is not a whole-number one is placed at the rotor that breaks it)."""
+    rotors, where = [], {}
+    for i, r in enumerate(rows):
+        name = r.name or f"rotor {i + 1}"
+        where[name] = f"[excitation] → [[rotors]] #{i + 1} (name = {name!r})"  # as the schema's errors
+        with field_context(source, where[name]):
+            rotors.append(Rotor(r.unbalance, r.speed, r.axis, r.position, r.phase, name))
+    with field_context(source, "[excitation] → [[rotors]]", where):
+        return PeriodicLoad.from_unbalance(rotors)
 
 
 def build(source: ModelSource) -> SupportSpec:
@@ -408,7 +521,14 @@ def build(source: ModelSource) -> SupportSpec:
             machine = replace(machine, gravity=f.analysis.gravity)
     else:
         machine, estimates = _on_mounts(f, source)
-    return SupportSpec(f.model.name, machine, excitation, f.analysis, estimates=estimates)
+    return SupportSpec(
+        f.model.name,
+        machine,
+        excitation,
+        f.analysis,
+        estimates=estimates,
+        speed_range=f.excitation.speed_range,
+    )
 
 
 def _on_mounts(f: SupportFile, source: ModelSource) -> tuple[MountedMachine, dict[str, PlacedEstimate]]:
@@ -427,7 +547,8 @@ def _on_mounts(f: SupportFile, source: ModelSource) -> tuple[MountedMachine, dic
         m.name: np.asarray(m.stiffness if m.stiffness is not None else estimates[m.name].axes(), float)
         for m in rows
     }
-    omega = np.sqrt(np.clip(sum(stiffness.values()) / f.machine.mass, 0.0, None))
+    with np.errstate(over="ignore"):  # a mass too small for any machine is refused by RigidBody below
+        omega = np.sqrt(np.clip(sum(stiffness.values()) / f.machine.mass, 0.0, None))
     mounts = []
     for m in rows:
         e, k = estimates.get(m.name), stiffness[m.name]
