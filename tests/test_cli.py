@@ -416,6 +416,9 @@ def test_a_transmissibility_of_one_is_not_called_an_amplification():
     assert isolation_verdict(1.0003).startswith("passes the disturbing force to the floor almost unchanged")
     assert isolation_verdict(0.9990).startswith("passes") and isolation_verdict(1.2).startswith("amplifies")
     assert isolation_verdict(0.41).startswith("isolates: 59 %")
+    # far below the natural frequency a T of 1 is the quasi-static mount, not the √2 crossover
+    assert "near √2 times the natural frequency" in isolation_verdict(1.0003, 1.4)
+    assert "far below the natural frequency (quasi-static)" in isolation_verdict(1.0003, 0.1)
 
 
 def test_the_readme_first_session_is_what_the_command_prints(tmp_path):

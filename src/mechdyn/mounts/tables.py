@@ -41,18 +41,28 @@ def _table(title: str, rows: list[list[Any]], note: str = "") -> Table:
     )
 
 
-def isolation_verdict(transmissibility: float) -> str:
+def isolation_verdict(transmissibility: float, frequency_ratio: float | None = None) -> str:
     """What a mount does to the disturbing force, as a sentence: isolates (T < 1), amplifies (T > 1),
-    or passes it almost unchanged (T within 0.5 % of 1, near the crossover at √2 times the natural
-    frequency, where "amplifies 1.00 times" would say nothing).
+    or passes it almost unchanged (T within 0.5 % of 1, where "amplifies 1.00 times" would say
+    nothing): near the crossover at √2 times the natural frequency, or, with the disturbing frequency
+    below the natural frequency, because the mount is quasi-static there.
 
     Parameters
     ----------
     transmissibility : float
         T, the amplitude of the force on the floor over the disturbing force.
+    frequency_ratio : float, optional
+        r, the disturbing frequency over the (lowest) natural frequency, dimensionless; without it, T
+        near 1 is taken as the crossover.
     """
     T = transmissibility
     if abs(T - 1.0) < 5e-3:
+        if frequency_ratio is not None and frequency_ratio < 1:
+            return (
+                f"passes the disturbing force to the floor almost unchanged (transmissibility {T:.4f}): "
+                "the disturbing frequency is far below the natural frequency (quasi-static); only a much "
+                "softer mount would isolate"
+            )
         return (
             f"passes the disturbing force to the floor almost unchanged (transmissibility {T:.4f}): the "
             "disturbing frequency is near √2 times the natural frequency; a softer mount would isolate"
@@ -166,7 +176,7 @@ def mount_tables(
         tables.append(_table("fit to the measured FRF", _rows(s["frf_fit"])))
     if "isolation" in s:
         iso = s["isolation"]
-        verdict = "The mount " + isolation_verdict(iso["transmissibility"]) + "."
+        verdict = "The mount " + isolation_verdict(iso["transmissibility"], iso.get("frequency_ratio")) + "."
         tables.append(
             Table("isolation on the given load", ["quantity", "value", "unit"], _rows(iso), verdict)
         )

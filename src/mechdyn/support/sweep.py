@@ -36,7 +36,7 @@ from mechdyn.support.unbalance import Rotor, rotor_tuple, unbalance_coefficients
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["DEFAULT_SPEED_STEPS", "UnbalanceSweep", "isolation_sentence", "unbalance_sweep"]
+__all__ = ["DEFAULT_SPEED_STEPS", "UnbalanceSweep", "unbalance_sweep"]
 
 DEFAULT_SPEED_STEPS = 241
 """Speeds of a sweep when none are given: 0 to 1.2 times the running speed, 0.5 % apart."""
@@ -69,33 +69,6 @@ def _peak_magnitude(F: np.ndarray, orders: np.ndarray) -> np.ndarray:
         f = 2 * np.einsum("sac,an->snc", F[lo : lo + step], E).real  # (s, n, c)
         out[lo : lo + step] = extremes(np.sum(f * f, axis=-1))[1]
     return np.sqrt(np.maximum(out, 0.0))
-
-
-def isolation_sentence(transmissibility: float, below_resonance: bool) -> str:
-    """What the support does to the disturbing force, in words (as
-    :func:`mechdyn.mounts.tables.isolation_verdict`).
-
-    Where the transmissibility is within 0.5 % of 1 far below the resonance (quasi-static: the floor
-    gets the force as it is), the sentence says so instead of pointing at the crossover at √2 times
-    the natural frequency.
-
-    Parameters
-    ----------
-    transmissibility : float
-        T, the floor force over the disturbing force (a ratio).
-    below_resonance : bool
-        The disturbing frequency is below the (lowest) natural frequency.
-    """
-    from mechdyn.mounts.tables import isolation_verdict
-
-    T = transmissibility
-    if abs(T - 1.0) < 5e-3 and below_resonance:
-        return (
-            f"passes the disturbing force to the floor almost unchanged (transmissibility {T:.4f}): the "
-            "running speed is far below the natural frequencies (quasi-static); only much softer mounts "
-            "would isolate"
-        )
-    return isolation_verdict(T)
 
 
 def _rpm(w: Any) -> Any:
@@ -169,15 +142,17 @@ class UnbalanceSweep(Result):
         return 1.0 - self.transmissibility
 
     @property
-    def below_resonance(self) -> bool:
-        """Whether every rotor turns slower than the lowest natural frequency at the running speed."""
+    def frequency_ratio(self) -> float:
+        """The fastest rotor's turning frequency at the running speed over the lowest natural frequency."""
         f = max(abs(r.speed) for r in self.rotors) / (2 * math.pi)
-        return bool(f < self.natural_frequencies.min())
+        return float(f / self.natural_frequencies.min())
 
     @property
     def verdict(self) -> str:
         """What the machine on its mounts does to the unbalance force at the running speed, in words."""
-        return isolation_sentence(float(self.transmissibility[self.running_index]), self.below_resonance)
+        from mechdyn.mounts.tables import isolation_verdict
+
+        return isolation_verdict(float(self.transmissibility[self.running_index]), self.frequency_ratio)
 
     # -- the result protocol -------------------------------------------------------------------
     def summary(self) -> dict[str, Any]:
@@ -388,6 +363,7 @@ def _speeds(speeds: Any, running: float) -> np.ndarray:
 def _mount_ratings(machine: MountedMachine, frequency: float) -> dict[str, dict[str, Any]]:
     """Each mount on its own at ``frequency`` (Hz): vertical stiffness and damping under its share of
     the weight, rated by :func:`mechdyn.mounts.isolation` (ζ = c / (2 √(k m)), η = 2ζ)."""
+    from mechdyn.mounts.tables import isolation_verdict
     from mechdyn.mounts.types import G0, isolation
 
     out: dict[str, dict[str, Any]] = {}
@@ -413,7 +389,7 @@ def _mount_ratings(machine: MountedMachine, frequency: float) -> dict[str, dict[
             "damping_ratio": zeta,
             "transmissibility_ratio": T,
             "isolation_efficiency_percent": 100 * iso["isolation_efficiency"],
-            "verdict": isolation_sentence(T, iso["frequency_ratio"] < 1),
+            "verdict": isolation_verdict(T, iso["frequency_ratio"]),
         }
     return out
 
