@@ -360,6 +360,7 @@ _KEY_UNITS: tuple[tuple[str, str], ...] = (
     ("_m_per_N", "m/N"),
     ("_m_per_s2", "m/s^2"),
     ("_m_per_s", "m/s"),
+    ("_rad_s2", "rad/s^2"),
     ("_rad_s", "rad/s"),
     ("_Nm", "N*m"),
     ("_Pa", "Pa"),
@@ -416,7 +417,13 @@ def key_suffix(unit: str) -> str:
 
 # (suffix, SI unit), angular then the others; the first of the right dimension names a column
 _SUFFIXES = (
-    (("Nm_per_rad", "N*m/rad"), ("Nm_s_per_rad", "N*m*s/rad"), ("rad_s", "rad/s"), ("rad", "rad")),
+    (
+        ("Nm_per_rad", "N*m/rad"),
+        ("Nm_s_per_rad", "N*m*s/rad"),
+        ("rad_s2", "rad/s^2"),
+        ("rad_s", "rad/s"),
+        ("rad", "rad"),
+    ),
     (
         ("N_per_mm_um", "N/(mm*um)"),
         ("N_s_per_m", "N*s/m"),
@@ -444,6 +451,7 @@ _SHOWN_UNITS = {
     "N*s/m": "N·s/m",
     "N*m": "N·m",
     "m/s^2": "m/s²",
+    "rad/s^2": "rad/s²",
     "N/(mm*um)": "N/(mm·µm)",
     "1": "",
 }

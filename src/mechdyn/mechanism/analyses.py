@@ -69,6 +69,33 @@ register(
                 "largest angle between the link that drives the slide and the slide's axis",
             ),
             Output("guide_offset_m", "distance from the crank's pivot to the slide's guide line"),
+            Output(
+                "transmission_angle_min_deg",
+                "smallest transmission angle of the dyads over the cycle (acute angle between coupler and "
+                "output link, or the normal to a slide's travel; 90 deg transmits best, 0 locks)",
+            ),
+            Output(
+                "crank_angle_at_transmission_angle_min_deg", "crank angle of the smallest transmission angle"
+            ),
+            Output(
+                "dyads",
+                "per dyad (by the joint at its inner point): its kind and links, its smallest and largest "
+                "transmission angle and the crank angle of the smallest",
+                "",
+            ),
+            Output("output_swing_deg", "angular swing of a rocker output (largest minus smallest angle)"),
+            Output("output_angle_min_deg", "angle of a rocker output from +x at one limit of its swing"),
+            Output(
+                "output_angle_max_deg", "angle of a rocker output from +x at the other limit of its swing"
+            ),
+            Output(
+                "crank_angle_at_output_angle_min_deg",
+                "crank angle where a rocker output is at its smallest angle",
+            ),
+            Output(
+                "crank_angle_at_output_angle_max_deg",
+                "crank angle where a rocker output is at its largest angle",
+            ),
             Output("driving_torque_max_Nm", "largest driving torque"),
             Output("driving_torque_min_Nm", "smallest driving torque"),
             Output("driving_torque_range_Nm", "largest minus smallest driving torque"),

@@ -33,6 +33,7 @@ from mechdyn.checks import check_array
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, check_angles, crank_angles
 from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic, _point
+from mechdyn.mechanism.motion import output_rocker
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 from mechdyn.results import Result
 
@@ -169,7 +170,7 @@ class CycleBatch(Result):
     _inertia: np.ndarray  # complex (V, N): −Σ m a_G
     _z: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
     _rates: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
-    _dyad_measure: np.ndarray  # (V, N, dyads) sine of each dyad's transmission angle (kept motions only)
+    _dyad_measure: np.ndarray  # (V, N, dyads) sine of each dyad's transmission angle, signed
     _steps: list[Step]
     _raw: tuple[np.ndarray, ...]  # (pos, vel, acc, rates) as the kernel wrote them
     _body_mass: np.ndarray  # (V, bodies) kg
@@ -319,7 +320,26 @@ class CycleBatch(Result):
 
             za, zb = (self._z[p][0] for p in ends)
             out.update(layout_figures(zb - za, j.axis, self._z[pivot][0][:, 0], zb[:, 0]))
+        out.update(self._motion_figures(deg))
         out["joint_force_peak_N"] = self.joint_force_peaks
+        return out
+
+    def _motion_figures(self, deg: np.ndarray) -> dict[str, np.ndarray]:
+        """Each variant's smallest transmission angle (from the kernel's sin μ of every dyad) and a
+        rocker output's swing: the functions of one design's :meth:`DynamicsResult.summary`."""
+        from mechdyn.mechanism.extrema import bdc_origin, swing_figures, transmission_figures
+
+        s = self.output_position
+        origin = bdc_origin(deg, s) if s is not None and self.mechanism.angle_datum == "bdc" else None
+        out: dict[str, np.ndarray] = {}
+        if self._dyad_measure.shape[-1]:
+            mu = np.degrees(np.arcsin(np.minimum(np.abs(self._dyad_measure), 1.0)))
+            mu[list(self.failures)] = np.nan
+            out.update(transmission_figures(deg, mu, origin)[0])
+        rocker = output_rocker(self.mechanism)
+        if rocker is not None and all(p in self._z for p in rocker[1:]):
+            _, pivot, tip = rocker
+            out.update(swing_figures(deg, self._z[tip][0] - self._z[pivot][0], origin))
         return out
 
 
@@ -518,6 +538,7 @@ def cycle(
             {pf.point for pf in m.process_forces}
             | {f"__com__{pf.body}" for pf in m.process_forces}
             | ({m.driver.pivot, *link} if (link := m.output_link()) else set())  # for layout_figures
+            | (set(rocker[1:]) if (rocker := output_rocker(m)) else set())  # for swing_figures
         )
     )
     keep = np.array([slot[n] for n in wanted], dtype=np.int64)
@@ -881,7 +902,8 @@ class DesignBatch(Result):
             return {}
         keys = [k for k, v in done[0].items() if isinstance(v, (int, float)) and not isinstance(v, bool)]
         out: dict[str, Any] = {
-            k: np.array([row[k] if row is not None else np.nan for row in rows], dtype=float) for k in keys
+            k: np.array([row.get(k, np.nan) if row is not None else np.nan for row in rows], dtype=float)
+            for k in keys
         }
         joints = list(done[0]["joint_force_peak_N"])
         out["joint_force_peak_N"] = {

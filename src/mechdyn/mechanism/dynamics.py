@@ -19,6 +19,7 @@ import numpy as np
 from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
 from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, _point
+from mechdyn.mechanism.motion import mechanism_dyads, motion_columns, rocker_link
 from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
@@ -42,7 +43,7 @@ class DynamicsResult(Result):
         The constraint Jacobians with gear flanks chosen by the load (rows per constraint, columns per
         coordinate: dimensionless for angles, m for lengths).
     trace : tuple of str
-        ``"body.point"`` names whose paths the trajectory plot draws.
+        Drawing points whose motion the table gives and whose paths (coupler curves) the plots draw.
     field_velocity : (float, float), optional
         Velocity of the field under the machine, m/s (the trajectory plot adds it to the paths).
     """
@@ -212,6 +213,7 @@ class DynamicsResult(Result):
             pivot = complex(*m.points[m.driver.pivot])
             figures = layout_figures(zb - za, j.axis, np.asarray(pivot), np.asarray(zb[0]))
             out.update({key: float(v) for key, v in figures.items()})
+        out.update(self._motion_figures())
         peaks = self.joint_force_peaks
         out["joint_force_peak_N"] = peaks
         gears = self.gear_pairs
@@ -219,6 +221,37 @@ class DynamicsResult(Result):
             out["tooth_force_max_N"] = max(peaks[g] for g in gears)
             out["gear_pairs"] = gears
         out["n_angles"] = int(self.angle.size)
+        return out
+
+    def _motion_figures(self) -> dict[str, Any]:
+        """The smallest transmission angle (overall and per dyad) and a rocker output's swing: the
+        same functions as the batch's :meth:`~mechdyn.mechanism.dyads.CycleBatch.summary`."""
+        from mechdyn.mechanism.extrema import bdc_origin, swing_figures, transmission_figures
+
+        deg = np.degrees(self.angle)
+        s = self.output_position
+        origin = bdc_origin(deg, s) if s is not None and self.mechanism.angle_datum == "bdc" else None
+        out: dict[str, Any] = {}
+        angles = self.kinematics.transmission_angles
+        if angles:
+            mu = np.degrees(np.stack(list(angles.values()), axis=-1))
+            figures, lowest, at = transmission_figures(deg, mu, origin)
+            out.update({key: float(v) for key, v in figures.items()})
+            out["dyads"] = {
+                d.joint: {
+                    "kind": d.kind,
+                    "links": f"{d.links[0]}, {d.links[1]}",
+                    "transmission_angle_min_deg": float(lowest[i]),
+                    "crank_angle_at_transmission_angle_min_deg": float(at[i]),
+                    "transmission_angle_max_deg": float(mu[:, i].max()),
+                }
+                for i, d in enumerate(mechanism_dyads(self.mechanism))
+            }
+        link = rocker_link(self.kinematics)
+        if link is not None:
+            swing = swing_figures(deg, link, origin)
+            if np.isfinite(swing["output_swing_deg"]):  # a link that turns right round is no rocker
+                out.update({key: float(v) for key, v in swing.items()})
         return out
 
     @cached_property
@@ -270,6 +303,25 @@ class DynamicsResult(Result):
                 [[k, v] for k, v in self.joint_force_peaks.items()],
             ),
         ]
+        if summary.get("dyads"):
+            tables.append(
+                Table(
+                    "transmission angles of the dyads",
+                    ["dyad", "links", "smallest [deg]", "at crank angle [deg]", "largest [deg]"],
+                    [
+                        [
+                            f"{joint} ({d['kind']})",
+                            d["links"],
+                            d["transmission_angle_min_deg"],
+                            d["crank_angle_at_transmission_angle_min_deg"],
+                            d["transmission_angle_max_deg"],
+                        ]
+                        for joint, d in summary["dyads"].items()
+                    ],
+                    note="the acute angle between the coupler and the output link (a slide: the normal to "
+                    "its travel) at their joint; 90° transmits best, 0° locks",
+                )
+            )
         if self.gear_pairs:
             tables.append(
                 Table(
@@ -298,12 +350,13 @@ class DynamicsResult(Result):
         return tables
 
     def plots(self, **display_units: str) -> dict[str, Any]:
-        """Output motion (with a slide), inertia forces, torque, frames, joint forces, shaking force
-        polar, and the traced paths (when the model names points to trace)."""
+        """Output motion (a slide's or a rocker's), inertia forces, torque, frames, joint forces,
+        shaking force polar, the dyads' transmission angles, the coupler curves, and the traced paths
+        over the field (when the model names points to trace)."""
         from mechdyn.mechanism import plots as mp
 
         out: dict[str, Any] = {}
-        if self.output_position is not None:
+        if self.output_position is not None or "output_swing_deg" in self.summary():
             out["output_motion.png"] = lambda: mp.plot_output_motion(self)
         out |= {
             "inertia_forces.png": lambda: mp.plot_inertia_forces(self),
@@ -312,6 +365,10 @@ class DynamicsResult(Result):
             "joint_forces.png": lambda: mp.plot_joint_forces(self),
             "shaking_force_polar.png": lambda: mp.plot_shaking_polar(self),
         }
+        if self.kinematics.transmission_angles:
+            out["transmission_angle.png"] = lambda: mp.plot_transmission_angle(self)
+        if mp.coupler_points(self):
+            out["coupler_curves.png"] = lambda: mp.plot_coupler_curves(self)
         if self.trace:
             out["trajectory.png"] = lambda: mp.plot_trajectory(self, list(self.trace), self.field_velocity)
         return out
@@ -346,6 +403,7 @@ class DynamicsResult(Result):
             cols[f"joint_{j.name}_force_x_N"] = load[:, 0]
             cols[f"joint_{j.name}_force_y_N"] = load[:, 1]
         cols["power_balance_residual_W"] = self.power_balance_residual
+        cols |= motion_columns(self.kinematics, self.trace)
         return pd.DataFrame(cols)
 
 

@@ -128,6 +128,22 @@ class KinematicsResult:
         acc = self.qdd[:, 3 * i : 3 * i + 2] + Bs * a[:, None] - As * (w**2)[:, None]
         return pos, vel, acc
 
+    @cached_property
+    def transmission_angles(self) -> dict[str, np.ndarray]:
+        """Each dyad's transmission angle over the cycle, rad from 0 to π/2, keyed by the joint at the
+        dyad's inner point (see :mod:`mechdyn.mechanism.motion` for the definition); empty for a
+        mechanism that does not decompose into RRR/RRP dyads."""
+        from mechdyn.mechanism.motion import mechanism_dyads, point_motion, transmission_angle
+
+        out = {}
+        for dyad in mechanism_dyads(self.mechanism):
+            z = {}
+            for p in (dyad.point, *dyad.ends):
+                xy = point_motion(self, p)[0]
+                z[p] = xy[:, 0] + 1j * xy[:, 1]
+            out[dyad.joint] = transmission_angle(dyad, z)
+        return out
+
 
 def _solve(J: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.solve(J, b[..., None])[..., 0]

@@ -310,7 +310,7 @@ class SettingsTable(FileModel):
     n_angles: int = Field(default=360, ge=8, le=MAX_ANGLES)
     """Carrier angles per revolution."""
     trace: list[str] = Field(default_factory=list)
-    """Points whose paths are drawn (e.g. the fork tips)."""
+    """Points whose paths are drawn (e.g. the fork tips) and whose motion the table gives."""
     field_velocity: tuple[Velocity, Velocity] | None = None
     """Velocity of the machine over the ground, [v_x, v_y], for the paths over the field."""
 

@@ -1,4 +1,5 @@
-"""Plots of mechanism results: output motion, inertia forces, driving torque, a frame sheet."""
+"""Plots of mechanism results: output motion, inertia forces, driving torque, a frame sheet, the
+transmission angles and the coupler curves."""
 
 from __future__ import annotations
 
@@ -14,6 +15,8 @@ if TYPE_CHECKING:
     from mechdyn.mechanism.model import GearJoint
 
 __all__ = [
+    "coupler_points",
+    "plot_coupler_curves",
     "plot_frames",
     "plot_inertia_forces",
     "plot_joint_forces",
@@ -21,6 +24,7 @@ __all__ = [
     "plot_shaking_polar",
     "plot_torque",
     "plot_trajectory",
+    "plot_transmission_angle",
 ]
 
 
@@ -28,22 +32,48 @@ def _dead_centres(ax: Any, result: DynamicsResult) -> None:
     s = result.summary()
     if "bdc_deg" in s:
         dead_centre_marks(ax, {"BDC": s["bdc_deg"], "TDC": s["tdc_deg"]})
+    elif "output_swing_deg" in s:  # a rocker's two limits
+        dead_centre_marks(
+            ax,
+            {
+                "rocker at its least angle": s["crank_angle_at_output_angle_min_deg"],
+                "rocker at its greatest angle": s["crank_angle_at_output_angle_max_deg"],
+            },
+        )
 
 
 def plot_output_motion(result: DynamicsResult, ax: Any = None) -> Any:
-    """Displacement, velocity and acceleration of the output along its axis, against crank angle."""
+    """Displacement, velocity and acceleration of the output along its axis (a slide), or its angle,
+    angular velocity and angular acceleration (a rocker), against crank angle.
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle.
+    ax : matplotlib.axes.Axes, optional
+        Unused: the three panels make their own figure.
+    """
     import matplotlib.pyplot as plt
+
+    from mechdyn.mechanism.motion import output_rocker
 
     frame = result.to_frame()
     _fig, axes = plt.subplots(3, 1, figsize=(7.5, 7.0), sharex=True, layout="constrained")
-    for a, col, label in zip(
-        axes,
-        ("output_position_m", "output_velocity_m_per_s", "output_acceleration_m_per_s2"),
-        ("displacement (mm)", "velocity (m/s)", "acceleration (m/s²)"),
-        strict=True,
-    ):
-        y = frame[col].to_numpy()
-        y = convert(y, "m", "mm") if col == "output_position_m" else y
+    rocker = output_rocker(result.mechanism) if result.output_position is None else None
+    if rocker is not None:
+        i = result.mechanism.body_index[rocker[0]]
+        curves = [
+            (frame["output_angle_deg"].to_numpy(), f"angle of {rocker[0]} (deg)"),
+            (frame["output_angular_velocity_rad_s"].to_numpy(), "angular velocity (rad/s)"),
+            (result.kinematics.qdd[:, 3 * i + 2], "angular acceleration (rad/s²)"),
+        ]
+    else:
+        curves = [
+            (convert(frame["output_position_m"].to_numpy(), "m", "mm"), "displacement (mm)"),
+            (frame["output_velocity_m_per_s"].to_numpy(), "velocity (m/s)"),
+            (frame["output_acceleration_m_per_s2"].to_numpy(), "acceleration (m/s²)"),
+        ]
+    for a, (y, label) in zip(axes, curves, strict=True):
         a.plot(frame["angle_deg"], y)
         a.set_ylabel(label)
         a.grid(alpha=0.3)
@@ -290,3 +320,125 @@ def plot_trajectory(
         a.legend(fontsize="small")
     fig.suptitle(f"{m.name}: paths")
     return axes[0, 0]
+
+
+def plot_transmission_angle(result: DynamicsResult, ax: Any = None) -> Any:
+    """Each dyad's transmission angle against crank angle, deg, its smallest marked, with the band
+    below 40° shaded (where Norton, *Design of Machinery* §4.10, advises against running a linkage).
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on.
+    """
+    from mechdyn.mechanism.motion import mechanism_dyads
+
+    ax = new_axes(ax)
+    deg = np.degrees(result.angle)
+    summary = result.summary()
+    dyads = {d.joint: d for d in mechanism_dyads(result.mechanism)}
+    ax.axhspan(0.0, 40.0, color="C3", alpha=0.08, lw=0, label="below 40°")
+    for n, (joint, mu) in enumerate(result.kinematics.transmission_angles.items()):
+        fig = summary["dyads"][joint]
+        low, at = fig["transmission_angle_min_deg"], fig["crank_angle_at_transmission_angle_min_deg"]
+        ax.plot(deg, np.degrees(mu), color=f"C{n % 10}", lw=1.5, label=f"dyad {dyads[joint].label}")
+        ax.plot([at], [low], "o", color=f"C{n % 10}", ms=4, clip_on=False)
+        ax.annotate(
+            f"{low:.1f}° at {at:.0f}°",
+            (at, low),
+            (4, -12),
+            textcoords="offset points",
+            fontsize="small",
+            color=f"C{n % 10}",
+        )
+    _dead_centres(ax, result)
+    ax.set_xlim(0.0, 360.0)
+    ax.set_xticks(np.arange(0, 361, 45))
+    ax.set_ylim(0.0, 95.0)
+    ax.set_yticks(np.arange(0, 91, 15))
+    ax.set_xlabel("crank angle (deg)")
+    ax.set_ylabel("transmission angle (deg)")
+    ax.set_title(f"{result.mechanism.name}: transmission angles")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small", loc="lower right")
+    return ax
+
+
+def coupler_points(result: DynamicsResult) -> dict[str, np.ndarray]:
+    """The coupler curves a plot draws: label → (N, 2) path, m. The traced points of the model, or,
+    with none traced, the centre of mass of every body in general plane motion (a coupler point).
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle.
+    """
+    from mechdyn.mechanism.motion import coupler_bodies, point_motion
+
+    k, m = result.kinematics, result.mechanism
+    if result.trace:
+        return {p: point_motion(k, p)[0] for p in result.trace}
+    return {
+        f"{b} (centre of mass)": k.q[:, 3 * m.body_index[b] : 3 * m.body_index[b] + 2]
+        for b in coupler_bodies(m)
+    }
+
+
+def plot_coupler_curves(result: DynamicsResult, ax: Any = None) -> Any:
+    """The coupler curves (see :func:`coupler_points`) over one revolution, in mm, over the linkage
+    drawn in grey at crank angle 0, with crank angles marked along each curve.
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on.
+    """
+    ax = new_axes(ax, figsize=(7.0, 6.0))
+    k, m = result.kinematics, result.mechanism
+    for b in m.bodies:  # the linkage at the first sample, for orientation
+        pts = _mm(np.array([k.point(b.name, p)[0][0] for p in b.points]))
+        closed = np.vstack([pts, pts[:1]]) if len(pts) > 2 else pts
+        ax.plot(closed[:, 0], closed[:, 1], "-o", color="0.65", ms=3, lw=2, zorder=1)
+    curves = {label: _mm(path) for label, path in coupler_points(result).items()}
+    reach = max((float(np.ptp(c, axis=0).max()) for c in curves.values()), default=0.0)
+    for j in m.joints:  # the frame's pivots (▲) and guides (dashed)
+        if "ground" not in j.bodies or getattr(j, "point", None) is None:
+            continue
+        p = _mm(np.asarray(m.points[j.point]))
+        if j.slides:
+            axis = getattr(j, "axis", 0.0)
+            u = np.array([np.cos(axis), np.sin(axis)]) * 0.3 * max(reach, 1.0)
+            ax.plot(*np.stack([p - u, p + u]).T, "k--", lw=0.8, zorder=2)
+        else:
+            ax.plot(p[0], p[1], "k^", ms=6, zorder=2)
+    placed: list[np.ndarray] = []
+    step = max(1, len(k.angle) // 12)
+    for n, (label, c) in enumerate(curves.items()):
+        closed = np.vstack([c, c[:1]])
+        # each curve thinner and dashed differently from the last, so that one path shared by two
+        # points (the transplanter's two forks, half a turn apart) shows both
+        style = {"lw": max(2.4 - 0.7 * n, 1.0), "ls": ("-", "--", "-.", ":")[n % 4]}
+        ax.plot(closed[:, 0], closed[:, 1], color=f"C{n % 10}", label=label, zorder=3, **style)
+        for i in range(0, len(c), step):  # crank angles along the curve, none printed over another
+            if all(np.hypot(*(c[i] - q)) >= 0.06 * reach for q in placed):
+                placed.append(c[i])
+                ax.plot(*c[i], "o", color=f"C{n % 10}", ms=3, zorder=4)
+                ax.annotate(
+                    f"{np.degrees(k.angle[i]):.0f}°",
+                    c[i],
+                    (4, 4),
+                    textcoords="offset points",
+                    fontsize="x-small",
+                )
+    ax.plot([], [], "-o", color="0.65", ms=3, lw=2, label=f"linkage at {np.degrees(k.angle[0]):.0f}°")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(f"{m.name}: coupler curves")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax

@@ -130,7 +130,8 @@ class SettingsTable(FileModel):
     frame; a slider on a moving guide is the stroke only when named here, and with several sliders on
     the frame one must be named)."""
     trace: list[str] = Field(default_factory=list)
-    """Points whose paths are drawn."""
+    """Points whose paths are drawn (coupler curves) and whose positions, velocities and accelerations the
+    table gives."""
     field_velocity: tuple[Velocity, Velocity] | None = None
     """Velocity of the machine over the ground, [v_x, v_y], for the paths over the field."""
 
