@@ -88,3 +88,18 @@ def test_a_model_built_in_python_is_given_and_a_rigid_mesh_has_no_stiffness():
     assert rows["s"][-1] == "given"
     assert rows["g"][3] == "external mesh, rigid" and rows["g"][1] is None
     assert rows["g"][5] == pytest.approx(2.5) and rows["g"][6] == "20 / 50"
+
+
+@pytest.mark.parametrize("example", ["turret_milling.toml", "press_link_drive.toml", "press_on_mounts.toml"])
+def test_plot_returns_the_whole_figure_with_its_texts_as_written(example):
+    """.plot() gave the first axes of a six-panel figure; it gives the figure, which a notebook shows."""
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    loaded = mechdyn.load(EXAMPLES / example)
+    analysis = {"turret_milling.toml": "modal", "press_link_drive.toml": "mechanism"}.get(example, "support")
+    options = {"store": None, "cycles": 1} if analysis == "support" else {}
+    fig = get(analysis).run(loaded, **options).plot()
+    assert isinstance(fig, Figure) and fig.axes
+    assert not fig.axes[0].title.get_parse_math()
+    plt.close(fig)

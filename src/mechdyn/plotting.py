@@ -103,7 +103,8 @@ def plain_text(fig: Any) -> None:
     """
     from matplotlib.text import Text
 
-    # tick labels are the formatters' own (a log axis writes 10⁻³ as mathtext): left as they are
+    # a formatter's tick label (a log axis writes 10⁻³ as mathtext, made when the figure is drawn) is
+    # left as it is; a tick label that names something (a disk called "a $x") is shown as written
     ticks = {
         id(t)
         for ax in fig.axes
@@ -111,7 +112,8 @@ def plain_text(fig: Any) -> None:
         for t in (*axis.get_ticklabels(which="both"), axis.get_offset_text())
     }
     for t in fig.findobj(Text):
-        if id(t) not in ticks:
+        text = t.get_text()
+        if id(t) not in ticks or (text and "\\mathdefault" not in text):
             t.set_parse_math(False)
 
 

@@ -179,22 +179,27 @@ def nested_tables(summary: dict[str, Any]) -> list[Table]:
 
 
 def _as_written(plot: Callable[..., Any]) -> Callable[..., Any]:
-    """``plot`` whose figure shows every text as written (:func:`mechdyn.plotting.plain_text`), tick
-    labels included: they are made when the figure is first drawn, so it is drawn once here."""
+    """``plot`` returning its whole figure (a result's plot may have several panels), every text shown
+    as written (:func:`mechdyn.plotting.plain_text`)."""
     import functools
 
     @functools.wraps(plot)
     def drawn(self: Any, *args: Any, **kwargs: Any) -> Any:
-        ax = plot(self, *args, **kwargs)
-        fig = getattr(ax.flat[0] if hasattr(ax, "flat") else ax, "figure", None)  # one axes or an array
-        if fig is not None:
-            from mechdyn.plotting import plain_text
-
-            fig.canvas.draw()
-            plain_text(fig)
-        return ax
+        return _figure(plot(self, *args, **kwargs))
 
     return drawn
+
+
+def _figure(ax: Any) -> Any:
+    """The figure of an axes (or an array of them), its texts as written; None stays None."""
+    fig = getattr(ax.flat[0] if hasattr(ax, "flat") else ax, "figure", None)  # one axes or an array
+    if fig is None:
+        return ax
+    from mechdyn.plotting import plain_text
+
+    fig.canvas.draw()  # the tick labels are made when the figure is first drawn
+    plain_text(fig)
+    return fig
 
 
 class Result:
@@ -222,12 +227,19 @@ class Result:
         return {}
 
     def plot(self, **display_units: Any) -> Any:
-        """Draw the first of :meth:`plots` and return its axes (None when the result has no plot).
+        """Draw the first of :meth:`plots` and return its matplotlib Figure, every panel of it (None
+        when the result has no plot); a notebook shows it.
 
         Its texts are shown as written (:func:`mechdyn.plotting.plain_text`), as in saved plots and
-        reports: a ``$`` in a name never starts a formula in a notebook either."""
+        reports: a ``$`` in a name never starts a formula in a notebook either.
+
+        Parameters
+        ----------
+        **display_units : str
+            ``force_unit``, ``length_unit``: as for :meth:`plots`.
+        """
         plots = self.plots(**display_units)
-        return next(iter(plots.values()))() if plots else None
+        return _figure(next(iter(plots.values()))()) if plots else None
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -159,7 +159,7 @@ class CampbellResult(Result):
         return {"frequencies_hz": (self.modal.frequencies_hz, "Hz")}
 
     def plot(self, ax: Any = None, max_frequency_hz: float | None = None, **display_units: str) -> Any:
-        """Draw the Campbell diagram; returns the matplotlib axes.
+        """Draw the Campbell diagram; returns the matplotlib Figure.
 
         Parameters
         ----------

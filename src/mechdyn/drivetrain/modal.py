@@ -306,7 +306,7 @@ class ModalResult(Result, Modes):
         return pd.DataFrame(cols, index=pd.Index(names, name="element"))
 
     def plot(self, modes: Any = None, ax: Any = None, **display_units: str) -> Any:
-        """Plot unit-scaled mode shapes against disk; returns the matplotlib axes.
+        """Plot unit-scaled mode shapes against disk; returns the matplotlib Figure.
 
         Parameters
         ----------

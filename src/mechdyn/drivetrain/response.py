@@ -255,7 +255,7 @@ class FRFResult(Result):
         return pd.DataFrame(cols)
 
     def plot(self, outputs: Sequence[str] | None = None, ax: Any = None, **display_units: Any) -> Any:
-        """Plot magnitudes against frequency (log scale); returns the matplotlib axes.
+        """Plot magnitudes against frequency (log scale); returns the matplotlib Figure.
 
         Parameters
         ----------
