@@ -14,9 +14,10 @@ import pandas as pd
 import pytest
 
 from conftest import EXAMPLES
-from mechdyn.cli.common import _column_spec, _fmt, print_table, write_csv
+from mechdyn.cli.common import _fmt, print_table, write_csv
 from mechdyn.errors import ModelWarning
 from mechdyn.io import load_model
+from mechdyn.numbers import column_format as _column_spec
 from mechdyn.registry import get
 from mechdyn.results import Table
 
@@ -212,3 +213,28 @@ def test_a_shipped_example_runs_without_warnings_unless_they_are_its_point(examp
         assert said and "The two warnings are findings" in readme, said
     else:
         assert not said, said
+
+
+@pytest.mark.parametrize(
+    ("value", "text"),
+    [
+        (1496.3, "1496.3"),
+        (26.7621, "26.762"),
+        (0.00403694, "0.0040369"),
+        (1805450.2, "1805450"),
+        (6.84031e-6, "6.8403e-06"),
+        (2.5e9, "2.5000e+09"),
+        (-0.0, "0"),
+        (0.0, "0"),
+        (float("nan"), "—"),
+    ],
+)
+def test_one_rule_writes_a_number_in_the_terminal_the_report_and_the_dashboard(value, text):
+    """Each value on its own, five significant digits: the terminal (a table with a unit column), the
+    report's and the dashboard's cells (reports.html) write it alike."""
+    from mechdyn.numbers import number_text
+    from mechdyn.reports.html import _cell
+
+    assert number_text(value) == text
+    assert _fmt(value) == text
+    assert _cell(value).text == text

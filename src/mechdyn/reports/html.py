@@ -75,14 +75,9 @@ class Report:
 
 
 def _number(v: float) -> str:
-    if v == 0:
-        return "0"
-    if not math.isfinite(v):
-        return str(v)
-    a = abs(v)
-    if 1e5 <= a < 1e7:  # every digit of the whole number, not 1.80545e+06
-        return f"{v:.0f}"
-    return f"{v:.6g}" if 1e-4 <= a < 1e5 else f"{v:.4e}"
+    from mechdyn.numbers import number_text
+
+    return number_text(v)
 
 
 def _cell(v: Any) -> Cell:
