@@ -130,12 +130,16 @@ def test_no_title_is_clipped_when_the_figure_is_saved(analysis, example, options
                 assert _inside(fig, t), f"{name}: {t.get_text()!r} is clipped"
 
 
-def test_display_unit_picks_the_largest_unit_that_keeps_a_number_above_one():
+def test_a_plot_picks_the_unit_its_table_shows():
+    """A plot's unit comes from the tables' rule (units.readable_unit): 1.8 MN of force reads 1800 kN
+    in the summary, and its plot's axis says kN too (it said MN: the table and the plot disagreed)."""
     from mechdyn.plotting import display_unit
+    from mechdyn.units import readable
 
     assert display_unit(np.array([2e5, -3.5e5]), "N*m") == ("kN·m", 1e-3)
     assert display_unit(np.array([50.0]), "N*m") == ("N·m", 1.0)
-    assert display_unit(np.array([1.8e6]), "N") == ("MN", 1e-6)
+    assert display_unit(np.array([1.8e6]), "N") == ("kN", 1e-3) and readable(1.8e6, "N") == (1800.0, "kN")
+    assert display_unit(np.array([2.4e7]), "N") == ("MN", 1e-6)
     assert display_unit(np.array([]), "N") == ("N", 1.0)
 
 

@@ -15,26 +15,19 @@ __all__ = [
     "save_figure",
 ]
 
-# SI units and their larger display units, smallest first
-_LADDERS = {
-    "N": ("N", "kN", "MN"),
-    "N*m": ("N*m", "kN*m", "MN*m"),
-    "N/m": ("N/m", "N/mm", "N/µm"),
-}
-_SHOWN = {"N*m": "N·m", "kN*m": "kN·m", "MN*m": "MN·m"}
-
 
 def display_unit(values: Any, unit: str) -> tuple[str, float]:
-    """The display unit for values of one quantity and the factor from SI to it: the largest unit of
-    the ladder in which the largest magnitude is still at least 1 (torques of hundreds of thousands
-    of N·m are shown in kN·m).
+    """The display unit for values of one quantity and the factor from SI to it: the unit its largest
+    magnitude reads best in, by the rule the tables use (:func:`mechdyn.units.readable_unit`: a force
+    in kN from 10⁴ N, in MN from 10⁷ N), so that a plot and its table agree.
 
     Parameters
     ----------
     values : array_like
         The values, in ``unit``.
     unit : str
-        Their SI unit: ``"N"``, ``"N*m"`` or ``"N/m"`` (others are shown as they are).
+        Their SI unit as pint reads it (``"N"``, ``"N*m"``, ``"N/m"``, ``"m"``; others are shown as
+        they are).
 
     Returns
     -------
@@ -43,15 +36,13 @@ def display_unit(values: Any, unit: str) -> tuple[str, float]:
     """
     import numpy as np
 
-    from mechdyn.units import convert
+    from mechdyn.units import SHOWN_UNITS, convert, readable_unit
 
-    ladder = _LADDERS.get(unit, (unit,))
     peak = float(np.nanmax(np.abs(values))) if np.size(values) else 0.0
-    chosen = ladder[0]
-    for candidate in ladder:
-        if peak * convert(1.0, unit, candidate) >= 1.0:
-            chosen = candidate
-    return _SHOWN.get(chosen, chosen), float(convert(1.0, unit, chosen))
+    display, shown = readable_unit(peak, SHOWN_UNITS.get(unit, unit))
+    if shown == SHOWN_UNITS.get(unit, unit):
+        return shown, 1.0
+    return shown, float(convert(1.0, unit, display))
 
 
 OVERLAP = 5e-3

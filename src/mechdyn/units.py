@@ -25,12 +25,15 @@ if TYPE_CHECKING:
 # ``Q_`` and ``ureg`` come from the module ``__getattr__`` below
 __all__ = [  # noqa: F822
     "Q_",
+    "SHOWN_UNITS",
     "STANDARD_GRAVITY",
     "UnitError",
     "convert",
     "key_label",
     "key_suffix",
     "key_unit",
+    "readable",
+    "readable_unit",
     "show",
     "si_field",
     "to_si",
@@ -444,7 +447,8 @@ _SUFFIXES = (
 )
 
 
-_SHOWN_UNITS = {
+#: How a unit pint reads is shown to a reader ("N*m" as "N·m", "kg*m^2" as "kg·m²").
+SHOWN_UNITS = {
     "kg*m^2": "kg·m²",
     "N*m/rad": "N·m/rad",
     "N*m*s/rad": "N·m·s/rad",
@@ -482,7 +486,7 @@ def key_label(key: str) -> tuple[str, str]:
     for suffix, unit in _KEY_UNITS:
         if key.endswith(suffix) and len(key) > len(suffix):
             stem = key[: -len(suffix)]
-            shown = _SHOWN_UNITS.get(unit, unit)
+            shown = SHOWN_UNITS.get(unit, unit)
             if unit == "1":  # a ratio keeps its word
                 stem = key
             return stem.replace("_", " "), shown
@@ -567,4 +571,4 @@ def readable(value: float, unit: str) -> tuple[float, str]:
     return float(convert(value, _SHOWN_TO_SI.get(unit, unit), display)), shown
 
 
-_SHOWN_TO_SI = {shown: si for si, shown in _SHOWN_UNITS.items()}
+_SHOWN_TO_SI = {shown: si for si, shown in SHOWN_UNITS.items()}
