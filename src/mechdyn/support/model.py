@@ -233,6 +233,14 @@ class MountedMachine:
     gravity: float = STANDARD_GRAVITY
     name: str = "machine"
 
+    def to_frame(self) -> Any:
+        """The mounts as assembled, one row per mount: position (m), stiffness (N/m) and damping
+        (N·s/m) along its axes, anchored, and where the values came from
+        (:func:`mechdyn.support.summary.model_frame`)."""
+        from mechdyn.support.summary import model_frame
+
+        return model_frame(self)
+
     def __post_init__(self) -> None:
         object.__setattr__(self, "mounts", tuple(self.mounts))
         object.__setattr__(self, "dofs", tuple(self.dofs))

@@ -120,7 +120,8 @@ class SupportAnalysis(Result):
         return out
 
     def tables(self, **display_units: str) -> list[Table]:
-        """Steady state, modes, (several mounts) the mounts and (rotors) the unbalance over speed.
+        """Steady state, modes, (several mounts) the mounts, (rotors) the unbalance over speed, and the
+        machine and its mounts as assembled.
 
         Forces and displacements are shown in the units a designer reads them in
         (:func:`mechdyn.units.readable`: kN or MN, mm or µm), or in ``force_unit`` (e.g.
@@ -192,7 +193,9 @@ class SupportAnalysis(Result):
             )
         if self.unbalance is not None:
             tables += self.unbalance.tables(**display_units)
-        return tables
+        from mechdyn.support.summary import model_tables
+
+        return [*tables, *model_tables(machine, self.mounts)]
 
     def plots(self, **display_units: str) -> dict[str, Any]:
         """Bed displacement (start-up and steady state), forces, F_T against F, modes; with several
