@@ -347,6 +347,9 @@ class DynamicsResult(Result):
                     ],
                 )
             )
+        from mechdyn.mechanism.summary import model_tables
+
+        tables += model_tables(self.mechanism)
         return tables
 
     def plots(self, **display_units: str) -> dict[str, Any]:

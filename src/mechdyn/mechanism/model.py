@@ -733,6 +733,14 @@ class Mechanism:
             f"{n - m} degree(s) of freedom are not driven; add joints"
         )
 
+    def to_frame(self) -> Any:
+        """The bodies as assembled, one row per body: mass (kg), inertia about the centre of mass
+        (kg·m²), centre of mass (m) and a two-point link's length (m), as drawn
+        (:func:`mechdyn.mechanism.summary.model_frame`)."""
+        from mechdyn.mechanism.summary import model_frame
+
+        return model_frame(self)
+
     def com(self, body: Body) -> np.ndarray:
         """Drawing position of a body's centre of mass, m.
 

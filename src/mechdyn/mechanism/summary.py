@@ -1,0 +1,109 @@
+"""The mechanism as assembled: each body's mass, inertia about its centre of mass, centre of mass and
+link length in the drawing, and each joint, as tables for the CLI, reports and ``to_frame()``."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+from mechdyn.results import Table
+from mechdyn.units import convert
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from mechdyn.mechanism.model import Mechanism
+
+__all__ = ["model_frame", "model_tables"]
+
+
+def _body_rows(mechanism: Mechanism) -> list[dict[str, Any]]:
+    rows = []
+    for b in mechanism.bodies:
+        com = mechanism.com(b)
+        pts = [mechanism.points[p] for p in b.points]
+        length = math.dist(pts[0], pts[1]) if len(pts) == 2 else None
+        rows.append(
+            {
+                "body": b.name,
+                "points": ", ".join(b.points),
+                "mass_kg": float(b.mass),
+                "inertia_kg_m2": float(b.inertia),
+                "center_of_mass_x_m": float(com[0]),
+                "center_of_mass_y_m": float(com[1]),
+                "length_m": length,
+                "driven": b.name == mechanism.driver.body,
+            }
+        )
+    return rows
+
+
+def model_tables(mechanism: Mechanism) -> list[Table]:
+    """The bodies and joints as assembled.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The model (in its drawing position).
+
+    Returns
+    -------
+    list of Table
+        The bodies (mass in kg, inertia about the centre of mass in kg·m², centre of mass and the
+        length between a two-point link's points in mm, as drawn) and the joints (kind, bodies, point
+        in mm).
+    """
+    bodies = Table(
+        f"{mechanism.name}: the bodies as assembled",
+        ["body", "mass [kg]", "inertia [kg·m²]", "com x [mm]", "com y [mm]", "length [mm]", "points"],
+        [
+            [
+                r["body"] + (" (driven)" if r["driven"] else ""),
+                r["mass_kg"],
+                r["inertia_kg_m2"],
+                float(convert(r["center_of_mass_x_m"], "m", "mm")),
+                float(convert(r["center_of_mass_y_m"], "m", "mm")),
+                None if r["length_m"] is None else float(convert(r["length_m"], "m", "mm")),
+                r["points"],
+            ]
+            for r in _body_rows(mechanism)
+        ],
+        note="Inertias about each body's centre of mass, normal to the plane; positions as drawn.",
+    )
+    joints = []
+    for j in mechanism.joints:
+        point = getattr(j, "point", None) or ", ".join(getattr(j, "points", ()))
+        xy = mechanism.points.get(point) if isinstance(point, str) else None
+        kind = {"Revolute": "revolute", "Prismatic": "slider", "GearJoint": "gear pair"}.get(
+            type(j).__name__, type(j).__name__
+        )
+        joints.append(
+            [
+                j.name,
+                kind,
+                " – ".join(j.bodies),
+                point,
+                None if xy is None else float(convert(xy[0], "m", "mm")),
+                None if xy is None else float(convert(xy[1], "m", "mm")),
+            ]
+        )
+    joint_table = Table(
+        f"{mechanism.name}: the joints as assembled",
+        ["joint", "kind", "bodies", "point", "x [mm]", "y [mm]"],
+        joints,
+    )
+    return [bodies, joint_table]
+
+
+def model_frame(mechanism: Mechanism) -> pd.DataFrame:
+    """The bodies as assembled, one row per body, SI: mass (kg), inertia about the centre of mass
+    (kg·m²), centre of mass (m), length between a two-point link's points (m), as drawn.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The model.
+    """
+    import pandas as pd
+
+    return pd.DataFrame(_body_rows(mechanism))
