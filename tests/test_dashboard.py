@@ -3,7 +3,9 @@ and a real study: list → open a run → open a study → pick variants → com
 
 from __future__ import annotations
 
+import json
 import os
+import re
 import shutil
 import socket
 import threading
@@ -311,3 +313,30 @@ def test_the_dashboard_serves_a_postgresql_database_read_only(postgres_url):
     with serving(create_app(postgres_url)) as address:
         status, body = _get(address + "/runs/1")
     assert status == 200 and "turret" in body.lower() and "frequencies" in body
+
+
+def test_compare_overlays_runs_of_different_periods_and_sample_counts(tmp_path):
+    """`/compare` answered HTTP 500 for two support models of different periods and for one slider-crank
+    at 360 and at 180 angles (the curves were stacked as one array); each curve is now drawn on its own
+    abscissa and the curves that differ most are chosen on the first run's grid."""
+    from mechdyn.dashboard.app import create_app
+
+    db = str(tmp_path / "r.db")
+    for argv in (
+        ["support", str(EXAMPLES / "press_on_support.toml"), "--cycles", "1"],
+        ["support", str(EXAMPLES / "pump_set_unbalance.toml"), "--cycles", "1"],
+        ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "360"],
+        ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "180"],
+    ):
+        assert main([*argv, "--db", db]) == 0
+    with serving(create_app(db)) as address:
+        for a, b, lengths in ((1, 2, None), (3, 4, {360, 180})):
+            status, body = _get(f"{address}/compare?run={a}&run={b}")
+            assert status == 200, body[-2000:]
+            plots = re.findall(r'Plotly\.newPlot\("plot1", (\[.*?\]), \{"', body, re.S)
+            assert plots, "no curve overlaid"
+            traces = json.loads(plots[0])
+            assert [t["name"] for t in traces] == [f"run {a}", f"run {b}"]
+            assert all(len(t["x"]) == len(t["y"]) for t in traces)
+            if lengths:
+                assert {len(t["x"]) for t in traces} == lengths

@@ -271,24 +271,50 @@ def choose_curves(
 ) -> tuple[str | None, list[str]]:
     """Which of several runs' or variants' curves to overlay: the abscissa (the first curve, a time
     or an angle) and the ``n`` curves of its length, kept by all, that differ most between them
-    (for one alone: the first ``n``); none with no curve."""
+    (for one alone: the first ``n``); none with no curve.
+
+    Runs of different lengths or grids (two machines of different periods, one mechanism at 360
+    and at 180 angles) are compared on the first one's abscissa: each curve is interpolated there
+    from its own (by its position along the curve where an abscissa does not rise throughout). Each is
+    still drawn on its own abscissa.
+    """
     if not curves:
         return None, []
     first = curves[0]
     x = next(iter(first))
-    size = np.asarray(first[x][0]).shape
+    grid = np.asarray(first[x][0], dtype=float)
+    size = grid.shape
     spread = {}
     for name, (y, _) in first.items():
         if name == x or np.asarray(y).shape != size or not all(name in c for c in curves):
             continue
         if any(w in name for w in ("angle", "time")):
             continue
-        stack = np.array([np.asarray(c[name][0], dtype=float) for c in curves])
-        scale = float(np.abs(stack).max()) or 1.0
-        spread[name] = float(np.abs(stack - stack[0]).max()) / scale
+        try:
+            stack = np.array([_on_grid(c, x, name, grid) for c in curves])
+        except ValueError:  # a curve without the abscissa, or not one-dimensional: not comparable
+            continue
+        scale = float(np.nanmax(np.abs(stack))) or 1.0
+        spread[name] = float(np.nanmax(np.abs(stack - stack[0]))) / scale
     if len(curves) == 1:  # one alone: its curves that are not flat
         return x, [k for k in spread if np.ptp(np.asarray(first[k][0], dtype=float)) > 0][:n]
     return x, [k for k, d in sorted(spread.items(), key=lambda kv: -kv[1]) if d > 0][:n]
+
+
+def _on_grid(curve: dict[str, tuple[np.ndarray, str]], x: str, name: str, grid: np.ndarray) -> np.ndarray:
+    """``curve[name]`` at the abscissa values ``grid`` (the first run's), from its own abscissa."""
+    y = np.asarray(curve[name][0], dtype=float)
+    if y.ndim != 1:
+        raise ValueError(name)
+    if y.shape == grid.shape and x in curve and np.array_equal(np.asarray(curve[x][0], dtype=float), grid):
+        return y
+    xs = np.asarray(curve[x][0], dtype=float) if x in curve else None
+    if xs is None or xs.shape != y.shape:
+        raise ValueError(name)
+    if np.all(np.diff(xs) > 0) and np.all(np.diff(grid) > 0):
+        return np.interp(grid, xs, y)
+    # an abscissa that does not rise throughout: by the position along each curve
+    return np.interp(np.linspace(0.0, 1.0, grid.size), np.linspace(0.0, 1.0, y.size), y)
 
 
 def curves(
