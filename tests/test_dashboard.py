@@ -11,6 +11,7 @@ import socket
 import threading
 import urllib.error
 import urllib.request
+from datetime import UTC, datetime, timedelta
 
 import pytest
 
@@ -340,3 +341,41 @@ def test_compare_overlays_runs_of_different_periods_and_sample_counts(tmp_path):
             assert all(len(t["x"]) == len(t["y"]) for t in traces)
             if lengths:
                 assert {len(t["x"]) for t in traces} == lengths
+
+
+def test_the_run_list_filters_in_the_database_and_counts_every_match(tmp_path):
+    """The list took the newest runs first and filtered them after: 120 matching runs older than 150
+    others showed as "Runs (0)". The filter is now the query's, the count true, the list paged."""
+    from mechdyn.dashboard.app import RUNS_PER_PAGE, create_app
+    from mechdyn.store.store import ResultStore
+
+    db = str(tmp_path / "r.db")
+    store = ResultStore(db)
+    try:
+        for i in range(270):  # the 120 oldest are the turret's, the rest a press's
+            name, path = ("turret", "turret_milling.toml") if i < 120 else ("press", "press.toml")
+            store.record(
+                analysis="modal" if i < 120 else "mechanism",
+                model_name=f"{name} {i}",
+                model_path=path,
+                model_text="",
+                model_sha256=f"{i:064x}",
+                parameters={},
+                scalars={},
+            )
+        assert store.count_runs(model="TURRET") == 120 and store.count_runs(analysis="mechanism") == 150
+        assert [r.model_name for r in store.runs(model="turret", limit=2)] == ["turret 119", "turret 118"]
+        assert store.count_runs(model="milling", analysis="modal") == 120
+        assert store.count_runs(model="100%_") == 0  # wildcards are text
+        today = datetime.now(UTC).date()
+        assert store.count_runs(since=today, until=today) == 270
+        assert store.count_runs(until=today - timedelta(days=1)) == 0
+    finally:
+        store.close()
+    with serving(create_app(db)) as address:
+        status, body = _get(address + "/?model=turret")
+        assert status == 200 and "Runs (120)" in body
+        assert f"Runs 1–{RUNS_PER_PAGE} of 120" in body and "page=2" in body
+        status, body = _get(address + "/?model=turret&page=2")
+        assert f"Runs {RUNS_PER_PAGE + 1}–120 of 120" in body and ">turret 0<" in body
+        assert "Runs (270)" in _get(address + "/")[1]

@@ -31,7 +31,7 @@ __all__ = ["create_app"]
 
 MAX_POINTS = 20_000  # variants drawn in a study's plots
 MAX_ROWS = 200  # variants listed in a study's table
-MAX_RUNS = 500
+RUNS_PER_PAGE = 100
 MAX_ID = 2**31 - 1  # the largest id an integer column holds on every backend
 LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "::1", "[::1]")
 
@@ -170,7 +170,20 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         q = request.query_params
         filters = {k: q.get(k, "") for k in ("analysis", "model", "since", "until", "study")}
         since, until = _date(filters["since"]), _date(filters["until"])
-        runs = store.runs(analysis=filters["analysis"] or None, limit=MAX_RUNS)
+        # the runs are filtered and paged by the database query: the count is every match
+        matching: dict[str, Any] = {
+            "analysis": filters["analysis"] or None,
+            "model": filters["model"] or None,
+            "since": since,
+            "until": until,
+        }
+        total = store.count_runs(**matching)
+        pages = max(1, -(-total // RUNS_PER_PAGE))
+        try:
+            number = min(max(1, int(q.get("page", "1"))), pages)
+        except ValueError:
+            number = 1
+        runs = store.runs(**matching, limit=RUNS_PER_PAGE, offset=(number - 1) * RUNS_PER_PAGE)
 
         def keep(created: datetime, model: str) -> bool:
             d = created.date()
@@ -180,7 +193,6 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
                 and filters["model"].lower() in model.lower()
             )
 
-        runs = [r for r in runs if keep(r.created_at, r.model_name + " " + r.model_path)]
         rows = []
         for s in studies.studies():
             if filters["study"].lower() not in s.name.lower():
@@ -219,7 +231,11 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
                 }
                 for r in runs
             ],
-            truncated=len(runs) >= MAX_RUNS,
+            total=total,
+            first=(number - 1) * RUNS_PER_PAGE + 1,
+            page=number,
+            pages=pages,
+            query={k: v for k, v in filters.items() if v},
         )
 
     def run_page(request: Request) -> HTMLResponse:

@@ -13,13 +13,13 @@ import os
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from datetime import UTC, datetime
+from datetime import UTC, date, datetime, time, timedelta
 from functools import wraps
 from pathlib import Path
 from typing import Any, TypeVar
 
 import numpy as np
-from sqlalchemy import select
+from sqlalchemy import func, or_, select
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import ArgumentError, DatabaseError
 from sqlalchemy.orm import Session
@@ -355,23 +355,77 @@ class ResultStore:
             return int(run.id)
 
     @guarded
-    def runs(self, *, analysis: str | None = None, limit: int | None = None) -> list[StoredRun]:
-        """Recorded runs, newest first, without their arrays.
+    def runs(
+        self,
+        *,
+        analysis: str | None = None,
+        model: str | None = None,
+        since: date | None = None,
+        until: date | None = None,
+        limit: int | None = None,
+        offset: int = 0,
+    ) -> list[StoredRun]:
+        """Recorded runs, newest first, without their arrays, filtered in the database query.
 
         Parameters
         ----------
         analysis : str, optional
             Only runs of this analysis.
+        model : str, optional
+            Only runs whose model name or file contains this text (any case).
+        since, until : datetime.date, optional
+            Only runs made on or after ``since`` and on or before ``until`` (UTC days).
         limit : int, optional
             At most this many.
+        offset : int
+            Skip this many of the newest that match (a page of a long list).
         """
-        q = select(_Run).order_by(_Run.id.desc())
-        if analysis:
-            q = q.where(_Run.analysis == analysis)
+        q = self._matching(select(_Run), analysis, model, since, until).order_by(_Run.id.desc())
+        if offset:
+            q = q.offset(offset)
         if limit:
             q = q.limit(limit)
         with Session(self._engine) as s:
             return [self._summary(r) for r in s.scalars(q)]
+
+    @guarded
+    def count_runs(
+        self,
+        *,
+        analysis: str | None = None,
+        model: str | None = None,
+        since: date | None = None,
+        until: date | None = None,
+    ) -> int:
+        """How many recorded runs match (the filters of :meth:`runs`).
+
+        Parameters
+        ----------
+        analysis, model, since, until
+            As for :meth:`runs`.
+        """
+        q = self._matching(select(func.count(_Run.id)), analysis, model, since, until)
+        with Session(self._engine) as s:
+            return int(s.scalar(q) or 0)
+
+    @staticmethod
+    def _matching(q: Any, analysis: str | None, model: str | None, since: Any, until: Any) -> Any:
+        """``q`` with the runs filters as SQL conditions."""
+        if analysis:
+            q = q.where(_Run.analysis == analysis)
+        if model:
+            text = model.lower()
+            q = q.where(
+                or_(
+                    func.lower(_Run.model_name).contains(text, autoescape=True),
+                    func.lower(_Run.model_path).contains(text, autoescape=True),
+                )
+            )
+        if since is not None:
+            q = q.where(_Run.created_at >= datetime.combine(since, time.min, tzinfo=UTC))
+        if until is not None:
+            q = q.where(_Run.created_at < datetime.combine(until + timedelta(days=1), time.min, tzinfo=UTC))
+        return q
 
     @guarded
     def get(self, run_id: int) -> StoredRun:
