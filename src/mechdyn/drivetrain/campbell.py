@@ -153,7 +153,9 @@ class CampbellResult(Result):
 
     def plots(self, **display_units: str) -> dict[str, Any]:
         """``campbell.png``."""
-        return {"campbell.png": lambda: self.plot()}
+        from mechdyn.drivetrain.plots import plot_campbell
+
+        return {"campbell.png": lambda: plot_campbell(self)}
 
     def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
         return {"frequencies_hz": (self.modal.frequencies_hz, "Hz")}

@@ -262,7 +262,9 @@ class ModalResult(Result, Modes):
 
     def plots(self, **display_units: str) -> dict[str, Any]:
         """``mode_shapes.png``."""
-        return {"mode_shapes.png": lambda: self.plot()}
+        from mechdyn.drivetrain.plots import plot_mode_shapes
+
+        return {"mode_shapes.png": lambda: plot_mode_shapes(self)}
 
     def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
         """Natural frequencies (Hz) and mass-normalised shapes of every disk (rad)."""

@@ -202,9 +202,9 @@ class FRFResult(Result):
     def plots(self, **display_units: str) -> dict[str, Any]:
         """``frf.png``: the output disks' angles; ``frf_torques.png`` and ``frf_mesh_forces.png``: the
         shaft torques and mesh forces (what a drivetrain is sized on); magnitude and phase each."""
-        from mechdyn.drivetrain.plots import plot_frf_loads
+        from mechdyn.drivetrain.plots import plot_frf, plot_frf_loads
 
-        out: dict[str, Any] = {"frf.png": lambda: self.plot(list(self.outputs) or None)}
+        out: dict[str, Any] = {"frf.png": lambda: plot_frf(self, outputs=list(self.outputs) or None)}
         if "N*m" in self.element_units:
             out["frf_torques.png"] = lambda: plot_frf_loads(self, "N*m")
         if "N" in self.element_units:
