@@ -29,6 +29,7 @@ __all__ = [
     "ModelWarning",
     "__version__",
     "load",
+    "save",
     "ureg",
 ]
 
@@ -42,4 +43,8 @@ def __getattr__(name: str) -> Any:
         from mechdyn.io.modelfile import load
 
         return load
+    if name == "save":
+        from mechdyn.io.save import save
+
+        return save
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

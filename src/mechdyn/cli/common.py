@@ -76,9 +76,7 @@ def print_table(t: Table, file: Any = None, max_rows: int = MAX_ROWS) -> None:
             *(
                 Text(
                     v,
-                    justify="right"
-                    if i and (is_number(x) or (x is None and numeric_columns[i]))
-                    else "left",
+                    justify="right" if i and (is_number(x) or (x is None and numeric_columns[i])) else "left",
                 )
                 for i, (x, v) in enumerate(zip(raw, r, strict=True))
             )

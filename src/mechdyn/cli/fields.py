@@ -53,7 +53,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="print the fields of a model-file type: each table, field, unit, default and meaning",
         description="The model-file reference of one file type, read from the schema that validates "
         "the files (the same as the documentation's).",
-        epilog="examples:\n  mechdyn fields drivetrain\n  mechdyn fields mount --json",
+        epilog="examples:\n  mechdyn fields drivetrain\n  mechdyn fields mount --json\n\n"
+        "`mechdyn new TYPE FILE` writes a commented template of a file of TYPE that loads and runs.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("type", help="a model type (drivetrain, mechanism, support, mount, …) or study")

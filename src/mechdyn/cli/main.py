@@ -18,7 +18,7 @@ __all__ = ["build_parser", "main"]
 
 def build_parser() -> argparse.ArgumentParser:
     from mechdyn import __version__
-    from mechdyn.cli import analyses_command, dashboard, fields, report, results, study
+    from mechdyn.cli import analyses_command, dashboard, fields, new, report, results, study
     from mechdyn.cli.runner import add_analysis_parser
     from mechdyn.registry import analyses
 
@@ -39,6 +39,7 @@ def build_parser() -> argparse.ArgumentParser:
         add_analysis_parser(sub, analysis)
     analyses_command.register(sub)
     fields.register(sub)
+    new.register(sub)
     study.register(sub)
     results.register(sub)
     report.register(sub)

@@ -1,4 +1,6 @@
-"""Model files: TOML with units, validated, loaded into immutable models."""
+"""Model files: TOML with units, validated, loaded into immutable models; models built in Python saved
+as model files (:func:`mechdyn.save`, ``mechdyn.io.save``); commented templates of every file type
+(``mechdyn new``, ``mechdyn.io.template``)."""
 
 from mechdyn.io.modelfile import (
     LoadedModel,
@@ -9,6 +11,7 @@ from mechdyn.io.modelfile import (
     read,
     register_model_type,
 )
+from mechdyn.io.save import register_writer
 
 __all__ = [
     "LoadedModel",
@@ -18,4 +21,5 @@ __all__ = [
     "load_with_source",
     "read",
     "register_model_type",
+    "register_writer",
 ]

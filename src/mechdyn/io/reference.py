@@ -2,22 +2,38 @@
 cannot drift: every table of a file type (``[model]``, ``[[disks]]``, …) with each field's type,
 unit, default or whether it is required, its limits and its meaning (the docstring under the field).
 
-The documentation renders it (``docs/_ext/modelfile_reference.py``) and ``mechdyn fields TYPE``
-prints it.
+The documentation renders it (``docs/_ext/modelfile_reference.py``), ``mechdyn fields TYPE``
+prints it, ``mechdyn new TYPE`` writes a template from it (:mod:`mechdyn.io.template`), and
+``python -m mechdyn.io.reference --markdown docs/model_files/markdown`` writes it as Markdown pages
+readable in the checkout.
 """
 
 from __future__ import annotations
 
+import re
 import types
 import typing
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal, get_args, get_origin
 
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 from pydantic_core import PydanticUndefined
 
-__all__ = ["FieldRow", "FileTable", "reference"]
+__all__ = [
+    "MARKDOWN_FOLDER",
+    "FieldRow",
+    "FileTable",
+    "SchemaTable",
+    "markdown",
+    "markdown_index",
+    "markdown_pages",
+    "named_value_annotation",
+    "reference",
+    "schema_tables",
+    "write_markdown",
+]
 
 
 @dataclass(frozen=True)
@@ -164,8 +180,48 @@ def _text(text: str) -> str:
     return " ".join(text.split())
 
 
-def reference(file_type: str) -> tuple[list[FileTable], list[str]]:
-    """Every table of a file type, in file order, and the fields that have no description.
+@dataclass(frozen=True)
+class SchemaTable:
+    """One table of a file type as the schema declares it, for tools that walk the schema (the
+    reference, ``mechdyn new``'s templates).
+
+    Attributes
+    ----------
+    path : str
+        Its dotted path (``gear_pairs.pinion``).
+    is_array : bool
+        An array of tables (``[[path]]``).
+    info : FieldInfo
+        The field of the enclosing schema that holds the table (its description, whether required).
+    schema : type or None
+        The pydantic schema of the table; None for a table of named values (a mechanism's
+        ``[points]``).
+    fields : list of (str, FieldInfo)
+        Its fields that are values, not tables, in file order.
+    children : list of SchemaTable
+        Its sub-tables (``[response.rayleigh]``, ``[[bolted.layers]]``), in file order.
+    """
+
+    path: str
+    is_array: bool
+    info: FieldInfo
+    schema: type[BaseModel] | None
+    fields: list[tuple[str, FieldInfo]] = field(default_factory=list)
+    children: list[SchemaTable] = field(default_factory=list)
+
+    @property
+    def name(self) -> str:
+        """The table's own key (the last part of its path)."""
+        return self.path.rpartition(".")[2]
+
+    @property
+    def header(self) -> str:
+        """``[path]`` or ``[[path]]``."""
+        return f"[[{self.path}]]" if self.is_array else f"[{self.path}]"
+
+
+def schema_tables(file_type: str) -> list[SchemaTable]:
+    """The tables of a file type as a tree, in file order, read from its schema.
 
     Parameters
     ----------
@@ -179,39 +235,263 @@ def reference(file_type: str) -> tuple[list[FileTable], list[str]]:
     """
     from mechdyn.io.modelfile import schema_of
 
-    schema = schema_of(file_type)
-    tables: list[FileTable] = []
-    undocumented: list[str] = []
-
-    def table(cls: type[BaseModel], path: str, is_array: bool, f: FieldInfo) -> None:
-        rows = []
-        subtables = []
+    def table(cls: type[BaseModel], path: str, is_array: bool, f: FieldInfo) -> SchemaTable:
+        node = SchemaTable(path, is_array, f, cls)
         for name, sf in cls.model_fields.items():
             sub, sub_is_array = _table_of(sf.annotation)
             if sub is not None and sub is not cls:
-                subtables.append((f"{path}.{name}", sub, sub_is_array, sf))
-                continue
+                node.children.append(table(sub, f"{path}.{name}", sub_is_array, sf))
+            else:
+                node.fields.append((name, sf))
+        return node
+
+    out = []
+    for name, f in schema_of(file_type).model_fields.items():
+        sub, is_array = _table_of(f.annotation)
+        out.append(table(sub, name, is_array, f) if sub is not None else SchemaTable(name, False, f, None))
+    return out
+
+
+def named_value_annotation(t: SchemaTable) -> Any:
+    """The annotation of each value of a table of named values (``[points]``: ``name = [x, y]``)."""
+    value = get_args(_unwrap(t.info.annotation)[0])
+    return value[1] if len(value) == 2 else t.info.annotation
+
+
+def reference(file_type: str) -> tuple[list[FileTable], list[str]]:
+    """Every table of a file type, in file order, and the fields that have no description.
+
+    Parameters
+    ----------
+    file_type : str
+        A model type (``"drivetrain"``, ``"mechanism"``, …) or ``"study"``.
+
+    Raises
+    ------
+    KeyError
+        For an unknown type, naming the known ones (:func:`mechdyn.io.modelfile.schema_of`).
+    """
+    tables: list[FileTable] = []
+    undocumented: list[str] = []
+
+    def add(t: SchemaTable) -> None:
+        f = t.info
+        if t.schema is None:  # a table of named values (e.g. a mechanism's [points]: name = [x, y])
+            if not f.description:
+                undocumented.append(f"[{t.path}]")
+            shown = _type(named_value_annotation(t))
+            tables.append(FileTable(t.path, False, f.is_required(), _text(f.description or ""), values=shown))
+            return
+        rows = []
+        for name, sf in t.fields:
             if not sf.description:
-                undocumented.append(f"[{path}] {name}")
+                undocumented.append(f"[{t.path}] {name}")
             kind, limits = _type(sf.annotation, sf.metadata), _limits(sf)
             rows.append(
                 FieldRow(
                     name, f"{kind}, {limits}" if limits else kind, _default(sf), _text(sf.description or "")
                 )
             )
-        tables.append(FileTable(path, is_array, f.is_required(), _text(f.description or ""), rows))
-        for sub_path, sub, sub_is_array, sf in subtables:
-            table(sub, sub_path, sub_is_array, sf)
+        tables.append(FileTable(t.path, t.is_array, f.is_required(), _text(f.description or ""), rows))
+        for child in t.children:
+            add(child)
 
-    for name, f in schema.model_fields.items():
-        sub, is_array = _table_of(f.annotation)
-        if sub is not None:
-            table(sub, name, is_array, f)
-            continue
-        # a table of named values (e.g. a mechanism's [points]: name = [x, y])
-        if not f.description:
-            undocumented.append(f"[{name}]")
-        value = get_args(_unwrap(f.annotation)[0])
-        shown = _type(value[1]) if len(value) == 2 else _type(f.annotation)
-        tables.append(FileTable(name, False, f.is_required(), _text(f.description or ""), values=shown))
+    for t in schema_tables(file_type):
+        add(t)
     return tables, undocumented
+
+
+# -- the reference as Markdown, readable in the checkout ----------------------------------------------
+
+#: Where the generated Markdown lives, relative to the repository root (a folder of its own: the Sphinx
+#: pages of the built site are the ``.rst`` files beside it, and a ``.md`` of the same name would clash).
+MARKDOWN_FOLDER = "docs/model_files/markdown"
+
+#: The title of each file type's page, in the order of the index.
+TITLES = {
+    "drivetrain": "Drivetrain files",
+    "mechanism": "Mechanism files",
+    "planting_mechanism": "Planting-mechanism files",
+    "support": "Support files (a machine on its supports)",
+    "mount": "Mount files",
+    "gear_pair": "Gear-pair files",
+    "tooth_pair": "Tooth-pair files",
+    "study": "Study files",
+}
+
+_REGENERATE = f"python -m mechdyn.io.reference --markdown {MARKDOWN_FOLDER}"
+
+# Sphinx reads every .md under docs/ (myst); ``orphan`` keeps these pages, which no toctree lists, from
+# being a build warning. The built site's reference is docs/model_files/<type>.rst.
+_FRONT_MATTER = ["---", "orphan: true", "---", ""]
+
+_LITERAL = re.compile(r"``(.+?)``|:[a-z:]+:`(.+?)`|`(.+?)`")
+_ESCAPE = str.maketrans({c: "\\" + c for c in "\\*_|$[]"} | {"<": "&lt;", ">": "&gt;"})
+
+
+def _md(text: str) -> str:
+    """reST text (````x````, ``:mod:`x```, ```x```) as Markdown for a table cell or a paragraph:
+    literals as code spans, the rest escaped so that ``*``, ``_``, ``|`` and ``$`` stay themselves."""
+    out, end = [], 0
+    for m in _LITERAL.finditer(text):
+        out.append(text[end : m.start()].translate(_ESCAPE))
+        code = next(g for g in m.groups() if g is not None).replace("|", "\\|")
+        out.append(f"`{code}`")
+        end = m.end()
+    out.append(text[end:].translate(_ESCAPE))
+    return "".join(out)
+
+
+def _md_default(default: str) -> str:
+    return "**required**" if default == "**required**" else _md(default)
+
+
+def markdown(file_type: str) -> str:
+    """The reference of one file type as a Markdown page: every table with each field's type and unit,
+    default and meaning (what ``mechdyn fields TYPE`` prints and the built site shows).
+
+    Parameters
+    ----------
+    file_type : str
+        A model type (``"drivetrain"``, ``"mechanism"``, …) or ``"study"``.
+
+    Returns
+    -------
+    str
+        The page, generated: ``python -m mechdyn.io.reference --markdown docs/model_files/markdown``
+        writes every type's.
+    """
+    tables, _ = reference(file_type)
+    title = TITLES.get(file_type, f"{file_type} files")
+    first = "a `[study]` table" if file_type == "study" else f'`[model] type = "{file_type}"`'
+    lines = [
+        *_FRONT_MATTER,
+        f"<!-- Generated from the schema that validates the files; do not edit. Regenerate with\n"
+        f"     {_REGENERATE}\n"
+        "     (tests/test_model_templates.py checks that this page is current). -->",
+        "",
+        f"# {title}",
+        "",
+        f'A file with {first}. Every quantity is a string with its unit (`"12 mm"`, `"80.8 GPa"`); a bare '
+        "number is refused where a unit is needed. These tables are generated from the schema that "
+        "validates the files, so they list exactly what the program accepts.",
+        "",
+        f"- `mechdyn new {file_type} FILE` writes a commented template of such a file that loads and runs;",
+        f"- `mechdyn fields {file_type}` prints this reference in the terminal;",
+        "- [every file type](index.md).",
+        "",
+    ]
+    for t in tables:
+        need = "required" if t.required else "optional"
+        each = ", one table per element" if t.is_array else ""
+        lines += [f"## `{t.header}`", "", f"*{need}{each}.* {_md(t.description)}".rstrip(), ""]
+        if t.values:
+            lines += [f"Each entry is `name = value`, the value {_md(t.values)}.", ""]
+            continue
+        if t.fields:
+            lines += ["| field | type | default | meaning |", "|---|---|---|---|"]
+            for f in t.fields:
+                meaning = _md(f.meaning) or "—"
+                lines.append(f"| `{f.name}` | {_md(f.kind)} | {_md_default(f.default)} | {meaning} |")
+            lines.append("")
+    return "\n".join(lines)
+
+
+def markdown_index() -> str:
+    """The index page of the Markdown reference: one link per file type.
+
+    Returns
+    -------
+    str
+        The page (``index.md`` of :data:`MARKDOWN_FOLDER`).
+    """
+    from mechdyn.io.modelfile import _SCHEMAS
+
+    types = [t for t in TITLES if t in _SCHEMAS] + sorted(set(_SCHEMAS) - set(TITLES))
+    lines = [
+        *_FRONT_MATTER,
+        f"<!-- Generated; do not edit. Regenerate with\n     {_REGENERATE} -->",
+        "",
+        "# Model-file reference",
+        "",
+        "Models are TOML files with units in the values. Every file names its type in `[model] type`; a "
+        "study file has a `[study]` table instead. Errors in a file name the file, the table, the field, "
+        "the value and the fix, and list every problem at once.",
+        "",
+        "Each page lists every table and field of one file type with its unit, default and meaning, "
+        "generated from the schema that validates the files. `mechdyn new TYPE FILE` writes a commented "
+        "template that loads and runs; `mechdyn fields TYPE` prints the reference in the terminal.",
+        "",
+        *[f"- [{TITLES.get(t, t)}]({t}.md): `{t}`" for t in types],
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def markdown_pages() -> dict[str, str]:
+    """Every page of the Markdown reference by file name (``index.md``, ``drivetrain.md``, …).
+
+    Returns
+    -------
+    dict of str to str
+        File name → text.
+    """
+    from mechdyn.io.modelfile import _SCHEMAS
+
+    pages = {"index.md": markdown_index()}
+    for file_type in [t for t in TITLES if t in _SCHEMAS] + sorted(set(_SCHEMAS) - set(TITLES)):
+        pages[f"{file_type}.md"] = markdown(file_type)
+    return pages
+
+
+def write_markdown(folder: str | Path) -> list[Path]:
+    """Write the Markdown reference (:func:`markdown_pages`) into ``folder``.
+
+    Parameters
+    ----------
+    folder : str or Path
+        Where to write it (created if missing); :data:`MARKDOWN_FOLDER` in the repository.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    target = Path(folder)
+    target.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, text in markdown_pages().items():
+        path = target / name
+        path.write_text(text, encoding="utf-8")
+        written.append(path)
+    return written
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m mechdyn.io.reference --markdown DIR``: write the Markdown reference.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default: the command line's).
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
+    import argparse
+
+    p = argparse.ArgumentParser(
+        prog="python -m mechdyn.io.reference",
+        description="Write the model-file reference as Markdown, one page per file type.",
+    )
+    p.add_argument("--markdown", metavar="DIR", required=True, help=f"the folder, e.g. {MARKDOWN_FOLDER}")
+    args = p.parse_args(argv)
+    for path in write_markdown(args.markdown):
+        print(path)
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -1,0 +1,193 @@
+"""Saving models built in Python as model files that :func:`mechdyn.load` reads back equal.
+
+Each model class registers a writer (:func:`register_writer`): a function that returns the text of the
+file. Every float is written as its ``repr`` with its SI unit (``"0.02 kg*m^2"``), so reading the file
+back gives the same floats and an equal model. The writers are imported when first used.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from mechdyn.errors import MechdynError
+
+__all__ = ["dumps", "register_writer", "save", "writable_types"]
+
+# "module.Class" of a model -> "module:function" returning the text of its model file
+_WRITERS: dict[str, str] = {
+    "mechdyn.drivetrain.model.Drivetrain": "mechdyn.drivetrain.save:to_toml",
+    "mechdyn.support.model.MountedMachine": "mechdyn.support.save:to_toml",
+    "mechdyn.gears.mesh.GearPair": "mechdyn.gears.save:to_toml",
+}
+
+
+def register_writer(model_class: str, writer: str) -> None:
+    """Register the writer of a model class, for :func:`mechdyn.save`.
+
+    Parameters
+    ----------
+    model_class : str
+        ``"module.Class"`` of the model (``"mechdyn.drivetrain.model.Drivetrain"``); subclasses use it
+        too.
+    writer : str
+        ``"module:function"``; ``function(model, settings, *, path, **options)`` returns the file's
+        text. ``settings`` is the loaded file's record (:attr:`mechdyn.io.LoadedModel.settings`) or
+        None for a model built in Python; ``path`` the file to be written (for relative paths).
+    """
+    _WRITERS[model_class] = writer
+
+
+def writable_types() -> list[str]:
+    """The model classes :func:`mechdyn.save` can write, by name (``"Drivetrain"``, …).
+
+    Returns
+    -------
+    list of str
+        Their class names.
+    """
+    return [name.rpartition(".")[2] for name in _WRITERS]
+
+
+def _writer(model: Any) -> Callable[..., str]:
+    for cls in type(model).__mro__:
+        where = _WRITERS.get(f"{cls.__module__}.{cls.__qualname__}")
+        if where is not None:
+            module, _, func = where.partition(":")
+            writer: Callable[..., str] = getattr(importlib.import_module(module), func)
+            return writer
+    kinds = ", ".join(writable_types())
+    hint = ""
+    if type(model).__name__ == "Mechanism":
+        hint = "; a mechanism's file is written by hand for now (`mechdyn new mechanism` gives a template)"
+    raise MechdynError(
+        f"mechdyn.save: cannot write a {type(model).__module__}.{type(model).__qualname__} to a model file; "
+        f"it writes a {kinds}, or a model loaded with mechdyn.load{hint}"
+    )
+
+
+def dumps(model: Any, *, path: str | Path | None = None, **options: Any) -> str:
+    """The text of the model file of ``model`` (what :func:`save` writes).
+
+    Parameters
+    ----------
+    model : Drivetrain, MountedMachine, GearPair or LoadedModel
+        A model built in Python, or a loaded model file (:func:`mechdyn.load`; its analysis settings
+        are written too).
+    path : str or Path, optional
+        Where the file will be: a file it refers to (a support's mechanism) is named relative to it.
+    **options
+        What the writer of the model's type takes besides the model: ``load`` (a
+        :class:`mechdyn.support.PeriodicLoad`) for a :class:`mechdyn.support.MountedMachine`.
+
+    Returns
+    -------
+    str
+        The TOML text.
+
+    Raises
+    ------
+    MechdynError
+        For a model type that has no writer, naming it and the types that have one.
+    """
+    from mechdyn.io.modelfile import LoadedModel
+
+    settings = None
+    source = None
+    if isinstance(model, LoadedModel):
+        model, settings, source = model.model, model.settings, model.source
+    writer = _writer(model)
+    target = Path(path) if path is not None else Path("model.toml")
+    text = writer(model, settings, path=target, source=source, **options)
+    return text
+
+
+def save(model: Any, path: str | Path, **options: Any) -> Path:
+    """Write a model to a model file that :func:`mechdyn.load` reads back equal.
+
+    Every float is written as its ``repr`` in its SI unit (``inertia = "0.02 kg*m^2"``), so the model
+    that :func:`mechdyn.load` builds from the file equals ``model`` (dataclass equality). A drivetrain's
+    elements come back grouped as the file lists them (shafts, meshes, grounded springs, grounded
+    dampers), each group in the model's order. An existing file is overwritten.
+
+    Parameters
+    ----------
+    model : Drivetrain, MountedMachine, GearPair or LoadedModel
+        A :class:`mechdyn.drivetrain.Drivetrain`; a :class:`mechdyn.support.MountedMachine` with its
+        ``load``; a :class:`mechdyn.gears.GearPair`; or a model file loaded with :func:`mechdyn.load`,
+        whose analysis settings (a drivetrain's ``[campbell]`` and ``[response]``, a support's
+        excitation and ``[analysis]``, a gear pair's ``[mesh]``) are written too.
+    path : str or Path
+        The model file to write (TOML).
+    **options
+        ``load`` (a :class:`mechdyn.support.PeriodicLoad`: a vertical force, or unbalanced rotors) for
+        a :class:`mechdyn.support.MountedMachine` built in Python.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    MechdynError
+        For a model type that cannot be written (a mechanism, for now), naming it and the types that
+        can; for a model the file format cannot hold (a support load with horizontal components
+        that came from no mechanism file, say), saying what it can hold.
+
+    Examples
+    --------
+    >>> import mechdyn
+    >>> from mechdyn.drivetrain import Disk, Drivetrain, Shaft
+    >>> disks = (Disk("motor", 0.02), Disk("load", 0.5))
+    >>> model = Drivetrain(disks, (Shaft("shaft", ("motor", "load"), 2e4),))
+    >>> path = mechdyn.save(model, "two_disks.toml")  # doctest: +SKIP
+    >>> mechdyn.load(path).model == model  # doctest: +SKIP
+    True
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise MechdynError(f"mechdyn.save: {target} is a folder; give the path of the model file to write")
+    if not target.parent.is_dir():
+        raise MechdynError(f"mechdyn.save: {target.parent} is not a folder; create it or give another path")
+    text = dumps(model, path=target, **options)
+    target.write_text(text, encoding="utf-8")
+    return target
+
+
+def model_header(kind: str, name: str, source: Any = None) -> dict[str, Any]:
+    """The ``[model]`` table of a saved file: its type and name, and the description and source of
+    the file it was loaded from, if any.
+
+    Parameters
+    ----------
+    kind : str
+        The ``[model] type``.
+    name : str
+        The model's name.
+    source : ModelSource, optional
+        The file the model was loaded from.
+    """
+    table: dict[str, Any] = {"type": kind, "name": name}
+    if source is not None:
+        given = source.data.get("model", {})
+        for key in ("description", "source"):
+            if given.get(key):
+                table[key] = given[key]
+    return table
+
+
+def written_by(what: str) -> str:
+    """The first comment of a saved file.
+
+    Parameters
+    ----------
+    what : str
+        What the file holds (``"a drivetrain"``).
+    """
+    return (
+        f"{what}, written by mechdyn.save: every quantity in SI, each float written in full\n"
+        "(Python's repr), so that mechdyn.load reads back the same model."
+    )

@@ -1,0 +1,433 @@
+"""The example models of ``mechdyn new``'s templates: for each file type a small sound model (its
+values, written as given), example values for the fields and tables it leaves out (written commented
+out), notes on tables, and the command that runs it.
+
+The values are what a file holds: quantities as strings with their units. Each example is loaded and
+run by the tests (``tests/test_model_templates.py``), so a change to a schema that breaks one shows
+at once. A new file type adds its :class:`TemplateExample` to :data:`EXAMPLES`
+(:func:`register_template_example`); without one its template has placeholders to fill in.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["EXAMPLES", "TemplateExample", "register_template_example"]
+
+
+@dataclass(frozen=True)
+class TemplateExample:
+    """The example model of one file type's template.
+
+    Attributes
+    ----------
+    model : mapping
+        The file's data as written (tables, arrays of tables, values with their units): a small model
+        that loads and whose analysis runs.
+    hints : mapping of str to mapping
+        By table path (``"meshes"``, ``"gear_pairs.pinion"``): example values of fields the model
+        leaves out, written commented out (for a field without a default, or a table not given).
+    notes : mapping of str to str
+        By table path: a comment written above the table (alternatives, what the example chose).
+    run : str
+        The command that runs the file (``FILE`` stands for its path).
+    intro : str
+        What the example model is, for the template's first comment.
+    """
+
+    model: Mapping[str, Any]
+    hints: Mapping[str, Any] = field(default_factory=dict)
+    notes: Mapping[str, str] = field(default_factory=dict)
+    run: str = ""
+    intro: str = ""
+
+
+def register_template_example(file_type: str, example: TemplateExample) -> None:
+    """Give a file type's template its example model.
+
+    Parameters
+    ----------
+    file_type : str
+        The ``[model] type`` (or ``"study"``).
+    example : TemplateExample
+        The example model, hints and notes.
+    """
+    EXAMPLES[file_type] = example
+
+
+_GEAR_EXTRAS = {
+    "bore_diameter": "30 mm",
+    "rim_thickness": "6 mm",
+    "web_width": "6 mm",
+    "youngs_modulus": "206 GPa",
+    "poisson_ratio": 0.3,
+}
+
+_DRIVETRAIN = TemplateExample(
+    intro="The example: a motor driving a load disk through a shaft (two disks, one shaft), with the "
+    "tables of the Campbell diagram and the forced response. A gear mesh, gear data, grounded springs "
+    "and dampers are shown commented out.",
+    run="mechdyn modal FILE   (also: mechdyn campbell FILE, mechdyn frf FILE)",
+    model={
+        "model": {
+            "type": "drivetrain",
+            "name": "two-disk drivetrain",
+            "description": "a motor driving a load disk through a shaft (template of mechdyn new)",
+        },
+        "disks": [
+            {"name": "motor", "inertia": "0.02 kg*m^2"},
+            {"name": "load", "inertia": "0.5 kg*m^2"},
+        ],
+        "shafts": [{"name": "shaft", "disks": ["motor", "load"], "stiffness": "2e4 N*m/rad"}],
+        "campbell": {"speed_range": ["0 rpm", "3000 rpm"], "reference_disk": "motor", "shaft_orders": [1, 2]},
+        "response": {
+            "excitation": [{"disk": "motor", "amplitude": "10 N*m"}],
+            "frequency_range": ["1 Hz", "500 Hz"],
+            "points": 500,
+            "outputs": ["motor", "load"],
+            "modal_damping": 0.02,
+        },
+    },
+    hints={
+        "model": {"source": "the drawing, a publication or a measurement"},
+        "material": {"density": "7850 kg/m^3", "shear_modulus": "80 GPa"},
+        "disks": {"thickness": "20 mm", "outer_diameter": "200 mm", "density": "7850 kg/m^3"},
+        "shafts": {
+            "length": "500 mm",
+            "diameter": "30 mm",
+            "shear_modulus": "80 GPa",
+            "damping": "0 N*m*s/rad",
+        },
+        "meshes": {
+            "name": "mesh",
+            "disks": ["load", "output"],
+            "kind": "external",
+            "teeth": [20, 60],
+            "ratio": 3.0,
+            "base_radii": ["18.79 mm", "56.38 mm"],
+            "stiffness": "3e8 N/m",
+            "gear_pair": "pair",
+        },
+        "gear_pairs": {"name": "pair", "center_distance": "80 mm"},
+        "gear_pairs.pinion": {"teeth": 20, "module": "2 mm", "face_width": "20 mm", **_GEAR_EXTRAS},
+        "gear_pairs.gear": {"teeth": 60, "module": "2 mm", "face_width": "20 mm", **_GEAR_EXTRAS},
+        "ground_springs": {"name": "coupling", "disk": "motor", "stiffness": "1e3 N*m/rad"},
+        "ground_dampers": {"name": "drag", "disk": "load", "damping": "0.5 N*m*s/rad"},
+        "response.rayleigh": {"alpha": "0.5 1/s", "beta": "1e-5 s"},
+    },
+    notes={
+        "disks": "Each disk by its inertia, or by its geometry (thickness and outer_diameter, with a "
+        "density here or in [material]).",
+        "meshes": "A mesh by its teeth or ratio (rigid), with base_radii and stiffness (flexible), or by "
+        "gear_pair = the name of a [[gear_pairs]] row. A mesh needs both its disks: add a [[disks]] "
+        'row "output" before uncommenting this one.',
+    },
+)
+
+_FOURBAR_POINTS = {
+    "O2": ["0 mm", "0 mm"],
+    "A": ["25.000000 mm", "43.301270 mm"],
+    "B": ["194.608480 mm", "149.286946 mm"],
+    "O4": ["180 mm", "0 mm"],
+}
+
+_MECHANISM = TemplateExample(
+    intro="The example: a crank-rocker four-bar (crank 50 mm, coupler 200 mm, rocker 150 mm, frame "
+    "180 mm), the crank drawn at 60° on the open branch, turning at 12 rad/s, with gravity along -y.",
+    run="mechdyn mechanism FILE",
+    model={
+        "model": {"type": "mechanism", "name": "crank-rocker four-bar"},
+        "points": _FOURBAR_POINTS,
+        "bodies": [
+            {"name": "crank", "points": ["O2", "A"], "mass": "0.3 kg", "inertia": "6.25e-5 kg*m^2"},
+            {"name": "coupler", "points": ["A", "B"], "mass": "1.2 kg", "inertia": "4.0e-3 kg*m^2"},
+            {"name": "rocker", "points": ["B", "O4"], "mass": "0.9 kg", "inertia": "1.6875e-3 kg*m^2"},
+        ],
+        "joints": [
+            {"name": "O2", "type": "revolute", "bodies": ["ground", "crank"], "point": "O2"},
+            {"name": "A", "type": "revolute", "bodies": ["crank", "coupler"], "point": "A"},
+            {"name": "B", "type": "revolute", "bodies": ["coupler", "rocker"], "point": "B"},
+            {"name": "O4", "type": "revolute", "bodies": ["rocker", "ground"], "point": "O4"},
+        ],
+        "driver": {"body": "crank", "pivot": "O2", "tip": "A", "speed": "12 rad/s"},
+        "settings": {"gravity": ["0 m/s^2", "-9.81 m/s^2"], "trace": ["B"]},
+    },
+    hints={
+        "model": {"source": "the drawing"},
+        "bodies": {"center_of_mass": ["12.5 mm", "21.65 mm"]},
+        "joints": {"axis": "90 deg", "points": ["P1", "P2"]},
+        "joints.pitch": {
+            "kind": "circle",
+            "radius": "closing",
+            "eccentricity_ratio": 0.13,
+            "semi_major": "closing",
+            "radii": ["20 mm", "22 mm", "24 mm", "22 mm"],
+        },
+        "driver": {"speed_profile": [["0 deg", "12 rad/s"], ["180 deg", "14 rad/s"]]},
+        "settings": {"output": ["rocker", "B"], "field_velocity": ["0.5 m/s", "0 m/s"]},
+        "process_forces": {
+            "body": "rocker",
+            "point": "B",
+            "direction": "-90 deg",
+            "versus": "angle",
+            "table": [["0 deg", "0 N"], ["180 deg", "100 N"], ["359 deg", "0 N"]],
+        },
+    },
+    notes={
+        "joints": "point and axis belong to revolute and prismatic joints; points, carrier, pitch, "
+        "orientation, pressure_angle, internal and flank to a gear joint.",
+    },
+)
+
+_PLANTER = TemplateExample(
+    intro="The example: the published rotary planting mechanism RP-1 as it is (every design variable "
+    "at its default); change a variable to study a variant.",
+    run="mechdyn mechanism FILE",
+    model={"model": {"type": "planting_mechanism", "name": "rotary planting mechanism"}},
+    hints={"settings": {"field_velocity": ["0.6 m/s", "0 m/s"]}},
+)
+
+_SUPPORT = TemplateExample(
+    intro="The example: a 2 t machine on four mounts, loaded by a vertical force given by its "
+    "harmonics, so that the file stands alone.",
+    run="mechdyn support FILE",
+    model={
+        "model": {"type": "support", "name": "machine on four mounts"},
+        "machine": {
+            "mass": "2000 kg",
+            "center_of_mass": ["0 m", "0 m", "0.6 m"],
+            "inertia": ["400 kg*m^2", "600 kg*m^2", "500 kg*m^2"],
+        },
+        "mounts": [
+            {
+                "name": name,
+                "position": [x, y, "0 m"],
+                "stiffness": ["1e6 N/m", "1e6 N/m", "4e6 N/m"],
+                "damping": ["2e3 N*s/m", "2e3 N*s/m", "4e3 N*s/m"],
+            }
+            for name, x, y in (
+                ("front left", "-0.8 m", "-0.5 m"),
+                ("front right", "0.8 m", "-0.5 m"),
+                ("rear left", "-0.8 m", "0.5 m"),
+                ("rear right", "0.8 m", "0.5 m"),
+            )
+        ],
+        "excitation": {"period": "0.04 s", "harmonics": [[1, "5 kN", "0 deg"], [2, "1 kN", "90 deg"]]},
+    },
+    hints={
+        "model": {"source": "the drawing"},
+        "support": {"stiffness": "1.6e7 N/m", "damping_ratio": 0.05},
+        "mounts": {
+            "mount": "pad.toml",
+            "estimate": {"pad": {"shore_a": 60, "diameter": "100 mm", "thickness": "12.5 mm"}},
+            "lateral_stiffness": "1e6 N/m",
+        },
+        "excitation": {
+            "mechanism": "mechanism.toml",
+            "angles": 360,
+            "x_axis": [0, 0, -1],
+            "y_axis": [1, 0, 0],
+            "force_z": ["0 kN", "5 kN", "0 kN", "-5 kN"],
+            "speed_range": ["0 rpm", "3000 rpm"],
+        },
+        "excitation.rotors": {
+            "name": "fan",
+            "unbalance": "0.02 kg*m",
+            "speed": "1480 rpm",
+            "axis": "y",
+            "position": ["0 m", "0 m", "0.6 m"],
+        },
+    },
+    notes={
+        "support": "The machine stands on [support] (one degree of freedom: stiffness and damping ratio) "
+        "or on [[mounts]], one of the two: this template gives mounts.",
+        "mounts": "A mount's stiffness as numbers (stiffness), from its drawing in a mount file (mount = "
+        "a mount file, relative to this one) or inline (estimate = {pad = {...}}): exactly one.",
+        "excitation": "The load: exactly one of mechanism (a mechanism model file, relative to this one: "
+        "its shaking force and moment, placed by origin, x_axis and y_axis), force_z (samples over one "
+        "period), harmonics ([order, amplitude, phase] rows) or [[excitation.rotors]] (unbalanced "
+        "rotors). This template gives harmonics so that it stands alone; for a mechanism's load write "
+        'mechanism = "press.toml" instead (mechdyn new mechanism press.toml writes one).',
+    },
+)
+
+_MOUNT = TemplateExample(
+    intro="The example: a bonded Shore-60 rubber disc pad (100 mm across, 12.5 mm thick) under a "
+    "10 kN load disturbed at 50 Hz.",
+    run="mechdyn mount FILE",
+    model={
+        "model": {"type": "mount", "name": "Shore 60 pad"},
+        "pad": {"shore_a": 60, "diameter": "100 mm", "thickness": "12.5 mm"},
+        "load": {"weight": "10 kN", "disturbing_frequency": "50 Hz"},
+    },
+    hints={
+        "model": {"source": "the drawing"},
+        "materials": {"files": ["my_materials.toml"]},
+        "pad": {
+            "material": "rubber shore 60",
+            "length": "150 mm",
+            "width": "100 mm",
+            "compression_coefficient": 0.6,
+        },
+        "bolted": {
+            "diameter": "20 mm",
+            "head_diameter": "30 mm",
+            "lower_bearing_diameter": "30 mm",
+            "hole_diameter": "22 mm",
+            "stress_area": "245 mm^2",
+            "outer_diameter": "60 mm",
+            "pitch": "2.5 mm",
+            "thread_length": "10 mm",
+        },
+        "bolted.layers": {"thickness": "25 mm", "material": "steel"},
+        "wedge": {"bearing_area": "0.01 m^2", "height": "60 mm", "catalogue_stiffness": "2e9 N/m"},
+        "screw_foot": {
+            "diameter": "24 mm",
+            "free_length": "80 mm",
+            "base_stiffness": "5e8 N/m",
+            "pitch": "3 mm",
+        },
+        "damping_pad": {
+            "material": "rubber shore 50",
+            "shore_a": 50,
+            "thickness": "10 mm",
+            "length": "120 mm",
+            "width": "80 mm",
+            "diameter": "80 mm",
+            "compression_coefficient": 0.6,
+        },
+        "spring": {"wire_diameter": "8 mm", "coil_diameter": "50 mm", "active_coils": 6},
+        "fe": {
+            "preloads": ["20 kN"],
+            "pressure_threshold": "1.7 MPa",
+            "plate_radius": "75 mm",
+            "concrete_radius": "180 mm",
+        },
+        "load": {"loss_factor": 0.1},
+        "calibration": {
+            "reference": "measured",
+            "measured_stiffness": "5e6 N/m",
+            "frf_csv": "mount_frf.csv",
+            "provenance": "bench test",
+        },
+    },
+    notes={
+        "pad": "The mount is one of [pad], [bolted], [wedge], [screw_foot], [damping_pad] or [spring]: "
+        "this template gives a pad; to describe another, comment the pad out and uncomment that one.",
+        "fe": "The finite-element reference of a pad or an anchor (it takes a while): uncomment [fe] to "
+        "compute it.",
+    },
+)
+
+_GEAR_PAIR = TemplateExample(
+    intro="The example: a standard 20° steel spur pair, module 2 mm, 20/40 teeth, face width 20 mm.",
+    run="mechdyn gear FILE",
+    model={
+        "model": {"type": "gear_pair", "name": "spur pair m 2, z 20/40"},
+        "pinion": {"teeth": 20, "module": "2 mm", "face_width": "20 mm", "bore_diameter": "20 mm"},
+        "gear": {"teeth": 40, "module": "2 mm", "face_width": "20 mm", "bore_diameter": "40 mm"},
+        "mesh": {"points": 100},
+    },
+    hints={
+        "model": {"source": "the gear drawing"},
+        "pinion": {
+            "rim_thickness": "8 mm",
+            "web_width": "8 mm",
+            "youngs_modulus": "206 GPa",
+            "poisson_ratio": 0.3,
+        },
+        "gear": {
+            "rim_thickness": "8 mm",
+            "web_width": "8 mm",
+            "youngs_modulus": "206 GPa",
+            "poisson_ratio": 0.3,
+        },
+        "mesh": {"center_distance": "60 mm"},
+    },
+)
+
+_TOOTH = {
+    "tip_height": "4.025 mm",
+    "root_height": "0.525 mm",
+    "load_height": "2.275 mm",
+    "tip_thickness": "2.749 mm",
+    "root_thickness": "3.073 mm",
+}
+
+_TOOTH_PAIR = TemplateExample(
+    intro="The example: two equal truncated-triangle steel teeth, loaded at mid-height at 20°, "
+    "face width 50 mm.",
+    run="mechdyn gear FILE",
+    model={
+        "model": {"type": "tooth_pair", "name": "tooth pair"},
+        "load": {"load_angle": "20 deg", "face_width": "50 mm"},
+        "pinion": dict(_TOOTH),
+        "gear": dict(_TOOTH),
+    },
+    hints={
+        "model": {"source": "the publication"},
+        "pinion": {"root_radius": "30 mm", "bore_radius": "10 mm"},
+        "gear": {"root_radius": "60 mm", "bore_radius": "20 mm"},
+        "published": {"mesh_stiffness": "2.7e9 N/m", "note": "printed in table 2"},
+    },
+)
+
+_STUDY = TemplateExample(
+    intro="The example: the two-disk drivetrain of `mechdyn new drivetrain`, its shaft 20 % softer and "
+    "stiffer and its load disk 20 % lighter and heavier, one at a time, watching its natural "
+    "frequencies.",
+    run="mechdyn study FILE, with its model next to it (mechdyn new drivetrain drivetrain.toml writes it)",
+    model={
+        "study": {
+            "name": "two-disk drivetrain, one at a time",
+            "kind": "oat",
+            "model": "drivetrain.toml",
+            "analysis": "modal",
+        },
+        "parameters": [
+            {"path": "shafts.shaft.stiffness", "levels": ["-20 %", "+20 %"]},
+            {"path": "disks.load.inertia", "name": "load inertia", "levels": ["-20 %", "+20 %"]},
+        ],
+        "outputs": [{"output": "frequencies_hz.1", "unit": "Hz"}],
+    },
+    hints={
+        "study": {"samples": 64, "population": 20, "boxes": ["±10 %", "±20 %"], "options": {"modes": 3}},
+        "parameters": {"name": "shaft stiffness", "range": "±10 %", "tie": ["disks.motor.inertia"]},
+        "objectives": {"output": "frequencies_hz.1", "unit": "Hz", "goal": "maximize"},
+        "constraints": {
+            "output": "frequencies_hz.1",
+            "unit": "Hz",
+            "max": 300,
+            "min": 100,
+            "equals": 150,
+            "tolerance": 1,
+        },
+        "targets": {
+            "output": "frequencies_hz.1",
+            "unit": "Hz",
+            "max": 300,
+            "min": 100,
+            "equals": 150,
+            "tolerance": 1,
+        },
+    },
+    notes={
+        "study": "model is the base model file, relative to this study file: `mechdyn new drivetrain "
+        "drivetrain.toml` writes the one this template studies. `mechdyn study --paths MODEL` lists "
+        "the values a parameter's path may name.",
+    },
+)
+
+EXAMPLES: dict[str, TemplateExample] = {
+    "drivetrain": _DRIVETRAIN,
+    "mechanism": _MECHANISM,
+    "planting_mechanism": _PLANTER,
+    "support": _SUPPORT,
+    "mount": _MOUNT,
+    "gear_pair": _GEAR_PAIR,
+    "tooth_pair": _TOOTH_PAIR,
+    "study": _STUDY,
+}
+"""The example of each file type's template, by type."""
