@@ -169,6 +169,9 @@ class Analysis:
     headline : tuple of str
         The few summary keys a report names first (a press's stroke, peak torque and shaking force);
         keys a result does not have are passed over.
+    animates : bool
+        Its result has ``animate(path, frames=…)`` (a linkage over one crank cycle): the command takes
+        ``--animate PATH`` and the report shows the animation.
     """
 
     name: str
@@ -182,6 +185,7 @@ class Analysis:
     model_noun: str = ""
     batch: Callable[..., Any] | None = None
     headline: tuple[str, ...] = ()
+    animates: bool = False
 
     @property
     def output_units(self) -> dict[str, str]:

@@ -96,6 +96,19 @@ def _display_unit(si: str, kind: str) -> Callable[[str], str]:
     return parse
 
 
+def _animation_path(text: str) -> str:
+    """An argparse type: a file an animation can be written to (.gif, or .mp4 with ffmpeg), else a
+    message saying what to give instead."""
+    from mechdyn.errors import MechdynError
+    from mechdyn.mechanism.animation import check_animation_path
+
+    try:
+        check_animation_path(text)
+    except MechdynError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text
+
+
 def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> None:
     """Add ``mechdyn NAME``: the common options, then the analysis' own."""
     epilog = None
@@ -112,6 +125,22 @@ def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> 
     p.add_argument("file", help=f"model file (TOML, {types})")
     p.add_argument("--json", action="store_true", help="print a machine-readable summary (JSON) on stdout")
     p.add_argument("--plots", metavar="DIR", help="write the plots (PNG) into DIR")
+    if analysis.animates:  # its result draws the linkage over a crank cycle
+        p.add_argument(
+            "--animate",
+            metavar="PATH",
+            type=_animation_path,
+            help="write the linkage animated over one crank cycle to PATH: a .gif, or an .mp4 where "
+            "ffmpeg is installed",
+        )
+        p.add_argument(
+            "--animate-frames",
+            metavar="N",
+            type=_number(Option("animate_frames", "int", "", minimum=1), int),
+            default=72,
+            help="frames of the animation: equally spaced crank angles, at most one per angle analysed "
+            "(default: 72, one per 5 deg)",
+        )
     p.add_argument("--csv", metavar="FILE", help="write the result table (columns named with their units)")
     p.add_argument("--report", metavar="FILE", help="write a self-contained HTML report of the run")
     p.add_argument(
@@ -138,7 +167,8 @@ def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> 
 
 
 def run(args: argparse.Namespace, analysis: Analysis) -> int:
-    """Load ``args.file``, run the analysis, store the run, print a table or JSON, write plots."""
+    """Load ``args.file``, run the analysis, store the run, print a table or JSON, write plots (and an
+    animation, for a linkage)."""
     from mechdyn.errors import MechdynError, ModelFileError
     from mechdyn.io.modelfile import load_model
     from mechdyn.store import ResultStore
@@ -194,6 +224,11 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         with _writing(args.plots, "the plots", run_id, failed):
             for name, make in result.plots().items():
                 plot_files.append(str(save_figure(make(), Path(args.plots) / name)))
+    animation_file = None
+    if getattr(args, "animate", None):
+        with _writing(args.animate, "the animation", run_id, failed):
+            result.animate(args.animate, frames=args.animate_frames)
+            animation_file = args.animate
     report_file = None
     if args.report:
         from mechdyn.reports.html import run_report, write
@@ -235,6 +270,8 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         print_table(t)
     for p in plot_files:
         print(f"plot: {p}")
+    if animation_file:
+        print(f"animation: {animation_file}")
     if report_file:
         print(f"report: {report_file}")
     if run_id is not None:

@@ -50,6 +50,7 @@ register(
         "kinematics and inverse dynamics of a planar mechanism",
         headline=("stroke_m", "driving_torque_peak_Nm", "shaking_force_max_N", "inertia_force_max_N"),
         batch=_mechanism_batch,
+        animates=True,
         options=(
             Option("angles", "int", "crank angles per revolution (default: the file's, else 360)", minimum=3),
         ),
@@ -114,6 +115,7 @@ register(
         examples=(
             "mechdyn mechanism examples/press_link_drive.toml --plots plots --csv press.csv",
             "mechdyn mechanism examples/transplanter_rp1.toml --angles 72 --json",
+            "mechdyn mechanism examples/fourbar.toml --animate fourbar.gif",
         ),
     )
 )

@@ -23,6 +23,8 @@ from mechdyn.mechanism.motion import mechanism_dyads, motion_columns, rocker_lin
 from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
+    from pathlib import Path
+
     import pandas as pd
 
 __all__ = ["DynamicsResult", "inverse_dynamics"]
@@ -375,6 +377,41 @@ class DynamicsResult(Result):
         if self.trace:
             out["trajectory.png"] = lambda: mp.plot_trajectory(self, list(self.trace), self.field_velocity)
         return out
+
+    def animate(
+        self, path: str | Path | None = None, frames: int = 72, *, period: float = 4.8, dpi: int = 80
+    ) -> Any:
+        """The linkage animated over one crank cycle, written to ``path`` when one is given.
+
+        The links as the frame sheet draws them, the frame's pivots and guides, the coupler curves
+        traced as the crank turns and the crank angle, on equal axes in mm whose limits hold the whole
+        motion (:func:`mechdyn.mechanism.animation.animate`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            A ``.gif`` (written with Pillow) or an ``.mp4`` (needs ffmpeg).
+        frames : int
+            Number of frames (count): equally spaced crank angles, at most one per sampled angle.
+        period : float
+            Playing time of one crank cycle, s.
+        dpi : int
+            Resolution, dots per inch (the figure is 5 inches wide).
+
+        Returns
+        -------
+        matplotlib.animation.FuncAnimation
+            Showing the first frame; with a ``path``, written and its figure closed.
+
+        Raises
+        ------
+        MechdynError
+            For a path that is not a ``.gif`` or ``.mp4``, or an ``.mp4`` where ffmpeg is not
+            installed (before anything is drawn).
+        """
+        from mechdyn.mechanism.animation import animate
+
+        return animate(self, path, frames, period=period, dpi=dpi)
 
     def to_frame(self) -> pd.DataFrame:
         """Per-angle table; every column names its unit."""

@@ -127,12 +127,13 @@ def _mm(value: Any) -> Any:
     return convert(value, "m", "mm")
 
 
-def _pitch_circles(result: DynamicsResult, i: int) -> list[tuple[np.ndarray, float, float]]:
-    """Each gear pair at frame ``i``: (centre, mean pitch radius) of both gears, m, from the rolling
-    law at the drawing's centre distance."""
+def _pitch_circles(result: DynamicsResult) -> list[tuple[np.ndarray, float]]:
+    """Both gears of every gear pair: (centre over the cycle (N, 2), mean pitch radius), m, from the
+    rolling law at the drawing's centre distance."""
     m, k = result.mechanism, result.kinematics
     out = []
     grid = 2 * np.pi * np.arange(360) / 360
+    N = k.angle.size
     for j in m.joints:
         law = m.gear_laws.get(j.name)
         if law is None:
@@ -140,15 +141,131 @@ def _pitch_circles(result: DynamicsResult, i: int) -> list[tuple[np.ndarray, flo
         pivots = cast("GearJoint", j).points  # a joint with a rolling law is a gear pair
         carrier = getattr(j, "carrier", "ground")
         centres = [
-            np.asarray(m.points[p], dtype=float) if carrier == "ground" else k.point(carrier, p)[0][i]
+            np.tile(np.asarray(m.points[p], dtype=float), (N, 1))
+            if carrier == "ground"
+            else k.point(carrier, p)[0]
             for p in pivots
         ]
         r1 = float(np.mean(law.contact_radius(grid)[0]))
         a = float(np.linalg.norm(np.asarray(m.points[pivots[1]]) - np.asarray(m.points[pivots[0]])))
         internal = bool(getattr(j, "internal", False))
         r2 = r1 + a if internal else a - r1
-        out += [(centres[0], r1, 0.0), (centres[1], r2, 0.0)]
+        out += [(centres[0], r1), (centres[1], r2)]
     return out
+
+
+def linkage_tracks(result: DynamicsResult) -> dict[tuple[str, str], np.ndarray]:
+    """Every body's points over the cycle: (body, point) → (N, 2) positions, mm.
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle.
+    """
+    k = result.kinematics
+    return {(b.name, p): _mm(k.point(b.name, p)[0]) for b in result.mechanism.bodies for p in b.points}
+
+
+def linkage_view(
+    result: DynamicsResult, tracks: dict[tuple[str, str], np.ndarray], *extra: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """The box that holds the whole motion: lower and upper corners and a margin, mm.
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle (its drawing's points are inside too).
+    tracks : dict
+        :func:`linkage_tracks`, mm.
+    *extra : ndarray
+        Further (N, 2) paths to keep in view (coupler curves), mm.
+    """
+    points = _mm(np.array(list(result.mechanism.points.values()), dtype=float))
+    allpts = np.concatenate([*tracks.values(), points, *extra])
+    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    return lo, hi, 0.08 * float((hi - lo).max())
+
+
+def draw_frame_marks(ax: Any, result: DynamicsResult, reach: float, zorder: float | None = None) -> None:
+    """The frame's pivots (▲) and guides (dashed lines ``reach`` mm either side of their point), mm.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Axes in mm.
+    result : DynamicsResult
+        The cycle.
+    reach : float
+        Half the length of a guide's line, mm.
+    zorder : float, optional
+        Drawing order of the marks (matplotlib's default when None).
+    """
+    m = result.mechanism
+    z = {} if zorder is None else {"zorder": zorder}
+    for j in m.joints:
+        if "ground" not in j.bodies or getattr(j, "point", None) is None:
+            continue
+        p = _mm(np.asarray(m.points[j.point]))
+        if j.slides:  # a guide: its line on the frame
+            axis = getattr(j, "axis", 0.0)
+            u = np.array([np.cos(axis), np.sin(axis)]) * reach
+            ax.plot(*np.stack([p - u, p + u]).T, "k--", lw=0.8, **z)
+        else:
+            ax.plot(p[0], p[1], "k^", ms=6, **z)
+
+
+class LinkagePose:
+    """The linkage drawn at one crank angle: each link in its colour (a line through its points, closed
+    round a link of three or more), the gears' pitch circles dotted, lengths in mm. :meth:`show` moves
+    the same artists to another angle: the frame sheet draws one pose per panel, the animation moves
+    one pose round the cycle.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Axes in mm.
+    result : DynamicsResult
+        The cycle.
+    tracks : dict, optional
+        :func:`linkage_tracks` (mm), to share between poses.
+    """
+
+    def __init__(
+        self, ax: Any, result: DynamicsResult, tracks: dict[tuple[str, str], np.ndarray] | None = None
+    ):
+        self.tracks = linkage_tracks(result) if tracks is None else tracks
+        self.links = [
+            (b, ax.plot([], [], "-o", color=f"C{n % 10}", ms=3, lw=2, label=b.name)[0])
+            for n, b in enumerate(result.mechanism.bodies)
+        ]
+        self.circles = [
+            (_mm(centre), float(_mm(radius)), ax.plot([], [], ":", color="0.4", lw=0.9)[0])
+            for centre, radius in _pitch_circles(result)
+        ]
+        self._theta = np.linspace(0, 2 * np.pi, 120)
+
+    @property
+    def artists(self) -> list[Any]:
+        """The lines drawn: the links', then the pitch circles'."""
+        return [line for _, line in self.links] + [line for *_, line in self.circles]
+
+    def show(self, i: int) -> list[Any]:
+        """Move the linkage to sample ``i`` of the cycle; returns the artists it changed.
+
+        Parameters
+        ----------
+        i : int
+            Index of the crank angle (count, into the result's arrays).
+        """
+        for b, line in self.links:
+            pts = np.array([self.tracks[(b.name, p)][i] for p in b.points])
+            closed = np.vstack([pts, pts[:1]]) if len(pts) > 2 else pts
+            line.set_data(closed[:, 0], closed[:, 1])
+        for centre, radius, line in self.circles:
+            line.set_data(
+                centre[i, 0] + radius * np.cos(self._theta), centre[i, 1] + radius * np.sin(self._theta)
+            )
+        return self.artists
 
 
 def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any:
@@ -170,7 +287,6 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
         The first panel (its ``figure`` holds them all).
     """
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
 
     m, k = result.mechanism, result.kinematics
     cols = 4
@@ -179,36 +295,11 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
         rows, cols, figsize=(3.2 * cols, 2.8 * rows + 0.8), layout="constrained", sharex=True, sharey=True
     )
     idx = np.linspace(0, len(k.angle), frames, endpoint=False).astype(int)
-    # every body's points over the cycle, to fix the view (mm)
-    tracks = {(b.name, p): _mm(k.point(b.name, p)[0]) for b in m.bodies for p in b.points}
-    allpts = np.concatenate([*list(tracks.values()), _mm(np.array(list(m.points.values())))])
-    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
-    pad = 0.08 * (hi - lo).max()
-    theta = np.linspace(0, 2 * np.pi, 120)
+    tracks = linkage_tracks(result)  # every body's points over the cycle, to fix the view (mm)
+    lo, hi, pad = linkage_view(result, tracks)
     for a, i in zip(np.ravel(axes), idx, strict=False):
-        for n, b in enumerate(m.bodies):
-            pts = np.array([tracks[(b.name, p)][i] for p in b.points])
-            closed = np.vstack([pts, pts[:1]]) if len(pts) > 2 else pts
-            a.plot(closed[:, 0], closed[:, 1], "-o", color=f"C{n % 10}", ms=3, lw=2)
-        for centre, radius, _ in _pitch_circles(result, i):
-            c = _mm(centre)
-            a.plot(
-                c[0] + _mm(radius) * np.cos(theta),
-                c[1] + _mm(radius) * np.sin(theta),
-                ":",
-                color="0.4",
-                lw=0.9,
-            )
-        for j in m.joints:
-            if "ground" not in j.bodies or getattr(j, "point", None) is None:
-                continue
-            p = _mm(np.asarray(m.points[j.point]))
-            if j.slides:  # a guide: its line on the frame
-                axis = getattr(j, "axis", 0.0)
-                u = np.array([np.cos(axis), np.sin(axis)]) * (hi - lo).max()
-                a.plot(*np.stack([p - u, p + u]).T, "k--", lw=0.8)
-            else:
-                a.plot(p[0], p[1], "k^", ms=6)
+        LinkagePose(a, result, tracks).show(i)
+        draw_frame_marks(a, result, float((hi - lo).max()))
         a.set_xlim(lo[0] - pad, hi[0] + pad)
         a.set_ylim(lo[1] - pad, hi[1] + pad)
         a.set_aspect("equal")
@@ -221,16 +312,33 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
         a.set_xlabel("x (mm)", fontsize="small")
     for a in axes[:, 0]:
         a.set_ylabel("y (mm)", fontsize="small")
-    handles = [Line2D([], [], color=f"C{n % 10}", lw=2, marker="o", ms=3) for n in range(len(m.bodies))]
+    handles, labels = linkage_legend(result)
+    fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 6), fontsize="small")
+    fig.suptitle(f"{m.name}: the mechanism over one revolution")
+    return np.ravel(axes)[0]
+
+
+def linkage_legend(result: DynamicsResult) -> tuple[list[Any], list[str]]:
+    """Legend entries of a drawn linkage: each link in its colour, the frame's pivot, the pitch circles.
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        The cycle.
+    """
+    from matplotlib.lines import Line2D
+
+    m = result.mechanism
+    handles: list[Any] = [
+        Line2D([], [], color=f"C{n % 10}", lw=2, marker="o", ms=3) for n in range(len(m.bodies))
+    ]
     labels = [b.name for b in m.bodies]
     handles.append(Line2D([], [], color="k", marker="^", ls="none"))
     labels.append("frame pivot")
     if m.gear_laws:
         handles.append(Line2D([], [], color="0.4", ls=":"))
         labels.append("pitch circle (mean)")
-    fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 6), fontsize="small")
-    fig.suptitle(f"{m.name}: the mechanism over one revolution")
-    return np.ravel(axes)[0]
+    return handles, labels
 
 
 def plot_joint_forces(result: DynamicsResult, joints: list[str] | None = None, ax: Any = None) -> Any:
@@ -405,16 +513,7 @@ def plot_coupler_curves(result: DynamicsResult, ax: Any = None) -> Any:
         ax.plot(closed[:, 0], closed[:, 1], "-o", color="0.65", ms=3, lw=2, zorder=1)
     curves = {label: _mm(path) for label, path in coupler_points(result).items()}
     reach = max((float(np.ptp(c, axis=0).max()) for c in curves.values()), default=0.0)
-    for j in m.joints:  # the frame's pivots (▲) and guides (dashed)
-        if "ground" not in j.bodies or getattr(j, "point", None) is None:
-            continue
-        p = _mm(np.asarray(m.points[j.point]))
-        if j.slides:
-            axis = getattr(j, "axis", 0.0)
-            u = np.array([np.cos(axis), np.sin(axis)]) * 0.3 * max(reach, 1.0)
-            ax.plot(*np.stack([p - u, p + u]).T, "k--", lw=0.8, zorder=2)
-        else:
-            ax.plot(p[0], p[1], "k^", ms=6, zorder=2)
+    draw_frame_marks(ax, result, 0.3 * max(reach, 1.0), zorder=2)  # pivots (▲), guides (dashed)
     placed: list[np.ndarray] = []
     step = max(1, len(k.angle) // 12)
     for n, (label, c) in enumerate(curves.items()):

@@ -1,6 +1,7 @@
 """Self-contained HTML reports of an analysis run or a design study.
 
-One file: the plots embedded as PNG (base64), the styles inline, nothing fetched when it is opened.
+One file: the plots embedded as PNG (base64), a linkage's animation as a GIF, the styles inline,
+nothing fetched when it is opened.
 Rendered by Jinja2 with autoescaping, so that everything that comes from a model file or a user (a
 model's name, a warning, the model file itself) shows as text.
 """
@@ -29,6 +30,8 @@ __all__ = [
     "write",
 ]
 
+ANIMATION_FRAMES = 72  # frames of a report's animation: one per 5° of crank angle
+
 # summary keys that record a check the analysis ran (a residual, a deviation, a convergence figure)
 _CHECK_WORDS = ("residual", "deviation", "convergence", "rigid_body_modes", "richardson", "error_relative")
 
@@ -50,7 +53,8 @@ class HtmlTable:
 @dataclass
 class Figure:
     caption: str
-    png: str  # base64
+    data: str  # base64
+    mime: str = "image/png"
 
 
 @dataclass
@@ -150,6 +154,21 @@ def _figures(plots: Mapping[str, Callable[[], Any]]) -> list[Figure]:
     return [Figure(Path(name).stem.replace("_", " "), _png(make)) for name, make in plots.items()]
 
 
+def _animations(result: Any) -> list[Figure]:
+    """A result that animates (a linkage over its crank cycle, ``result.animate(path, frames)``): its
+    animation as a GIF; any other result: none, at no cost."""
+    animate = getattr(result, "animate", None)
+    if not callable(animate):
+        return []
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        gif = Path(folder) / "animation.gif"
+        animate(gif, frames=ANIMATION_FRAMES)
+        data = base64.b64encode(gif.read_bytes()).decode("ascii")
+    return [Figure("the linkage over one crank cycle (animated)", data, "image/gif")]
+
+
 def headline(summary: Mapping[str, Any], keys: Sequence[str]) -> list[str]:
     """What a reviewer reads first: the figures that matter (``keys``, an analysis' ``headline``), each
     in words and readable units, then the checks the result passed with their figure.
@@ -212,7 +231,8 @@ def run_report(
     Parameters
     ----------
     result : Result
-        The analysis' result (:mod:`mechdyn.results`): its summary, tables and plots are shown.
+        The analysis' result (:mod:`mechdyn.results`): its summary, tables and plots are shown, and
+        the animation of one that animates (a mechanism's linkage over its crank cycle).
     analysis : str
         The registered analysis.
     model_name, model_path, model_text, model_sha256 : str
@@ -264,7 +284,7 @@ def run_report(
         )
     )
     sections.append(Section("Tables", tables=[_table(t) for t in tables if t.title != "summary"]))
-    sections.append(Section("Plots", figures=_figures(result.plots())))
+    sections.append(Section("Plots", figures=[*_animations(result), *_figures(result.plots())]))
     sections.append(Section("Model file", note=model_path, text=model_text))
     from mechdyn.registry import get
 
