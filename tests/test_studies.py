@@ -637,8 +637,8 @@ def test_the_study_command_prints_json_and_lists_exports_and_compares(tmp_path, 
     assert row.search(out), out
     assert main(["results", "list", "--study", "press-support-influence", "--db", db]) == 0
     out = capsys.readouterr().out
-    assert "outputs in the study's units" in out and "transmitted_force_range_N [tonf]" in out
-    assert f"{force:.2f}" in out and "displacement_max_m [mm]" in out
+    assert "outputs in the study's units" in out and "transmitted force range [tonf]" in out
+    assert f"{force:.2f}" in out and "displacement max [mm]" in out
     pq = tmp_path / "v.parquet"
     assert (
         main(["results", "export", "--study", "press-support-influence", "--db", db, "--parquet", str(pq)])
@@ -1128,4 +1128,4 @@ def test_a_factorial_study_states_main_effects_interactions_and_its_extremes(tmp
     ends = [t.get_text() for t in ax.texts]
     assert "480 t" in ends and "720 t" in ends and any(t.endswith(" mm") for t in ends)
     (bar,) = [a for a in ax.figure.axes if a is not ax]
-    assert bar.get_ylabel() == "static_deflection_m.support [mm]"
+    assert bar.get_ylabel() == "static deflection · support [mm]"

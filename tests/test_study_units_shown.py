@@ -52,9 +52,11 @@ FORCE = "shaking_force_max_N"
 
 
 def _g(x: float) -> str:
-    """A number as the report and the dashboard write it (six significant digits; a whole number of
-    six or seven digits in full)."""
-    return f"{x:.0f}" if 1e5 <= abs(x) < 1e7 else f"{x:.6g}"
+    """A number as the report and the dashboard write it (:func:`mechdyn.numbers.number_text`: five
+    significant digits; a whole number of up to seven digits in full)."""
+    from mechdyn.numbers import number_text
+
+    return number_text(x)
 
 
 @pytest.fixture(scope="module")
@@ -122,7 +124,7 @@ def test_the_report_shows_every_variant_in_the_study_files_units(ran, which):
     assert _headers(parameters)[0] == "parameter [unit]"
     names = [r[0] for r in _rows(parameters)]
     assert names == ["points.B.x [mm]", "bodies.coupler.mass [kg]"]
-    assert _rows(parameters)[0][1] == "194.608"
+    assert _rows(parameters)[0][1] == "194.61"
 
 
 def test_the_reports_variant_counts_add_up(ran):

@@ -89,15 +89,17 @@ def _cell(v: Any) -> Cell:
         return Cell("—")
     if isinstance(v, bool):
         return Cell("yes" if v else "no")
-    if isinstance(v, (int, float)) or type(v).__module__ == "numpy":
+    if isinstance(v, int) or (type(v).__module__ == "numpy" and "int" in type(v).__name__):
+        return Cell(str(int(v)), "num")  # a count stays a whole number
+    if isinstance(v, float) or type(v).__module__ == "numpy":
         try:
             return Cell(_number(float(v)), "num")
         except (TypeError, ValueError):
             pass
     if isinstance(v, str) and v in ("holds", "VIOLATED"):
         return Cell(v, "holds" if v == "holds" else "fails")
-    if isinstance(v, (list, tuple)) and all(isinstance(x, (int, float)) for x in v):
-        return Cell(", ".join(_number(float(x)) for x in v), "num")
+    if isinstance(v, (list, tuple)) and v and all(isinstance(x, (int, float)) for x in v):
+        return Cell(", ".join(_cell(x).text for x in v), "num")
     if isinstance(v, (dict, list, tuple)):
         return Cell(json.dumps(v, default=str))
     return Cell(str(v))

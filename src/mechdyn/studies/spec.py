@@ -601,8 +601,23 @@ class Watched:
         return "" if unit in ("", "1") else unit
 
     @property
+    def words(self) -> str:
+        """The output in words, as a summary table names it (``excitation · stroke`` for
+        ``excitation.stroke_m``, a list entry by its number: ``frequencies 2``)."""
+        from mechdyn.units import key_label
+
+        named: list[str] = []
+        for part in self.key.split("."):
+            if part.isdigit() and named:  # the n-th entry of a list: "frequencies 2"
+                named[-1] += f" {part}"
+            else:
+                named.append(key_label(part)[0])
+        return " · ".join(named)
+
+    @property
     def label(self) -> str:
-        return f"{self.key} [{self.shown_unit}]" if self.shown_unit else self.key
+        """The output in words with the unit it is shown in (``transmitted force range [tonf]``)."""
+        return f"{self.words} [{self.shown_unit}]" if self.shown_unit else self.words
 
 
 @dataclass(frozen=True)
