@@ -14,7 +14,7 @@ import pytest
 import mechdyn
 from conftest import ROOT
 from mechdyn.cli.main import main
-from mechdyn.io.modelfile import _SCHEMAS
+from mechdyn.io.modelfile import file_types
 from mechdyn.io.reference import MARKDOWN_FOLDER, markdown_pages, reference, schema_tables
 from mechdyn.io.template import template
 from mechdyn.registry import get
@@ -29,7 +29,7 @@ ANALYSIS = {
     "gear_pair": "gear",
     "tooth_pair": "gear",
 }
-MODEL_TYPES = sorted(set(_SCHEMAS) - {"study"})
+MODEL_TYPES = [t for t in file_types() if t != "study"]
 
 
 def test_every_file_type_has_a_template_and_an_analysis():
@@ -52,7 +52,7 @@ def _sections(text: str) -> dict[str, list[str]]:
     return sections
 
 
-@pytest.mark.parametrize("file_type", sorted(_SCHEMAS))
+@pytest.mark.parametrize("file_type", file_types())
 def test_the_template_names_every_table_and_field_of_the_schema(file_type):
     text = template(file_type)
     sections = _sections(text)
@@ -167,7 +167,7 @@ def test_the_markdown_reference_in_the_checkout_is_current():
         )
 
 
-@pytest.mark.parametrize("file_type", sorted(_SCHEMAS))
+@pytest.mark.parametrize("file_type", file_types())
 def test_the_markdown_page_lists_every_table_and_field(file_type):
     page = markdown_pages()[f"{file_type}.md"]
     tables, _ = reference(file_type)

@@ -1,4 +1,4 @@
-"""The analysis registry: every analysis is registered once, and everything else finds it here.
+"""The registry of analyses and model types: each is registered once, and everything else finds it here.
 
 An :class:`Analysis` names the model types it runs on, the function that runs it, its options (with
 units and help) and the summary keys its result documents. The command line builds one subcommand
@@ -7,8 +7,14 @@ reports look analyses up by name. Adding an analysis is one function returning a
 :class:`mechdyn.results.Result` and one :func:`register` call in its capability's ``analyses``
 module.
 
+A :class:`ModelType` says how the files of one ``[model] type`` are validated, built into a model
+and its settings, and written back; the capability registers it with :func:`register_model_type`
+next to its analyses, and :mod:`mechdyn.io` finds it through :func:`model_types` (the reader and
+writer of model files name no capability).
+
 This module and the registration modules import no numerical library, so that listing analyses and
-``mechdyn --help`` start at once; the analysis function imports what it runs.
+model types and ``mechdyn --help`` start at once; the analysis function imports what it runs, and a
+model type names its builder, schema and writer as ``"module:name"`` strings imported when used.
 """
 
 from __future__ import annotations
@@ -20,15 +26,30 @@ from typing import Any, Literal
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["Analysis", "NotBatchable", "Option", "Output", "analyses", "get", "register", "summary_columns"]
+__all__ = [
+    "Analysis",
+    "ModelType",
+    "NotBatchable",
+    "Option",
+    "Output",
+    "analyses",
+    "get",
+    "model_types",
+    "register",
+    "register_model_type",
+    "resolve",
+    "summary_columns",
+]
 
-# The modules in which the capabilities register their analyses, imported on first look-up.
+# The modules in which the capabilities register their analyses and model types (the studies their
+# file type), imported on first look-up.
 CAPABILITIES = (
     "mechdyn.drivetrain.analyses",
     "mechdyn.mechanism.analyses",
     "mechdyn.support.analyses",
     "mechdyn.gears.analyses",
     "mechdyn.mounts.analyses",
+    "mechdyn.studies.file_type",
 )
 
 
@@ -253,10 +274,14 @@ def register(analysis: Analysis) -> Analysis:
     return analysis
 
 
-def analyses() -> Mapping[str, Analysis]:
-    """Every registered analysis by name, in registration order."""
+def _import_capabilities() -> None:
     for module in CAPABILITIES:
         importlib.import_module(module)
+
+
+def analyses() -> Mapping[str, Analysis]:
+    """Every registered analysis by name, in registration order."""
+    _import_capabilities()
     return dict(_REGISTRY)
 
 
@@ -272,6 +297,145 @@ def get(name: str) -> Analysis:
     if name not in found:
         raise MechdynError(f"no analysis named {name!r}; registered: {', '.join(found)}")
     return found[name]
+
+
+def resolve(reference: str) -> Any:
+    """The object that a lazy ``"module:name"`` reference names, its module imported now.
+
+    Parameters
+    ----------
+    reference : str
+        ``"module:name"`` (``"mechdyn.drivetrain.schema:build"``); ``name`` may be dotted
+        (``"module:Class.method"``).
+
+    Raises
+    ------
+    MechdynError
+        When the module or the name is not found, naming the reference.
+    """
+    module, sep, name = reference.partition(":")
+    if not sep or not module or not name:
+        raise MechdynError(f"{reference!r} is not a reference; write it as 'module:name'")
+    try:
+        obj: Any = importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if exc.name is None or not (module == exc.name or module.startswith(exc.name + ".")):
+            raise  # a module that the named one imports is missing: not this reference's fault
+        raise MechdynError(f"{reference!r}: no module {module!r}") from None
+    for part in name.split("."):
+        if not hasattr(obj, part):
+            raise MechdynError(f"{reference!r}: module {module!r} has no {name!r}")
+        obj = getattr(obj, part)
+    return obj
+
+
+def _check_reference(owner: str, field: str, value: str | None) -> None:
+    if value is not None:
+        module, sep, name = value.partition(":")
+        if not (sep and module and name):
+            raise ValueError(f"model type {owner!r}: {field} {value!r} must be written 'module:name'")
+
+
+@dataclass(frozen=True)
+class ModelType:
+    """A model-file type: how the files of one ``[model] type`` are validated, loaded and saved.
+
+    Every reference is a ``"module:name"`` string, imported when a file of the type is first loaded,
+    documented or saved, so that registering a type imports nothing numerical. A file of the type
+    loads (:func:`mechdyn.load`) as ``record = builder(source)``; the
+    :class:`mechdyn.io.LoadedModel`'s ``model`` is ``record.<model_attribute>`` (the record itself
+    when no attribute is named) and its ``settings`` is ``settings(source, record)`` (the record
+    itself when no function is named).
+
+    Attributes
+    ----------
+    name : str
+        The type as files name it, ``[model] type = name``.
+    builder : str or None
+        ``"module:function"``; ``function(source)`` builds the record of a
+        :class:`mechdyn.io.ModelSource` of the type (the model and the file's settings). None for a
+        file type that holds no model (the study file): its schema is known to
+        :func:`mechdyn.io.modelfile.schema_of`, ``mechdyn fields`` and ``mechdyn new``, but
+        :func:`mechdyn.load` does not take it.
+    schema : str or None
+        ``"module:Class"``, the pydantic schema that validates a whole file of the type, for
+        :func:`mechdyn.io.modelfile.schema_of`, ``mechdyn fields``, ``mechdyn new`` and the
+        documentation's model-file reference.
+    model_attribute : str or None
+        The attribute of the builder's record that is the model the analyses run on; None when the
+        record is the model.
+    settings : str or None
+        ``"module:function"``; ``function(source, record)`` reads the file's settings (analysis
+        tables) when the record does not hold them; None when the record is the settings.
+    model_class : str or None
+        ``"module:Class"`` of the model, so that :func:`mechdyn.save` finds the writer of a model
+        built in Python (or says, for a type without a writer, that its files are written by hand).
+    writer : str or None
+        ``"module:function"`` that writes a model of ``model_class`` as a file of the type:
+        ``function(model, settings, *, path, source, **options)`` returns the file's text
+        (``settings`` is the loaded file's settings, or None for a model built in Python).
+    """
+
+    name: str
+    builder: str | None
+    schema: str | None = None
+    model_attribute: str | None = None
+    settings: str | None = None
+    model_class: str | None = None
+    writer: str | None = None
+
+    def __post_init__(self) -> None:
+        if not self.name or not isinstance(self.name, str):
+            raise ValueError(f"a model type needs a name, not {self.name!r}")
+        for field in ("builder", "schema", "settings", "model_class", "writer"):
+            _check_reference(self.name, field, getattr(self, field))
+        if self.writer is not None and self.model_class is None:
+            raise ValueError(f"model type {self.name!r}: a writer needs the model_class it writes")
+        if self.builder is None and (self.model_attribute or self.settings or self.writer):
+            raise ValueError(f"model type {self.name!r}: a file type without a builder loads no model")
+
+    @property
+    def loads(self) -> bool:
+        """Whether :func:`mechdyn.load` builds a model from files of this type (it has a builder)."""
+        return self.builder is not None
+
+
+_MODEL_TYPES: dict[str, ModelType] = {}
+
+
+def register_model_type(model_type: ModelType) -> ModelType:
+    """Add a model-file type to the registry; returns it.
+
+    A capability calls this in its ``analyses`` module, next to its analyses' :func:`register`.
+    Registering the same record again does nothing; another record under a registered name is an
+    error.
+
+    Parameters
+    ----------
+    model_type : ModelType
+        The type, its builder and schema, and how its model, settings and writer are found.
+
+    Raises
+    ------
+    ValueError
+        When another type of that name is registered.
+    """
+    existing = _MODEL_TYPES.get(model_type.name)
+    if existing is not None and existing != model_type:
+        raise ValueError(f"a model type named {model_type.name!r} is already registered")
+    _MODEL_TYPES[model_type.name] = model_type
+    return model_type
+
+
+def model_types() -> Mapping[str, ModelType]:
+    """Every registered model-file type by name, in registration order (the study file included,
+    as a type without a builder).
+
+    The registration modules (:data:`CAPABILITIES`) are imported on the first call; they import no
+    numerical library.
+    """
+    _import_capabilities()
+    return dict(_MODEL_TYPES)
 
 
 def summary_columns(summary: Mapping[str, Any], keys: Sequence[str], V: int) -> dict[str, Any]:

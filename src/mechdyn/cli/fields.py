@@ -21,11 +21,11 @@ def _wrapped(text: str, indent: str) -> str:
 
 def _fields(args: argparse.Namespace) -> int:
     from mechdyn.errors import MechdynError
-    from mechdyn.io.modelfile import _SCHEMAS
+    from mechdyn.io.modelfile import file_types
     from mechdyn.io.reference import reference
 
-    if args.type not in _SCHEMAS:
-        known = ", ".join(sorted(_SCHEMAS))
+    if args.type not in file_types():
+        known = ", ".join(file_types())
         raise MechdynError(f"mechdyn fields: no file type {args.type!r}; give one of {known}")
     tables, _ = reference(args.type)
     if args.json:

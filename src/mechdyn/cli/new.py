@@ -11,12 +11,12 @@ __all__ = ["register"]
 
 def _new(args: argparse.Namespace) -> int:
     from mechdyn.errors import MechdynError
-    from mechdyn.io.modelfile import _SCHEMAS
+    from mechdyn.io.modelfile import file_types
     from mechdyn.io.template import template
     from mechdyn.io.template_examples import EXAMPLES
 
-    if args.type not in _SCHEMAS:
-        known = ", ".join(sorted(_SCHEMAS))
+    if args.type not in file_types():
+        known = ", ".join(file_types())
         raise MechdynError(f"mechdyn new: no file type {args.type!r}; give one of {known}")
     if args.path is None:
         sys.stdout.write(template(args.type))

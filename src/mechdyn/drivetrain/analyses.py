@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from mechdyn.errors import MechdynError
-from mechdyn.registry import Analysis, Option, Output, register
+from mechdyn.registry import Analysis, ModelType, Option, Output, register, register_model_type
 from mechdyn.units import convert
 
 if TYPE_CHECKING:  # the numerical modules are imported when an analysis runs, not for --help
@@ -145,6 +145,18 @@ def _frf(
     outputs = tuple(resp.outputs) if resp and resp.outputs else tuple(model.disk_names)
     return frf(model, np.geomspace(lo, hi, n), excitation, damping=zeta, outputs=outputs, method=method)
 
+
+# the files its analyses run on: the builder returns the Drivetrain; the analysis tables are read apart
+register_model_type(
+    ModelType(
+        "drivetrain",
+        builder="mechdyn.drivetrain.schema:build",
+        schema="mechdyn.drivetrain.schema:DrivetrainFile",
+        settings="mechdyn.drivetrain.schema:settings",
+        model_class="mechdyn.drivetrain.model:Drivetrain",
+        writer="mechdyn.drivetrain.save:to_toml",
+    )
+)
 
 register(
     Analysis(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from mechdyn.registry import Analysis, Output, register
+from mechdyn.registry import Analysis, ModelType, Output, register, register_model_type
 
 __all__: list[str] = []
 
@@ -24,6 +24,26 @@ def _gear(loaded: Any) -> Any:
         loaded.model, spec.load_heights, spec.load_angle, spec.published_stiffness, spec.formulas
     )
 
+
+# the files its analysis runs on: each builder returns a spec of the pair (or teeth) and its settings
+register_model_type(
+    ModelType(
+        "gear_pair",
+        builder="mechdyn.gears.schema:build_gear_pair",
+        schema="mechdyn.gears.schema:GearPairModel",
+        model_attribute="pair",
+        model_class="mechdyn.gears.mesh:GearPair",
+        writer="mechdyn.gears.save:to_toml",
+    )
+)
+register_model_type(
+    ModelType(
+        "tooth_pair",
+        builder="mechdyn.gears.schema:build_tooth_pair",
+        schema="mechdyn.gears.schema:ToothPairModel",
+        model_attribute="teeth",
+    )
+)
 
 register(
     Analysis(

@@ -1,15 +1,16 @@
 """Reading model files: TOML text → validated schema → immutable model.
 
-A model file names its type in ``[model] type = "..."``; each capability registers a builder for its
-type. Every failure becomes a :class:`~mechdyn.errors.ModelFileError` naming the file, the table and
-field, the value and what was expected.
+A model file names its type in ``[model] type = "..."``; each capability registers its types (a
+:class:`mechdyn.registry.ModelType`: builder, schema, model and settings) next to its analyses, and
+this module finds them in the registry, naming no capability. Every failure becomes a
+:class:`~mechdyn.errors.ModelFileError` naming the file, the table and field, the value and what was
+expected.
 """
 
 from __future__ import annotations
 
 import difflib
 import hashlib
-import importlib
 import tomllib
 import warnings
 from collections.abc import Callable, Iterator, Mapping
@@ -21,11 +22,13 @@ from typing import Any, TypeVar
 from pydantic import BaseModel, ValidationError
 
 from mechdyn.errors import ModelError, ModelFileError
+from mechdyn.registry import ModelType, model_types, resolve
 
 __all__ = [
     "LoadedModel",
     "ModelSource",
     "field_context",
+    "file_types",
     "load",
     "load_model",
     "load_source",
@@ -37,36 +40,16 @@ __all__ = [
     "validate",
 ]
 
-# type name -> "module:function"; imported lazily so that `mechdyn.load` stays light.
 M = TypeVar("M", bound=BaseModel)
-
-_BUILDERS: dict[str, str] = {
-    "drivetrain": "mechdyn.drivetrain.schema:build",
-    "gear_pair": "mechdyn.gears.schema:build_gear_pair",
-    "tooth_pair": "mechdyn.gears.schema:build_tooth_pair",
-    "mechanism": "mechdyn.mechanism.schema:build",
-    "planting_mechanism": "mechdyn.mechanism.planter:build",
-    "support": "mechdyn.support.schema:build",
-    "mount": "mechdyn.mounts.schema:build",
-}
-
-
-# type name -> "module:Class", the pydantic schema that validates a whole file of that type (the
-# documentation's model-file reference is generated from these); "study" is the study file
-_SCHEMAS: dict[str, str] = {
-    "drivetrain": "mechdyn.drivetrain.schema:DrivetrainFile",
-    "gear_pair": "mechdyn.gears.schema:GearPairModel",
-    "tooth_pair": "mechdyn.gears.schema:ToothPairModel",
-    "mechanism": "mechdyn.mechanism.schema:MechanismFile",
-    "planting_mechanism": "mechdyn.mechanism.planter:PlanterFile",
-    "support": "mechdyn.support.schema:SupportFile",
-    "mount": "mechdyn.mounts.schema:MountFile",
-    "study": "mechdyn.studies.study:StudyFile",
-}
 
 
 def register_model_type(name: str, builder: str, schema: str | None = None) -> None:
-    """Register a model-file type.
+    """Register a model-file type (the former interface; a thin wrapper of the registry's).
+
+    The same as ``mechdyn.registry.register_model_type(ModelType(name, builder, schema))``: the
+    builder's record is both the model and the settings of the :class:`LoadedModel`. A capability
+    registers a :class:`mechdyn.registry.ModelType` itself, which can also name the record's model
+    attribute, a settings function and a writer.
 
     Parameters
     ----------
@@ -77,10 +60,32 @@ def register_model_type(name: str, builder: str, schema: str | None = None) -> N
     schema : str, optional
         ``"module:Class"``, the pydantic schema of the whole file, for :func:`schema_of` and the
         documentation's model-file reference.
+
+    Raises
+    ------
+    ValueError
+        When another type of that name is registered (a capability's own, say).
     """
-    _BUILDERS[name] = builder
-    if schema is not None:
-        _SCHEMAS[name] = schema
+    from mechdyn.registry import register_model_type as register
+
+    model_types()  # the capabilities' types first, so that a clash is reported here
+    register(ModelType(name, builder, schema))
+
+
+def _schemas() -> dict[str, str]:
+    """File type → ``"module:Class"`` of its schema, for every registered type that has one."""
+    return {name: t.schema for name, t in model_types().items() if t.schema is not None}
+
+
+def file_types() -> list[str]:
+    """The file types that have a schema, sorted: the model types and ``"study"``.
+
+    Returns
+    -------
+    list of str
+        What :func:`schema_of`, ``mechdyn fields`` and ``mechdyn new`` take.
+    """
+    return sorted(_schemas())
 
 
 def schema_of(file_type: str) -> type[BaseModel]:
@@ -101,10 +106,10 @@ def schema_of(file_type: str) -> type[BaseModel]:
     KeyError
         For an unknown type, naming the known ones.
     """
-    if file_type not in _SCHEMAS:
-        raise KeyError(f"no schema for file type {file_type!r}; known: {', '.join(sorted(_SCHEMAS))}")
-    module, _, name = _SCHEMAS[file_type].partition(":")
-    schema: type[BaseModel] = getattr(importlib.import_module(module), name)
+    schemas = _schemas()
+    if file_type not in schemas:
+        raise KeyError(f"no schema for file type {file_type!r}; known: {', '.join(sorted(schemas))}")
+    schema: type[BaseModel] = resolve(schemas[file_type])
     return schema
 
 
@@ -177,6 +182,12 @@ def read(path: str | Path) -> ModelSource:
 
 def read_check(source: ModelSource) -> ModelSource:
     """Check that parsed TOML is a model file of a known type (its ``[model] type``)."""
+    _model_type(source)
+    return source
+
+
+def _model_type(source: ModelSource) -> ModelType:
+    """The registered type of a model file, which loads a model; an error lists the types that do."""
     model = source.data.get("model")
     if not isinstance(model, dict):
         raise ModelFileError(
@@ -185,12 +196,13 @@ def read_check(source: ModelSource) -> ModelSource:
             'missing; start the file with [model] and its type, e.g. type = "drivetrain"',
         )
     kind = model.get("type")
-    if kind not in _BUILDERS:
-        expected = ", ".join(repr(k) for k in sorted(_BUILDERS))
+    loadable = {name: t for name, t in model_types().items() if t.loads}
+    if not isinstance(kind, str) or kind not in loadable:
+        expected = ", ".join(repr(k) for k in sorted(loadable))
         raise ModelFileError(
             source.path, "[model] → type", f"{kind!r} is not a model type; expected one of {expected}", kind
         )
-    return source
+    return loadable[kind]
 
 
 def reference_path(source: ModelSource, relative: str) -> str:
@@ -209,9 +221,9 @@ def referenced(source: ModelSource, relative: str) -> ModelSource | None:
 
 def build_source(source: ModelSource) -> Any:
     """Build the model of a parsed model file (its type's builder's record)."""
-    read_check(source)
-    module, _, func = _BUILDERS[source.model_type].partition(":")
-    builder: Callable[[ModelSource], Any] = getattr(importlib.import_module(module), func)
+    kind = _model_type(source)
+    assert kind.builder is not None  # a type without one is not loadable
+    builder: Callable[[ModelSource], Any] = resolve(kind.builder)
     return builder(source)
 
 
@@ -227,17 +239,6 @@ def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
     return build_source(source), source
 
 
-# the field of each builder's record that holds the model itself (a type not named here: the record)
-_MODEL_FIELD = {
-    "mechanism": "mechanism",
-    "planting_mechanism": "mechanism",
-    "support": "machine",
-    "gear_pair": "pair",
-    "tooth_pair": "teeth",
-    "mount": "mount",
-}
-
-
 @dataclass(frozen=True)
 class LoadedModel:
     """A model file as loaded: the model, the file's analysis settings, and the file itself.
@@ -251,7 +252,8 @@ class LoadedModel:
         :class:`~mechdyn.mechanism.Mechanism`, a :class:`~mechdyn.support.MountedMachine`, a
         :class:`~mechdyn.gears.GearPair`, two teeth, a mount estimate).
     settings : object
-        What else the file says (analysis tables, load, samples); its builder's own record.
+        What else the file says (analysis tables, load, samples): its builder's record, or what its
+        type's settings function reads (:class:`mechdyn.registry.ModelType`).
     source : ModelSource or None
         The file (None for a model built in Python).
     """
@@ -284,16 +286,17 @@ def load_model(path: str | Path) -> LoadedModel:
 
 
 def load_source(source: ModelSource) -> LoadedModel:
-    """A :class:`LoadedModel` from a parsed model file (e.g. a study's variant, built in memory)."""
-    built = build_source(source)
-    kind = source.model_type
-    if kind == "drivetrain":
-        from mechdyn.drivetrain.schema import settings
+    """A :class:`LoadedModel` from a parsed model file (e.g. a study's variant, built in memory).
 
-        return LoadedModel(kind, built, settings(source, built), source)
-    # the other builders return a record of the model and its settings; the model is one field of it
-    attr = _MODEL_FIELD.get(kind)
-    return LoadedModel(kind, built if attr is None else getattr(built, attr), built, source)
+    One way for every type (:class:`mechdyn.registry.ModelType`): its builder's record, the model
+    one attribute of it (or the record), the settings what its settings function reads (or the
+    record).
+    """
+    kind = _model_type(source)
+    record = build_source(source)
+    model = record if kind.model_attribute is None else getattr(record, kind.model_attribute)
+    settings = record if kind.settings is None else resolve(kind.settings)(source, record)
+    return LoadedModel(kind.name, model, settings, source)
 
 
 def load(path: str | Path) -> LoadedModel:

@@ -397,6 +397,14 @@ def markdown(file_type: str) -> str:
     return "\n".join(lines)
 
 
+def _file_types() -> list[str]:
+    """Every registered file type, those with a title in :data:`TITLES` first in its order."""
+    from mechdyn.io.modelfile import file_types
+
+    known = file_types()
+    return [t for t in TITLES if t in known] + [t for t in known if t not in TITLES]
+
+
 def markdown_index() -> str:
     """The index page of the Markdown reference: one link per file type.
 
@@ -405,9 +413,7 @@ def markdown_index() -> str:
     str
         The page (``index.md`` of :data:`MARKDOWN_FOLDER`).
     """
-    from mechdyn.io.modelfile import _SCHEMAS
-
-    types = [t for t in TITLES if t in _SCHEMAS] + sorted(set(_SCHEMAS) - set(TITLES))
+    types = _file_types()
     lines = [
         *_FRONT_MATTER,
         f"<!-- Generated; do not edit. Regenerate with\n     {_REGENERATE} -->",
@@ -436,10 +442,8 @@ def markdown_pages() -> dict[str, str]:
     dict of str to str
         File name → text.
     """
-    from mechdyn.io.modelfile import _SCHEMAS
-
     pages = {"index.md": markdown_index()}
-    for file_type in [t for t in TITLES if t in _SCHEMAS] + sorted(set(_SCHEMAS) - set(TITLES)):
+    for file_type in _file_types():
         pages[f"{file_type}.md"] = markdown(file_type)
     return pages
 

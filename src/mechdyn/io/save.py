@@ -1,43 +1,61 @@
 """Saving models built in Python as model files that :func:`mechdyn.load` reads back equal.
 
-Each model class registers a writer (:func:`register_writer`): a function that returns the text of the
-file. Every float is written as its ``repr`` with its SI unit (``"0.02 kg*m^2"``), so reading the file
-back gives the same floats and an equal model. The writers are imported when first used.
+Each model type names the class of its model and its writer (a function that returns the text of the
+file) in its registration (:class:`mechdyn.registry.ModelType`); :func:`register_writer` adds a writer
+for a model class outside them. Every float is written as its ``repr`` with its SI unit
+(``"0.02 kg*m^2"``), so reading the file back gives the same floats and an equal model. The writers
+are imported when first used.
 """
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from mechdyn.errors import MechdynError
+from mechdyn.registry import model_types, resolve
 
 __all__ = ["dumps", "register_writer", "save", "writable_types"]
 
-# "module.Class" of a model -> "module:function" returning the text of its model file
-_WRITERS: dict[str, str] = {
-    "mechdyn.drivetrain.model.Drivetrain": "mechdyn.drivetrain.save:to_toml",
-    "mechdyn.support.model.MountedMachine": "mechdyn.support.save:to_toml",
-    "mechdyn.gears.mesh.GearPair": "mechdyn.gears.save:to_toml",
-}
+# "module:Class" of a model -> "module:function" returning the text of its model file, for the writers
+# registered with register_writer (those of the model types are in their registrations)
+_EXTRA_WRITERS: dict[str, str] = {}
 
 
 def register_writer(model_class: str, writer: str) -> None:
-    """Register the writer of a model class, for :func:`mechdyn.save`.
+    """Register the writer of a model class, for :func:`mechdyn.save` (a model type names its writer
+    in its :class:`mechdyn.registry.ModelType`; this is for a class outside them).
 
     Parameters
     ----------
     model_class : str
-        ``"module.Class"`` of the model (``"mechdyn.drivetrain.model.Drivetrain"``); subclasses use it
-        too.
+        ``"module.Class"`` (or ``"module:Class"``) of the model (``"mypackage.model.Pump"``);
+        subclasses use it too. It takes precedence over a model type's writer of the same class.
     writer : str
-        ``"module:function"``; ``function(model, settings, *, path, **options)`` returns the file's
-        text. ``settings`` is the loaded file's record (:attr:`mechdyn.io.LoadedModel.settings`) or
-        None for a model built in Python; ``path`` the file to be written (for relative paths).
+        ``"module:function"``; ``function(model, settings, *, path, source, **options)`` returns the
+        file's text. ``settings`` is the loaded file's record (:attr:`mechdyn.io.LoadedModel.settings`)
+        or None for a model built in Python; ``path`` the file to be written (for relative paths);
+        ``source`` the file it was loaded from, or None.
+
+    Raises
+    ------
+    ValueError
+        For a class not given with its module.
     """
-    _WRITERS[model_class] = writer
+    module, colon, name = model_class.partition(":")
+    if not colon:  # "module.Class"
+        module, _, name = model_class.rpartition(".")
+    if not module or not name:
+        raise ValueError(f"{model_class!r}: give the model class as 'module.Class'")
+    _EXTRA_WRITERS[f"{module}:{name}"] = writer
+
+
+def _writers() -> dict[str, str]:
+    """``"module:Class"`` of a model → its writer: the model types' (in registration order), then
+    those registered with :func:`register_writer`."""
+    found = {t.model_class: t.writer for t in model_types().values() if t.model_class and t.writer}
+    return found | _EXTRA_WRITERS
 
 
 def writable_types() -> list[str]:
@@ -48,20 +66,24 @@ def writable_types() -> list[str]:
     list of str
         Their class names.
     """
-    return [name.rpartition(".")[2] for name in _WRITERS]
+    return list(dict.fromkeys(name.partition(":")[2] for name in _writers()))
 
 
 def _writer(model: Any) -> Callable[..., str]:
-    for cls in type(model).__mro__:
-        where = _WRITERS.get(f"{cls.__module__}.{cls.__qualname__}")
+    writers = _writers()
+    classes = [f"{cls.__module__}:{cls.__qualname__}" for cls in type(model).__mro__]
+    for name in classes:
+        where = writers.get(name)
         if where is not None:
-            module, _, func = where.partition(":")
-            writer: Callable[..., str] = getattr(importlib.import_module(module), func)
+            writer: Callable[..., str] = resolve(where)
             return writer
     kinds = ", ".join(writable_types())
     hint = ""
-    if type(model).__name__ == "Mechanism":
-        hint = "; a mechanism's file is written by hand for now (`mechdyn new mechanism` gives a template)"
+    # a type whose model this is, but that has no writer: its files are written by hand
+    by_hand = [t.name for t in model_types().values() if t.model_class in classes]
+    if by_hand:
+        kind = by_hand[0]
+        hint = f"; a {kind}'s file is written by hand for now (`mechdyn new {kind}` gives a template)"
     raise MechdynError(
         f"mechdyn.save: cannot write a {type(model).__module__}.{type(model).__qualname__} to a model file; "
         f"it writes a {kinds}, or a model loaded with mechdyn.load{hint}"

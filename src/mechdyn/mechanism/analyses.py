@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from mechdyn.registry import Analysis, Option, Output, register
+from mechdyn.registry import Analysis, ModelType, Option, Output, register, register_model_type
 
 __all__: list[str] = []
 
@@ -41,6 +41,25 @@ def _mechanism_batch(loaded: Any, columns: Any, keys: Any, angles: int | None = 
     errors = [batch.failures.get(v) for v in range(V)]
     return summary_columns(batch.summary(), keys, V), errors
 
+
+# the files its analysis runs on: each builder returns a MechanismSpec, the mechanism and its settings
+register_model_type(
+    ModelType(
+        "mechanism",
+        builder="mechdyn.mechanism.schema:build",
+        schema="mechdyn.mechanism.schema:MechanismFile",
+        model_attribute="mechanism",
+        model_class="mechdyn.mechanism.model:Mechanism",  # no writer yet: written by hand
+    )
+)
+register_model_type(
+    ModelType(
+        "planting_mechanism",
+        builder="mechdyn.mechanism.planter:build",
+        schema="mechdyn.mechanism.planter:PlanterFile",
+        model_attribute="mechanism",
+    )
+)
 
 register(
     Analysis(

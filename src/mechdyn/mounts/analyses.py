@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from mechdyn.registry import Analysis, Output, register
+from mechdyn.registry import Analysis, ModelType, Output, register, register_model_type
 
 __all__: list[str] = []
 
@@ -15,6 +15,16 @@ def _mount(loaded: Any, store: Any = None) -> Any:
 
     return analyse(loaded.settings, store)
 
+
+# the files its analysis runs on: the builder returns a MountSpec, the estimate and its settings
+register_model_type(
+    ModelType(
+        "mount",
+        builder="mechdyn.mounts.schema:build",
+        schema="mechdyn.mounts.schema:MountFile",
+        model_attribute="mount",
+    )
+)
 
 register(
     Analysis(

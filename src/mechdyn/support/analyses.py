@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from mechdyn.registry import Analysis, Option, Output, register
+from mechdyn.registry import Analysis, ModelType, Option, Output, register, register_model_type
 
 __all__: list[str] = []
 
@@ -41,6 +41,18 @@ def _support_batch(loaded: Any, columns: Any, keys: Any, **options: Any) -> Any:
 
     return support_batch(loaded, columns, keys, **options)
 
+
+# the files its analysis runs on: the builder returns a SupportSpec, the machine and its load
+register_model_type(
+    ModelType(
+        "support",
+        builder="mechdyn.support.schema:build",
+        schema="mechdyn.support.schema:SupportFile",
+        model_attribute="machine",
+        model_class="mechdyn.support.model:MountedMachine",
+        writer="mechdyn.support.save:to_toml",
+    )
+)
 
 register(
     Analysis(
