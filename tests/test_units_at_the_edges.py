@@ -38,3 +38,14 @@ def test_no_hand_typed_conversion_factor_outside_units():
                 ):
                     found.append(f"{path.relative_to(SRC)}:{node.lineno}: {ast.unparse(node)}")
     assert not found, "convert with mechdyn.units.convert/show instead:\n" + "\n".join(found)
+
+
+def test_the_top_level_shows_what_a_user_reaches():
+    """`dir(mechdyn)` listed `Any` and `PackageNotFoundError` and not `load`: it lists the public names
+    and the subpackages, and `load`, `save`, `Q_` are there."""
+    import mechdyn
+
+    shown = dir(mechdyn)
+    assert {"load", "save", "Q_", "ureg", "drivetrain", "mechanism", "support"} <= set(shown)
+    assert not {"Any", "PackageNotFoundError", "version"} & set(shown)
+    assert abs(mechdyn.Q_("12 mm").to("m").magnitude - 0.012) < 1e-15

@@ -10,15 +10,30 @@ stiffness from the drawing). Shared: :mod:`mechdyn.units` (one pint registry), :
 Names are imported on first use, so ``import mechdyn`` (and the command line's start-up) stays light.
 """
 
-from importlib.metadata import PackageNotFoundError, version
-from typing import Any
+from importlib.metadata import PackageNotFoundError as _NotInstalled
+from importlib.metadata import version as _version
+from typing import Any as _Any
 
 from mechdyn.errors import MechdynError, ModelCheckError, ModelError, ModelFileError, ModelWarning
 
 try:
-    __version__ = version("mechdyn")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree without install
+    __version__ = _version("mechdyn")
+except _NotInstalled:  # pragma: no cover - running from a source tree without install
     __version__ = "0+unknown"
+
+_SUBPACKAGES = (
+    "drivetrain",
+    "gears",
+    "io",
+    "mechanism",
+    "mounts",
+    "registry",
+    "results",
+    "store",
+    "studies",
+    "support",
+    "units",
+)
 
 __all__ = [
     "Q_",
@@ -34,7 +49,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> _Any:
     if name in ("Q_", "ureg"):
         from mechdyn import units
 
@@ -48,3 +63,8 @@ def __getattr__(name: str) -> Any:
 
         return save
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    """What a user reaches from ``mechdyn.``: the public names and the capabilities' subpackages."""
+    return sorted({*__all__, *_SUBPACKAGES})
