@@ -110,3 +110,16 @@ def serving(app):
         srv.should_exit = True
         thread.join(10)
         app.state.store.close()
+
+
+def chromium() -> str:
+    """The Chromium that browser tests drive (scripts/with-chromium installs it and names it in
+    MECHDYN_TEST_CHROMIUM); without one a test is skipped, and in CI it fails."""
+    import shutil
+
+    path = os.environ.get("MECHDYN_TEST_CHROMIUM") or shutil.which("chromium")
+    if path:
+        return path
+    if os.environ.get("CI"):
+        pytest.fail("no Chromium in CI: run the tests through scripts/with-chromium")
+    pytest.skip("no Chromium: run the tests through scripts/with-chromium")

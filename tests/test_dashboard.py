@@ -4,9 +4,7 @@ and a real study: list → open a run → open a study → pick variants → com
 from __future__ import annotations
 
 import json
-import os
 import re
-import shutil
 import socket
 import threading
 import urllib.error
@@ -15,7 +13,7 @@ from datetime import UTC, datetime, timedelta
 
 import pytest
 
-from conftest import EXAMPLES, serving
+from conftest import EXAMPLES, chromium, serving
 from mechdyn.cli.main import main
 
 
@@ -29,15 +27,6 @@ def _wait_for_what_the_page_shows():
     expect.set_options(timeout=60_000)
     yield
     expect.set_options(timeout=5_000)
-
-
-def _chromium() -> str:
-    path = os.environ.get("MECHDYN_TEST_CHROMIUM") or shutil.which("chromium")
-    if path:
-        return path
-    if os.environ.get("CI"):
-        pytest.fail("no Chromium in CI: run the tests through scripts/with-chromium")
-    pytest.skip("no Chromium: run the tests through scripts/with-chromium")
 
 
 @pytest.fixture(scope="module")
@@ -213,7 +202,7 @@ def test_a_designer_goes_from_the_list_to_a_comparison_in_a_real_browser(server)
     from playwright.sync_api import expect, sync_playwright
 
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=_chromium(), args=["--no-sandbox"])
+        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
         page = browser.new_page(viewport={"width": 1280, "height": 900})
         # the list: runs and the study, filtered by analysis
         page.goto(server + "/")
@@ -282,7 +271,7 @@ def test_a_study_page_reloads_while_the_study_adds_variants(server, database):
     from mechdyn.studies.storage import StudyStore, variant_key
 
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=_chromium(), args=["--no-sandbox"])
+        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
         page = browser.new_page()
         page.goto(server + "/")
         page.locator("#studies a", has_text="press-support-influence").click()

@@ -2,24 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import shutil
-
 import pytest
 
-from conftest import EXAMPLES
+from conftest import EXAMPLES, chromium
 from mechdyn.cli.main import main
 
 WIDTH, HEIGHT = 1280, 800
-
-
-def _chromium() -> str:
-    path = os.environ.get("MECHDYN_TEST_CHROMIUM") or shutil.which("chromium")
-    if path:
-        return path
-    if os.environ.get("CI"):
-        pytest.fail("no Chromium in CI: run the tests through scripts/with-chromium")
-    pytest.skip("no Chromium: run the tests through scripts/with-chromium")
 
 
 # what the page reports about itself: page-wide overflow, tables that neither fit nor scroll, images
@@ -62,7 +50,7 @@ def test_a_report_reads_in_chromium_at_1280_px(tmp_path, argv, name, figures):
     out = tmp_path / f"{name}.html"
     assert main([*argv, "--db", str(tmp_path / "r.db"), "--report", str(out)]) == 0
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=_chromium(), args=["--no-sandbox"])
+        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
         try:
             page = browser.new_page(viewport={"width": WIDTH, "height": HEIGHT})
             page.goto(out.as_uri())
