@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import dataclasses
+import inspect
+import json
 import math
 import os
 import re
@@ -20,6 +22,7 @@ from conftest import EXAMPLES
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, GroundDamper, GroundSpring, Shaft
 from mechdyn.errors import MechdynError, ModelWarning
 from mechdyn.gears import GearPair, SpurGear
+from mechdyn.mechanism import Body, Driver, GearJoint, Mechanism, Prismatic, ProcessForce, Revolute, pitch
 from mechdyn.support import PLANAR, Mount, MountedMachine, PeriodicLoad, RigidBody, Rotor
 
 
@@ -44,7 +47,28 @@ def same(a, b, where="model"):
         return next(
             (d for i, (x, y) in enumerate(zip(a, b, strict=True)) if (d := same(x, y, f"{where}[{i}]"))), None
         )
-    return None if a == b else f"{where}: {a!r} vs {b!r}"
+    if isinstance(a, dict) and isinstance(b, dict):
+        if list(a) != list(b):
+            return f"{where}: keys {list(a)} vs {list(b)}"
+        return next((d for k in a if (d := same(a[k], b[k], f"{where}[{k!r}]"))), None)
+    if a == b:
+        return None
+    if inspect.isfunction(a) and inspect.isfunction(b):
+        return _same_function(a, b, where)
+    return f"{where}: {a!r} vs {b!r}"
+
+
+# where a model holds a function (a pitch curve's radius, a tabulated process force, a speed profile),
+# two models are equal when the functions were made by the same code and give the same values to the
+# bit: a file's tables come back as new functions of the same tables
+_PROBE = np.linspace(-7.0, 7.0, 1001)
+
+
+def _same_function(a, b, where):
+    if a.__code__ is not b.__code__:
+        return f"{where}: {a.__qualname__} vs {b.__qualname__}"
+    arguments = (_PROBE, np.linspace(-2.0, 2.0, _PROBE.size))[: a.__code__.co_argcount]
+    return same(a(*arguments), b(*arguments), f"{where}(probe)")
 
 
 def round_trip(model, tmp_path, name="saved.toml", **options):
@@ -291,14 +315,8 @@ def test_a_gear_pair_built_in_python_comes_back_equal(tmp_path):
 def test_an_unsupported_model_names_its_type_and_what_can_be_saved(model, named, tmp_path):
     with pytest.raises(MechdynError, match=re.escape(named)) as info:
         mechdyn.save(model, tmp_path / "x.toml")
-    assert "Drivetrain, MountedMachine, GearPair" in str(info.value)
+    assert all(kind in str(info.value) for kind in ("Drivetrain", "Mechanism", "MountedMachine", "GearPair"))
     assert not (tmp_path / "x.toml").exists()
-
-
-def test_a_mechanism_is_not_saved_yet_and_says_how_to_write_one(tmp_path):
-    mechanism = mechdyn.load(EXAMPLES / "fourbar.toml").model
-    with pytest.raises(MechdynError, match=r"Mechanism.*mechdyn new mechanism"):
-        mechdyn.save(mechanism, tmp_path / "m.toml")
 
 
 def test_a_machine_needs_its_load_and_a_load_the_file_can_hold(tmp_path):
@@ -329,3 +347,299 @@ def test_a_saved_file_reads_as_a_person_would_write_it(tmp_path):
         162.3068321,
         rel_tol=1e-9,
     )
+
+
+# -- mechanisms ----------------------------------------------------------------------------------------
+
+MECHANISM_EXAMPLES = [
+    "press_link_drive.toml",
+    "fourbar.toml",
+    "slider_crank.toml",
+    "transplanter_rp1.toml",
+    "transplanter_rp1_design.toml",
+]
+
+
+def same_mechanism(a, b):
+    """None when two mechanisms are equal field by field (their pitch curves by the function of their
+    radius) and their gear pairs roll by the same law, to the bit; else where they first differ."""
+    return same(a, b) or same(a.gear_laws, b.gear_laws, "gear_laws")
+
+
+@pytest.mark.parametrize("example", MECHANISM_EXAMPLES)
+def test_a_mechanism_example_comes_back_equal_with_its_settings(example, tmp_path):
+    """load → save → load: the same mechanism and the same [settings] record (crank angles, traced
+    points, field velocity); saving what came back writes the same text again."""
+    loaded = mechdyn.load(EXAMPLES / example)
+    again = round_trip(loaded, tmp_path)
+    assert again.type == loaded.type
+    assert same_mechanism(loaded.model, again.model) is None
+    assert same(loaded.settings, again.settings) is None  # MechanismSpec: n_angles, trace, field velocity
+    if not any(isinstance(j, GearJoint) for j in loaded.model.joints):
+        assert again.model == loaded.model and again.settings == loaded.settings  # plain equality
+    text = (tmp_path / "saved.toml").read_text()
+    assert mechdyn.save(again, tmp_path / "twice.toml").read_text() == text
+
+
+def test_a_planting_mechanism_is_saved_by_its_design(tmp_path):
+    loaded = mechdyn.load(EXAMPLES / "transplanter_rp1_design.toml")
+    text = mechdyn.save(loaded, tmp_path / "rp1.toml").read_text()
+    assert '[model]\ntype = "planting_mechanism"' in text and "[design]" in text
+    assert "[[bodies]]" not in text  # the design variables, not the mechanism they build
+    assert 'arm_radius = "0.0768 m"' in text and "eccentricity_ratio = 0.13" in text
+    assert 'trace = ["F1", "F2"]' in text
+
+
+def _fourbar():
+    """A crank-rocker with its coupler point drawn by trigonometry (floats with every bit set),
+    quantities given with units."""
+    a, b, c, d = 0.05, 0.2, 0.15, 0.18
+    theta = math.radians(60.0)
+    A = (a * math.cos(theta), a * math.sin(theta))
+    e = math.hypot(d - A[0], A[1])
+    phi = math.atan2(-A[1], d - A[0]) + math.acos((b * b + e * e - c * c) / (2 * b * e))
+    B = (A[0] + b * math.cos(phi), A[1] + b * math.sin(phi))
+    return Mechanism(
+        points={
+            "O2": ("0 mm", "0 mm"),
+            "A": A,
+            "B": B,
+            "O4": (f"{d * 1e3} mm", 0.0),
+            "coupler point": (0.1, 0.1),
+        },
+        bodies=(
+            Body("crank", ("O2", "A"), "0.3 kg", "6.25e-5 kg*m^2"),
+            Body("coupler", ("A", "B", "coupler point"), 1.2, 4.0e-3 / 3, (0.11, 0.09)),
+            Body("rocker", ("B", "O4"), 0.9, 1.6875e-3, "B"),
+        ),
+        joints=(
+            Revolute("O2", ("ground", "crank"), "O2"),
+            Revolute("A", ("crank", "coupler"), "A"),
+            Revolute("B", ("coupler", "rocker"), "B"),
+            Revolute("O4", ("rocker", "ground"), "O4"),
+        ),
+        driver=Driver("crank", "O2", "A", "114.59155902616465 rpm"),
+        gravity=(0.0, "-9.80665 m/s^2"),
+        angle_datum="12.5 deg",
+        name="four-bar, built in Python",
+    )
+
+
+def _slider_crank(axis="0 deg"):
+    return Mechanism(
+        points={"O": (0.0, 0.0), "A": (0.1 / 3, 0.0), "B": (0.4, 0.0)},
+        bodies=(
+            Body("crank", ("O", "A"), 2.0, 0.002, (0.1 / 6, 0.0)),
+            Body("rod", ("A", "B"), 3.0, 0.04),
+            Body("slider", ("B",), 5.0, 0.0, "B"),
+        ),
+        joints=(
+            Revolute("O", ("ground", "crank"), "O"),
+            Revolute("A", ("crank", "rod"), "A"),
+            Revolute("B", ("rod", "slider"), "B"),
+            Prismatic("guide", ("slider", "ground"), "B", axis),
+        ),
+        driver=Driver("crank", "O", "A", "-1480 rpm"),
+        output=("slider", "B"),
+        angle_datum="bdc",
+        name="slider-crank, built in Python",
+    )
+
+
+@pytest.mark.parametrize("build", [_fourbar, _slider_crank, lambda: _slider_crank("0.1 rad")])
+def test_a_mechanism_built_in_python_comes_back_equal(build, tmp_path):
+    model = build()
+    again = round_trip(model, tmp_path)
+    assert again.type == "mechanism" and again.model == model
+    assert again.settings.n_angles == 360 and again.settings.trace == ()  # the file's defaults
+    assert mechdyn.mechanism.kinematics(again.model, 36).q == pytest.approx(
+        mechdyn.mechanism.kinematics(model, 36).q, rel=0, abs=0
+    )
+
+
+def _gear_train(curve, *, internal=False, planetary=False, flank="load", a=None):
+    """Gear 1, turned by the driver, meshing with gear 2 at ``a`` (by default 50 mm, 30 mm inside for a
+    ring gear); ``planetary``: gear 1 is a fixed sun and the driver turns the carrier of gear 2."""
+    a = a or (-0.03 if internal else 0.05)
+    points = {"O1": (0.0, 0.0), "T1": (0.01, 0.0), "O2": (a, 0.0), "T2": (a, 0.01)}
+    first = Body(
+        "carrier" if planetary else "g1", ("O1", "T1", "O2") if planetary else ("O1", "T1"), 1.0, 2e-3
+    )
+    carrier = first.name if planetary else "ground"
+    mesh = GearJoint(
+        "mesh",
+        ("ground" if planetary else "g1", "g2"),
+        ("O1", "O2"),
+        curve,
+        carrier=carrier,
+        orientation="7 deg",
+        pressure_angle="22.5 deg",
+        internal=internal,
+        flank=flank,
+    )
+    return Mechanism(
+        points,
+        (first, Body("g2", ("O2", "T2"), 3.0, 5e-3, "O2")),
+        (Revolute("A", ("ground", first.name), "O1"), Revolute("B", (carrier, "g2"), "O2"), mesh),
+        Driver(first.name, "O1", "T1", 20.0),
+        name="gear train",
+    )
+
+
+def _eccentric_closing(ratio):
+    rho = 0.05 / pitch.closing_centre_distance(pitch.eccentric_circle(1.0, ratio))
+    return pitch.eccentric_circle(rho, ratio * rho)
+
+
+GEAR_TRAINS = {
+    "circle": lambda: _gear_train(pitch.circle(0.02)),
+    "ring": lambda: _gear_train(pitch.circle(0.015), internal=True, flank="fixed"),
+    "eccentric": lambda: _gear_train(_eccentric_closing(0.17)),
+    "ellipse": lambda: _gear_train(pitch.ellipse_about_focus(0.025, 0.2)),
+    "planetary": lambda: _gear_train(pitch.circle(0.02), planetary=True),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(GEAR_TRAINS))
+def test_a_geared_mechanism_built_in_python_comes_back_equal(kind, tmp_path):
+    model = GEAR_TRAINS[kind]()
+    again = round_trip(model, tmp_path).model
+    assert same_mechanism(model, again) is None
+
+
+def test_a_planting_mechanism_built_in_python_is_saved_as_its_mechanism(tmp_path):
+    from mechdyn.mechanism.planter import PlanterDesign, planter
+
+    model = planter(PlanterDesign(eccentricity_ratio=0.11, com_offset="15 mm"), name="a variant")
+    again = round_trip(model, tmp_path)
+    assert again.type == "mechanism"  # its design is not kept by the mechanism: written body by body
+    assert same_mechanism(model, again.model) is None
+
+
+def test_a_file_with_every_table_comes_back_equal(tmp_path):
+    """A speed profile, process forces against angle and position, a sampled pitch curve, the angle
+    datum at bottom dead centre, traced points and a field velocity: written from what the mechanism
+    keeps of them, and read back the same."""
+    slider = (EXAMPLES / "slider_crank.toml").read_text()
+    slider = slider.replace(
+        'speed = "100 rad/s"',
+        'speed = "-100 rad/s"\nspeed_profile = [["0 deg", "100 rad/s"], ["120 deg", "130 rad/s"], '
+        '["200 deg", "90 rad/s"]]',
+    )
+    slider = slider.replace(
+        "n_angles = 360",
+        'n_angles = 90\nangle_datum = "bdc"\ntrace = ["A"]\nfield_velocity = ["1 km/h", "0.1 m/s"]\n'
+        'gravity = ["0 m/s^2", "-9.81 m/s^2"]',
+    )
+    slider += (
+        '\n[[process_forces]]\nbody = "slider"\npoint = "B"\ndirection = "180 deg"\nversus = "position"\n'
+        'table = [["-0.2 m", "0 N"], ["0 m", "1 kN"]]\n'
+        '\n[[process_forces]]\nbody = "rod"\npoint = "A"\ndirection = "33 deg"\nversus = "angle"\n'
+        'table = [["10 deg", "0.5 kN"], ["30 deg", "2 kN"], ["50 deg", "0 N"]]\n'
+    )
+    gears = (EXAMPLES / "slider_crank.toml").parent / "transplanter_rp1.toml"
+    radii = pitch.eccentric_circle(1.0, 0.1).radius(np.linspace(0, 2 * np.pi, 48, endpoint=False))
+    rho = 0.0384 / pitch.closing_centre_distance(pitch.sampled(radii))
+    sampled = 'pitch = { kind = "samples", radii = [' + ", ".join(f'"{r * rho} m"' for r in radii) + "] }"
+    rp1 = gears.read_text().replace(
+        'pitch = { kind = "eccentric", radius = "closing", eccentricity_ratio = 0.13 }\n'
+        'orientation = "-35.000000000 deg"',
+        f'{sampled}\norientation = "-35.000000000 deg"',
+    )
+    assert "samples" in rp1
+    for name, text in (("slider.toml", slider), ("rp1.toml", rp1)):
+        (tmp_path / name).write_text(text)
+        loaded = load_quiet(tmp_path / name)  # a sampled planet meshing with an eccentric idler warns
+        again = round_trip(loaded, tmp_path, f"saved_{name}")
+        assert same_mechanism(loaded.model, again.model) is None, name
+        assert same(loaded.settings, again.settings) is None, name
+    written = (tmp_path / "saved_slider.toml").read_text()
+    assert "speed_profile = [[" in written and written.count("[[process_forces]]") == 2
+    assert 'angle_datum = "bdc"' in written
+    assert "[joints.pitch]" in (tmp_path / "saved_rp1.toml").read_text()
+
+
+def _summary(capsys, path):
+    from mechdyn.cli.main import main
+
+    assert main(["mechanism", str(path), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    return {k: v for k, v in doc.items() if k not in ("run_id", "model_file", "model_sha256", "created")}
+
+
+def _figures(doc, where=""):
+    """The numbers of a summary, by their path."""
+    if isinstance(doc, dict):
+        return {k: v for key, value in doc.items() for k, v in _figures(value, f"{where}/{key}").items()}
+    if isinstance(doc, list):
+        return {k: v for i, value in enumerate(doc) for k, v in _figures(value, f"{where}/{i}").items()}
+    return {where: doc}
+
+
+def test_the_saved_press_gives_the_same_summary(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("MECHDYN_DB", str(tmp_path / "runs.db"))
+    monkeypatch.chdir(tmp_path)
+    saved = mechdyn.save(mechdyn.load(EXAMPLES / "press_link_drive.toml"), tmp_path / "press.toml")
+    original, again = _summary(capsys, EXAMPLES / "press_link_drive.toml"), _summary(capsys, saved)
+    first, second = _figures(original), _figures(again)
+    assert first.keys() == second.keys() and len(first) > 30
+    for key, value in first.items():
+        if isinstance(value, float):
+            assert second[key] == pytest.approx(value, rel=1e-12, abs=1e-12), key
+        elif not key.endswith("_s"):  # timings differ from run to run
+            assert second[key] == value, key
+
+
+def _python_force(theta, position):
+    return 1e3 * np.cos(theta), 0.0 * theta
+
+
+def _python_profile(angle):
+    return 100.0 * (1.0 + 0.1 * np.cos(angle))
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (
+            lambda m: dataclasses.replace(m, process_forces=(ProcessForce("slider", "B", _python_force),)),
+            r"process force on body 'slider' at point 'B' is a Python function \(_python_force\).*"
+            r"only as a table against crank angle or output position",
+        ),
+        (
+            lambda m: dataclasses.replace(m, driver=Driver("crank", "O", "A", 100.0, _python_profile)),
+            r"speed profile is a Python function .*only as rows \[angle, speed\] \(speed_profile\)",
+        ),
+    ],
+)
+def test_what_a_mechanism_file_cannot_hold_is_refused_by_name(change, message, tmp_path):
+    model = change(mechdyn.load(EXAMPLES / "slider_crank.toml").model)
+    with pytest.raises(MechdynError, match=message):
+        mechdyn.save(model, tmp_path / "m.toml")
+    assert not (tmp_path / "m.toml").exists()
+
+
+def _unwritable_eccentricity():
+    """An eccentric circle whose eccentricity no float ratio of its radius gives back to the bit."""
+    rho, e = 0.0191, 0.17 * 0.0191
+    while any((e / rho + k * math.ulp(e / rho)) * rho == e for k in range(-8, 9)):
+        e = math.nextafter(e, 1.0)
+    return pitch.eccentric_circle(rho, e)
+
+
+def test_a_pitch_curve_the_file_cannot_rebuild_is_refused_by_name(tmp_path):
+    radii = pitch.eccentric_circle(1.0, 0.1).radius(np.linspace(0, 2 * np.pi, 48, endpoint=False))
+    rho = 0.05 / pitch.closing_centre_distance(pitch.sampled(radii))
+    cases = [
+        (
+            pitch.PitchCurve("my gear", lambda th: np.full(np.shape(th), 0.02), circular=True),
+            r"gear joint 'mesh' has a pitch curve 'my gear' whose radius is a Python function",
+        ),
+        (pitch.sampled(radii * rho), r"gear joint 'mesh' has a sampled pitch curve.*only to rounding"),
+        (_unwritable_eccentricity(), r"no ratio times the radius 0.0191 m gives its eccentricity"),
+    ]
+    for curve, message in cases:
+        model = _gear_train(curve, a=pitch.closing_centre_distance(curve) if not curve.circular else None)
+        with pytest.raises(MechdynError, match=message):
+            mechdyn.save(model, tmp_path / "m.toml")
+        assert not (tmp_path / "m.toml").exists()

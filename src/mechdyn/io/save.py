@@ -95,7 +95,7 @@ def dumps(model: Any, *, path: str | Path | None = None, **options: Any) -> str:
 
     Parameters
     ----------
-    model : Drivetrain, MountedMachine, GearPair or LoadedModel
+    model : Drivetrain, Mechanism, MountedMachine, GearPair or LoadedModel
         A model built in Python, or a loaded model file (:func:`mechdyn.load`; its analysis settings
         are written too).
     path : str or Path, optional
@@ -136,10 +136,11 @@ def save(model: Any, path: str | Path, **options: Any) -> Path:
 
     Parameters
     ----------
-    model : Drivetrain, MountedMachine, GearPair or LoadedModel
-        A :class:`mechdyn.drivetrain.Drivetrain`; a :class:`mechdyn.support.MountedMachine` with its
-        ``load``; a :class:`mechdyn.gears.GearPair`; or a model file loaded with :func:`mechdyn.load`,
-        whose analysis settings (a drivetrain's ``[campbell]`` and ``[response]``, a support's
+    model : Drivetrain, Mechanism, MountedMachine, GearPair or LoadedModel
+        A :class:`mechdyn.drivetrain.Drivetrain`; a :class:`mechdyn.mechanism.Mechanism`; a
+        :class:`mechdyn.support.MountedMachine` with its ``load``; a :class:`mechdyn.gears.GearPair`;
+        or a model file loaded with :func:`mechdyn.load`, whose analysis settings (a drivetrain's
+        ``[campbell]`` and ``[response]``, a mechanism's angles and traced points, a support's
         excitation and ``[analysis]``, a gear pair's ``[mesh]``) are written too.
     path : str or Path
         The model file to write (TOML).
@@ -155,9 +156,11 @@ def save(model: Any, path: str | Path, **options: Any) -> Path:
     Raises
     ------
     MechdynError
-        For a model type that cannot be written (a mechanism, for now), naming it and the types that
-        can; for a model the file format cannot hold (a support load with horizontal components
-        that came from no mechanism file, say), saying what it can hold.
+        For a model type that cannot be written, naming it and the types that can; for a
+        mechanism's part given as a Python function (a process force, a speed profile, a pitch curve
+        of its own) that no table of the file can hold; for a model the file format cannot hold (a
+        support load with horizontal components that came from no mechanism file, say), saying what
+        it can hold.
 
     Examples
     --------

@@ -49,7 +49,8 @@ register_model_type(
         builder="mechdyn.mechanism.schema:build",
         schema="mechdyn.mechanism.schema:MechanismFile",
         model_attribute="mechanism",
-        model_class="mechdyn.mechanism.model:Mechanism",  # no writer yet: written by hand
+        model_class="mechdyn.mechanism.model:Mechanism",
+        writer="mechdyn.mechanism.save:to_toml",
     )
 )
 register_model_type(
@@ -58,6 +59,10 @@ register_model_type(
         builder="mechdyn.mechanism.planter:build",
         schema="mechdyn.mechanism.planter:PlanterFile",
         model_attribute="mechanism",
+        # the model is a Mechanism too: one writer for both types, which writes a planting mechanism
+        # loaded from its design file as that design
+        model_class="mechdyn.mechanism.model:Mechanism",
+        writer="mechdyn.mechanism.save:to_toml",
     )
 )
 
