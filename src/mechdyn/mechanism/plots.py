@@ -291,8 +291,12 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
     m, k = result.mechanism, result.kinematics
     cols = 4
     rows = int(np.ceil(frames / cols))
-    fig, axes = plt.subplots(
-        rows, cols, figsize=(3.2 * cols, 2.8 * rows + 0.8), layout="constrained", sharex=True, sharey=True
+    # fixed margins: the constrained layout of twelve panels cost more than drawing them (1.6 s against
+    # 0.7 s to save the press's sheet)
+    height = 2.8 * rows + 0.8
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, height), sharex=True, sharey=True)
+    fig.subplots_adjust(
+        left=0.07, right=0.99, top=1 - 0.55 / height, bottom=0.85 / height, wspace=0.12, hspace=0.32
     )
     idx = np.linspace(0, len(k.angle), frames, endpoint=False).astype(int)
     tracks = linkage_tracks(result)  # every body's points over the cycle, to fix the view (mm)
@@ -313,7 +317,9 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
     for a in axes[:, 0]:
         a.set_ylabel("y (mm)", fontsize="small")
     handles, labels = linkage_legend(result)
-    fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 6), fontsize="small")
+    fig.legend(
+        handles, labels, loc="lower center", ncols=min(len(labels), 6), fontsize="small", frameon=False
+    )
     fig.suptitle(f"{m.name}: the mechanism over one revolution")
     return np.ravel(axes)[0]
 
