@@ -26,7 +26,7 @@ import numpy as np
 from mechdyn.errors import MechdynError
 from mechdyn.io.save import model_header, written_by
 from mechdyn.io.writing import TomlDocument, quantity_text
-from mechdyn.mechanism.model import GearJoint, Mechanism, Prismatic, ProcessForce, Revolute
+from mechdyn.mechanism.model import GearJoint, Mechanism, ProcessForce
 
 __all__ = ["to_toml"]
 
@@ -165,14 +165,15 @@ def _same_kind(source: Any) -> bool:
 
 def _joint(doc: TomlDocument, j: Any, source: Any) -> None:
     row: dict[str, Any] = {"name": j.name}
-    if isinstance(j, Revolute | Prismatic):
-        kind = "revolute" if isinstance(j, Revolute) else "prismatic"
-        row |= {"type": kind, "bodies": list(j.bodies), "point": j.point}
-        if isinstance(j, Prismatic):
+    # the joint protocol says what a joint is: it pins two bodies at a point, slides one along a line
+    # of the other, or rolls two pitch curves on each other (a gear joint holds its curve)
+    if j.pins or j.slides:
+        row |= {"type": "prismatic" if j.slides else "revolute", "bodies": list(j.bodies), "point": j.point}
+        if j.slides:
             row["axis"] = _q(j.axis, "rad")
         doc.table("joints", row, array=True)
         return
-    if not isinstance(j, GearJoint):
+    if getattr(j, "curve", None) is None:
         raise MechdynError(
             f"mechdyn.save: joint {j.name!r} is a {type(j).__name__}; a mechanism file holds revolute, "
             "prismatic and gear joints"

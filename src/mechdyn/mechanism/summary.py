@@ -74,9 +74,7 @@ def model_tables(mechanism: Mechanism) -> list[Table]:
     for j in mechanism.joints:
         point = getattr(j, "point", None) or ", ".join(getattr(j, "points", ()))
         xy = mechanism.points.get(point) if isinstance(point, str) else None
-        kind = {"Revolute": "revolute", "Prismatic": "slider", "GearJoint": "gear pair"}.get(
-            type(j).__name__, type(j).__name__
-        )
+        kind = "slider" if j.slides else "revolute" if j.pins else "gear pair"  # the joint protocol
         joints.append(
             [
                 j.name,
