@@ -197,3 +197,35 @@ def test_the_shaking_polar_plot_labels_crank_angles_without_overprinting():
     gaps = np.hypot(*(anchors[:, None, :] - anchors[None, :, :]).transpose(2, 0, 1))
     assert gaps[np.triu_indices(len(anchors), 1)].min() >= 0.08 * reach * (1 - 1e-9)
     plt.close("all")
+
+
+@pytest.mark.parametrize("how", ["categories", "fixed labels", "function"])
+def test_names_on_tick_labels_are_shown_as_written_however_the_axis_labels_them(how):
+    """A name with $ signs on a category axis, a fixed list or a function's labels is shown as written;
+    a log axis keeps its powers of ten (mathtext its formatter writes)."""
+    from matplotlib.text import Text
+    from matplotlib.ticker import FuncFormatter
+
+    from mechdyn.plotting import fit_titles, plain_text
+
+    fig, (top, ax) = plt.subplots(2, 1, sharex=True, layout="constrained")
+    names = ["cost $1 $of", "b"]
+    if how == "categories":
+        ax.bar(names, [1, 2])
+    elif how == "fixed labels":
+        ax.plot([0, 1], [1, 2])
+        ax.set_xticks([0, 1], names)
+    else:
+        ax.plot([0, 1], [1, 2])
+        ax.set_xticks([0, 1])
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: names[int(round(x))]))
+    ax.set_yscale("log")
+    plain_text(fig)
+    fit_titles(fig)
+    fig.canvas.draw()
+    texts = fig.findobj(Text)
+    plt.close(fig)
+    named = [t for t in texts if "cost" in t.get_text()]
+    assert named and not any(t.get_parse_math() for t in named)  # the hidden top labels too
+    powers = [t for t in texts if "mathdefault" in t.get_text()]
+    assert powers and all(t.get_parse_math() for t in powers)

@@ -13,6 +13,7 @@ __all__ = [
     "overlaid",
     "plain_text",
     "save_figure",
+    "save_figures",
 ]
 
 
@@ -92,20 +93,32 @@ def plain_text(fig: Any) -> None:
     fig : matplotlib.figure.Figure
         The figure, about to be drawn.
     """
-    from matplotlib.text import Text
+    for t in _named_texts(fig):
+        t.set_parse_math(False)
 
-    # a formatter's tick label (a log axis writes 10⁻³ as mathtext, made when the figure is drawn) is
-    # left as it is; a tick label that names something (a disk called "a $x") is shown as written
-    ticks = {
-        id(t)
-        for ax in fig.axes
-        for axis in (ax.xaxis, ax.yaxis)
-        for t in (*axis.get_ticklabels(which="both"), axis.get_offset_text())
-    }
-    for t in fig.findobj(Text):
-        text = t.get_text()
-        if id(t) not in ticks or (text and "\\mathdefault" not in text):
-            t.set_parse_math(False)
+
+def _named_texts(artist: Any) -> Any:
+    """Every text of an artist that can carry a name: all but the tick labels a number formatter
+    writes (a log axis writes 10⁻³ as mathtext, and asking an axis for those labels makes its ticks,
+    which is much of a figure's cost); labels that name things (categories, a fixed list, a function's
+    words) are worked out here, as the draw will."""
+    from matplotlib.axis import Axis
+    from matplotlib.text import Text
+    from matplotlib.ticker import LogFormatter, NullFormatter, ScalarFormatter
+
+    for child in artist.get_children():
+        if isinstance(child, Axis):
+            yield child.label
+            for which in ("major", "minor"):
+                formatter = child.get_major_formatter() if which == "major" else child.get_minor_formatter()
+                if not isinstance(formatter, ScalarFormatter | LogFormatter | NullFormatter):
+                    child.get_ticklabels(which=which)  # labels them as the draw will
+                    ticks = child.majorTicks if which == "major" else child.minorTicks
+                    yield from (label for t in ticks for label in (t.label1, t.label2))
+        elif isinstance(child, Text):
+            yield child
+        else:
+            yield from _named_texts(child)
 
 
 def _clear(box: Any, width: float, margin: float) -> bool:
@@ -132,7 +145,9 @@ def fit_titles(fig: Any) -> None:
     # the layout moves the axes by their margins only: a title that keeps a tenth of the figure's
     # width from both edges where the axes stand before it cannot be clipped after it, and the
     # figure is not drawn here (a draw with its layout is most of what a plot costs)
-    if all(_clear(t.get_window_extent(renderer), width, 0.1 * width) for t in texts):
+    # (without a layout engine nothing moves: the places before the draw are the places after it)
+    margin = 0.0 if fig.get_layout_engine() is None else 0.1 * width
+    if all(_clear(t.get_window_extent(renderer), width, margin) for t in texts):
         return
     fig.canvas.draw()
     # the figure is drawn once, for the titles' places; a title's extent then follows its own text
@@ -213,3 +228,34 @@ def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
     fig.savefig(p, dpi=dpi)
     plt.close(fig)
     return p
+
+
+def save_figures(
+    source: Any, folder: str | Path, *, prefix: str = "", dpi: int = 130, workers: int | None = None
+) -> list[Path]:
+    """Draw and save every figure of a result, shared among processes where the platform allows
+    (:class:`mechdyn.figure_workers.FigureWorkers`).
+
+    Parameters
+    ----------
+    source : Result or mapping of str to callable
+        A result (its ``plots()``: file name → function returning the figure or its axes), or that
+        mapping itself.
+    folder : str or Path
+        Where to write them; made if missing.
+    prefix : str
+        Put before every file name (a study's name where several share the folder).
+    dpi : int
+        Resolution of a PNG, dots per inch.
+    workers : int, optional
+        Processes in all; :func:`mechdyn.figure_workers.plot_workers` by default.
+
+    Returns
+    -------
+    list of Path
+        The files, in the order of the figures.
+    """
+    from mechdyn.figure_workers import FigureWorkers
+
+    with FigureWorkers(workers) as drawing:
+        return drawing.draw(source, folder, prefix=prefix, dpi=dpi)

@@ -169,6 +169,16 @@ def add_analysis_parser(sub: argparse._SubParsersAction, analysis: Analysis) -> 
 def run(args: argparse.Namespace, analysis: Analysis) -> int:
     """Load ``args.file``, run the analysis, store the run, print a table or JSON, write plots (and an
     animation, for a linkage)."""
+    from mechdyn.figure_workers import FigureWorkers
+
+    # the processes that will draw the plots start now and import matplotlib while the analysis runs
+    with FigureWorkers() as drawing:
+        if args.plots:
+            drawing.start(analysis.function.__module__)
+        return _run(args, analysis, drawing)
+
+
+def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
     from mechdyn.errors import MechdynError, ModelFileError
     from mechdyn.io.modelfile import load_model
     from mechdyn.store import ResultStore
@@ -190,6 +200,9 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
                 raise
             except MechdynError as exc:  # found while analysing the file's model: name the file
                 raise MechdynError(f"{args.file}: {exc}") from None
+    planned: list[Path] = []
+    if args.plots:  # the other processes draw while this one stores the run and prints its tables
+        planned = drawing.begin(result, args.plots)
     notes = list(dict.fromkeys([str(w.message) for w in caught] + list(result.warnings)))
     for n in notes:
         print(f"warning: {n}", file=sys.stderr)
@@ -217,13 +230,6 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
             from mechdyn.cli.common import write_csv
 
             write_csv(result.to_frame(), path)
-    plot_files: list[str] = []
-    if args.plots:
-        from mechdyn.plotting import save_figure
-
-        with _writing(args.plots, "the plots", run_id, failed):
-            for name, make in result.plots().items():
-                plot_files.append(str(save_figure(make(), Path(args.plots) / name)))
     animation_file = None
     if getattr(args, "animate", None):
         with _writing(args.animate, "the animation", run_id, failed):
@@ -247,6 +253,11 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         )
         with _writing(args.report, "the report", run_id, failed):
             report_file = str(write(report, args.report))
+    plot_files: list[str] = []
+    if args.plots:  # drawn meanwhile by the other processes
+        with _writing(args.plots, "the plots", run_id, failed):
+            drawing.end()
+            plot_files = [str(p) for p in planned]
     if args.json:
         doc = {
             "run_id": run_id,

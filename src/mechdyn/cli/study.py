@@ -45,11 +45,10 @@ def _run(args: argparse.Namespace) -> int:
     plot_files = []
     for result in results:
         if args.plots:
-            from mechdyn.plotting import save_figure
+            from mechdyn.plotting import save_figures
 
             prefix = "" if len(results) == 1 else _safe(result.study.name) + "_"
-            for name, make in result.plots().items():
-                plot_files.append(str(save_figure(make(), Path(args.plots) / (prefix + name))))
+            plot_files += [str(p) for p in save_figures(result, args.plots, prefix=prefix)]
     if args.report:
         from mechdyn.reports.html import study_report, write
 

@@ -9,6 +9,7 @@ moment (the motor's reaction −T included). With no external load the shaking f
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -188,6 +189,10 @@ class DynamicsResult(Result):
 
     def summary(self) -> dict[str, Any]:
         """Stroke, dead centres, inertia-force extremes, torque, power balance (SI, angles in degrees)."""
+        return copy.deepcopy(self._summary)  # worked out once: the tables and every plot ask for it
+
+    @cached_property
+    def _summary(self) -> dict[str, Any]:
         from mechdyn.mechanism.extrema import load_figures, output_figures
 
         deg = np.degrees(self.angle)
@@ -415,6 +420,10 @@ class DynamicsResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """Per-angle table; every column names its unit."""
+        return self._frame.copy()  # made once: the CSV and the plots read it
+
+    @cached_property
+    def _frame(self) -> pd.DataFrame:
         import pandas as pd
 
         cols: dict[str, Any] = {"angle_deg": np.degrees(self.angle), "time_s": self.kinematics.time}

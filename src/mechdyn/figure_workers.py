@@ -1,0 +1,359 @@
+"""A result's figures drawn by several processes.
+
+Drawing a figure is matplotlib's own work, one core per figure, and a run's figures are independent of
+each other: where the platform forks a process cheaply and safely (Linux), the figures are shared
+among copies of this process. Copies started before the analysis (:meth:`FigureWorkers.start`)
+import matplotlib while it runs and then receive the result, pickled; copies started when the
+figures are asked for inherit them. Each copy takes the next figure from a queue when it is free, so
+that one large figure does not hold up the rest, and ends without running this process's exit
+handlers. An error in any copy is raised in this process, as raised there, once every copy has ended;
+the figures drawn by then are on disk.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import sys
+import warnings
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any, cast
+
+__all__ = ["FigureWorkers", "plot_workers"]
+
+Makers = Mapping[str, Callable[[], Any]]
+
+
+def plot_workers() -> int:
+    """How many processes draw a set of figures: the cores this process may use, where the platform
+    forks cheaply and safely (Linux); one elsewhere. ``MECHDYN_PLOT_WORKERS`` sets it."""
+    asked = os.environ.get("MECHDYN_PLOT_WORKERS", "").strip()
+    if asked.isdigit() and int(asked) > 0:
+        return int(asked)
+    if not sys.platform.startswith("linux") or not hasattr(os, "fork"):
+        return 1  # macOS forks unsafely once system frameworks are loaded; Windows does not fork
+    return len(os.sched_getaffinity(0))
+
+
+def _get_ready(modules: tuple[str, ...]) -> None:
+    """What a copy does before its result comes: import matplotlib and the modules that will draw,
+    and draw one small figure in memory (the fonts are read and laid out on the first text drawn)."""
+    import importlib
+    import io
+
+    import matplotlib.pyplot as plt
+
+    for name in modules:
+        importlib.import_module(name)
+    fig, ax = plt.subplots(figsize=(2, 1.5), layout="constrained")
+    ax.plot([0.0, 1.0], [0.0, 1.0], label="warm-up")
+    ax.set_title("warm-up")
+    ax.set_xlabel("x (mm)")
+    ax.legend()
+    fig.savefig(io.BytesIO(), format="png", dpi=72)
+    plt.close(fig)
+
+
+def _drain(queue: int, makers: Makers, paths: list[Path], dpi: int, leave: int = 0) -> None:
+    """Draw the figures whose indices this process takes from the queue (four bytes each), leaving
+    the last ``leave`` of them to the other processes (which have matplotlib imported already)."""
+    import fcntl
+    import termios
+
+    from mechdyn.plotting import save_figure
+
+    names = list(makers)
+    waiting = bytearray(4)
+    while True:
+        if leave:
+            fcntl.ioctl(queue, termios.FIONREAD, waiting)
+            if int.from_bytes(waiting, sys.byteorder) // 4 <= leave:
+                return
+        record = os.read(queue, 4)
+        if len(record) < 4:
+            return
+        i = int.from_bytes(record, "little")
+        save_figure(makers[names[i]](), paths[i], dpi=dpi)
+
+
+def _write_all(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view) :]
+
+
+def _read_all(fd: int) -> bytes:
+    chunks = []
+    while chunk := os.read(fd, 1 << 16):
+        chunks.append(chunk)
+    return b"".join(chunks)
+
+
+def _report(fd: int, error: BaseException | None, caught: list[warnings.WarningMessage]) -> None:
+    """Write a copy's outcome for the parent: its exception (in words, and pickled where it pickles)
+    and the warnings it caught (a copy writes nothing to the terminal itself)."""
+    said = [(str(w.message), w.category) for w in caught]
+    words = None if error is None else f"{type(error).__name__}: {error}"
+    try:
+        payload = pickle.dumps({"words": words, "error": error, "warnings": said})
+    except Exception:
+        payload = pickle.dumps({"words": words, "error": None, "warnings": said})
+    with os.fdopen(fd, "wb") as out:
+        out.write(payload)
+
+
+def _reported(payload: bytes) -> BaseException | None:
+    """Warn again here of what a copy caught; the exception it reported (as raised there where it
+    unpickles, else in its words), or None."""
+    try:
+        report = pickle.loads(payload)
+    except Exception as exc:  # an exception that pickles but does not unpickle
+        return RuntimeError(f"a process drawing figures failed ({exc})")
+    for message, category in report["warnings"]:
+        warnings.warn(message, category, stacklevel=2)
+    if report["words"] is None:
+        return None
+    error = report["error"]
+    return error if isinstance(error, BaseException) else RuntimeError(report["words"])
+
+
+class FigureWorkers:
+    """Processes that draw figures beside this one; use as a context manager.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Processes in all, this one included; :func:`plot_workers` by default. One draws every figure
+        here.
+    draw_here : bool
+        Whether this process draws too (as it does by default) or only waits for the others.
+    """
+
+    def __init__(self, workers: int | None = None, *, draw_here: bool = True) -> None:
+        self.workers = max(1, plot_workers() if workers is None else int(workers))
+        self.draw_here = draw_here
+        self._queue: list[int | None] = [None, None]  # the figures' queue: read end, write end
+        self._children: list[dict[str, Any]] = []  # pid, job (write end), report (read end)
+        self._inherit: tuple[Makers, list[Path], int] | None = None
+        self._job: tuple[Makers, list[Path], int] | None = None  # handed out by begin(), for end()
+        self._ready: tuple[str, ...] = ()  # modules a copy started early imports
+
+    def __enter__(self) -> FigureWorkers:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def start(self, *modules: str) -> FigureWorkers:
+        """Start the other processes now, before the figures exist: they import matplotlib and
+        ``modules`` (those of the analysis to come, so that its result unpickles at once), draw a
+        first figure to have the fonts ready, and wait for a result to draw.
+
+        Parameters
+        ----------
+        *modules : str
+            Module names to import in each process beforehand.
+        """
+        if self.workers > 1 and not self._children:
+            self._ready = modules
+            self._fork(self.workers - 1)
+        return self
+
+    def _fork(self, n: int) -> None:
+        self._open_queue()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        for _ in range(n):
+            job_read, job_write = os.pipe()
+            report_read, report_write = os.pipe()
+            with warnings.catch_warnings():  # Python 3.12 warns of any thread; none draws in a copy
+                warnings.simplefilter("ignore", DeprecationWarning)
+                pid = os.fork()
+            if pid == 0:  # the copy: never returns into the caller's code
+                status = 1
+                try:
+                    for other in self._children:  # another copy's job pipe must close when we do
+                        os.close(other["job"])
+                        os.close(other["report"])
+                    os.close(job_write)
+                    os.close(report_read)
+                    status = self._serve(job_read, report_write)
+                finally:
+                    os._exit(status)
+            os.close(job_read)
+            os.close(report_write)
+            self._children.append({"pid": pid, "job": job_write, "report": report_read})
+
+    def _serve(self, job: int, report: int) -> int:
+        """A copy's life: the figures it inherited, or a result to come down its job pipe."""
+        error: BaseException | None = None
+        caught: list[warnings.WarningMessage] = []
+        try:
+            self._close_queue(1)
+            warnings.simplefilter("always")
+            warnings.showwarning = lambda message, category, *a, **k: caught.append(
+                warnings.WarningMessage(message, category, "", 0)
+            )
+            if self._inherit is None:
+                _get_ready(self._ready)
+                payload = _read_all(job)
+                if not payload:  # nothing to draw after all
+                    return 0
+                source, paths, dpi = pickle.loads(payload)
+                makers = source.plots() if hasattr(source, "plots") else source
+            else:
+                makers, paths, dpi = self._inherit
+            _drain(cast(int, self._queue[0]), makers, paths, dpi)
+        except BaseException as exc:  # reported to the parent, which raises it
+            error = exc
+        _report(report, error, caught)
+        return 0 if error is None else 1
+
+    def draw(self, source: Any, folder: str | Path, *, prefix: str = "", dpi: int = 130) -> list[Path]:
+        """Draw and save every figure of ``source``: :meth:`begin`, then :meth:`end`.
+
+        Parameters
+        ----------
+        source : Result or mapping of str to callable
+            A result (its ``plots()``: file name → function returning the figure or its axes), or
+            that mapping itself.
+        folder : str or Path
+            Where to write them; made if missing.
+        prefix : str
+            Put before every file name (a study's name where several share the folder).
+        dpi : int
+            Resolution of a PNG, dots per inch.
+
+        Returns
+        -------
+        list of Path
+            The files, in the order of the figures.
+        """
+        paths = self.begin(source, folder, prefix=prefix, dpi=dpi)
+        self.end()
+        return paths
+
+    def begin(self, source: Any, folder: str | Path, *, prefix: str = "", dpi: int = 130) -> list[Path]:
+        """Hand the figures of ``source`` to the other processes and return at once, so that this one
+        can go on (store the run, print its tables) while they draw; :meth:`end` draws what is left
+        here and waits.
+
+        Parameters
+        ----------
+        source : Result or mapping of str to callable
+            As for :meth:`draw`.
+        folder : str or Path
+            Where to write them; made if missing.
+        prefix : str
+            Put before every file name.
+        dpi : int
+            Resolution of a PNG, dots per inch.
+
+        Returns
+        -------
+        list of Path
+            The files that :meth:`end` will have written, in the order of the figures.
+        """
+        makers: Makers = source.plots() if hasattr(source, "plots") else source
+        names = list(makers)
+        paths = [Path(folder) / (prefix + n) for n in names]
+        self._job = (makers, paths, dpi)
+        if not names or ((self.workers <= 1 or len(names) <= 1) and not self._children):
+            self.close()
+            return paths  # drawn here by end()
+        payload = b""
+        if self._children:  # started early: they need the result itself
+            try:
+                payload = pickle.dumps((source, paths, dpi))
+            except Exception:  # a mapping of closures: those copies stop, new ones inherit it
+                self.close()
+        try:
+            self._hand_out(names, makers, paths, dpi, payload)
+        except OSError:  # no process to be had (a limit on processes or pipes): end() draws them here
+            self.close()
+        return paths
+
+    def _hand_out(
+        self, names: list[str], makers: Makers, paths: list[Path], dpi: int, payload: bytes
+    ) -> None:
+        """Fill the queue and give the copies their work: the result to those started early, the
+        figures themselves to those forked now."""
+        self._open_queue()
+        _write_all(cast(int, self._queue[1]), b"".join(i.to_bytes(4, "little") for i in range(len(names))))
+        if not self._children:
+            self._inherit = (makers, paths, dpi)
+            self._fork(min(self.workers, len(names)) - 1)
+        else:
+            for child in self._children:
+                try:
+                    _write_all(child["job"], payload)
+                except BrokenPipeError:  # that copy has ended: its report says why
+                    pass
+        self._close_queue(1)
+        for child in self._children:
+            os.close(child["job"])
+            child["job"] = None
+
+    def end(self) -> None:
+        """Draw here the figures no other process has taken, wait for the others, and raise the first
+        error any of them met."""
+        from mechdyn.plotting import save_figure
+
+        if self._job is None:
+            return
+        makers, paths, dpi = self._job
+        self._job = None
+        error: BaseException | None = None
+        try:
+            if not self._children:  # no other process: every figure is drawn here
+                for name, path in zip(makers, paths, strict=True):
+                    save_figure(makers[name](), path, dpi=dpi)
+            elif self.draw_here:  # more figures than other processes: this one takes the surplus
+                _drain(cast(int, self._queue[0]), makers, paths, dpi, leave=len(self._children))
+        except BaseException as exc:
+            error = exc
+        found = self._collect()
+        if error is None:
+            error = found
+        if error is not None:
+            raise error
+
+    def _collect(self) -> BaseException | None:
+        """Wait for every copy; the first error any reported. A copy still waiting for a result has
+        nothing to lose and is stopped at once."""
+        error: BaseException | None = None
+        for child in self._children:
+            if child["job"] is not None:
+                os.close(child["job"])
+                os.kill(child["pid"], signal.SIGKILL)
+                os.close(child["report"])
+                os.waitpid(child["pid"], 0)
+                continue
+            with os.fdopen(child["report"], "rb") as pipe:
+                payload = pipe.read()
+            _, status = os.waitpid(child["pid"], 0)
+            found = _reported(payload) if payload else None
+            if found is None and status != 0:
+                found = RuntimeError(f"a process drawing figures ended with status {status}")
+            error = error or found
+        self._children = []
+        self._close_queue(0)
+        self._close_queue(1)
+        self._inherit = None
+        return error
+
+    def _open_queue(self) -> None:
+        if self._queue[0] is None:
+            self._queue = list(os.pipe())
+
+    def _close_queue(self, end: int) -> None:
+        """Close one end of the queue once (a number closed twice may by then be another file's)."""
+        fd, self._queue[end] = self._queue[end], None
+        if fd is not None:
+            os.close(fd)
+
+    def close(self) -> None:
+        """End the other processes (those still waiting for a result end at once)."""
+        self._collect()

@@ -1,0 +1,117 @@
+"""Figures drawn by several processes (`mechdyn.figure_workers`): the same files as drawn here, every
+error and warning of a copy raised here, nothing left running."""
+
+from __future__ import annotations
+
+import os
+import warnings
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import pytest
+
+from mechdyn.figure_workers import FigureWorkers, plot_workers
+from mechdyn.plotting import save_figures
+
+PARENT = os.getpid()
+
+
+def _line(k: float):
+    import matplotlib.pyplot as plt
+
+    _fig, ax = plt.subplots(figsize=(3, 2))
+    ax.plot([0, 1, 2], [0, k, 2 * k])
+    ax.set_title(f"slope {k}")
+    return ax
+
+
+class Curves:
+    """A result-like source: picklable, its figures named and made by ``plots()``."""
+
+    def __init__(self, n: int, failing: str | None = None, warning: str | None = None) -> None:
+        self.n, self.failing, self.warning = n, failing, warning
+
+    def plots(self):
+        return {f"curve_{i}.png": (lambda i=i: self._make(i)) for i in range(self.n)}
+
+    def _make(self, i: int):
+        name = f"curve_{i}.png"
+        if name == self.failing and os.getpid() != PARENT:
+            raise ValueError(f"cannot draw {name}")
+        if self.warning and os.getpid() != PARENT:
+            warnings.warn(self.warning, UserWarning, stacklevel=1)
+        return _line(float(i + 1))
+
+
+def _no_children_left() -> bool:
+    try:
+        os.waitpid(-1, os.WNOHANG)
+    except ChildProcessError:
+        return True
+    return False
+
+
+def test_figures_drawn_by_several_processes_are_the_figures_drawn_by_one(tmp_path):
+    one = save_figures(Curves(6), tmp_path / "one", workers=1)
+    many = save_figures(Curves(6), tmp_path / "many", workers=3)
+    assert [p.name for p in one] == [p.name for p in many] == [f"curve_{i}.png" for i in range(6)]
+    for a, b in zip(one, many, strict=True):
+        assert a.read_bytes() == b.read_bytes()
+    assert _no_children_left()
+
+
+def test_processes_started_before_the_result_draw_it_when_it_comes(tmp_path):
+    with FigureWorkers(3) as drawing:
+        drawing.start()
+        paths = drawing.draw(Curves(5), tmp_path, prefix="study_")
+    assert [p.name for p in paths] == [f"study_curve_{i}.png" for i in range(5)]
+    assert all(p.stat().st_size > 1000 for p in paths)
+    assert _no_children_left()
+
+
+def test_figures_that_do_not_pickle_are_drawn_by_copies_that_inherit_them(tmp_path):
+    makers = {f"f{i}.png": (lambda i=i: _line(i)) for i in range(4)}  # closures: no pickle
+    with FigureWorkers(2) as drawing:
+        drawing.start()
+        paths = drawing.draw(makers, tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in paths)
+    assert _no_children_left()
+
+
+@pytest.mark.parametrize("early", [False, True])
+def test_an_error_in_another_process_is_raised_here_as_raised_there(tmp_path, early):
+    source = Curves(4, failing="curve_1.png")  # fails only where it is not drawn here
+    with FigureWorkers(3, draw_here=False) as drawing:
+        if early:
+            drawing.start()
+        with pytest.raises(ValueError, match=r"cannot draw curve_1\.png"):
+            drawing.draw(source, tmp_path)
+    assert {p.name for p in tmp_path.iterdir()} == {"curve_0.png", "curve_2.png", "curve_3.png"}
+    assert _no_children_left()
+
+
+def test_a_warning_in_another_process_is_warned_here(tmp_path):
+    with pytest.warns(UserWarning, match="a glyph is missing"):
+        with FigureWorkers(2, draw_here=False) as drawing:
+            drawing.draw(Curves(4, warning="a glyph is missing"), tmp_path)
+    assert _no_children_left()
+
+
+def test_processes_that_get_no_result_stop_at_once():
+    drawing = FigureWorkers(3).start()
+    pids = [c["pid"] for c in drawing._children]
+    assert len(pids) == 2
+    drawing.close()
+    for pid in pids:
+        with pytest.raises(ProcessLookupError):
+            os.kill(pid, 0)
+    assert _no_children_left()
+
+
+def test_the_number_of_processes_follows_the_environment(monkeypatch):
+    monkeypatch.setenv("MECHDYN_PLOT_WORKERS", "3")
+    assert plot_workers() == 3
+    monkeypatch.delenv("MECHDYN_PLOT_WORKERS")
+    assert plot_workers() >= 1
