@@ -19,19 +19,24 @@ from __future__ import annotations
 import json
 import threading
 from collections.abc import Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import TimeoutError as FuturesTimeout
 from datetime import date, datetime
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from mechdyn.dashboard.study_data import PAGE_SIZE, StudyData
 from mechdyn.reports.html import _cell, toml_text
 from mechdyn.store.store import ResultStore, StoreError
 from mechdyn.studies.storage import StudyStore
 
 __all__ = ["create_app"]
 
-MAX_POINTS = 20_000  # variants drawn in a study's plots
-MAX_ROWS = 200  # variants listed in a study's table
 RUNS_PER_PAGE = 100
+FINDINGS_WAIT = 0.5  # seconds a study page waits for its findings before it fetches them when ready
+Findings = tuple[list[Any], list[Any], str, dict[str, Any]]  # tables, pictures, a note, Sobol indices
 MAX_ID = 2**31 - 1  # the largest id an integer column holds on every backend
 LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "::1", "[::1]")
 
@@ -118,7 +123,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
     from starlette.middleware import Middleware
     from starlette.middleware.trustedhost import TrustedHostMiddleware
     from starlette.requests import Request
-    from starlette.responses import FileResponse, HTMLResponse, JSONResponse
+    from starlette.responses import FileResponse, HTMLResponse, JSONResponse, Response
     from starlette.routing import Route
 
     store = ResultStore(url, read_only=True)
@@ -135,36 +140,50 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
     def missing(message: str) -> HTMLResponse:
         return page("missing.html.j2", 404, message=message)
 
-    drawing = threading.Lock()  # matplotlib's figures are drawn one at a time
-    kept: dict[tuple[int, int], tuple[list[Any], list[Any], str]] = {}
-    shown_as: dict[tuple[int, bool], list[Any]] = {}
+    # a study's findings (its kind's tables and pictures, from every stored variant) are worked out
+    # in one background thread, once per number of stored variants (a running study adds variants);
+    # a page asks and shows them at once if ready within FINDINGS_WAIT, else fetches them when ready
+    findings_pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="mechdyn-findings")
+    findings_lock = threading.Lock()
+    kept: dict[tuple[int, int], Future[Findings]] = {}
+    shown_as: dict[int, list[Any]] = {}
 
-    def shown_columns(st: Any, variants: Sequence[Any]) -> list[Any]:
+    def shown_columns(st: Any) -> list[Any]:
         """A study's parameters and outputs as its study file shows them (SI for a study built in
-        Python), rebuilt once per study (a stored study's definition does not change)."""
+        Python, read from its first variants), rebuilt once per study (its definition does not
+        change)."""
         from mechdyn.reports.columns import stored_columns
 
-        key = (st.id, bool(variants))  # a Python study's units are read from its variants
-        if key not in shown_as:
-            shown_as[key] = stored_columns(store, st.name, variants[:10])
-        return shown_as[key]
+        if st.id not in shown_as:
+            shown_as[st.id] = stored_columns(store, st.name, studies.variants(st.name, limit=10))
+        return shown_as[st.id]
 
-    def drawn(st: Any, n_variants: int) -> tuple[list[Any], list[Any], str]:
-        """A study's findings tables and pictures, drawn once for each number of stored variants
-        (a running study adds variants; a finished one is drawn once)."""
+    def work_out_findings(st: Any) -> Findings:
         from mechdyn.reports.html import _figures, study_tables
         from mechdyn.studies.run import stored_result
         from mechdyn.studies.spec import StudyError
 
+        try:
+            result = stored_result(store, st.name)
+            indices = result.findings.get("indices", {}) if st.kind == "sobol" else {}
+            return study_tables(result), _figures(result.plots()), "", indices
+        except (StudyError, StoreError) as exc:
+            return [], [], f"The findings appear when every variant is stored: {exc}", {}
+
+    def findings(st: Any, n_variants: int, wait: float | None) -> Findings | None:
+        """The study's findings, or None if not ready within ``wait`` seconds (None: until ready)."""
         key = (st.id, n_variants)
-        with drawing:
+        with findings_lock:
             if key not in kept:
-                try:
-                    result = stored_result(store, st.name)
-                    kept[key] = (study_tables(result), _figures(result.plots()), "")
-                except (StudyError, StoreError) as exc:
-                    kept[key] = ([], [], f"The findings appear when every variant is stored: {exc}")
-            return kept[key]
+                kept[key] = findings_pool.submit(work_out_findings, st)
+            future = kept[key]
+        try:
+            return future.result(timeout=wait)
+        except FuturesTimeout:
+            return None
+
+    def study_data(st: Any) -> StudyData:
+        return StudyData(store.engine, st.id, shown_columns(st))
 
     def index(request: Request) -> HTMLResponse:
         q = request.query_params
@@ -300,7 +319,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
                 outputs: dict[str, Any] = dict(v.outputs)
                 if not run_ids:  # variants alone: each output in its study's unit (with runs: SI)
                     st = studies.study(v.study)
-                    shown = {c.key: c for c in shown_columns(st, [v]) if c.role == "output"}
+                    shown = {c.key: c for c in shown_columns(st) if c.role == "output"}
                     for k in [k for k in outputs if k in shown]:
                         outputs[k] = shown[k].shown(outputs[k])
                         units[k] = shown[k].unit
@@ -326,53 +345,196 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             figures=_line_figures(curves) if len(curves) == len(columns) else [],
         )
 
-    def study_page(request: Request) -> HTMLResponse:
+    def study_of(request: Request) -> Any:
         study_id = request.path_params["study_id"]
-        st = studies.study_by_id(study_id) if study_id <= MAX_ID else None
+        return studies.study_by_id(study_id) if study_id <= MAX_ID else None
+
+    def study_page(request: Request) -> HTMLResponse:
+        st = study_of(request)
         if st is None:
-            return missing(f"There is no study {study_id} in this database.")
-        variants = studies.variants(st.name)
-        # parameters and outputs in the study file's units, the unit in each axis title and header
-        shown = shown_columns(st, variants)
-        axes = [c.label for c in shown]
-        ok = [v for v in variants if v.status == "ok"][:MAX_POINTS]
-        points = {
-            "ids": [v.id for v in ok],
-            "values": [[c.number(v) for c in shown] for v in ok],
-            "levels": [list(c.levels) for c in shown],  # a choice's axis: its index, labelled by name
-        }
-        table = [
-            {
-                "id": v.id,
-                "status": v.status,
-                "cells": [_cell(c.of(v)) for c in shown],
-                "error": v.error or "",
-            }
-            for v in variants[:MAX_ROWS]
-        ]
-        findings, figures, note = drawn(st, len(variants))
+            return missing(f"There is no study {request.path_params['study_id']} in this database.")
+        data = study_data(st)
+        counts = data.counts()
+        shown = data.columns
+        ready = findings(st, counts["variants"], FINDINGS_WAIT)
+        table = data.page(limit=PAGE_SIZE)
         return page(
             "study.html.j2",
-            findings=findings,
-            figures=figures,
-            findings_note=note,
+            findings=ready[0] if ready else [],
+            figures=ready[1] if ready else [],
+            findings_note=ready[2] if ready else "",
+            findings_ready=ready is not None,
             study=st,
-            variants=variants,
-            failed=sum(1 for v in variants if v.status != "ok"),
+            counts=counts,
             created=_utc(st.created_at),
-            axes=axes,
-            points=points,
-            table=table,
+            axes=[c.label for c in shown],
+            levels=[list(c.levels) for c in shown],
+            roles=[c.role for c in shown],
+            views=study_views(st, shown),
+            table=[{**row, "cells": [_cell(x) for x in row["values"]]} for row in table],
+            page_size=PAGE_SIZE,
             definition=toml_text(st.definition),
             python="study" not in st.definition,
         )
 
+    def study_findings(request: Request) -> HTMLResponse:
+        """The findings section alone, once ready (HTTP 202 while they are worked out)."""
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        ready = findings(st, study_data(st).counts()["variants"], FINDINGS_WAIT)
+        if ready is None:
+            return HTMLResponse("", status_code=202)
+        tables, figures, note, _ = ready
+        html = env.get_template("findings.html.j2").render(
+            findings=tables, figures=figures, findings_note=note
+        )
+        return HTMLResponse(html)
+
     def study_count(request: Request) -> JSONResponse:
-        study_id = request.path_params["study_id"]
-        st = studies.study_by_id(study_id) if study_id <= MAX_ID else None
+        st = study_of(request)
         if st is None:
             raise HTTPException(404)
         return JSONResponse(studies.counts(st.id))
+
+    def _int(q: Any, name: str, default: int) -> int:
+        try:
+            return int(q.get(name, default))
+        except ValueError:
+            return default
+
+    def study_variants(request: Request) -> JSONResponse:
+        """A page of the study's table, sorted by any column in the database."""
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        q = request.query_params
+        data = study_data(st)
+        number = max(1, _int(q, "page", 1))
+        rows = data.page(
+            sort=q.get("sort", "id"),
+            descending=q.get("order") == "desc",
+            offset=(number - 1) * PAGE_SIZE,
+            limit=PAGE_SIZE,
+        )
+        return JSONResponse(
+            {
+                "page": number,
+                "rows": [
+                    {
+                        "id": r["id"],
+                        "status": r["status"],
+                        "error": r["error"],
+                        "cells": [vars(_cell(x)) for x in r["values"]],
+                    }
+                    for r in rows
+                ],
+                **data.counts(),
+            }
+        )
+
+    def study_points(request: Request) -> Response:
+        """Every column of an evenly spread sample of the succeeded variants (the scatter, slice,
+        contour and parallel-coordinates views)."""
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        data = study_data(st)
+        return Response(data.numbers_json(range(len(data.columns))), media_type="application/json")
+
+    def study_history(request: Request) -> JSONResponse:
+        """The history of one output (the study's objective by default) with the best so far."""
+        from mechdyn.dashboard.views import history
+
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        data = study_data(st)
+        views = study_views(st, data.columns)
+        column = _int(request.query_params, "column", views["objective"])
+        if not 0 <= column < len(data.columns):
+            raise HTTPException(404)
+        ids, si = data.array(column)
+        c = data.columns[column]
+        shown = si if c.levels else c.shown_array(si)
+        sense = views["senses"].get(str(column), "minimize")
+        return JSONResponse({"label": c.label, **history(ids, shown, sense)})
+
+    def study_pareto(request: Request) -> JSONResponse:
+        """The Pareto front of two columns, from every succeeded variant."""
+        from mechdyn.dashboard.views import pareto_mask
+
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        data = study_data(st)
+        q = request.query_params
+        x, y = _int(q, "x", 0), _int(q, "y", len(data.columns) - 1)
+        if not (0 <= x < len(data.columns) and 0 <= y < len(data.columns)):
+            raise HTTPException(404)
+        senses = study_views(st, data.columns)["senses"]
+        sx, sy = q.get("sx") or senses.get(str(x), "minimize"), q.get("sy") or senses.get(str(y), "minimize")
+        ids, a = data.array(x)
+        _, b = data.array(y)
+        mask = pareto_mask(a, b, (sx, sy))
+        order = np.flatnonzero(mask)[np.argsort(a[mask])]
+        cx, cy = data.columns[x], data.columns[y]
+        return JSONResponse(
+            {
+                "ids": ids[order].tolist(),
+                "x": cx.shown_array(a[order]).tolist(),
+                "y": cy.shown_array(b[order]).tolist(),
+                "senses": [sx, sy],
+                "of": int(np.isfinite(a).sum()),
+            }
+        )
+
+    def study_importances(request: Request) -> JSONResponse:
+        """How much each parameter matters to one output: the study's own Sobol indices (SALib) for
+        a Sobol study, else Optuna's PED-ANOVA on a sample."""
+        from mechdyn.dashboard.views import importances
+
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        data = study_data(st)
+        views = study_views(st, data.columns)
+        column = _int(request.query_params, "column", views["objective"])
+        if not 0 <= column < len(data.columns) or data.columns[column].role != "output":
+            raise HTTPException(404)
+        key = data.columns[column].key
+        if st.kind == "sobol":
+            ready = findings(st, data.counts()["variants"], None)
+            indices = (ready and ready[3]) or {}
+            if key in indices:
+                return JSONResponse(
+                    {
+                        "method": "Sobol total-order indices (SALib, Saltelli's estimator), every variant",
+                        "values": {p: float(v["ST"]) for p, v in indices[key].items()},
+                        "output": data.columns[column].label,
+                    }
+                )
+        parameters = {c.key: data.array(i)[1] for i, c in enumerate(data.columns) if c.role == "parameter"}
+        found = importances(parameters, data.array(column)[1])
+        return JSONResponse({**found, "output": data.columns[column].label})
+
+    views_of: dict[int, dict[str, Any]] = {}
+
+    def study_views(st: Any, shown: list[Any]) -> dict[str, Any]:
+        """What the study's views start from: the objective's column (the first objective of an
+        optimization, else the last output) and each column's better direction."""
+        if st.id not in views_of:
+            keys = [c.key for c in shown]
+            senses: dict[str, str] = {}
+            objective = len(shown) - 1
+            for i, o in enumerate(reversed(st.definition.get("objectives") or [])):
+                name = o.get("output") if isinstance(o, dict) else None
+                goal = str(o.get("goal", o.get("sense", "minimize"))) if isinstance(o, dict) else "minimize"
+                if name in keys:
+                    senses[str(keys.index(name))] = "maximize" if goal.startswith("max") else "minimize"
+                    objective = keys.index(name) if i == len(st.definition["objectives"]) - 1 else objective
+            views_of[st.id] = {"objective": objective, "senses": senses}
+        return views_of[st.id]
 
     def static_plotly(request: Request) -> FileResponse:
         return FileResponse(plotly_js, media_type="application/javascript")
@@ -389,6 +551,12 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             Route("/compare", compare),
             Route("/studies/{study_id:int}", study_page),
             Route("/api/studies/{study_id:int}/count", study_count),
+            Route("/studies/{study_id:int}/findings", study_findings),
+            Route("/api/studies/{study_id:int}/variants", study_variants),
+            Route("/api/studies/{study_id:int}/points", study_points),
+            Route("/api/studies/{study_id:int}/history", study_history),
+            Route("/api/studies/{study_id:int}/pareto", study_pareto),
+            Route("/api/studies/{study_id:int}/importances", study_importances),
             Route("/static/plotly.min.js", static_plotly),
         ],
         exception_handlers={404: not_found},

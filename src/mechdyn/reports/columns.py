@@ -88,6 +88,33 @@ class Column:
             return None
         return self.convert(x) if math.isfinite(x) else None
 
+    def shown_array(self, values: Any) -> Any:
+        """Many SI values in the shown unit at once (NaN where missing): a unit conversion is affine,
+        so two values of :meth:`shown` give it for all (checked on a third); any other conversion
+        goes value by value.
+
+        Parameters
+        ----------
+        values : array_like
+            Values in the SI unit, as stored (NaN or None where missing).
+
+        Returns
+        -------
+        ndarray
+        """
+        import numpy as np
+
+        x = np.array(
+            [np.nan if v is None else v for v in values] if isinstance(values, list) else values, dtype=float
+        )
+        zero, one, far = self.shown(0.0), self.shown(1.0), self.shown(1e3)
+        if None not in (zero, one, far) and not self.levels:
+            a, b = float(one) - float(zero), float(zero)
+            if math.isclose(a * 1e3 + b, float(far), rel_tol=1e-12, abs_tol=1e-300):
+                return a * x + b
+        out = [self.shown(v) if math.isfinite(v) else None for v in x]
+        return np.array([np.nan if v is None else float(v) for v in out], dtype=float)
+
     def of(self, variant: Any) -> Any:
         """This column's value of a stored variant, in the shown unit.
 

@@ -274,6 +274,12 @@ class ResultStore:
             engine.dispose()
 
     @property
+    def engine(self) -> Any:
+        """The SQLAlchemy engine (read-only where the store is): for the queries of other parts of
+        mechdyn over the same database (a study's variants sorted and paged by the dashboard)."""
+        return self._engine
+
+    @property
     def where(self) -> str:
         """The database as it may be shown: a SQLite file's path, a server's URL (no password)."""
         return database.shown(self.url)

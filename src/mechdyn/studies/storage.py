@@ -15,6 +15,7 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -116,6 +117,24 @@ def _flat(d: Mapping[str, Any], names: Sequence[str]) -> list[Any]:
 
 def _utc(t: datetime) -> datetime:
     return t if t.tzinfo else t.replace(tzinfo=UTC)
+
+
+_VARIANT_COLUMNS = (
+    "id",
+    "study_id",
+    "key",
+    "position",
+    "parameters",
+    "given",
+    "outputs",
+    "status",
+    "error",
+    "objective",
+    "model_sha256",
+    "package_version",
+    "created_at",
+    "warnings",
+)  # what a StoredVariant is made of
 
 
 class StudyStore:
@@ -407,13 +426,15 @@ class StudyStore:
     ) -> list[StoredVariant]:
         """A study's variants in the order they were stored."""
         st = self.study(study)
-        q = select(_Variant).where(_Variant.study_id == st.id).order_by(_Variant.id)
+        # the columns, not ORM objects: a study of 10⁵ variants is read several times faster
+        q = select(*(getattr(_Variant, c) for c in _VARIANT_COLUMNS)).where(_Variant.study_id == st.id)
+        q = q.order_by(_Variant.id)
         if status:
             q = q.where(_Variant.status == status)
         if limit:
             q = q.limit(limit)
         with Session(self._engine) as s:
-            out = [self._variant(r) for r in s.scalars(q)]
+            out = [self._variant(SimpleNamespace(**r._mapping)) for r in s.execute(q)]
         return [self.variant(v.id) for v in out] if curves else out
 
     @guarded
@@ -441,7 +462,7 @@ class StudyStore:
             self._names[study_id] = (name, tuple(cols["parameters"]), tuple(cols["outputs"]))
         return self._names[study_id]
 
-    def _variant(self, r: _Variant) -> StoredVariant:
+    def _variant(self, r: Any) -> StoredVariant:
         study, pn, on = self._columns(r.study_id)
         return StoredVariant(
             r.id,

@@ -1,0 +1,279 @@
+"""A study's page at size: its table sorted and paged by the database, its views (history with the
+best so far, importances with their method, Pareto front, slice, contour, parallel coordinates) from
+every variant or an evenly spread sample, checked against the same numbers worked out here from
+every stored variant, and drawn in Chromium."""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+import urllib.request
+
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES, chromium, serving
+from mechdyn.cli.main import main
+from mechdyn.dashboard.views import best_so_far, pareto_mask, thin
+
+STUDY = f"""
+[study]
+name = "support-lhs"
+kind = "lhs"
+model = "{(EXAMPLES / "press_on_support.toml").as_posix()}"
+analysis = "support"
+samples = 250
+seed = 3
+
+[[parameters]]
+path = "support.stiffness"
+range = "±30 %"
+
+[[parameters]]
+path = "support.damping_ratio"
+range = "±30 %"
+
+[[outputs]]
+output = "displacement_max_m"
+unit = "mm"
+
+[[outputs]]
+output = "transmitted_force_range_N"
+unit = "tonf"
+"""
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _wait_for_what_the_page_shows():
+    """Playwright's checks wait for what the page shows, up to a minute on a loaded machine."""
+    from playwright.sync_api import expect
+
+    expect.set_options(timeout=60_000)
+    yield
+    expect.set_options(timeout=5_000)
+
+
+@pytest.fixture(scope="module")
+def database(tmp_path_factory):
+    d = tmp_path_factory.mktemp("study_views")
+    (d / "lhs.toml").write_text(STUDY)
+    db = str(d / "results.db")
+    assert main(["study", str(d / "lhs.toml"), "--db", db]) == 0
+    return db
+
+
+@pytest.fixture(scope="module")
+def server(database):
+    from mechdyn.dashboard.app import create_app
+
+    with serving(create_app(database)) as address:
+        yield address
+
+
+@pytest.fixture(scope="module")
+def stored(database):
+    """Every variant as stored, and the study's columns as shown."""
+    from mechdyn.reports.columns import stored_columns
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore
+
+    with ResultStore(database, read_only=True) as store:
+        variants = StudyStore(store).variants("support-lhs")
+        columns = stored_columns(store, "support-lhs", variants[:10])
+    return variants, columns
+
+
+def _json(url: str):
+    with urllib.request.urlopen(url) as r:
+        return json.loads(r.read())
+
+
+def test_best_so_far_keeps_the_best_of_what_came_before_either_way():
+    v = np.array([np.nan, 5.0, 7.0, 3.0, np.nan, 4.0, 1.0])
+    assert np.array_equal(best_so_far(v, "minimize"), [np.nan, 5, 5, 3, 3, 3, 1], equal_nan=True)
+    assert np.array_equal(best_so_far(v, "maximize"), [np.nan, 5, 7, 7, 7, 7, 7], equal_nan=True)
+    assert thin(10, 20).tolist() == list(range(10))
+    kept = thin(1000, 7)
+    assert kept[0] == 0 and kept[-1] == 999 and len(kept) == 7
+
+
+@pytest.mark.parametrize(
+    "senses", [("minimize", "minimize"), ("minimize", "maximize"), ("maximize", "maximize")]
+)
+def test_the_pareto_front_is_the_set_no_point_dominates(senses):
+    rng = np.random.default_rng(1)
+    x, y = rng.random(400), rng.random(400)
+    x[5], y[7] = np.nan, np.nan
+    sign = np.array([-1.0 if s == "maximize" else 1.0 for s in senses])
+    a, b = x * sign[0], y * sign[1]
+    brute = np.array(
+        [
+            np.isfinite(a[i])
+            and np.isfinite(b[i])
+            and not np.any((a <= a[i]) & (b <= b[i]) & ((a < a[i]) | (b < b[i])))
+            for i in range(a.size)
+        ]
+    )
+    assert np.array_equal(pareto_mask(x, y, senses), brute) and brute.sum() >= 3
+
+
+def test_the_table_is_sorted_and_paged_by_the_database_over_the_whole_study(server, stored):
+    variants, columns = stored
+    force = next(i for i, c in enumerate(columns) if c.key == "transmitted_force_range_N")
+    expected = sorted(variants, key=lambda v: (-v.outputs["transmitted_force_range_N"], v.id))
+    page2 = _json(server + f"/api/studies/1/variants?sort={force}&order=desc&page=2")
+    assert page2["variants"] == 251  # the base design and 250 samples and len(page2["rows"]) == 100
+    assert [r["id"] for r in page2["rows"]] == [v.id for v in expected[100:200]]
+    # each value in the study file's unit, as the page writes it
+    shown = columns[force].of(expected[100])
+    assert page2["rows"][0]["cells"][force]["text"] == f"{shown:.5g}" or float(
+        page2["rows"][0]["cells"][force]["text"]
+    ) == pytest.approx(shown, rel=1e-4)
+    last = _json(server + "/api/studies/1/variants?sort=0&page=3")
+    ids = [v.id for v in sorted(variants, key=lambda v: (v.parameters["support.stiffness"], v.id))][200:]
+    assert [r["id"] for r in last["rows"]] == ids
+    # a column no study has, or a word, sorts by id
+    assert [r["id"] for r in _json(server + "/api/studies/1/variants?sort=99")["rows"]][:3] == [1, 2, 3]
+
+
+def test_the_views_read_every_variant_or_an_even_sample_in_the_study_file_s_units(server, stored, database):
+    variants, columns = stored
+    from mechdyn.dashboard.study_data import StudyData
+    from mechdyn.store import ResultStore
+
+    force = next(i for i, c in enumerate(columns) if c.key == "transmitted_force_range_N")
+    tonf = np.array([columns[force].of(v) for v in variants])
+    # the points: every variant, in tonf
+    points = _json(server + "/api/studies/1/points")
+    assert points["ids"] == [v.id for v in variants] and not points["sampled"]
+    assert np.allclose(points["values"][force], tonf, rtol=1e-6)
+    # an evenly spread sample of a larger study
+    with ResultStore(database, read_only=True) as store:
+        sample = StudyData(store.engine, 1, columns).numbers([force], sample=60)
+    assert sample["sampled"] and 40 <= len(sample["ids"]) <= 60 and sample["total"] == 251
+    by_id = dict(zip([v.id for v in variants], tonf, strict=True))
+    assert np.allclose(sample["values"][0], [by_id[i] for i in sample["ids"]])
+    # the history: the best so far over every variant, exact
+    h = _json(server + f"/api/studies/1/history?column={force}")
+    assert h["best"] == pytest.approx(tonf.min()) and h["best_id"] == variants[int(np.argmin(tonf))].id
+    assert h["best_y"][-1] == pytest.approx(tonf.min()) and h["label"] == "transmitted_force_range_N [tonf]"
+    # the Pareto front of displacement and force, both smaller
+    disp = next(i for i, c in enumerate(columns) if c.key == "displacement_max_m")
+    front = _json(server + f"/api/studies/1/pareto?x={disp}&y={force}")
+    mm = np.array([columns[disp].of(v) for v in variants])
+    mask = pareto_mask(mm, tonf)
+    assert sorted(front["ids"]) == sorted(v.id for v, m in zip(variants, mask, strict=True) if m)
+    # the importances: their method named, summing to one
+    imp = _json(server + f"/api/studies/1/importances?column={force}")
+    assert "PED-ANOVA" in imp["method"] and sum(imp["values"].values()) == pytest.approx(1.0)
+    assert set(imp["values"]) <= {"support.stiffness", "support.damping_ratio"}
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "/api/studies/9/points",
+        "/api/studies/1/history?column=99",
+        "/api/studies/1/pareto?x=0&y=99",
+        "/api/studies/1/importances?column=0",  # a parameter is not an output
+        "/studies/9/findings",
+    ],
+)
+def test_views_of_what_the_study_does_not_have_are_404(server, path):
+    import urllib.error
+
+    with pytest.raises(urllib.error.HTTPError) as e:
+        urllib.request.urlopen(server + path)
+    e.value.close()
+    assert e.value.code == 404
+
+
+def test_the_findings_carry_their_pictures(server):
+    import time
+
+    for _ in range(600):  # the findings are worked out in the background; ask until they are ready
+        with urllib.request.urlopen(server + "/studies/1/findings") as r:
+            if r.status == 200:
+                html = r.read().decode()
+                break
+        time.sleep(0.1)
+    else:
+        pytest.fail("the findings never came")
+    images = re.findall(r'src="data:image/png;base64,([^"]+)"', html)
+    assert images and all(base64.b64decode(i)[:8] == b"\x89PNG\r\n\x1a\n" for i in images)
+
+
+def test_every_view_of_a_study_is_drawn_in_a_real_browser(server):
+    from playwright.sync_api import expect, sync_playwright
+
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1280, "height": 900})
+        errors: list[str] = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server + "/studies/1")
+        expect(page.locator("h1")).to_contain_text("support-lhs")
+        expect(page.locator("#findings")).to_have_attribute("data-ready", "yes")
+        expect(page.locator("#findings img").first).to_be_visible()
+        # the history, with the best so far (each view is drawn as it comes near the window)
+        page.locator("#history").scroll_into_view_if_needed()
+        expect(page.locator("#history .main-svg").first).to_be_attached()
+        assert page.evaluate("document.getElementById('history').data[1].name") == "best so far"
+        expect(page.locator("#history-best")).to_contain_text("best (smallest)")
+        # the importances, their method named
+        page.locator("#importances").scroll_into_view_if_needed()
+        expect(page.locator("#importance-method")).to_contain_text("PED-ANOVA")
+        expect(page.locator("#importances .main-svg").first).to_be_attached()
+        # the scatter, then its Pareto front
+        page.locator("#scatter").scroll_into_view_if_needed()
+        expect(page.locator("#scatter .main-svg").first).to_be_attached()
+        page.select_option("#pareto", "minimize,minimize")
+        expect(page.locator("#scatter .legend")).to_contain_text("Pareto front")
+        # slice, contour and parallel coordinates
+        for view in ("slice", "contour", "parcoords"):
+            page.locator("#" + view).scroll_into_view_if_needed()
+            expect(page.locator(f"#{view} .main-svg").first).to_be_attached()
+        assert page.evaluate("document.getElementById('contour').data[0].type") == "histogram2dcontour"
+        # the table: 100 rows a page, sorted by the database when a title is clicked
+        page.locator("#variants").scroll_into_view_if_needed()
+        expect(page.locator("#rows")).to_have_text("variants 1–100 of 251")
+        page.click("#next")
+        expect(page.locator("#rows")).to_have_text("variants 101–200 of 251")
+        header = page.locator("#variants th", has_text="transmitted_force_range_N")
+        header.click()
+        expect(page.locator("#rows")).to_have_text("variants 1–100 of 251")
+        expect(header).to_have_attribute("data-order", "asc")
+        header.click()
+        expect(header).to_have_attribute("data-order", "desc")
+        first = page.locator("#variants tbody tr").first.locator("td").nth(5)
+        expect(first).not_to_have_text("")
+        top = float(first.inner_text())
+        cells = page.locator("#variants tbody tr td:nth-child(6)").all_inner_texts()
+        assert top == max(float(c) for c in cells)
+        assert not errors, errors
+        browser.close()
+
+
+@pytest.mark.postgres
+def test_a_study_is_sorted_paged_and_sampled_by_postgresql_as_by_sqlite(postgres_url, database, tmp_path):
+    """The JSON values are taken out by the database itself: PostgreSQL's ``->>`` sorts as SQLite's
+    ``json_extract`` does."""
+    from mechdyn.dashboard.study_data import StudyData
+    from mechdyn.reports.columns import stored_columns
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore
+
+    (tmp_path / "lhs.toml").write_text(STUDY.replace("samples = 250", "samples = 40"))
+    assert main(["study", str(tmp_path / "lhs.toml"), "--db", postgres_url]) == 0
+    with ResultStore(postgres_url, read_only=True) as store:
+        st = StudyStore(store).study("support-lhs")
+        variants = StudyStore(store).variants("support-lhs")
+        columns = stored_columns(store, st.name, variants[:10])
+        data = StudyData(store.engine, st.id, columns)
+        force = next(i for i, c in enumerate(columns) if c.key == "transmitted_force_range_N")
+        rows = data.page(sort=str(force), descending=True, offset=5, limit=10)
+        sample = data.numbers([force], sample=10)
+    expected = sorted(variants, key=lambda v: (-v.outputs["transmitted_force_range_N"], v.id))[5:15]
+    assert [r["id"] for r in rows] == [v.id for v in expected]
+    assert sample["sampled"] and len(sample["ids"]) <= 10 and sample["total"] == 41
