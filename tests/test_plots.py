@@ -208,7 +208,7 @@ def test_names_on_tick_labels_are_shown_as_written_however_the_axis_labels_them(
 
     from mechdyn.plotting import fit_titles, plain_text
 
-    fig, (top, ax) = plt.subplots(2, 1, sharex=True, layout="constrained")
+    fig, (_top, ax) = plt.subplots(2, 1, sharex=True, layout="constrained")
     names = ["cost $1 $of", "b"]
     if how == "categories":
         ax.bar(names, [1, 2])
@@ -218,7 +218,7 @@ def test_names_on_tick_labels_are_shown_as_written_however_the_axis_labels_them(
     else:
         ax.plot([0, 1], [1, 2])
         ax.set_xticks([0, 1])
-        ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: names[int(round(x))]))
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: names[round(x)]))
     ax.set_yscale("log")
     plain_text(fig)
     fit_titles(fig)
