@@ -146,3 +146,19 @@ def test_the_plots_benchmark_times_every_quick_example_with_and_without_its_plot
             and r["ratio"] > 0  # the median of the pairs' ratios, not the ratio of the medians
             and r["plot_seconds"] == pytest.approx(r["seconds_with_plots"] - r["seconds_without_plots"])
         )
+
+
+@pytest.mark.slow
+def test_the_dashboard_benchmark_times_every_page_of_a_large_study_against_a_static_file():
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "dashboard.py"), "--quick", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=1200,  # a hang guard
+    )
+    doc = json.loads(out.stdout)
+    assert doc["benchmark"] == "dashboard" and doc["variants"] == 10240
+    assert doc["baseline_static_file"]["bytes"] > 1e6
+    for page in doc["pages"].values():
+        assert page["status"] == 200 and page["seconds"] > 0 and page["ratio_to_static_file"] > 0
