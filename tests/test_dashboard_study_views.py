@@ -60,6 +60,8 @@ def database(tmp_path_factory):
     (d / "lhs.toml").write_text(STUDY)
     db = str(d / "results.db")
     assert main(["study", str(d / "lhs.toml"), "--db", db]) == 0
+    for angles in ("36", "72"):  # two runs of a four-bar: nested values (a force per joint) to compare
+        assert main(["mechanism", str(EXAMPLES / "fourbar.toml"), "--angles", angles, "--db", db]) == 0
     return db
 
 
@@ -277,3 +279,41 @@ def test_a_study_is_sorted_paged_and_sampled_by_postgresql_as_by_sqlite(postgres
     expected = sorted(variants, key=lambda v: (-v.outputs["transmitted_force_range_N"], v.id))[5:15]
     assert [r["id"] for r in rows] == [v.id for v in expected]
     assert sample["sampled"] and len(sample["ids"]) <= 10 and sample["total"] == 41
+
+
+def _text(url: str) -> str:
+    with urllib.request.urlopen(url) as r:
+        return r.read().decode()
+
+
+def test_nested_values_are_compared_as_rows_with_their_units(server):
+    html = _text(server + "/compare?run=1&run=2")
+    rows = re.findall(r"<tr><td>([^<]*)</td><td>([^<]*)</td>", html)
+    nested = [(label, unit) for label, unit in rows if label.startswith("joint_force_peak_N · ")]
+    assert len(nested) >= 4 and all(unit == "N" for _, unit in nested)
+    assert "{&#34;" not in html and '{"' not in html.split("<table")[1].split("</table>")[0]
+
+
+def test_a_variant_whose_curves_were_not_kept_has_them_recomputed_and_says_so(server, stored, database):
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore
+
+    variants, _ = stored
+    with ResultStore(database, read_only=True) as store:
+        kept = StudyStore(store).with_curves(1)
+    without = next(v.id for v in variants if v.id not in kept)
+    html = _text(server + f"/compare?variant={without}")
+    assert f"variant {without}: curves not kept; recomputed from its stored inputs" in html
+    assert 'class="plot"' in html and "Plotly.newPlot" in html
+
+
+def test_the_lists_give_a_headline_per_run_and_per_study(server, stored):
+    variants, columns = stored
+    html = _text(server + "/")
+    force = next(c for c in columns if c.key == "transmitted_force_range_N")
+    tonf = [force.of(v) for v in variants]
+    from mechdyn.numbers import number_text
+
+    assert f"transmitted_force_range_N {number_text(min(tonf))} to {number_text(max(tonf))} tonf" in html
+    cells = re.findall(r'<td class="headline">([^<]*)</td>', html)
+    assert len(cells) == 3 and all(cells), cells  # the study and the two runs

@@ -93,6 +93,15 @@ def _line_figures(
     return figures
 
 
+def _nested_rows(values: dict[str, Any], prefix: str = "") -> Any:
+    """(label, value) of every value, a nested mapping's items as "name · item" rows."""
+    for k, v in values.items():
+        if isinstance(v, dict):
+            yield from _nested_rows(v, f"{prefix}{k} · ")
+        else:
+            yield f"{prefix}{k}", v
+
+
 def _loopback(host: str) -> bool:
     import ipaddress
 
@@ -223,6 +232,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             counts = studies.counts(s.id)
             rows.append(
                 {
+                    "headline": study_headline(s),
                     "id": s.id,
                     "name": s.name,
                     "kind": s.kind,
@@ -243,6 +253,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             runs=[
                 {
                     "id": r.id,
+                    "headline": run_headline(r),
                     "analysis": r.analysis,
                     "model_name": r.model_name,
                     "model_path": r.model_path,
@@ -256,6 +267,36 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             pages=pages,
             query={k: v for k, v in filters.items() if v},
         )
+
+    def run_headline(r: Any) -> str:
+        """The first figures of a run, as its report's headline says them."""
+        from mechdyn.registry import analyses
+        from mechdyn.reports.html import headline
+
+        keys = analyses()[r.analysis].headline if r.analysis in analyses() else ()
+        lines = headline(r.scalars, keys[:2])
+        return lines[0] if lines else ""
+
+    def study_headline(st: Any) -> str:
+        """A study's figure in the list: its objective's best (an optimization) or range over the
+        variants that succeeded, in the study file's unit."""
+        from mechdyn.numbers import number_text
+
+        data = study_data(st)
+        views = study_views(st, data.columns)
+        column = views["objective"]
+        if not 0 <= column < len(data.columns) or data.columns[column].role != "output":
+            return ""
+        lo, hi = data.extremes(column)
+        if lo is None or hi is None:
+            return ""
+        c = data.columns[column]
+        unit = f" {c.unit}" if c.unit else ""
+        sense = views["senses"].get(str(column))
+        if sense:
+            best = hi if sense == "maximize" else lo
+            return f"best {c.key} {number_text(best)}{unit}"
+        return f"{c.key} {number_text(lo)} to {number_text(hi)}{unit}"
 
     def run_page(request: Request) -> HTMLResponse:
         run_id = request.path_params["run_id"]
@@ -303,6 +344,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         from mechdyn.units import key_unit
 
         columns: list[str] = []
+        notes: list[str] = []
         values: list[dict[str, Any]] = []
         units: dict[str, str] = {}
         curves: list[tuple[str, dict[str, Any]]] = []
@@ -325,15 +367,24 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
                         units[k] = shown[k].unit
                 values.append({**v.given, **outputs, "status": v.status})
                 units.update({k: "" for k in v.given})
-                if v.curves:
-                    curves.append((f"variant {i}", v.curves))
+                kept = v.curves or recomputed(i)
+                if kept:
+                    curves.append((f"variant {i}", kept))
+                    if not v.curves:
+                        notes.append(f"variant {i}: curves not kept; recomputed from its stored inputs")
+                elif i in failed_again:
+                    notes.append(f"variant {i}: curves not kept, and not recomputed: {failed_again[i]}")
         except StoreError as exc:
             return missing(str(exc))
-        keys = list(dict.fromkeys(k for row in values for k in row))
+        # a nested value (a force per joint, a gear pair's figures) is a row per item, with its unit
+        items = [dict(_nested_rows(row)) for row in values]
+        keys = list(dict.fromkeys(k for row in items for k in row))
         rows = []
         for k in keys:
-            unit = units.get(k, key_unit(k.split(".")[-1]) or "")
-            rows.append((k, "" if unit == "1" else unit, [_cell(row.get(k)) for row in values]))
+            # the unit a nested item's own name says, else its group's ("joint_force_peak_N · A": N)
+            named = [key_unit(part.split(".")[-1]) for part in reversed(k.split(" · "))]
+            unit = units[k] if k in units else next((u for u in named if u), "")
+            rows.append((k, "" if unit == "1" else unit, [_cell(row.get(k)) for row in items]))
         what = "runs" if run_ids else "variants"
         heading = f"{len(columns)} {what} side by side" if columns else "Compare"
         return page(
@@ -342,8 +393,31 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             what=what,
             columns=columns,
             rows=rows,
+            notes=notes,
             figures=_line_figures(curves) if len(curves) == len(columns) else [],
         )
+
+    again: dict[int, dict[str, Any]] = {}
+    failed_again: dict[int, str] = {}
+    again_lock = threading.Lock()
+
+    def recomputed(variant_id: int) -> dict[str, Any]:
+        """A variant's curves worked out again from its stored inputs (the study's definition, the
+        model files as stored, its parameters), kept in memory; nothing is written. Empty where that
+        cannot be done (the error is kept for the page)."""
+        from mechdyn.errors import MechdynError
+        from mechdyn.studies.run import recompute
+
+        with again_lock:
+            if variant_id not in again and variant_id not in failed_again:
+                try:
+                    found = recompute(store, variant_id, batch=False, curves=True)
+                    again[variant_id] = dict(found.curves)
+                    if not found.curves:
+                        failed_again[variant_id] = found.error or "its analysis keeps no curve"
+                except (MechdynError, StoreError) as exc:
+                    failed_again[variant_id] = str(exc)
+            return again.get(variant_id, {})
 
     def study_of(request: Request) -> Any:
         study_id = request.path_params["study_id"]

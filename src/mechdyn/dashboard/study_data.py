@@ -212,6 +212,15 @@ class StudyData:
             f'{{"ids":[{ids}],"values":[{values}],"total":{d["total"]},"sampled":{json.dumps(d["sampled"])}}}'
         )
 
+    def extremes(self, index: int) -> tuple[float | None, float | None]:
+        """The smallest and largest value of one column over the variants that succeeded, in its
+        shown unit (None for none), by the database."""
+        value = self._value(index)
+        with Session(self.engine) as s:
+            lo, hi = s.execute(select(func.min(value), func.max(value)).where(*self._where("ok"))).one()
+        c = self.columns[index]
+        return tuple(None if x is None else c.shown(x) for x in (lo, hi))  # type: ignore[return-value]
+
     def array(self, index: int) -> tuple[np.ndarray, np.ndarray]:
         """Every succeeded variant's value of one column, SI: (ids, values), NaN where missing, in
         the order they were evaluated."""
