@@ -173,6 +173,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         from mechdyn.studies.spec import StudyError
 
         try:
+            study_data(st).warm()  # every value read once: the views over every variant then cost no query
             result = stored_result(store, st.name)
             indices = result.findings.get("indices", {}) if st.kind == "sobol" else {}
             return study_tables(result), _figures(result.plots()), "", indices
@@ -445,6 +446,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             levels=[list(c.levels) for c in shown],
             roles=[c.role for c in shown],
             views=study_views(st, shown),
+            sliders=(w.sliders() if (w := what_if_of(st)) is not None else []),
             table=[{**row, "cells": [_cell(x) for x in row["values"]]} for row in table],
             page_size=PAGE_SIZE,
             definition=toml_text(st.definition),
@@ -592,6 +594,61 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         found = importances(parameters, data.array(column)[1])
         return JSONResponse({**found, "output": data.columns[column].label})
 
+    what_ifs: dict[int, Any] = {}
+    best_of: dict[tuple[int, int], dict[str, Any]] = {}
+
+    def what_if_of(st: Any) -> Any:
+        """The study's what-if evaluator (None for a study that cannot be rebuilt: built in Python)."""
+        from mechdyn.dashboard.whatif import WhatIf
+        from mechdyn.errors import MechdynError
+
+        if st.id not in what_ifs:
+            try:
+                what_ifs[st.id] = WhatIf(store, st.name, shown_columns(st))
+            except (MechdynError, StoreError):
+                what_ifs[st.id] = None
+        return what_ifs[st.id]
+
+    def best_design(st: Any, w: Any) -> dict[str, Any] | None:
+        """The study's best variant by its objective: its stored outputs and, for a mechanism, its
+        linkage (evaluated once per number of variants)."""
+        data = study_data(st)
+        views = study_views(st, data.columns)
+        column = views["objective"]
+        ids, values = data.array(column)
+        if not np.isfinite(values).any():
+            return None
+        sense = views["senses"].get(str(column), "minimize")
+        best = int(ids[int(np.nanargmax(values) if sense == "maximize" else np.nanargmin(values))])
+        key = (st.id, best)
+        if key not in best_of:
+            v = studies.variant(best)
+            answer = w.evaluate([float(v.parameters[p.name]) for p in w.parameters])
+            best_of[key] = {
+                "id": best,
+                "sense": sense,
+                "objective": data.columns[column].label,
+                "outputs": [{"key": c.key, "value": c.shown(v.outputs.get(c.key))} for c in w.outputs],
+                "linkage": answer["linkage"],
+            }
+        return best_of[key]
+
+    def study_whatif(request: Request) -> JSONResponse:
+        """One design of the study evaluated now from the form's values; nothing is written."""
+        from mechdyn.dashboard.whatif import WhatIfError
+
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        w = what_if_of(st)
+        if w is None:
+            return JSONResponse({"error": "this study cannot be evaluated again here"}, status_code=400)
+        try:
+            row = w.row(dict(request.query_params))
+        except WhatIfError as exc:
+            return JSONResponse({"error": str(exc)}, status_code=400)
+        return JSONResponse({**w.evaluate(row), "best": best_design(st, w)})
+
     views_of: dict[int, dict[str, Any]] = {}
 
     def study_views(st: Any, shown: list[Any]) -> dict[str, Any]:
@@ -631,6 +688,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             Route("/api/studies/{study_id:int}/history", study_history),
             Route("/api/studies/{study_id:int}/pareto", study_pareto),
             Route("/api/studies/{study_id:int}/importances", study_importances),
+            Route("/api/studies/{study_id:int}/whatif", study_whatif),
             Route("/static/plotly.min.js", static_plotly),
         ],
         exception_handlers={404: not_found},

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -23,6 +24,10 @@ from sqlalchemy.orm import Session
 from mechdyn.store.schema import Variant as _Variant
 
 __all__ = ["PAGE_SIZE", "SAMPLE_SIZE", "StudyData"]
+
+_WHOLE: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray]] = {}
+_WHOLE_LOCK = threading.Lock()
+_WHOLE_KEPT = 4  # studies whose every value is kept in memory (10⁵ variants × 10 columns: 8 MB)
 
 PAGE_SIZE = 100
 """Variants in one page of a study's table."""
@@ -180,27 +185,54 @@ class StudyData:
             ``ids`` (list of int), ``values`` (one array per column, in its shown unit, NaN where
             missing), ``total`` (variants that succeeded) and ``sampled`` (whether this is a sample).
         """
-        ok = self._where("ok")
-        with Session(self.engine) as s:
-            total = int(s.execute(select(func.count()).where(*ok)).scalar_one())
-            step = 1 if sample is None or total <= sample else math.ceil(total / sample)
-            # the two JSON lists as text, parsed here in one go (cheaper than extracting each value in
-            # SQL, or decoding row by row)
-            q = select(
-                _Variant.id, type_coerce(_Variant.parameters, Text), type_coerce(_Variant.outputs, Text)
-            )
-            q = q.where(*ok)
-            if step > 1:
-                q = q.where(_Variant.position % step == 0)
-            rows = s.execute(q.order_by(_Variant.position, _Variant.id)).all()
-        ids = [r[0] for r in rows]
-        n, m = self._n_parameters, len(self.columns) - self._n_parameters
-        table = np.hstack([_matrix([r[1] for r in rows], n), _matrix([r[2] for r in rows], m)])
+        total = self._ok_count()
+        step = 1 if sample is None or total <= sample else math.ceil(total / sample)
+        if step > 1 and not self._cached():  # a sample of a study not read whole: by the database
+            ids, table = self._read(step)
+        else:
+            ids, table = self._whole()
+            if step > 1:  # every step-th by place in the study, from the kept table
+                ids, table = ids[::step], table[::step]
         values = []
         for i in indices:
             c = self.columns[i]
             values.append(table[:, i] if c.levels else c.shown_array(table[:, i]))
-        return {"ids": ids, "values": values, "total": total, "sampled": step > 1}
+        return {"ids": ids.tolist(), "values": values, "total": total, "sampled": step > 1}
+
+    def _ok_count(self) -> int:
+        with Session(self.engine) as s:
+            return int(s.execute(select(func.count()).where(*self._where("ok"))).scalar_one())
+
+    def _read(self, step: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """(ids, SI values) of the succeeded variants, every ``step``-th by place in the study: the
+        two JSON lists read as text and parsed here in one go (cheaper than extracting each value
+        in SQL, or decoding row by row)."""
+        q = select(_Variant.id, type_coerce(_Variant.parameters, Text), type_coerce(_Variant.outputs, Text))
+        q = q.where(*self._where("ok"))
+        if step > 1:
+            q = q.where(_Variant.position % step == 0)
+        with Session(self.engine) as s:
+            rows = s.execute(q.order_by(_Variant.position, _Variant.id)).all()
+        n, m = self._n_parameters, len(self.columns) - self._n_parameters
+        table = np.hstack([_matrix([r[1] for r in rows], n), _matrix([r[2] for r in rows], m)])
+        return np.array([r[0] for r in rows], dtype=np.int64), table
+
+    def _key(self) -> tuple[int, int, int]:
+        return (id(self.engine), self.study_id, self._ok_count())
+
+    def _cached(self) -> bool:
+        return self._key() in _WHOLE
+
+    def _whole(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every succeeded variant's values, SI, read once per number of such variants and kept (a
+        few studies at a time): the views over every variant then cost no query."""
+        key = self._key()
+        with _WHOLE_LOCK:
+            if key not in _WHOLE:
+                _WHOLE[key] = self._read()
+                while len(_WHOLE) > _WHOLE_KEPT:
+                    _WHOLE.pop(next(iter(_WHOLE)))
+            return _WHOLE[key]
 
     def numbers_json(self, indices: Sequence[int], *, sample: int | None = SAMPLE_SIZE) -> str:
         """:meth:`numbers` as JSON text, each value to seven significant digits (a plot shows three;
@@ -223,13 +255,11 @@ class StudyData:
 
     def array(self, index: int) -> tuple[np.ndarray, np.ndarray]:
         """Every succeeded variant's value of one column, SI: (ids, values), NaN where missing, in
-        the order they were evaluated."""
-        with Session(self.engine) as s:
-            rows = s.execute(
-                select(_Variant.id, self._value(index))
-                .where(*self._where("ok"))
-                .order_by(_Variant.position, _Variant.id)
-            ).all()
-        ids = np.array([r[0] for r in rows], dtype=np.int64)
-        values = np.array([np.nan if r[1] is None else float(r[1]) for r in rows], dtype=float)
-        return ids, values
+        the order they were evaluated (from the kept table, :meth:`warm`)."""
+        ids, table = self._whole()
+        return ids, table[:, index]
+
+    def warm(self) -> None:
+        """Read and keep every succeeded variant's values now (a large study's first view then
+        costs no wait)."""
+        self._whole()

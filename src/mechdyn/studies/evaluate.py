@@ -52,6 +52,8 @@ class Evaluation:
     outputs: dict[str, float | None]
     warnings: tuple[str, ...] = ()
     curves: dict[str, tuple[np.ndarray, str]] = field(default_factory=dict)
+    result: Any = field(default=None, compare=False, repr=False)
+    """The analysis' result itself, when asked for (never stored)."""
 
 
 class Evaluator:
@@ -132,7 +134,7 @@ class Evaluator:
                 values.update(p.file_values(float(x)))
         return self.tree.variant(values)
 
-    def one(self, row: Sequence[float], curves: bool = False) -> Evaluation:
+    def one(self, row: Sequence[float], curves: bool = False, keep_result: bool = False) -> Evaluation:
         """Build one variant from its files and run the analysis on it.
 
         Parameters
@@ -141,6 +143,8 @@ class Evaluator:
             The parameters' values, SI, in the study's order.
         curves : bool
             Keep the result's arrays.
+        keep_result : bool
+            Keep the result itself (:attr:`Evaluation.result`), e.g. to draw it.
         """
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -157,7 +161,7 @@ class Evaluator:
         outputs = {k: output_value(summary, k) for k in self.outputs}
         kept = result.arrays() if curves else {}
         said = _said(caught, getattr(result, "warnings", ()))
-        return Evaluation("ok", None, outputs, said, kept)
+        return Evaluation("ok", None, outputs, said, kept, result if keep_result else None)
 
     def _run(self, loaded: Any) -> Any:
         """The analysis on one loaded model, with the study's options."""
