@@ -123,3 +123,16 @@ def chromium() -> str:
     if os.environ.get("CI"):
         pytest.fail("no Chromium in CI: run the tests through scripts/with-chromium")
     pytest.skip("no Chromium: run the tests through scripts/with-chromium")
+
+
+@pytest.fixture(scope="module")
+def patient_browser_checks():
+    """Playwright's checks wait for the page to show what they expect; on a loaded two-core machine
+    that can take longer than its 5 s default, so the ceiling is a minute (a passing check returns
+    as soon as the page shows it: no fixed wait). Use in a module: ``pytestmark =
+    pytest.mark.usefixtures("patient_browser_checks")``."""
+    from playwright.sync_api import expect
+
+    expect.set_options(timeout=60_000)
+    yield
+    expect.set_options(timeout=5_000)

@@ -16,17 +16,7 @@ import pytest
 from conftest import EXAMPLES, chromium, serving
 from mechdyn.cli.main import main
 
-
-@pytest.fixture(autouse=True, scope="module")
-def _wait_for_what_the_page_shows():
-    """Playwright's checks wait for the page to show what they expect; on a loaded two-core machine
-    that can take longer than its 5 s default, so the ceiling is a minute (a passing check returns
-    as soon as the page shows it: no fixed wait)."""
-    from playwright.sync_api import expect
-
-    expect.set_options(timeout=60_000)
-    yield
-    expect.set_options(timeout=5_000)
+pytestmark = pytest.mark.usefixtures("patient_browser_checks")
 
 
 @pytest.fixture(scope="module")

@@ -44,14 +44,7 @@ unit = "tonf"
 """
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _wait_for_what_the_page_shows():
-    """Playwright's checks wait for what the page shows, up to a minute on a loaded machine."""
-    from playwright.sync_api import expect
-
-    expect.set_options(timeout=60_000)
-    yield
-    expect.set_options(timeout=5_000)
+pytestmark = pytest.mark.usefixtures("patient_browser_checks")
 
 
 @pytest.fixture(scope="module")

@@ -39,13 +39,7 @@ output = "shaking_force_max_N"
 """
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _wait_for_what_the_page_shows():
-    from playwright.sync_api import expect
-
-    expect.set_options(timeout=60_000)
-    yield
-    expect.set_options(timeout=5_000)
+pytestmark = pytest.mark.usefixtures("patient_browser_checks")
 
 
 @pytest.fixture(scope="module")

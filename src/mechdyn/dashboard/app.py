@@ -518,18 +518,24 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         data = study_data(st)
         return Response(data.numbers_json(range(len(data.columns))), media_type="application/json")
 
-    def study_history(request: Request) -> JSONResponse:
-        """The history of one output (the study's objective by default) with the best so far."""
-        from mechdyn.dashboard.views import history
-
+    def asked_column(request: Request, outputs_only: bool) -> tuple[Any, StudyData, dict[str, Any], int]:
+        """The study and the column a view asks for (``?column=``; the objective by default); 404
+        for a study or a column it does not have, or a parameter where an output is asked for."""
         st = study_of(request)
         if st is None:
             raise HTTPException(404)
         data = study_data(st)
         views = study_views(st, data.columns)
         column = _int(request.query_params, "column", views["objective"])
-        if not 0 <= column < len(data.columns):
+        if not 0 <= column < len(data.columns) or (outputs_only and data.columns[column].role != "output"):
             raise HTTPException(404)
+        return st, data, views, column
+
+    def study_history(request: Request) -> JSONResponse:
+        """The history of one output (the study's objective by default) with the best so far."""
+        from mechdyn.dashboard.views import history
+
+        _st, data, views, column = asked_column(request, outputs_only=False)
         ids, si = data.array(column)
         c = data.columns[column]
         shown = si if c.levels else c.shown_array(si)
@@ -570,14 +576,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
         a Sobol study, else Optuna's PED-ANOVA on a sample."""
         from mechdyn.dashboard.views import importances
 
-        st = study_of(request)
-        if st is None:
-            raise HTTPException(404)
-        data = study_data(st)
-        views = study_views(st, data.columns)
-        column = _int(request.query_params, "column", views["objective"])
-        if not 0 <= column < len(data.columns) or data.columns[column].role != "output":
-            raise HTTPException(404)
+        st, data, _views, column = asked_column(request, outputs_only=True)
         key = data.columns[column].key
         if st.kind == "sobol":
             ready = findings(st, data.counts()["variants"], None)
