@@ -110,6 +110,8 @@ def serving(app):
         srv.should_exit = True
         thread.join(10)
         app.state.store.close()
+        for kept in getattr(app.state, "keeper", ()):  # the connection that keeps designs, if opened
+            kept.close()
 
 
 def chromium() -> str:

@@ -148,3 +148,56 @@ def test_moving_a_slider_evaluates_the_design_and_animates_its_linkage_in_a_real
         page.click("#whatif-linkage .updatemenu-button")  # play
         assert not errors, errors
         browser.close()
+
+
+def _keep(server: str, headers: dict[str, str] | None = None, **values: object) -> tuple[int, dict]:
+    url = server + "/api/studies/1/keep?" + urllib.parse.urlencode(values)
+    request = urllib.request.Request(url, method="POST", headers=headers or {})
+    try:
+        with urllib.request.urlopen(request) as r:
+            return r.status, json.loads(r.read())
+    except urllib.error.HTTPError as e:
+        with e:
+            return e.code, json.loads(e.read())
+
+
+def test_a_read_only_dashboard_keeps_no_design(server, database):
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore
+
+    status, d = _keep(server, {"X-Mechdyn": "keep"}, **{"points.B.x": 196.0})
+    assert status == 403 and "--keep-designs" in d["error"]
+    with ResultStore(database, read_only=True) as store:
+        assert StudyStore(store).counts(1)["variants"] == 31
+
+
+def test_started_to_keep_designs_it_keeps_one_as_a_new_variant_of_that_study_only(database, tmp_path):
+    import shutil
+
+    from mechdyn.dashboard.app import create_app
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore
+
+    db = str(tmp_path / "copy.db")
+    shutil.copy(database, db)
+    app = create_app(db, keep_designs=True)
+    assert app.state.store.read_only  # the pages still read through a read-only connection
+    with serving(app) as address:
+        design = {"points.B.x": 196.5, "bodies.coupler.mass": 1.25}
+        # only from the dashboard's own page (a header another site cannot send), only in range
+        assert _keep(address, **design)[0] == 403
+        assert _keep(address, {"X-Mechdyn": "keep"}, **{"points.B.x": 999})[0] == 400
+        status, d = _keep(address, {"X-Mechdyn": "keep"}, **design)
+        assert status == 200 and d["status"] == "ok"
+        _, what = _ask(address, **design)
+        again = _keep(address, {"X-Mechdyn": "keep"}, **design)[1]  # the same design: the same variant
+        assert again["variant"] == d["variant"]
+    with ResultStore(db, read_only=True) as store:
+        studies = StudyStore(store)
+        assert studies.counts(1)["variants"] == 32
+        v = studies.variant(d["variant"])
+    assert v.study == "fourbar-whatif" and v.status == "ok"
+    assert v.parameters["bodies.coupler.mass"] == pytest.approx(1.25)
+    assert v.parameters["points.B.x"] == pytest.approx(0.1965)
+    for o in what["outputs"]:
+        assert v.outputs[o["key"]] == pytest.approx(o["value"], rel=1e-12)

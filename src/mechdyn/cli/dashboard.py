@@ -15,7 +15,13 @@ EXAMPLES = (
 def _serve(args: argparse.Namespace) -> int:
     from mechdyn.dashboard.app import serve
 
-    serve(args.db, host=args.host, port=args.port, allowed_hosts=args.allowed_host or ())
+    serve(
+        args.db,
+        host=args.host,
+        port=args.port,
+        allowed_hosts=args.allowed_host or (),
+        keep_designs=args.keep_designs,
+    )
     return 0
 
 
@@ -40,5 +46,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="NAME",
         help="a host name the dashboard answers besides the loopback names (repeatable), e.g. the "
         "machine's name when it listens beyond it with --host",
+    )
+    p.add_argument(
+        "--keep-designs",
+        action="store_true",
+        help="let a study's what-if form keep a design as a new variant of that study (the only "
+        "write the dashboard makes; without it the dashboard writes nothing)",
     )
     p.set_defaults(func=_serve)

@@ -111,7 +111,7 @@ def _loopback(host: str) -> bool:
         return host == "localhost"
 
 
-def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any:
+def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_designs: bool = False) -> Any:
     """The dashboard application over the results database at ``url`` (opened read-only).
 
     Parameters
@@ -121,6 +121,9 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
     allowed_hosts : sequence of str
         Host names (``Host`` header) answered besides the loopback names; a request for any other
         host gets HTTP 400.
+    keep_designs : bool
+        Let a study's what-if form keep a design as a new variant of that study (the only write
+        the dashboard can make, through a second connection opened for it); off by default.
 
     Returns
     -------
@@ -447,6 +450,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             roles=[c.role for c in shown],
             views=study_views(st, shown),
             sliders=(w.sliders() if (w := what_if_of(st)) is not None else []),
+            keep_designs=keep_designs,
             table=[{**row, "cells": [_cell(x) for x in row["values"]]} for row in table],
             page_size=PAGE_SIZE,
             definition=toml_text(st.definition),
@@ -632,6 +636,59 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             }
         return best_of[key]
 
+    keeper: list[ResultStore] = []  # the writable connection, opened on the first design kept
+    keep_lock = threading.Lock()
+
+    def study_keep(request: Request) -> JSONResponse:
+        """Keep the what-if design as a new variant of its study: only if the dashboard was started
+        to keep designs, and only from the dashboard's own page (a header another site's page cannot
+        send without this server's leave)."""
+        from mechdyn.dashboard.whatif import WhatIfError
+        from mechdyn.studies.storage import StudyStore, variant_key
+
+        if not keep_designs:
+            return JSONResponse(
+                {"error": "the dashboard is read-only; start it with --keep-designs to keep designs"},
+                status_code=403,
+            )
+        if request.headers.get("x-mechdyn") != "keep":
+            return JSONResponse({"error": "designs are kept from the study's page only"}, status_code=403)
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        w = what_if_of(st)
+        if w is None:
+            return JSONResponse({"error": "this study cannot be evaluated again here"}, status_code=400)
+        try:
+            row = w.row(dict(request.query_params))
+        except WhatIfError as exc:
+            return JSONResponse({"error": str(exc)}, status_code=400)
+        ev = w.evaluator.one(row)
+        key = variant_key(row)
+        with keep_lock:
+            if not keeper:
+                keeper.append(ResultStore(store.url))
+            kept = StudyStore(keeper[0])
+            position = kept.next_position(st.id)
+            kept.add(
+                st.id,
+                [
+                    {
+                        "key": key,
+                        "position": position,
+                        "parameters": {p.name: x for p, x in zip(w.parameters, row, strict=True)},
+                        "given": {},
+                        "outputs": ev.outputs,
+                        "status": ev.status,
+                        "error": ev.error,
+                        "model_sha256": st.model_sha256,
+                        "warnings": ev.warnings,
+                    }
+                ],
+            )
+            variant = kept.ids(st.id, [key])[key]
+        return JSONResponse({"variant": variant, "status": ev.status})
+
     def study_whatif(request: Request) -> JSONResponse:
         """One design of the study evaluated now from the form's values; nothing is written."""
         from mechdyn.dashboard.whatif import WhatIfError
@@ -688,17 +745,23 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = ()) -> Any
             Route("/api/studies/{study_id:int}/pareto", study_pareto),
             Route("/api/studies/{study_id:int}/importances", study_importances),
             Route("/api/studies/{study_id:int}/whatif", study_whatif),
+            Route("/api/studies/{study_id:int}/keep", study_keep, methods=["POST"]),
             Route("/static/plotly.min.js", static_plotly),
         ],
         exception_handlers={404: not_found},
     )
     app.state.store = store
+    app.state.keeper = keeper
     app.state.allowed_hosts = hosts
     return app
 
 
 def serve(
-    url: str | None = None, host: str = "127.0.0.1", port: int = 8050, allowed_hosts: Sequence[str] = ()
+    url: str | None = None,
+    host: str = "127.0.0.1",
+    port: int = 8050,
+    allowed_hosts: Sequence[str] = (),
+    keep_designs: bool = False,
 ) -> None:
     """Serve the dashboard until interrupted (``mechdyn dashboard``).
 
@@ -712,12 +775,14 @@ def serve(
         The port.
     allowed_hosts : sequence of str
         Host names answered besides the loopback names (what a browser elsewhere calls this machine).
+    keep_designs : bool
+        Let the what-if form keep a design as a new variant of its study (:func:`create_app`).
     """
     import sys
 
     import uvicorn
 
-    app = create_app(url, allowed_hosts)
+    app = create_app(url, allowed_hosts, keep_designs=keep_designs)
     where = app.state.store.where
     if not _loopback(host):
         names = ", ".join(allowed_hosts) or "none but this machine's loopback names"
@@ -727,5 +792,6 @@ def serve(
             "(--allowed-host NAME adds one).",
             file=sys.stderr,
         )
-    print(f"mechdyn dashboard on http://{host}:{port}/ over {where} (read-only); Ctrl-C stops it")
+    mode = "read-only; designs kept from the what-if form" if keep_designs else "read-only"
+    print(f"mechdyn dashboard on http://{host}:{port}/ over {where} ({mode}); Ctrl-C stops it")
     uvicorn.run(app, host=host, port=port, log_level="warning")

@@ -336,6 +336,15 @@ class StudyStore:
         return out
 
     @guarded
+    def next_position(self, study_id: int) -> int:
+        """The place of a variant added after every stored one of the study."""
+        with Session(self._engine) as s:
+            last = s.execute(
+                select(func.max(_Variant.position)).where(_Variant.study_id == study_id)
+            ).scalar()
+        return 0 if last is None else int(last) + 1
+
+    @guarded
     def add(self, study_id: int, rows: Iterable[Mapping[str, Any]]) -> None:
         """Store a block of variants in one transaction; a key already stored (by another process
         on the same study) is left as it is.
