@@ -310,3 +310,75 @@ def test_the_lists_give_a_headline_per_run_and_per_study(server, stored):
     assert f"transmitted_force_range_N {number_text(min(tonf))} to {number_text(max(tonf))} tonf" in html
     cells = re.findall(r'<td class="headline">([^<]*)</td>', html)
     assert len(cells) == 3 and all(cells), cells  # the study and the two runs
+
+
+@pytest.fixture(scope="module")
+def large(tmp_path_factory):
+    """A study of 10⁵ stored variants: a real study's definition (ten samples run), then 10⁵ designs
+    within its ranges stored as a running study stores them, their outputs a smooth function of the
+    parameters (what is measured here is the dashboard, not the analysis)."""
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore, variant_key
+
+    d = tmp_path_factory.mktemp("large")
+    (d / "lhs.toml").write_text(STUDY.replace("samples = 250", "samples = 10"))
+    db = str(d / "results.db")
+    assert main(["study", str(d / "lhs.toml"), "--db", db]) == 0
+    rng = np.random.default_rng(5)
+    n = 100_000
+    k = 4.5e8 * rng.uniform(0.7, 1.3, n)
+    zeta = 0.05 * rng.uniform(0.7, 1.3, n)
+    with ResultStore(db) as store:
+        studies = StudyStore(store)
+        st = studies.study("support-lhs")
+        start = studies.next_position(st.id)
+        rows = [
+            {
+                "key": variant_key([k[i], zeta[i]]),
+                "position": start + i,
+                "parameters": {"support.stiffness": k[i], "support.damping_ratio": zeta[i]},
+                "outputs": {
+                    "displacement_max_m": 5.5e5 / k[i] * (1 + zeta[i]),
+                    "transmitted_force_range_N": 8.4e5 + 1e4 * zeta[i] + k[i] * 1e-4,
+                },
+                "status": "ok",
+                "model_sha256": st.model_sha256,
+            }
+            for i in range(n)
+        ]
+        for i in range(0, n, 20_000):
+            studies.add(st.id, rows[i : i + 20_000])
+    return db
+
+
+@pytest.mark.slow  # about a minute: 10⁵ variants stored first (python benchmarks/dashboard.py times it)
+def test_a_study_of_a_hundred_thousand_variants_is_shown_in_a_real_browser(large):
+    from playwright.sync_api import expect, sync_playwright
+
+    from mechdyn.dashboard.app import create_app
+
+    with serving(create_app(large)) as address, sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1280, "height": 900})
+        errors: list[str] = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(address + "/studies/1")
+        expect(page.locator("#count")).to_have_text("100011 (0 failed)")
+        page.locator("#scatter").scroll_into_view_if_needed()
+        expect(page.locator("#scatter .main-svg").first).to_be_attached()
+        expect(page.locator("#sample-note")).to_contain_text("of the 100011 variants that succeeded")
+        drawn = page.evaluate("document.getElementById('scatter').data[0].x.length")
+        assert 10_000 <= drawn <= 20_000
+        page.locator("#history").scroll_into_view_if_needed()
+        expect(page.locator("#history-best")).to_contain_text("best (smallest)")
+        page.locator("#variants").scroll_into_view_if_needed()
+        expect(page.locator("#rows")).to_have_text("variants 1–100 of 100011")
+        page.locator("#variants th", has_text="displacement_max_m").click()
+        expect(page.locator("#variants th", has_text="displacement_max_m")).to_have_attribute(
+            "data-order", "asc"
+        )
+        cells = page.locator("#variants tbody tr td:nth-child(5)").all_inner_texts()
+        values = [float(c) for c in cells]
+        assert values == sorted(values)
+        assert not errors, errors
+        browser.close()
