@@ -643,7 +643,6 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         """Keep the what-if design as a new variant of its study: only if the dashboard was started
         to keep designs, and only from the dashboard's own page (a header another site's page cannot
         send without this server's leave)."""
-        from mechdyn.dashboard.whatif import WhatIfError
         from mechdyn.studies.storage import StudyStore, variant_key
 
         if not keep_designs:
@@ -653,16 +652,10 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             )
         if request.headers.get("x-mechdyn") != "keep":
             return JSONResponse({"error": "designs are kept from the study's page only"}, status_code=403)
-        st = study_of(request)
-        if st is None:
-            raise HTTPException(404)
-        w = what_if_of(st)
-        if w is None:
-            return JSONResponse({"error": "this study cannot be evaluated again here"}, status_code=400)
-        try:
-            row = w.row(dict(request.query_params))
-        except WhatIfError as exc:
-            return JSONResponse({"error": str(exc)}, status_code=400)
+        asked = asked_design(request)
+        if isinstance(asked, JSONResponse):
+            return asked
+        st, w, row = asked
         ev = w.evaluator.one(row)
         key = variant_key(row)
         with keep_lock:
@@ -691,6 +684,15 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
 
     def study_whatif(request: Request) -> JSONResponse:
         """One design of the study evaluated now from the form's values; nothing is written."""
+        asked = asked_design(request)
+        if isinstance(asked, JSONResponse):
+            return asked
+        st, w, row = asked
+        return JSONResponse({**w.evaluate(row), "best": best_design(st, w)})
+
+    def asked_design(request: Request) -> tuple[Any, Any, list[float]] | JSONResponse:
+        """The study, its what-if evaluator and the design's SI values the request asks for; HTTP 404
+        for a study the database does not have, 400 (with the reason) for values it does not take."""
         from mechdyn.dashboard.whatif import WhatIfError
 
         st = study_of(request)
@@ -700,10 +702,9 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         if w is None:
             return JSONResponse({"error": "this study cannot be evaluated again here"}, status_code=400)
         try:
-            row = w.row(dict(request.query_params))
+            return st, w, w.row(dict(request.query_params))
         except WhatIfError as exc:
             return JSONResponse({"error": str(exc)}, status_code=400)
-        return JSONResponse({**w.evaluate(row), "best": best_design(st, w)})
 
     views_of: dict[int, dict[str, Any]] = {}
 
