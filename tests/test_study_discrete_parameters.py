@@ -227,12 +227,14 @@ def test_a_choice_is_exported_and_plotted_by_its_name(tmp_path):
     with serving(create_app(db)) as address:
         with urllib.request.urlopen(f"{address}/studies/{sid}") as r:
             page = r.read().decode()
-    data = json.loads(re.search(r"const data = (\{.*?\});\n", page).group(1))
-    levels = data["levels"][0]
-    assert levels == ["rubber shore 60", "rubber shore 40", "rubber shore 70"] and data["levels"][1] == []
-    for i, row in zip(data["ids"], data["values"], strict=True):
-        assert levels[int(row[0])] == names[i]  # a number on the axis, its tick the level's name
-    assert "tickvals" in page and "ticktext: data.levels[i]" in page
+        with urllib.request.urlopen(f"{address}/api/studies/{sid}/points") as r:
+            data = json.loads(r.read())
+    every = json.loads(re.search(r"levels = (\[.*?\]), roles = ", page).group(1))
+    levels = every[0]
+    assert levels == ["rubber shore 60", "rubber shore 40", "rubber shore 70"] and every[1] == []
+    for i, x in zip(data["ids"], data["values"][0], strict=True):
+        assert levels[int(x)] == names[i]  # a number on the axis, its tick the level's name
+    assert "tickvals" in page and "ticktext: levels[i]" in page
 
 
 def test_an_oat_over_a_tooth_count_equals_the_gear_data_written_by_hand(tmp_path):

@@ -107,10 +107,11 @@ class Column:
         x = np.array(
             [np.nan if v is None else v for v in values] if isinstance(values, list) else values, dtype=float
         )
-        zero, one, far = self.shown(0.0), self.shown(1.0), self.shown(1e3)
+        probe = 17.0  # any third value: an affine map through 0 and 1 meets it
+        zero, one, far = self.shown(0.0), self.shown(1.0), self.shown(probe)
         if None not in (zero, one, far) and not self.levels:
             a, b = float(one) - float(zero), float(zero)
-            if math.isclose(a * 1e3 + b, float(far), rel_tol=1e-12, abs_tol=1e-300):
+            if math.isclose(a * probe + b, float(far), rel_tol=1e-12, abs_tol=1e-300):
                 return a * x + b
         out = [self.shown(v) if math.isfinite(v) else None for v in x]
         return np.array([np.nan if v is None else float(v) for v in out], dtype=float)
