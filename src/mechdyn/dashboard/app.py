@@ -21,6 +21,7 @@ import threading
 from collections.abc import Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from concurrent.futures import TimeoutError as FuturesTimeout
+from contextlib import asynccontextmanager
 from datetime import date, datetime
 from pathlib import Path
 from typing import Any
@@ -171,6 +172,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         return shown_as[st.id]
 
     def work_out_findings(st: Any) -> Findings:
+        from mechdyn.errors import MechdynError
         from mechdyn.reports.html import _figures, study_tables
         from mechdyn.studies.run import stored_result
         from mechdyn.studies.spec import StudyError
@@ -180,7 +182,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             result = stored_result(store, st.name)
             indices = result.findings.get("indices", {}) if st.kind == "sobol" else {}
             return study_tables(result), _figures(result.plots()), "", indices
-        except (StudyError, StoreError) as exc:
+        except (StudyError, StoreError, MechdynError) as exc:
             return [], [], f"The findings appear when every variant is stored: {exc}", {}
 
     def findings(st: Any, n_variants: int, wait: float | None) -> Findings | None:
@@ -731,7 +733,14 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         return missing(f"There is nothing at {request.url.path}.")
 
     hosts = [*LOOPBACK_HOSTS, *allowed_hosts]
+
+    @asynccontextmanager
+    async def lifespan(app: Any) -> Any:
+        yield
+        findings_pool.shutdown(wait=False, cancel_futures=True)  # a server that stops works out nothing more
+
     app = Starlette(
+        lifespan=lifespan,
         middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=hosts)],
         routes=[
             Route("/", index),
