@@ -434,7 +434,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         if st is None:
             return missing(f"There is no study {request.path_params['study_id']} in this database.")
         data = study_data(st)
-        counts = data.counts()
+        counts = studies.counts(st.id)
         shown = data.columns
         ready = findings(st, counts["variants"], FINDINGS_WAIT)
         table = data.page(limit=PAGE_SIZE)
@@ -464,7 +464,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         st = study_of(request)
         if st is None:
             raise HTTPException(404)
-        ready = findings(st, study_data(st).counts()["variants"], FINDINGS_WAIT)
+        ready = findings(st, studies.counts(st.id)["variants"], FINDINGS_WAIT)
         if ready is None:
             return HTMLResponse("", status_code=202)
         tables, figures, note, _ = ready
@@ -511,7 +511,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
                     }
                     for r in rows
                 ],
-                **data.counts(),
+                **studies.counts(st.id),
             }
         )
 
@@ -585,7 +585,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         st, data, _views, column = asked_column(request, outputs_only=True)
         key = data.columns[column].key
         if st.kind == "sobol":
-            ready = findings(st, data.counts()["variants"], None)
+            ready = findings(st, studies.counts(st.id)["variants"], None)
             indices = (ready and ready[3]) or {}
             if key in indices:
                 return JSONResponse(

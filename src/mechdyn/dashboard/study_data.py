@@ -89,25 +89,15 @@ class StudyData:
 
     def _value(self, index: int) -> Any:
         """SQL for the SI value of column ``index`` of each variant (NULL where missing)."""
-        c = self.columns[index]
-        n_parameters = sum(1 for x in self.columns if x.role == "parameter")
-        if c.role == "parameter":
+        if self.columns[index].role == "parameter":
             return _Variant.parameters[index].as_float()
-        return _Variant.outputs[index - n_parameters].as_float()
+        return _Variant.outputs[index - self._n_parameters].as_float()
 
     def _where(self, status: str | None = None) -> list[Any]:
         clauses = [_Variant.study_id == self.study_id]
         if status:
             clauses.append(_Variant.status == status)
         return clauses
-
-    def counts(self) -> dict[str, int]:
-        """``variants``, ``ok`` and ``failed``."""
-        q = select(_Variant.status, func.count()).where(*self._where()).group_by(_Variant.status)
-        with Session(self.engine) as s:
-            by = dict(s.execute(q).all())
-        total = int(sum(by.values()))
-        return {"variants": total, "ok": int(by.get("ok", 0)), "failed": total - int(by.get("ok", 0))}
 
     def page(
         self, *, sort: str = "id", descending: bool = False, offset: int = 0, limit: int = PAGE_SIZE
