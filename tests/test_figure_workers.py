@@ -100,14 +100,57 @@ def test_a_warning_in_another_process_is_warned_here(tmp_path):
 
 
 def test_processes_that_get_no_result_stop_at_once():
-    drawing = FigureWorkers(3).start()
+    drawing = FigureWorkers(3).start()  # one copy now: it forks the others once a result comes
     pids = [c["pid"] for c in drawing._children]
-    assert len(pids) == 2
+    assert len(pids) == 1
     drawing.close()
     for pid in pids:
         with pytest.raises(ProcessLookupError):
             os.kill(pid, 0)
     assert _no_children_left()
+
+
+EARLY = """
+import os, sys
+from pathlib import Path
+from mechdyn.figure_workers import FigureWorkers
+
+class Source:
+    def plots(self):
+        return {f"f{i}.png": (lambda i=i: self.make(i)) for i in range(6)}
+
+    def make(self, i):
+        import matplotlib.pyplot as plt
+
+        with open(sys.argv[2], "a") as log:
+            log.write(f"{os.getpid()}\\n")
+        fig, ax = plt.subplots(figsize=(2, 1.5))
+        ax.plot([0, i])
+        return ax
+
+with FigureWorkers(3) as drawing:
+    drawing.start()
+    paths = drawing.draw(Source(), sys.argv[1])
+assert all(p.stat().st_size > 500 for p in paths), paths
+print("matplotlib here:", "matplotlib.pyplot" in sys.modules)
+print("drawn here:", str(os.getpid()) in Path(sys.argv[2]).read_text().split())
+"""
+
+
+def test_copies_started_early_draw_every_figure_and_this_process_never_imports_matplotlib(tmp_path):
+    import subprocess
+    import sys
+
+    script = tmp_path / "early.py"
+    script.write_text(EARLY)
+    done = subprocess.run(
+        [sys.executable, str(script), str(tmp_path / "out"), str(tmp_path / "log")],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert "matplotlib here: False" in done.stdout
+    assert "drawn here: False" in done.stdout
+    assert len((tmp_path / "log").read_text().split()) == 6  # each figure once
 
 
 def test_the_number_of_processes_follows_the_environment(monkeypatch):

@@ -2,12 +2,14 @@
 
 Drawing a figure is matplotlib's own work, one core per figure, and a run's figures are independent of
 each other: where the platform forks a process cheaply and safely (Linux), the figures are shared
-among copies of this process. Copies started before the analysis (:meth:`FigureWorkers.start`)
-import matplotlib while it runs and then receive the result, pickled; copies started when the
-figures are asked for inherit them. Each copy takes the next figure from a queue when it is free, so
-that one large figure does not hold up the rest, and ends without running this process's exit
-handlers. An error in any copy is raised in this process, as raised there, once every copy has ended;
-the figures drawn by then are on disk.
+among copies of this process. A copy started before the analysis (:meth:`FigureWorkers.start`)
+imports matplotlib while it runs, then receives the result, pickled, and forks the further copies
+that draw beside it, which inherit matplotlib imported and the result (importing matplotlib is as
+much work as drawing three figures: it is done once, and never by this process when it has not done
+it already); copies started when the figures are asked for inherit them. Each copy takes the next
+figure from a queue when it is free, so that one large figure does not hold up the rest, and ends
+without running this process's exit handlers. An error in any copy is raised in this process, as
+raised there, once every copy has ended; the figures drawn by then are on disk.
 """
 
 from __future__ import annotations
@@ -46,7 +48,10 @@ def _get_ready(modules: tuple[str, ...]) -> None:
     import matplotlib.pyplot as plt
 
     for name in modules:
-        importlib.import_module(name)
+        try:
+            importlib.import_module(name)
+        except ModuleNotFoundError:  # a module that may not exist (an analysis without plots of its own)
+            pass
     fig, ax = plt.subplots(figsize=(2, 1.5), layout="constrained")
     ax.plot([0.0, 1.0], [0.0, 1.0], label="warm-up")
     ax.set_title("warm-up")
@@ -139,6 +144,7 @@ class FigureWorkers:
         self._inherit: tuple[Makers, list[Path], int] | None = None
         self._job: tuple[Makers, list[Path], int] | None = None  # handed out by begin(), for end()
         self._ready: tuple[str, ...] = ()  # modules a copy started early imports
+        self._helpers = 0  # further copies the one started early forks once its result has come
 
     def __enter__(self) -> FigureWorkers:
         return self
@@ -158,7 +164,11 @@ class FigureWorkers:
         """
         if self.workers > 1 and not self._children:
             self._ready = modules
-            self._fork(self.workers - 1)
+            # one copy now; once its result has come it forks the others, which inherit matplotlib
+            # and the result, so that neither is imported nor unpickled twice. This process then
+            # draws nothing unless it has matplotlib imported already: the copies draw every figure.
+            self._helpers = self.workers - 1
+            self._fork(1)
         return self
 
     def _fork(self, n: int) -> None:
@@ -177,6 +187,7 @@ class FigureWorkers:
                     for other in self._children:  # another copy's job pipe must close when we do
                         os.close(other["job"])
                         os.close(other["report"])
+                    self._children = []  # this copy's own, if it forks any
                     os.close(job_write)
                     os.close(report_read)
                     status = self._serve(job_read, report_write)
@@ -203,12 +214,20 @@ class FigureWorkers:
                     return 0
                 source, paths, dpi = pickle.loads(payload)
                 makers = source.plots() if hasattr(source, "plots") else source
+                more = min(self._helpers, len(paths) - 1)
+                if more > 0:  # they report to this copy, which reports for all of them
+                    self._children, self._inherit = [], (makers, paths, dpi)
+                    self._fork(more)
+                    for child in self._children:  # they have their figures: nothing to wait for
+                        os.close(child["job"])
+                        child["job"] = None
             else:
                 makers, paths, dpi = self._inherit
             _drain(cast(int, self._queue[0]), makers, paths, dpi)
         except BaseException as exc:  # reported to the parent, which raises it
             error = exc
-        _report(report, error, caught)
+        found = self._collect()  # the copies this one forked, if any
+        _report(report, error or found, caught)
         return 0 if error is None else 1
 
     def draw(self, source: Any, folder: str | Path, *, prefix: str = "", dpi: int = 130) -> list[Path]:
@@ -310,7 +329,9 @@ class FigureWorkers:
             if not self._children:  # no other process: every figure is drawn here
                 for name, path in zip(makers, paths, strict=True):
                     save_figure(makers[name](), path, dpi=dpi)
-            elif self.draw_here:  # more figures than other processes: this one takes the surplus
+            elif self.draw_here and "matplotlib.pyplot" in sys.modules:
+                # more figures than other processes, and matplotlib imported here already: this one
+                # takes the surplus (importing it only for that would cost more than it saves)
                 _drain(cast(int, self._queue[0]), makers, paths, dpi, leave=len(self._children))
         except BaseException as exc:
             error = exc

@@ -149,8 +149,8 @@ def fit_titles(fig: Any) -> None:
     margin = 0.0 if fig.get_layout_engine() is None else 0.1 * width
     if all(_clear(t.get_window_extent(renderer), width, margin) for t in texts):
         return
-    fig.canvas.draw()
-    # the figure is drawn once, for the titles' places; a title's extent then follows its own text
+    fig.draw_without_rendering()  # the layout and every artist placed, nothing rasterised
+    # the figure is laid out once, for the titles' places; a title's extent then follows its own text
     # and size without drawing the figure again (once per title, that was most of a run with --plots)
     for t in texts:
         for _ in range(4):
@@ -223,9 +223,16 @@ def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     fig = ax.figure if hasattr(ax, "figure") else ax
+    fig.set_dpi(dpi)  # the layout and the titles' fit worked out at the resolution saved
     plain_text(fig)
     fit_titles(fig)
-    fig.savefig(p, dpi=dpi)
+    engine = fig.get_layout_engine()
+    if engine is not None:  # once, here: savefig would first draw the whole figure only to run it
+        engine.execute(fig)
+        fig.set_layout_engine("none")
+    # zlib's fastest level: a tenth larger than its default and a fifth of the drawing time less
+    png = {"pil_kwargs": {"compress_level": 1}} if p.suffix.lower() == ".png" else {}
+    fig.savefig(p, dpi=dpi, **png)
     plt.close(fig)
     return p
 

@@ -174,7 +174,8 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     # the processes that will draw the plots start now and import matplotlib while the analysis runs
     with FigureWorkers() as drawing:
         if args.plots:
-            drawing.start(analysis.function.__module__)
+            module = analysis.function.__module__
+            drawing.start(module, module.rpartition(".")[0] + ".plots")
         return _run(args, analysis, drawing)
 
 
@@ -223,6 +224,14 @@ def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
         arrays=result.arrays(),
     )
     # the run is stored (or kept in a file); a file that cannot be written is an error that loses nothing
+    if not args.json:  # the tables, while the other processes draw
+        from mechdyn.cli.common import print_table
+
+        print(f"{loaded.name}  ({source.path})")
+        shown = {k: u for k in ("force_unit", "length_unit") if (u := getattr(args, k, None))}
+        for t in result.tables(**shown):
+            print_table(t)
+        sys.stdout.flush()
     if args.csv:
         with _writing(args.csv, "the table", run_id, failed):
             path = Path(args.csv)
@@ -273,12 +282,6 @@ def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
         }
         print(json.dumps(jsonable(doc), indent=2))
         return 2 if failed else 0
-    from mechdyn.cli.common import print_table
-
-    print(f"{loaded.name}  ({source.path})")
-    shown = {k: u for k in ("force_unit", "length_unit") if (u := getattr(args, k, None))}
-    for t in result.tables(**shown):
-        print_table(t)
     for p in plot_files:
         print(f"plot: {p}")
     if animation_file:

@@ -77,7 +77,15 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
     title = f"{result.drivetrain.name}: mode shapes with {which}"
     if ax is None:
         n = max(len(modes), 1)
-        fig, axes = plt.subplots(n, 1, figsize=(7.5, 1.2 + 1.5 * n), sharex=True, squeeze=False)
+        height = 1.2 + 1.5 * n
+        fig, axes = plt.subplots(n, 1, figsize=(7.5, height), sharex=True, squeeze=False)
+        # fixed margins (inches) rather than a layout engine: the panels' places do not depend on
+        # their contents here, and working them out drew the figure twice more than saving it does
+        top, bottom, gap = 0.62, 0.55, 0.45
+        panel = (height - top - bottom - (n - 1) * gap) / n
+        fig.subplots_adjust(
+            left=0.8 / 7.5, right=0.98, top=1 - top / height, bottom=bottom / height, hspace=gap / panel
+        )
         panels = list(axes[:, 0])
         fig.suptitle(title, fontsize=11)
     else:
@@ -103,6 +111,7 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
         if ax is None:
             panel.set_title(label, fontsize=9, loc="left")
             panel.set_ylim(-1.15, 1.15)
+            panel.set_yticks([-1.0, 0.0, 1.0])
     first = panels[0]
     for i, text in breaks.items():
         if text:
@@ -115,7 +124,6 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
         panel.set_ylabel("angle")
     if ax is not None and modes:
         ax.legend(fontsize="small")
-    first.figure.tight_layout()
     return first
 
 

@@ -420,12 +420,14 @@ class DynamicsResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """Per-angle table; every column names its unit."""
-        return self._frame.copy()  # made once: the CSV and the plots read it
-
-    @cached_property
-    def _frame(self) -> pd.DataFrame:
         import pandas as pd
 
+        return pd.DataFrame(self._columns)
+
+    @cached_property
+    def _columns(self) -> dict[str, np.ndarray]:
+        """The per-angle table's columns, worked out once: the CSV and the plots read them (the plots
+        without pandas, which a process drawing figures would otherwise import for half a second)."""
         cols: dict[str, Any] = {"angle_deg": np.degrees(self.angle), "time_s": self.kinematics.time}
         s = self.output_position
         if s is not None:
@@ -453,7 +455,7 @@ class DynamicsResult(Result):
             cols[f"joint_{j.name}_force_y_N"] = load[:, 1]
         cols["power_balance_residual_W"] = self.power_balance_residual
         cols |= motion_columns(self.kinematics, self.trace)
-        return pd.DataFrame(cols)
+        return cols
 
 
 def _applied(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:

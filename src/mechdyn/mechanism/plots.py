@@ -57,21 +57,21 @@ def plot_output_motion(result: DynamicsResult, ax: Any = None) -> Any:
 
     from mechdyn.mechanism.motion import output_rocker
 
-    frame = result.to_frame()
+    frame = result._columns
     _fig, axes = plt.subplots(3, 1, figsize=(7.5, 7.0), sharex=True, layout="constrained")
     rocker = output_rocker(result.mechanism) if result.output_position is None else None
     if rocker is not None:
         i = result.mechanism.body_index[rocker[0]]
         curves = [
-            (frame["output_angle_deg"].to_numpy(), f"angle of {rocker[0]} (deg)"),
-            (frame["output_angular_velocity_rad_s"].to_numpy(), "angular velocity (rad/s)"),
+            (frame["output_angle_deg"], f"angle of {rocker[0]} (deg)"),
+            (frame["output_angular_velocity_rad_s"], "angular velocity (rad/s)"),
             (result.kinematics.qdd[:, 3 * i + 2], "angular acceleration (rad/s²)"),
         ]
     else:
         curves = [
-            (convert(frame["output_position_m"].to_numpy(), "m", "mm"), "displacement (mm)"),
-            (frame["output_velocity_m_per_s"].to_numpy(), "velocity (m/s)"),
-            (frame["output_acceleration_m_per_s2"].to_numpy(), "acceleration (m/s²)"),
+            (convert(frame["output_position_m"], "m", "mm"), "displacement (mm)"),
+            (frame["output_velocity_m_per_s"], "velocity (m/s)"),
+            (frame["output_acceleration_m_per_s2"], "acceleration (m/s²)"),
         ]
     for a, (y, label) in zip(axes, curves, strict=True):
         a.plot(frame["angle_deg"], y)
@@ -287,6 +287,8 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
         The first panel (its ``figure`` holds them all).
     """
     import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+    from matplotlib.ticker import FixedLocator, MaxNLocator, NullLocator
 
     m, k = result.mechanism, result.kinematics
     cols = 4
@@ -294,28 +296,38 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
     # fixed margins: the constrained layout of twelve panels cost more than drawing them (1.6 s against
     # 0.7 s to save the press's sheet)
     height = 2.8 * rows + 0.8
-    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, height), sharex=True, sharey=True)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, height), squeeze=False)
     fig.subplots_adjust(
         left=0.07, right=0.99, top=1 - 0.55 / height, bottom=0.85 / height, wspace=0.12, hspace=0.32
     )
     idx = np.linspace(0, len(k.angle), frames, endpoint=False).astype(int)
     tracks = linkage_tracks(result)  # every body's points over the cycle, to fix the view (mm)
     lo, hi, pad = linkage_view(result, tracks)
-    for a, i in zip(np.ravel(axes), idx, strict=False):
+    xlim, ylim = (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
+    # every panel shows the same view, so one set of grid lines serves all; only the outer panels carry
+    # ticks (the ticks of 24 axes were half the sheet's drawing time)
+    xt = [t for t in MaxNLocator(5).tick_values(*xlim) if xlim[0] <= t <= xlim[1]]
+    yt = [t for t in MaxNLocator(5).tick_values(*ylim) if ylim[0] <= t <= ylim[1]]
+    grid = [[(x, ylim[0]), (x, ylim[1])] for x in xt] + [[(xlim[0], y), (xlim[1], y)] for y in yt]
+    for n, (a, i) in enumerate(zip(np.ravel(axes), idx, strict=False)):
         LinkagePose(a, result, tracks).show(i)
         draw_frame_marks(a, result, float((hi - lo).max()))
-        a.set_xlim(lo[0] - pad, hi[0] + pad)
-        a.set_ylim(lo[1] - pad, hi[1] + pad)
+        a.add_collection(LineCollection(grid, colors="0.5", linewidths=0.8, alpha=0.2, zorder=0))
+        a.set_xlim(*xlim)
+        a.set_ylim(*ylim)
         a.set_aspect("equal")
         a.set_title(f"crank at {np.degrees(k.angle[i]):.0f}°", fontsize="small")
+        col = n % cols
+        last_row = n + cols >= len(idx)
+        a.xaxis.set_major_locator(FixedLocator(xt) if last_row else NullLocator())
+        a.yaxis.set_major_locator(FixedLocator(yt) if col == 0 else NullLocator())
         a.tick_params(labelsize="x-small")
-        a.grid(alpha=0.2)
+        if last_row:
+            a.set_xlabel("x (mm)", fontsize="small")
+        if col == 0:
+            a.set_ylabel("y (mm)", fontsize="small")
     for a in np.ravel(axes)[len(idx) :]:
         a.axis("off")
-    for a in axes[-1, :]:
-        a.set_xlabel("x (mm)", fontsize="small")
-    for a in axes[:, 0]:
-        a.set_ylabel("y (mm)", fontsize="small")
     handles, labels = linkage_legend(result)
     fig.legend(
         handles, labels, loc="lower center", ncols=min(len(labels), 6), fontsize="small", frameon=False
@@ -538,6 +550,7 @@ def plot_coupler_curves(result: DynamicsResult, ax: Any = None) -> Any:
                     (4, 4),
                     textcoords="offset points",
                     fontsize="x-small",
+                    in_layout=False,  # beside its point, inside the axes: nothing for the layout to do
                 )
     ax.plot([], [], "-o", color="0.65", ms=3, lw=2, label=f"linkage at {np.degrees(k.angle[0]):.0f}°")
     ax.set_aspect("equal", adjustable="datalim")
