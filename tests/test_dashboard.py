@@ -247,7 +247,7 @@ def test_a_designer_goes_from_the_list_to_a_comparison_in_a_real_browser(server)
         # compare them: scalars side by side with units, curves overlaid with zoom
         page.click("#compare")
         expect(page.locator("h1")).to_contain_text("variants side by side")
-        expect(page.locator("#side-by-side")).to_contain_text("transmitted_force_range_N")
+        expect(page.locator("#side-by-side")).to_contain_text("transmitted force range")
         expect(page.locator("#side-by-side")).to_contain_text("N/m")
         expect(page.locator(".plot .main-svg").first).to_be_visible()
         expect(page.locator(".modebar").first).to_be_attached()  # Plotly's zoom tools

@@ -282,9 +282,37 @@ def _text(url: str) -> str:
 def test_nested_values_are_compared_as_rows_with_their_units(server):
     html = _text(server + "/compare?run=1&run=2")
     rows = re.findall(r"<tr><td>([^<]*)</td><td>([^<]*)</td>", html)
-    nested = [(label, unit) for label, unit in rows if label.startswith("joint_force_peak_N · ")]
-    assert len(nested) >= 4 and all(unit == "N" for _, unit in nested)
+    nested = [(label, unit) for label, unit in rows if label.startswith("joint force peak · ")]
+    assert len(nested) >= 4 and len({unit for _, unit in nested}) == 1 and nested[0][1] in ("N", "kN")
     assert "{&#34;" not in html and '{"' not in html.split("<table")[1].split("</table>")[0]
+    assert not any("_" in label for label, _ in rows), rows  # every key in words
+
+
+def test_runs_and_variants_compared_together_keep_each_row_in_one_unit(server, stored):
+    """A study's output is shown in its study file's unit beside runs too (it was SI with a run), and a
+    run's value in the unit a designer reads it in, the same for every column of its row."""
+    variants, columns = stored
+    v = next(v for v in variants if v.status == "ok")
+    html = _text(server + f"/compare?run=1&run=2&variant={v.id}")
+    rows = {label: (unit, cells) for label, unit, cells in _compare_rows(html)}
+    force = next(c for c in columns if c.key == "transmitted_force_range_N")
+    unit, cells = rows["transmitted force range"]
+    assert unit == force.unit == "tonf"
+    from mechdyn.numbers import number_text
+
+    assert cells[2] == number_text(force.of(v))
+    unit, cells = rows["driving torque rms"]  # the four-bar's runs: one readable unit for both
+    assert unit in ("N·m", "kN·m") and cells[0] and cells[1] and cells[2] == "—"  # not a variant's output
+
+
+def _compare_rows(html: str) -> list[tuple[str, str, list[str]]]:
+    body = html.split('id="side-by-side"')[1].split("</table>")[0]
+    out = []
+    for row in re.findall(r"<tr>(.*?)</tr>", body, re.S):
+        cells = [re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)]
+        if len(cells) >= 2:
+            out.append((cells[0], cells[1], cells[2:]))
+    return out
 
 
 def test_a_variant_whose_curves_were_not_kept_has_them_recomputed_and_says_so(server, stored, database):

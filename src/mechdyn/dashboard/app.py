@@ -103,6 +103,38 @@ def _nested_rows(values: dict[str, Any], prefix: str = "") -> Any:
             yield f"{prefix}{k}", v
 
 
+def _is_value(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _compare_row(
+    key: str, cells: list[Any], shown: dict[str, Any], given: bool
+) -> tuple[str, str, list[Any]]:
+    """One row of the compare page: the key in words, the one unit of the row, each column's value in it.
+
+    ``cells`` are SI values as stored (a study's parameters as its file wrote them, when ``given``);
+    ``shown`` maps a study's keys to their :class:`~mechdyn.reports.columns.Column`. A nested item
+    (``"joint_force_peak_N · A"``) takes the unit its own name says, else its group's.
+    """
+    from mechdyn.reports.html import _cell
+    from mechdyn.units import convert, key_label, key_unit, readable_unit
+
+    if given:  # a parameter as its study file wrote it, with its unit ("25 mm")
+        return key.replace("_", " "), "", [_cell(c) for c in cells]
+    parts = key.split(" · ")
+    words = " · ".join(key_label(p)[0] if n == 0 or "_" in p else p for n, p in enumerate(parts))
+    column = shown.get(key)
+    if column is not None and column.role == "output":  # in its study file's unit
+        return words, column.unit, [_cell(column.shown(c) if _is_value(c) else c) for c in cells]
+    named = [(key_unit(p), key_label(p)[1]) for p in reversed(parts)]
+    si, unit = next(((u, label) for u, label in named if u not in (None, "1")), ("", ""))
+    numbers = [abs(float(c)) for c in cells if _is_value(c) and not isinstance(c, int)]
+    if not si or not numbers:  # a number without unit, a count, a text
+        return words, unit, [_cell(c) for c in cells]
+    display, label = readable_unit(max(numbers), unit)
+    return words, label, [_cell(float(convert(float(c), si, display)) if _is_value(c) else c) for c in cells]
+
+
 def _loopback(host: str) -> bool:
     import ipaddress
 
@@ -347,32 +379,25 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             return missing("Runs and variants are given by their numbers.")
         if any(not 0 < i <= MAX_ID for i in (*run_ids, *variant_ids)):
             return missing("There is no run or variant of that number in this database.")
-        from mechdyn.units import key_unit
-
         columns: list[str] = []
         notes: list[str] = []
         values: list[dict[str, Any]] = []
-        units: dict[str, str] = {}
+        shown: dict[str, Any] = {}  # key -> the study's column that shows it (its unit and conversion)
         curves: list[tuple[str, dict[str, Any]]] = []
         try:
             for i in run_ids:
                 r = store.get(i)
                 columns.append(f"run {i} ({r.model_name})")
-                flat = {k: v for k, v in r.scalars.items() if k != "warnings"}
-                values.append(flat)
+                values.append({k: v for k, v in r.scalars.items() if k != "warnings"})
                 curves.append((f"run {i}", r.arrays))
             for i in variant_ids:
                 v = studies.variant(i)
                 columns.append(f"variant {i} ({v.study})")
-                outputs: dict[str, Any] = dict(v.outputs)
-                if not run_ids:  # variants alone: each output in its study's unit (with runs: SI)
-                    st = studies.study(v.study)
-                    shown = {c.key: c for c in shown_columns(st) if c.role == "output"}
-                    for k in [k for k in outputs if k in shown]:
-                        outputs[k] = shown[k].shown(outputs[k])
-                        units[k] = shown[k].unit
-                values.append({**v.given, **outputs, "status": v.status})
-                units.update({k: "" for k in v.given})
+                st = studies.study(v.study)
+                for c in shown_columns(st):  # the first study that names a key gives its row's unit
+                    shown.setdefault(c.key, c)
+                # parameters as the study file wrote them ("25 mm"); outputs in SI, shown per row below
+                values.append({**v.given, **dict(v.outputs), "status": v.status})
                 kept = v.curves or recomputed(i)
                 if kept:
                     curves.append((f"variant {i}", kept))
@@ -382,15 +407,13 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
                     notes.append(f"variant {i}: curves not kept, and not recomputed: {failed_again[i]}")
         except StoreError as exc:
             return missing(str(exc))
-        # a nested value (a force per joint, a gear pair's figures) is a row per item, with its unit
+        # a nested value (a force per joint, a gear pair's figures) is a row per item; every row is in
+        # one unit for all columns: a study's output in its study file's unit, anything else in the
+        # unit a designer reads its largest value in (a 530 kN force in kN, a stroke in mm)
         items = [dict(_nested_rows(row)) for row in values]
         keys = list(dict.fromkeys(k for row in items for k in row))
-        rows = []
-        for k in keys:
-            # the unit a nested item's own name says, else its group's ("joint_force_peak_N · A": N)
-            named = [key_unit(part.split(".")[-1]) for part in reversed(k.split(" · "))]
-            unit = units[k] if k in units else next((u for u in named if u), "")
-            rows.append((k, "" if unit == "1" else unit, [_cell(row.get(k)) for row in items]))
+        given = {k for i in variant_ids for k in studies.variant(i).given} if variant_ids else set()
+        rows = [_compare_row(k, [row.get(k) for row in items], shown, k in given) for k in keys]
         what = "runs" if run_ids else "variants"
         heading = f"{len(columns)} {what} side by side" if columns else "Compare"
         return page(
