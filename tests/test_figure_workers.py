@@ -110,6 +110,22 @@ def test_processes_that_get_no_result_stop_at_once():
     assert _no_children_left()
 
 
+def test_a_copy_that_cannot_start_more_draws_every_figure_itself(tmp_path, monkeypatch):
+    real = FigureWorkers._fork
+
+    def only_here(self, n):  # the copy's own forks fail, as under a limit on processes
+        if os.getpid() != PARENT:
+            raise OSError("Resource temporarily unavailable")
+        return real(self, n)
+
+    monkeypatch.setattr(FigureWorkers, "_fork", only_here)
+    with FigureWorkers(3, draw_here=False) as drawing:
+        drawing.start()
+        paths = drawing.draw(Curves(5), tmp_path)
+    assert all(p.stat().st_size > 1000 for p in paths)
+    assert _no_children_left()
+
+
 EARLY = """
 import os, sys
 from pathlib import Path

@@ -217,7 +217,10 @@ class FigureWorkers:
                 more = min(self._helpers, len(paths) - 1)
                 if more > 0:  # they report to this copy, which reports for all of them
                     self._children, self._inherit = [], (makers, paths, dpi)
-                    self._fork(more)
+                    try:
+                        self._fork(more)
+                    except OSError:  # no further process to be had: this one draws them all
+                        pass
                     for child in self._children:  # they have their figures: nothing to wait for
                         os.close(child["job"])
                         child["job"] = None
