@@ -29,12 +29,14 @@ EXAMPLE_OF = {
     "gear_pair": "spur_pair.toml",
     "tooth_pair": "tooth_pair1_published.toml",
     "mount": "pad_shore60.toml",
+    "drive": "press_driven.toml",
 }
 OPTIONS = {
     "modal": [{}, {"compare_rigid": True}, {"rigid_gears": True}],
     "frf": [{"points": 40}],
     "mechanism": [{"angles": 36}],
     "support": [{"cycles": 2}],
+    "drive": [{"angles": 180, "no_startup": True}],
 }
 CASES = [
     pytest.param(name, mtype, opts, id=f"{name}-{mtype}-{i}")

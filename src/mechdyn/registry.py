@@ -49,6 +49,7 @@ CAPABILITIES = (
     "mechdyn.support.analyses",
     "mechdyn.gears.analyses",
     "mechdyn.mounts.analyses",
+    "mechdyn.drive.analyses",
     "mechdyn.studies.file_type",
 )
 

@@ -378,6 +378,7 @@ _KEY_UNITS: tuple[tuple[str, str], ...] = (
     ("_N", "N"),
     ("_s", "s"),
     ("_W", "W"),
+    ("_J", "J"),
     ("_percent", "%"),
     ("_relative", "1"),
     ("_ratio", "1"),
@@ -518,6 +519,7 @@ _READABLE: dict[str, list[tuple[float, str, str]]] = {
     "N/m": [(1e6, "kN/mm", "kN/mm"), (1e3, "N/mm", "N/mm"), (0.0, "N/m", "N/m")],
     "N·m/rad": [(1e7, "MN*m/rad", "MN·m/rad"), (1e4, "kN*m/rad", "kN·m/rad"), (0.0, "N*m/rad", "N·m/rad")],
     "W": [(1e6, "MW", "MW"), (1e3, "kW", "kW"), (0.0, "W", "W")],
+    "J": [(1e6, "MJ", "MJ"), (1e3, "kJ", "kJ"), (0.0, "J", "J")],
     "Pa": [(1e6, "MPa", "MPa"), (1e3, "kPa", "kPa"), (0.0, "Pa", "Pa")],
 }
 

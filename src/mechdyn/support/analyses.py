@@ -9,7 +9,13 @@ from mechdyn.registry import Analysis, ModelType, Option, Output, register, regi
 __all__: list[str] = []
 
 
-def _support(loaded: Any, cycles: int | None = None, store: Any = None) -> Any:
+def _support(
+    loaded: Any,
+    cycles: int | None = None,
+    store: Any = None,
+    machine_group: str | None = None,
+    foundation: str | None = None,
+) -> Any:
     from mechdyn.errors import MechdynError
     from mechdyn.support.result import mounts_from_drawing, support_analysis
 
@@ -33,6 +39,10 @@ def _support(loaded: Any, cycles: int | None = None, store: Any = None) -> Any:
         mounts=mounts_from_drawing(machine, spec.estimates, applied),
         excitation=spec.dynamics.summary() if spec.dynamics is not None else None,
         speeds=spec.sweep_speeds(),
+        machine_group=int(machine_group) if machine_group is not None else s.machine_group,
+        foundation=foundation or s.foundation,
+        points=s.vibration_points,
+        separation_margin=s.separation_margin,
     )
 
 
@@ -65,6 +75,20 @@ register(
         batch=_support_batch,
         options=(
             Option("cycles", "int", "start-up periods to integrate (default: the file's, else 5)", minimum=1),
+            Option(
+                "machine_group",
+                "choice",
+                "ISO 20816-3 machine group of the vibration verdict: 1 (300 kW to 50 MW) or 2 (15 kW to "
+                "300 kW) (default: the file's, else 2)",
+                choices=("1", "2"),
+            ),
+            Option(
+                "foundation",
+                "choice",
+                "ISO 20816-3 foundation class: auto (from the modes), rigid or flexible (default: the "
+                "file's, else auto)",
+                choices=("auto", "rigid", "flexible"),
+            ),
         ),
         outputs=(
             Output("inertia_force_max_N", "largest vertical exciting force"),
@@ -121,6 +145,42 @@ register(
                 "verdict",
                 "",
             ),
+            Output(
+                "iso20816_applies", "whether ISO 20816-3 covers the running speed (120 to 30 000 r/min)", ""
+            ),
+            Output("iso20816_machine_group", "ISO 20816-3 machine group of the verdict (1 or 2)", ""),
+            Output("iso20816_foundation", "ISO 20816-3 foundation class (rigid or flexible)", ""),
+            Output("iso20816_band_hz", "ISO 20816-3's frequency band for the running speed"),
+            Output("iso20816_zone_boundaries_m_per_s", "the A/B, B/C and C/D boundaries (RMS velocity)"),
+            Output(
+                "iso20816_zone",
+                "the zone of the frame's vibration (an indication where it does not apply)",
+                "",
+            ),
+            Output(
+                "frame_velocity_rms_band_m_per_s", "largest RMS vibration velocity of the frame in the band"
+            ),
+            Output(
+                "frame_velocity_rms_all_harmonics_m_per_s", "largest RMS vibration velocity, all harmonics"
+            ),
+            Output("frame_velocity_rms_at_points_m_per_s", "each point's largest RMS velocity, as judged"),
+            Output("frame_velocity_point", "the point of the largest vibration velocity", ""),
+            Output("frame_velocity_direction", "its direction (x, y or z)", ""),
+            Output("vibration_verdict", "the frame's vibration by ISO 20816-3, in words", ""),
+            Output("isolation_orders", "the exciting harmonic orders (≥ 1 % of the largest)", ""),
+            Output("isolation_efficiency_by_harmonic_percent", "VDI 2062 η = 1 − V at each exciting order"),
+            Output("isolation_transmissibility_ratio", "RMS floor force over RMS exciting force", "1"),
+            Output("isolation_efficiency_percent", "VDI 2062 η = 1 − V, overall"),
+            Output("isolation_verdict", "the mounts' isolation, in words", ""),
+            Output(
+                "floor_vibration_verdict", "the floor against the vibration criteria curves, in words", ""
+            ),
+            Output("mode_nearest_harmonic", "each mode's nearest exciting harmonic order", ""),
+            Output("mode_separation_margin_percent", "each mode's distance from it, (f − h f0)/(h f0)"),
+            Output("mode_driven_by_harmonic", "whether that harmonic drives the mode", ""),
+            Output("mode_close_to_harmonic", "a driven mode within the separation margin", ""),
+            Output("mode_separation_limit_percent", "the separation margin flagged"),
+            Output("mode_separation_verdict", "the modes near an exciting harmonic, in words", ""),
             Output(
                 "mounts_from_drawing",
                 "each mount estimated from its drawing: type, source, stiffness along its axes (N/m), "

@@ -15,11 +15,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.results import Result, Table
+from mechdyn.support.assessment import VibrationVerdicts, vibration_verdicts
 from mechdyn.support.excitation import PeriodicLoad
 from mechdyn.support.model import MountedMachine
 from mechdyn.support.modes import SupportModes, elastic_centre, modes
 from mechdyn.support.response import SupportResponse, periodic_response, startup_response
 from mechdyn.support.sweep import UnbalanceSweep, unbalance_sweep
+from mechdyn.support.verdicts import SEPARATION_MARGIN
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -47,6 +49,14 @@ class SupportAnalysis(Result):
         inertia-force extremes...), so that a study can hold the mechanism to them.
     unbalance : UnbalanceSweep or None
         When the load is unbalanced rotors: the floor force and the isolation over their speed range.
+    machine_group : int or None
+        ISO 20816-3 machine group of the vibration verdict (1 or 2; None: 2, said to be the default).
+    foundation : str
+        ISO 20816-3 foundation class: ``auto`` (from the modes), ``rigid`` or ``flexible``.
+    points : tuple of (x, y, z) or None
+        Points of the frame whose vibration is judged, m (None: the mounts' tops).
+    separation_margin : float
+        A mode closer than this ratio to an exciting harmonic is flagged.
     """
 
     steady: SupportResponse
@@ -56,6 +66,23 @@ class SupportAnalysis(Result):
     mounts: dict[str, dict[str, Any]] = field(default_factory=dict)
     excitation: dict[str, Any] = field(default_factory=dict)
     unbalance: UnbalanceSweep | None = None
+    machine_group: int | None = None
+    foundation: str = "auto"
+    points: tuple[tuple[float, ...], ...] | None = None
+    separation_margin: float = SEPARATION_MARGIN
+
+    @cached_property
+    def verdicts(self) -> VibrationVerdicts:
+        """The frame's vibration (ISO 20816-3), the mounts' isolation (VDI 2062), the floor, and the modes
+        against the running speed's harmonics (:func:`mechdyn.support.assessment.vibration_verdicts`)."""
+        return vibration_verdicts(
+            self.machine,
+            self.load,
+            machine_group=self.machine_group,
+            foundation=self.foundation,
+            points=self.points,
+            margin=self.separation_margin,
+        )
 
     @property
     def machine(self) -> MountedMachine:
@@ -75,7 +102,8 @@ class SupportAnalysis(Result):
         return float(np.abs(s.vertical_displacement[last] - z_ss).max() / span)
 
     def summary(self) -> dict[str, Any]:
-        """The steady state's figures, the modes, the start-up and its deviation."""
+        """The steady state's figures, the modes, the start-up and its deviation, and the verdicts
+        (:attr:`verdicts`)."""
         machine, md, startup = self.machine, self.modes, self.startup
         out = self.steady.summary() | {
             "dofs": list(machine.dofs),
@@ -104,7 +132,7 @@ class SupportAnalysis(Result):
             out["elastic_centre_residual"] = ec[1]
         if self.unbalance is not None:
             out |= self.unbalance.summary()
-        return out
+        return out | self.verdicts.summary()
 
     def to_frame(self) -> pd.DataFrame:
         """The steady state over one period (see :meth:`SupportResponse.to_frame`)."""
@@ -120,8 +148,10 @@ class SupportAnalysis(Result):
         return out
 
     def tables(self, **display_units: str) -> list[Table]:
-        """Steady state, modes, (several mounts) the mounts, (rotors) the unbalance over speed, and the
-        machine and its mounts as assembled.
+        """Steady state, modes, (several mounts) the mounts, the verdicts (the frame's vibration by ISO
+        20816-3, the isolation by harmonic by VDI 2062 with the floor's verdict, the modes against the
+        running speed's harmonics: each verdict a sentence under its table), (rotors) the unbalance
+        over speed, and the machine and its mounts as assembled.
 
         Forces and displacements are shown in the units a designer reads them in
         (:func:`mechdyn.units.readable`: kN or MN, mm or µm), or in ``force_unit`` (e.g.
@@ -191,6 +221,7 @@ class SupportAnalysis(Result):
                     ],
                 )
             )
+        tables += self.verdicts.tables(**display_units)
         if self.unbalance is not None:
             tables += self.unbalance.tables(**display_units)
         from mechdyn.support.summary import model_tables
@@ -226,6 +257,10 @@ def support_analysis(
     mounts: dict[str, dict[str, Any]] | None = None,
     excitation: dict[str, Any] | None = None,
     speeds: Any = None,
+    machine_group: int | None = None,
+    foundation: str = "auto",
+    points: Any = None,
+    separation_margin: float = SEPARATION_MARGIN,
 ) -> SupportAnalysis:
     """Steady state, start-up from rest, modes and, for unbalanced rotors, the sweep over their speeds.
 
@@ -245,17 +280,48 @@ def support_analysis(
         For a load of unbalanced rotors (:meth:`PeriodicLoad.from_unbalance`): the first rotor's speeds
         to sweep, rad/s (:func:`mechdyn.support.unbalance_sweep`; by default 0 to 1.2 times its running
         speed). Ignored for other loads.
+    machine_group : {1, 2}, optional
+        ISO 20816-3 machine group of the vibration verdict (Table A.1: 1, 300 kW to 50 MW; Table A.2:
+        2, 15 kW to 300 kW); by default 2, the stricter, and the verdict says so.
+    foundation : {"auto", "rigid", "flexible"}
+        ISO 20816-3 foundation class; ``auto``: from the modes (§ 5.4).
+    points : sequence of (x, y, z), optional
+        Points of the frame whose vibration velocity is judged, m (default: the mounts' tops).
+    separation_margin : float
+        Flag a mode closer than this ratio to an exciting harmonic (default 0.2: ±20 %).
 
     Returns
     -------
     SupportAnalysis
     """
     sweep = unbalance_sweep(machine, load, speeds) if load.rotors else None  # first: it checks the rotors
+    pts = None if points is None else tuple(tuple(float(x) for x in p) for p in points)
+    # the verdicts' settings are checked now, not when the result is first read
+    verdicts = vibration_verdicts(
+        machine,
+        load,
+        machine_group=machine_group,
+        foundation=foundation,
+        points=pts,
+        margin=separation_margin,
+    )
     steady = periodic_response(machine, load)
     startup = startup_response(machine, load, cycles, method=method)
-    return SupportAnalysis(
-        steady, startup, modes(machine), method, dict(mounts or {}), dict(excitation or {}), sweep
+    out = SupportAnalysis(
+        steady,
+        startup,
+        modes(machine),
+        method,
+        dict(mounts or {}),
+        dict(excitation or {}),
+        sweep,
+        None if machine_group is None else int(machine_group),
+        foundation,
+        pts,
+        float(separation_margin),
     )
+    out.__dict__["verdicts"] = verdicts  # the cached property, computed once
+    return out
 
 
 def mounts_from_drawing(

@@ -284,6 +284,14 @@ def to_toml(
     if table is not None:
         analysis["start_up_cycles"] = int(table.start_up_cycles)
         analysis["start_up_method"] = table.start_up_method
+        if table.machine_group is not None:
+            analysis["machine_group"] = int(table.machine_group)
+        if table.foundation != "auto":
+            analysis["foundation"] = table.foundation
+        if table.vibration_points is not None:
+            analysis["vibration_points"] = [[_q(x, "m") for x in p] for p in table.vibration_points]
+        if table.separation_margin != 0.2:
+            analysis["separation_margin"] = float(table.separation_margin)
     analysis["gravity"] = _q(model.gravity, "m/s^2")
     doc.table("analysis", analysis)
     return doc.text()

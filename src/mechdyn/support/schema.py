@@ -263,6 +263,22 @@ class AnalysisTable(FileModel):
     in state-space form)."""
     gravity: Acceleration = STANDARD_GRAVITY
     """Gravity, for the mounts' static deflection."""
+    machine_group: Literal[1, 2] | None = None
+    """ISO 20816-3 machine group of the vibration verdict: 1, large machines (300 kW to 50 MW, Table
+    A.1); 2, medium machines (15 kW to 300 kW, Table A.2); by default 2, the stricter, and the verdict
+    says so."""
+    foundation: Literal["auto", "rigid", "flexible"] = "auto"
+    """ISO 20816-3 foundation class of the vibration verdict; ``auto``: rigid when the lowest natural
+    frequency on the mounts is at least 25 % above the running frequency, else flexible."""
+    vibration_points: list[tuple[Length, Length, Length]] | None = Field(
+        default=None,
+        min_length=1,
+        description="points of the frame [x, y, z] whose vibration velocity is judged by ISO 20816-3 "
+        "(default: the mounts' tops, where each mount holds the machine)",
+    )
+    separation_margin: float = Field(default=0.2, gt=0.0, lt=1.0)
+    """A natural frequency closer than this ratio to an exciting harmonic of the running speed is
+    flagged (0.2: ±20 %)."""
 
     @model_validator(mode="before")
     @classmethod

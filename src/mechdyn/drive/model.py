@@ -1,0 +1,203 @@
+"""The drive: a motor turning the mechanism's crank through a gear ratio, with a flywheel.
+
+The motor shaft turns n times as fast as the crank (n the gear ratio, motor to crank); the gearing
+passes the motor's torque on with efficiency η (the crank gets η n T_m: losses proportional to the
+motor's torque, a constant-efficiency drive; the flywheel's own inertia torque passes without loss).
+The flywheel sits on the motor shaft (its inertia counts n² times at the crank) or on the crank
+shaft; the motor's rotor always counts n² times.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from mechdyn.errors import ModelError
+from mechdyn.units import si_field
+
+__all__ = ["Drive", "FormingForce"]
+
+
+@dataclass(frozen=True)
+class FormingForce:
+    """A press's forming force: it resists the slide over the last part of its stroke before bottom
+    dead centre, on the working stroke only.
+
+    The force rises linearly from zero over ``rise`` of slide travel, then holds ``force`` down to
+    bottom dead centre (a drawing or blanking load; a force that rises gradually keeps the crank's
+    acceleration continuous). It acts on the mechanism's output slide, along its guide's axis, against
+    the slide's motion (the guide's axis points up; the slide moves down on the working stroke).
+
+    Parameters
+    ----------
+    force : float or quantity
+        The full forming force, N (e.g. ``"10 MN"``), positive.
+    before_bdc : float or quantity
+        Slide travel before bottom dead centre over which it acts, m (e.g. ``"25 mm"``).
+    rise : float or quantity
+        Slide travel over which it rises from zero, m, from 0 to ``before_bdc``.
+    """
+
+    force: Any
+    before_bdc: Any
+    rise: Any = 0.0
+
+    def __post_init__(self) -> None:
+        f = si_field("forming force", "force", self.force, "N", positive=True)
+        d = si_field("forming force", "before_bdc", self.before_bdc, "m", positive=True)
+        r = si_field("forming force", "rise", self.rise, "m", nonnegative=True)
+        if r > d:
+            raise ModelError(
+                f"the rise ({r:.6g} m) must not exceed the travel it acts over, before_bdc ({d:.6g} m)",
+                element="forming force",
+                field="rise",
+            )
+        object.__setattr__(self, "force", f)
+        object.__setattr__(self, "before_bdc", d)
+        object.__setattr__(self, "rise", r)
+
+    def on(self, mechanism: Any, n_angles: int = 720) -> Any:
+        """The mechanism with this force added to its process forces (a
+        :class:`mechdyn.mechanism.ProcessForce` on its output slide).
+
+        Parameters
+        ----------
+        mechanism : Mechanism
+            A mechanism with an output slide (a prismatic joint on the frame) and ``angle_datum``
+            of its own.
+        n_angles : int
+            Crank angles per revolution used to find the dead centres, a whole number from 4 to 100 000.
+
+        Raises
+        ------
+        ModelError
+            When the mechanism has no output slide or its stroke is shorter than ``before_bdc``.
+        """
+        from mechdyn.mechanism.kinematics import kinematics, output_position
+        from mechdyn.mechanism.model import GROUND, ProcessForce
+
+        joint = mechanism.output_joint()
+        if joint is None:
+            raise ModelError(
+                "a forming force acts on the output slide; the mechanism has none (give its output)",
+                element="forming force",
+            )
+        steady = replace(mechanism, driver=replace(mechanism.driver, profile=None))
+        k = kinematics(steady, n_angles)
+        s = output_position(steady, k.q)
+        assert s is not None  # an output joint gives a position
+        i_bdc, i_tdc = int(np.argmin(s)), int(np.argmax(s))
+        s_bdc, stroke = float(s[i_bdc]), float(np.ptp(s))
+        if self.before_bdc >= stroke:
+            raise ModelError(
+                f"before_bdc ({self.before_bdc:.6g} m) must be shorter than the stroke ({stroke:.6g} m)",
+                element="forming force",
+                field="before_bdc",
+            )
+        a_bdc, a_tdc = float(k.angle[i_bdc]), float(k.angle[i_tdc])
+        direction = 1.0 if mechanism.driver.speed > 0 else -1.0
+        # the working stroke: from TDC to BDC in the direction of rotation
+        span = (direction * (a_bdc - a_tdc)) % (2 * math.pi)
+        ux, uy = math.cos(joint.axis), math.sin(joint.axis)  # up: against the slide's motion down
+        F, d, rise = self.force, self.before_bdc, self.rise
+        h = 2 * math.pi / n_angles
+
+        def force(angle: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            past_tdc = (direction * (np.asarray(angle) - a_tdc)) % (2 * math.pi)
+            working = (past_tdc > 0) & (past_tdc <= span + 0.5 * h)
+            depth = d - (np.asarray(position) - s_bdc)  # travel into the forming zone, m
+            share = np.clip(depth / rise, 0.0, 1.0) if rise > 0 else (depth >= 0).astype(float)
+            f = np.where(working & (depth >= 0), F * share, 0.0)
+            return f * ux, f * uy
+
+        slide = joint.bodies[1] if joint.bodies[0] == GROUND else joint.bodies[0]
+        pf = ProcessForce(slide, joint.point, force)
+        return replace(mechanism, process_forces=(*mechanism.process_forces, pf))
+
+
+@dataclass(frozen=True)
+class Drive:
+    """A mechanism driven by a motor through a gear ratio, with a flywheel.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The driven mechanism (its process forces included); its driver's speed sign gives the
+        direction of rotation, its speed (or profile) is otherwise not used.
+    motor : TorqueSpeedCurve or InductionMotor
+        Any object with ``torque(speed)`` (N·m at rad/s), ``rotor_inertia`` (kg·m²) and
+        ``no_load_speed`` (rad/s).
+    gear_ratio : float
+        n, motor speed over crank speed, dimensionless, > 0.
+    flywheel_inertia : float or quantity
+        kg·m², on the shaft ``flywheel_shaft`` names.
+    flywheel_shaft : {"motor", "crank"}
+        Where the flywheel sits.
+    efficiency : float
+        η of the gearing, dimensionless, in (0, 1].
+    name : str
+        The drive's name.
+    """
+
+    mechanism: Any
+    motor: Any
+    gear_ratio: float
+    flywheel_inertia: Any = 0.0
+    flywheel_shaft: str = "motor"
+    efficiency: float = 1.0
+    name: str = "drive"
+
+    def __post_init__(self) -> None:
+        n = si_field(self.name, "gear_ratio", self.gear_ratio, "", positive=True)
+        eta = si_field(self.name, "efficiency", self.efficiency, "", low=0.0, high=1.0, low_open=True)
+        J = si_field(self.name, "flywheel_inertia", self.flywheel_inertia, "kg*m^2", nonnegative=True)
+        if self.flywheel_shaft not in ("motor", "crank"):
+            raise ModelError(
+                f"{self.flywheel_shaft!r} must be 'motor' or 'crank'",
+                element=self.name,
+                field="flywheel_shaft",
+            )
+        for attr in ("torque", "rotor_inertia", "no_load_speed"):
+            if not hasattr(self.motor, attr):
+                raise ModelError(
+                    f"the motor {self.motor!r} has no {attr}; give an InductionMotor or a TorqueSpeedCurve",
+                    element=self.name,
+                    field="motor",
+                )
+        object.__setattr__(self, "gear_ratio", n)
+        object.__setattr__(self, "efficiency", eta)
+        object.__setattr__(self, "flywheel_inertia", J)
+
+    @property
+    def added_inertia(self) -> float:
+        """Inertia of the flywheel and the motor's rotor reduced to the crank, kg·m² (n² on the motor
+        shaft, 1 on the crank)."""
+        n2 = self.gear_ratio**2
+        fly = self.flywheel_inertia * (n2 if self.flywheel_shaft == "motor" else 1.0)
+        return fly + self.motor.rotor_inertia * n2
+
+    def crank_torque(self, speed: Any) -> Any:
+        """The motor's torque at the crank, η n T_m(n φ̇), N·m (in the direction of rotation).
+
+        Parameters
+        ----------
+        speed : float or ndarray
+            φ̇, crank speed, rad/s.
+        """
+        n = self.gear_ratio
+        if isinstance(speed, float):
+            return self.efficiency * n * self.motor.torque(n * speed)
+        return self.efficiency * n * np.asarray(self.motor.torque(n * np.asarray(speed, dtype=float)))
+
+    def with_flywheel(self, inertia: Any) -> Drive:
+        """The same drive with another flywheel inertia.
+
+        Parameters
+        ----------
+        inertia : float or quantity
+            kg·m², on the same shaft.
+        """
+        return replace(self, flywheel_inertia=inertia)
