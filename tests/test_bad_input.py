@@ -32,6 +32,7 @@ COMMAND = {
     "mount": ["mount"],
     "gear_pair": ["gear"],
     "tooth_pair": ["gear"],
+    "drive": ["drive", "--angles", "72", "--no-startup"],
 }
 NUMBER = re.compile(r'^(\s*[A-Za-z_]+\s*=\s*)"([-+0-9.eE]+)\s+([^"]+)"\s*$')
 KINDS = ("negative", "zero", "nan", "inf", "huge", "wrong unit", "misspelt unit", "text", "deleted")

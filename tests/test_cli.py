@@ -24,6 +24,7 @@ MECHANISM_EXAMPLES = sorted(
 )
 SUPPORT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "support"' in p.read_text())
 MOUNT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mount"' in p.read_text())
+DRIVE_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drive"' in p.read_text())
 GEAR_EXAMPLES = sorted(
     p
     for p in EXAMPLES.glob("*.toml")
@@ -32,7 +33,14 @@ GEAR_EXAMPLES = sorted(
 
 
 def test_every_example_is_run_by_one_of_the_tests():
-    lists = [DRIVETRAIN_EXAMPLES, MECHANISM_EXAMPLES, SUPPORT_EXAMPLES, MOUNT_EXAMPLES, GEAR_EXAMPLES]
+    lists = [
+        DRIVETRAIN_EXAMPLES,
+        MECHANISM_EXAMPLES,
+        SUPPORT_EXAMPLES,
+        MOUNT_EXAMPLES,
+        GEAR_EXAMPLES,
+        DRIVE_EXAMPLES,
+    ]
     for p in EXAMPLES.glob("*.toml"):
         assert sum(p in group for group in lists) == 1, p.name
 
@@ -133,6 +141,19 @@ def test_every_mechanism_example_runs(example, db, capsys, tmp_path):
             "inertia_force_min_N",
             "inertia_force_min_deg",
         } <= set(doc)
+
+
+@pytest.mark.parametrize("example", DRIVE_EXAMPLES, ids=lambda p: p.stem)
+def test_every_drive_example_runs_with_its_plots_table_and_documented_keys(example, db, capsys, tmp_path):
+    csv, plots = tmp_path / "drive.csv", tmp_path / "plots"
+    doc = run_json(capsys, "drive", str(example), "--plots", str(plots), "--csv", str(csv))
+    assert doc["energy_balance_residual_relative"] < 1e-9  # over one periodic cycle
+    assert 0 < doc["speed_fluctuation_ratio"] < 0.2 and doc["startup_settled_s"] > 0
+    assert doc["motor_torque_peak_Nm"] >= doc["motor_torque_rms_Nm"] >= doc["motor_torque_mean_Nm"] > 0
+    documented = set(re.findall(r"`([A-Za-z_0-9]+)`", (ROOT / "docs" / "cli.md").read_text()))
+    assert set(doc) <= documented, sorted(set(doc) - documented)
+    assert csv.read_text().splitlines()[0].startswith("angle_deg") or "," in csv.read_text()
+    assert len(list(plots.glob("*.png"))) == len(doc["plots"]) >= 3
 
 
 @pytest.mark.parametrize("example", SUPPORT_EXAMPLES, ids=lambda p: p.stem)
@@ -466,4 +487,4 @@ def test_fields_prints_every_table_and_field_of_a_file_type_from_its_schema(file
 def test_fields_of_an_unknown_type_names_the_known_ones(capsys):
     assert main(["fields", "gearbox"]) == 2
     err = capsys.readouterr().err
-    assert "no file type 'gearbox'; give one of drivetrain" in err and "support" in err
+    assert "no file type 'gearbox'; give one of drive, drivetrain" in err and "support" in err

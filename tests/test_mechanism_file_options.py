@@ -72,7 +72,16 @@ speed = "10 rad/s"
 
 # the schema's tables and the fields this file checks; the coverage test compares them
 COVERED = {
-    "MechanismFile": {"model", "points", "bodies", "joints", "driver", "settings", "process_forces"},
+    "MechanismFile": {
+        "model",
+        "points",
+        "bodies",
+        "joints",
+        "driver",
+        "settings",
+        "process_forces",
+        "counterweights",
+    },
     "ModelTable": {"type", "name", "description", "source"},
     "BodyTable": {"name", "points", "mass", "inertia", "center_of_mass"},
     "JointTable": {
@@ -93,6 +102,7 @@ COVERED = {
     "DriverTable": {"body", "pivot", "tip", "speed", "speed_profile"},
     "SettingsTable": {"gravity", "angle_datum", "n_angles", "output", "trace", "field_velocity"},
     "ProcessForceTable": {"body", "point", "direction", "versus", "table"},
+    "CounterweightTable": {"body", "mass", "position", "inertia", "name"},
 }
 
 
@@ -179,6 +189,27 @@ def test_joint_driver_and_process_force_fields_reach_the_model(tmp_path):
     fx, fy = pf.force(np.zeros(3), np.array([-0.3, -0.1, 0.0]))
     np.testing.assert_allclose(fx, [0.0, -500.0, -1000.0], atol=1e-9)  # along 180°, by position
     np.testing.assert_allclose(fy, 0.0, atol=1e-9)
+
+
+def test_counterweight_fields_reach_the_model(tmp_path):
+    text = SLIDER + (
+        '\n[[counterweights]]\nbody = "crank"\nmass = "2 kg"\nposition = ["-20 mm", "0 mm"]\n'
+        'inertia = "1e-4 kg*m^2"\nname = "crank weight"\n'
+        '\n[[counterweights]]\nbody = "rod"\nmass = "0.5 kg"\nposition = "A"\n'
+    )
+    m = _load(tmp_path, text).model
+    a, b = m.counterweights
+    assert (a.body, a.mass, a.position, a.inertia, a.name) == (
+        "crank",
+        2.0,
+        (-0.02, 0.0),
+        1e-4,
+        "crank weight",
+    )
+    assert (b.body, b.mass, b.position, b.inertia, b.name) == ("rod", 0.5, "A", 0.0, "counterweight on rod")
+    bare = {x.name: x for x in m.bare_bodies}
+    assert m.bodies[m.body_index["crank"]].mass == pytest.approx(bare["crank"].mass + 2.0)
+    assert m.bodies[m.body_index["rod"]].mass == pytest.approx(bare["rod"].mass + 0.5)
 
 
 def _closing_samples() -> str:

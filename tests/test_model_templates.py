@@ -28,6 +28,7 @@ ANALYSIS = {
     "mount": "mount",
     "gear_pair": "gear",
     "tooth_pair": "gear",
+    "drive": "drive",
 }
 MODEL_TYPES = [t for t in file_types() if t != "study"]
 
@@ -81,6 +82,8 @@ def test_the_template_names_every_table_and_field_of_the_schema(file_type):
 @pytest.mark.parametrize("file_type", MODEL_TYPES)
 def test_a_new_template_loads_and_its_analysis_runs(file_type, tmp_path, capsys):
     path = tmp_path / f"{file_type}.toml"
+    if file_type == "drive":  # it drives the mechanism template's four-bar, in a file beside it
+        assert main(["new", "mechanism", str(tmp_path / "mechanism.toml")]) == 0
     assert main(["new", file_type, str(path)]) == 0
     assert f"wrote {path}" in capsys.readouterr().out
     tomllib.loads(path.read_text())  # valid TOML as written
@@ -137,7 +140,7 @@ def test_new_refuses_to_overwrite_a_file_unless_forced(tmp_path, capsys):
 def test_new_names_the_known_types_and_refuses_a_missing_folder(tmp_path, capsys):
     assert main(["new", "gearbox"]) == 2
     err = capsys.readouterr().err
-    assert "no file type 'gearbox'; give one of drivetrain" in err and "study" in err
+    assert "no file type 'gearbox'; give one of drive, drivetrain" in err and "study" in err
     assert main(["new", "drivetrain", str(tmp_path / "nowhere" / "x.toml")]) == 2
     assert "is not a folder" in capsys.readouterr().err
     assert main(["new", "drivetrain", str(tmp_path)]) == 2

@@ -57,6 +57,7 @@ def test_the_capabilities_register_the_model_types_and_the_study_file():
         "gear_pair",
         "tooth_pair",
         "mount",
+        "drive",
     }
     assert not TYPES["study"].loads and TYPES["study"].schema is not None
     assert file_types() == sorted([*MODEL_TYPES, "study"])

@@ -160,7 +160,7 @@ CASES = [
         'type = "drivetrain"',
         'type = "gearbox"',
         "[model] → type",
-        "'gearbox' is not a model type; expected one of 'drivetrain'",
+        "'gearbox' is not a model type; expected one of 'drive', 'drivetrain'",
     ),
     (
         'density = "7850 kg/m^3"\n',

@@ -22,7 +22,17 @@ from conftest import EXAMPLES
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, GroundDamper, GroundSpring, Shaft
 from mechdyn.errors import MechdynError, ModelWarning
 from mechdyn.gears import GearPair, SpurGear
-from mechdyn.mechanism import Body, Driver, GearJoint, Mechanism, Prismatic, ProcessForce, Revolute, pitch
+from mechdyn.mechanism import (
+    Body,
+    Counterweight,
+    Driver,
+    GearJoint,
+    Mechanism,
+    Prismatic,
+    ProcessForce,
+    Revolute,
+    pitch,
+)
 from mechdyn.support import PLANAR, Mount, MountedMachine, PeriodicLoad, RigidBody, Rotor
 
 
@@ -446,11 +456,27 @@ def _slider_crank(axis="0 deg"):
     )
 
 
-@pytest.mark.parametrize("build", [_fourbar, _slider_crank, lambda: _slider_crank("0.1 rad")])
+def _fourbar_with_counterweights():
+    """The four-bar with counterweights: one at coordinates with its own inertia, one at a point,
+    named; they come back as written, and folded into their links alike."""
+    return dataclasses.replace(
+        _fourbar(),
+        counterweights=(
+            Counterweight("crank", "0.375 kg", ("-50 mm", 0.1 / 3), "2e-5 kg*m^2"),
+            Counterweight("rocker", 1.575, "O4", name="rocker weight"),
+        ),
+    )
+
+
+@pytest.mark.parametrize(
+    "build", [_fourbar, _slider_crank, lambda: _slider_crank("0.1 rad"), _fourbar_with_counterweights]
+)
 def test_a_mechanism_built_in_python_comes_back_equal(build, tmp_path):
     model = build()
     again = round_trip(model, tmp_path)
     assert again.type == "mechanism" and again.model == model
+    assert again.model.counterweights == model.counterweights
+    assert again.model.bare_bodies == model.bare_bodies
     assert again.settings.n_angles == 360 and again.settings.trace == ()  # the file's defaults
     assert mechdyn.mechanism.kinematics(again.model, 36).q == pytest.approx(
         mechdyn.mechanism.kinematics(model, 36).q, rel=0, abs=0

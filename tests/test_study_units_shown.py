@@ -286,7 +286,7 @@ def test_the_dashboards_study_page_shows_the_study_files_units(ran):
     # picked variants compared: the outputs in the study's units too
     side = " ".join(_text(compare).split())
     w = ran["variants"][1]
-    assert f"{TORQUE} N*mm {_g(w.outputs[TORQUE] * 1e3)}" in side
+    assert f"{TORQUE.removesuffix('_Nm').replace('_', ' ')} N*mm {_g(w.outputs[TORQUE] * 1e3)}" in side
 
 
 # -- a study built in Python: SI, the SI unit named ---------------------------------------------------

@@ -50,6 +50,7 @@ CAPABILITIES = (
     "mechdyn.gears.analyses",
     "mechdyn.mounts.analyses",
     "mechdyn.drive.analyses",
+    "mechdyn.balance.analyses",
     "mechdyn.studies.file_type",
 )
 

@@ -443,7 +443,9 @@ def start_up(
         t0 = float(sol.t_events[0][0])
         y0 = sol.y_events[0][0].copy()
         w_pass = float(y0[1])
-        if not engaged and w_pass >= target:
+        # the work starts once the crank passes at the steady speed (within the tolerance: a run-up
+        # approaches it from below, and the steady speed at this pass may lie below its mean)
+        if not engaged and w_pass >= min(target, ws_at(0.0)) * (1 - tolerance):
             engaged, engaged_at = True, t0
             continue
         if engaged:

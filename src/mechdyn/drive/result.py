@@ -271,7 +271,19 @@ class DriveResult(Result):
         **display_units : str
             ``force_unit``, ``length_unit``: see :func:`mechdyn.results.summary_table`.
         """
-        return [summary_table(self.summary(), display_units=display_units)]
+        summary = self.summary()
+        tables = []
+        taken: set[str] = set()
+        for title, prefixes in _TABLES:
+            part = {k: v for k, v in summary.items() if k.startswith(prefixes) and k not in taken}
+            taken |= set(part)
+            if part:
+                table = summary_table(part, display_units=display_units)
+                tables.append(replace(table, title=title))
+        rest = {k: v for k, v in summary.items() if k not in taken}
+        if rest:
+            tables.append(replace(summary_table(rest, display_units=display_units), title="checks"))
+        return tables
 
     def plots(self, **display_units: str) -> dict[str, Any]:
         """Crank speed over the cycle, motor torque and power, torque into the crank against the
@@ -293,6 +305,17 @@ class DriveResult(Result):
         if self.startup is not None:
             out["drive_startup.png"] = lambda: dp.plot_startup(self)
         return out
+
+
+# the summary's tables, by the keys' first words: each short enough to be printed whole
+_TABLES: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("crank speed", ("crank_speed", "speed_fluctuation", "period_s", "strokes", "target_fluctuation")),
+    ("motor", ("motor_speed", "motor_torque", "motor_power", "motor_rated", "motor_pullout")),
+    ("energy per stroke", ("process_energy", "motor_energy", "gear_losses", "flywheel_energy")),
+    ("drive", ("gear_", "flywheel_", "added_inertia", "mechanism_inertia")),
+    ("loads at the real speed", ("mechanism_torque", "constant_speed", "shaking_force")),
+    ("start-up from rest", ("startup_",)),
+)
 
 
 def drive_analysis(

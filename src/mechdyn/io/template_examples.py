@@ -174,6 +174,13 @@ _MECHANISM = TemplateExample(
             "versus": "angle",
             "table": [["0 deg", "0 N"], ["180 deg", "100 N"], ["359 deg", "0 N"]],
         },
+        "counterweights": {
+            "body": "crank",
+            "mass": "0.2 kg",
+            "position": ["-20 mm", "0 mm"],
+            "inertia": "1e-5 kg*m^2",
+            "name": "crank counterweight",
+        },
     },
     notes={
         "joints": "point and axis belong to revolute and prismatic joints; points, carrier, pitch, "
@@ -420,7 +427,42 @@ _STUDY = TemplateExample(
     },
 )
 
+_DRIVE = TemplateExample(
+    intro="The example: the four-bar of `mechdyn new mechanism mechanism.toml` driven by a 0.18 kW "
+    "four-pole induction motor through a 12:1 reduction, with a small flywheel on the motor shaft.",
+    run="mechdyn drive FILE",
+    model={
+        "model": {"type": "drive", "name": "four-bar driven by a motor"},
+        "mechanism": {"file": "mechanism.toml"},
+        "motor": {
+            "type": "induction",
+            "power": "0.18 kW",
+            "synchronous_speed": "1500 rpm",
+            "rated_speed": "1380 rpm",
+            "pullout_ratio": 2.2,
+            "rotor_inertia": "4e-4 kg*m^2",
+        },
+        "transmission": {"ratio": 12, "efficiency": 0.95},
+        "flywheel": {"inertia": "2e-3 kg*m^2", "shaft": "motor"},
+    },
+    hints={
+        "model": {"source": "the motor's catalogue"},
+        "motor": {"curve": [["0 rpm", "2.5 N*m"], ["1380 rpm", "1.25 N*m"], ["1500 rpm", "0 N*m"]]},
+        "flywheel": {"target_fluctuation": 0.05},
+        "process": {"force": "200 N", "before_bdc": "20 mm", "rise": "2 mm"},
+    },
+    notes={
+        "mechanism": "The mechanism the motor drives: a mechanism model file, relative to this one "
+        "(`mechdyn new mechanism mechanism.toml` writes the one this template drives).",
+        "motor": 'An induction motor from its rating (Kloss\'s formula), or type = "curve" with its '
+        "torque-speed curve as [speed, torque] rows.",
+        "process": "A forming force over the last part of the slide's stroke before bottom dead centre "
+        "(a mechanism whose output is a slide).",
+    },
+)
+
 EXAMPLES: dict[str, TemplateExample] = {
+    "drive": _DRIVE,
     "drivetrain": _DRIVETRAIN,
     "mechanism": _MECHANISM,
     "planting_mechanism": _PLANTER,

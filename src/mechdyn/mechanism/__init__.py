@@ -16,6 +16,7 @@ __all__ = attach(
     {
         "AssemblyError": "kinematics",
         "Body": "model",
+        "Counterweight": "model",
         "CycleBatch": "dyads",
         "DesignBatch": "dyads",
         "Driver": "model",

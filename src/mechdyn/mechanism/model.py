@@ -23,7 +23,17 @@ from mechdyn.checks import magnitude_limit
 from mechdyn.errors import ModelError
 from mechdyn.units import show, si_field
 
-__all__ = ["GROUND", "Body", "Driver", "GearJoint", "Mechanism", "Prismatic", "ProcessForce", "Revolute"]
+__all__ = [
+    "GROUND",
+    "Body",
+    "Counterweight",
+    "Driver",
+    "GearJoint",
+    "Mechanism",
+    "Prismatic",
+    "ProcessForce",
+    "Revolute",
+]
 
 GROUND = "ground"
 """Name of the frame in joint definitions."""
@@ -73,6 +83,62 @@ class Body:
             object.__setattr__(
                 self, "center_of_mass", _point(self.name, "center_of_mass", self.center_of_mass)
             )
+
+
+@dataclass(frozen=True)
+class Counterweight:
+    """A mass fixed on a link to balance it: a point mass with, optionally, its own inertia.
+
+    The mechanism folds it into its link when it is assembled (:class:`Mechanism`): the link's mass
+    grows by ``mass``, its centre of mass moves to the common one, and its inertia about that centre
+    follows by the parallel-axis theorem (Steiner; e.g. Meriam & Kraige, *Engineering Mechanics:
+    Dynamics*, §B/1). The counterweight stays listed on the model (:attr:`Mechanism.counterweights`).
+
+    Parameters
+    ----------
+    body : str
+        The link it sits on.
+    mass : float or quantity
+        kg, from 0 to 1e8 kg.
+    position : (x, y) or str
+        Where it sits in the drawing: global coordinates, m (each at most 1e3 m in magnitude), or the
+        name of a drawing point; it moves with the link.
+    inertia : float or quantity
+        Its own moment of inertia about its centre, kg·m², from 0 to 1e10 kg·m² (0: a point mass).
+    name : str
+        Its name in tables and messages (default: ``"counterweight on <body>"``).
+    """
+
+    body: str
+    mass: Any
+    position: Any
+    inertia: Any = 0.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"counterweight on {self.body}")
+        for f, unit in (("mass", "kg"), ("inertia", "kg*m^2")):
+            object.__setattr__(self, f, si_field(self.name, f, getattr(self, f), unit, nonnegative=True))
+        if not isinstance(self.position, str):
+            object.__setattr__(self, "position", _point(self.name, "position", self.position))
+
+
+def _folded(body: Body, com: np.ndarray, weights: list[tuple[Counterweight, np.ndarray]]) -> Body:
+    """``body`` with its counterweights folded in: mass, common centre of mass and the inertia about
+    it by the parallel-axis theorem; the bare body is kept on it (:attr:`Mechanism.bare_bodies`)."""
+    m0 = float(body.mass)
+    total = m0 + sum(float(w.mass) for w, _ in weights)
+    if total > 0:
+        c = (m0 * com + sum(float(w.mass) * p for w, p in weights)) / total
+    else:
+        c = com
+    inertia = float(body.inertia) + m0 * float(np.sum((com - c) ** 2))
+    for w, p in weights:
+        inertia += float(w.inertia) + float(w.mass) * float(np.sum((p - c) ** 2))
+    out = Body(body.name, body.points, total, inertia, (float(c[0]), float(c[1])))
+    object.__setattr__(out, "_bare", body)
+    return out
 
 
 class _AtAPoint:
@@ -568,6 +634,10 @@ class Mechanism:
     angle_datum : float or "bdc"
         Crank angle reported as 0 (rad, from +x); ``"bdc"`` puts 0 at bottom dead centre.
     name : str
+    counterweights : sequence of Counterweight
+        Masses fixed on links (:class:`Counterweight`), folded into their links' mass, centre of
+        mass and inertia when the model is assembled: :attr:`bodies` are then the loaded links and
+        :attr:`bare_bodies` the links as given.
     """
 
     points: Mapping[str, tuple[float, float]]
@@ -579,12 +649,17 @@ class Mechanism:
     output: tuple[str, str] | None = None
     angle_datum: Any = 0.0
     name: str = "mechanism"
+    counterweights: tuple[Counterweight, ...] = ()
     _index: dict[str, int] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         pts = {str(k): _point(str(k), "position", v) for k, v in dict(self.points).items()}
         object.__setattr__(self, "points", pts)
-        object.__setattr__(self, "bodies", tuple(self.bodies))
+        # a body that already carries counterweights (a variant made by dataclasses.replace) is
+        # taken back to its bare self, and this model's counterweights are folded in afresh
+        bare = tuple(getattr(b, "_bare", b) for b in self.bodies)
+        object.__setattr__(self, "bodies", bare)
+        object.__setattr__(self, "counterweights", tuple(self.counterweights))
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "process_forces", tuple(self.process_forces))
         g = tuple(si_field("gravity", "gravity", v, "m/s^2") for v in self.gravity)
@@ -612,6 +687,8 @@ class Mechanism:
                     field="center_of_mass",
                 )
         object.__setattr__(self, "_index", names)
+        if self.counterweights:
+            object.__setattr__(self, "bodies", self._with_counterweights(pts))
         seen = set()
         for j in self.joints:
             if j.name in seen:
@@ -647,6 +724,40 @@ class Mechanism:
         self._check_count()
         self.gear_laws  # noqa: B018 - a gear pair that cannot close is refused here
         self._check_gear_bodies()
+
+    def _with_counterweights(self, pts: Mapping[str, tuple[float, float]]) -> tuple[Body, ...]:
+        """The bodies with the counterweights folded in, each counterweight checked first."""
+        on: dict[str, list[tuple[Counterweight, np.ndarray]]] = {}
+        for w in self.counterweights:
+            if not isinstance(w, Counterweight):
+                raise ModelError(
+                    f"{w!r} is not a Counterweight", element="counterweights", field="counterweights"
+                )
+            if w.body not in self._index:
+                raise ModelError(
+                    f"body {w.body!r} is not defined; put the counterweight on one of: "
+                    f"{', '.join(self._index)}",
+                    element=w.name,
+                    field="body",
+                )
+            if isinstance(w.position, str):
+                if w.position not in pts:
+                    raise ModelError(
+                        f"point {w.position!r} is not in the drawing; points: {', '.join(pts)}",
+                        element=w.name,
+                        field="position",
+                    )
+                p = np.asarray(pts[w.position], dtype=float)
+            else:
+                p = np.asarray(w.position, dtype=float)
+            on.setdefault(w.body, []).append((w, p))
+        return tuple(_folded(b, self.com(b), on[b.name]) if b.name in on else b for b in self.bodies)
+
+    @property
+    def bare_bodies(self) -> tuple[Body, ...]:
+        """The bodies as given, without their counterweights (what a model file lists under
+        ``[[bodies]]``); :attr:`bodies` are the assembled ones, counterweights folded in."""
+        return tuple(getattr(b, "_bare", b) for b in self.bodies)
 
     @cached_property
     def gear_laws(self) -> dict[str, Any]:

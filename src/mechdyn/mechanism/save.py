@@ -1,6 +1,7 @@
 """A :class:`~mechdyn.mechanism.Mechanism` as a mechanism model file (:func:`mechdyn.save`).
 
-The drawing, the bodies, the joints (revolute, prismatic with its axis, gear pairs with their pitch
+The drawing, the bodies (as given, without their counterweights, which are written as
+``[[counterweights]]``), the joints (revolute, prismatic with its axis, gear pairs with their pitch
 curves), the driver and gravity are written exactly, every float as its ``repr`` in its SI unit; so
 are the ``[settings]`` of a loaded file (angle datum, output, number of crank angles, traced points,
 field velocity). A planting mechanism loaded from its design file (``type = "planting_mechanism"``)
@@ -26,7 +27,7 @@ import numpy as np
 from mechdyn.errors import MechdynError
 from mechdyn.io.save import model_header, written_by
 from mechdyn.io.writing import TomlDocument, quantity_text
-from mechdyn.mechanism.model import GearJoint, Mechanism, ProcessForce
+from mechdyn.mechanism.model import Counterweight, GearJoint, Mechanism, ProcessForce
 
 __all__ = ["to_toml"]
 
@@ -134,7 +135,7 @@ def _mechanism_text(model: Mechanism, spec: Any, source: Any) -> str:
     doc.comment(written_by("A mechanism"))
     doc.table("model", model_header("mechanism", model.name, source))
     doc.table("points", {name: _pair(xy, "m") for name, xy in model.points.items()})
-    for b in model.bodies:
+    for b in model.bare_bodies:  # the counterweights are written on their own
         com = b.center_of_mass
         row = {
             "name": b.name,
@@ -156,7 +157,24 @@ def _mechanism_text(model: Mechanism, spec: Any, source: Any) -> str:
     doc.table("settings", table | _spec_settings(spec))
     for pf in model.process_forces:
         doc.table("process_forces", _process_force(pf), array=True)
+    for w in model.counterweights:
+        doc.table("counterweights", _counterweight(w), array=True)
     return doc.text()
+
+
+def _counterweight(w: Counterweight) -> dict[str, Any]:
+    """A counterweight's row: its link, mass (kg), position (m, or a point's name), own inertia
+    (kg·m², when it has one) and its name (when not the default)."""
+    row: dict[str, Any] = {
+        "body": w.body,
+        "mass": _q(w.mass, "kg"),
+        "position": w.position if isinstance(w.position, str) else _pair(w.position, "m"),
+    }
+    if w.inertia:
+        row["inertia"] = _q(w.inertia, "kg*m^2")
+    if w.name != f"counterweight on {w.body}":
+        row["name"] = w.name
+    return row
 
 
 def _same_kind(source: Any) -> bool:

@@ -5,7 +5,9 @@
 ``[[joints]]`` are revolute or prismatic at a point; ``[driver]`` turns a crank; ``[settings]`` sets
 gravity, the angle datum, the output, the number of crank angles, the points to ``trace`` and the
 machine's ``field_velocity`` (for the path of a tool over the ground); ``[[process_forces]]`` are
-piecewise-linear tables against crank angle or output position. A ``gear`` joint meshes two gears
+piecewise-linear tables against crank angle or output position; ``[[counterweights]]`` put masses on
+links (``body``, ``mass``, ``position`` as [x, y] in the drawing or a point's name, optional
+``inertia``), folded into their links when the model is assembled. A ``gear`` joint meshes two gears
 pivoted on a common ``carrier`` at its two ``points``, with gear 1's pitch curve in ``pitch``
 (circle, eccentric circle, ellipse about a focus, or sampled radii; ``radius = "closing"`` sizes a
 noncircular gear so that its mate closes at the drawing's centre distance). See
@@ -34,7 +36,16 @@ from mechdyn.io.fields import (
 )
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 from mechdyn.mechanism.kinematics import MAX_ANGLES
-from mechdyn.mechanism.model import Body, Driver, GearJoint, Mechanism, Prismatic, ProcessForce, Revolute
+from mechdyn.mechanism.model import (
+    Body,
+    Counterweight,
+    Driver,
+    GearJoint,
+    Mechanism,
+    Prismatic,
+    ProcessForce,
+    Revolute,
+)
 
 __all__ = ["MechanismFile", "MechanismSpec", "build"]
 
@@ -57,6 +68,19 @@ class BodyTable(FileModel):
     """Moment of inertia about the centre of mass, perpendicular to the plane."""
     center_of_mass: tuple[Length, Length] | str | None = None
     """Centre of mass: [x, y] in the drawing, or a point's name (default: the mean of the body's points)."""
+
+
+class CounterweightTable(FileModel):
+    body: str
+    """The link it sits on, by name."""
+    mass: Mass
+    """Its mass."""
+    position: tuple[Length, Length] | str
+    """Where it sits: [x, y] in the drawing, or a point's name; it moves with its link."""
+    inertia: Inertia = 0.0
+    """Its own moment of inertia about its centre (default: a point mass)."""
+    name: str = ""
+    """Its name in tables and messages (default: "counterweight on <body>")."""
 
 
 class PitchTable(FileModel):
@@ -166,6 +190,8 @@ class MechanismFile(FileModel):
     driver: DriverTable
     settings: SettingsTable = SettingsTable()
     process_forces: list[ProcessForceTable] = Field(default_factory=list)
+    counterweights: list[CounterweightTable] = Field(default_factory=list)
+    """Masses fixed on links to balance them, folded into their links when the model is assembled."""
 
 
 @dataclass(frozen=True)
@@ -314,6 +340,12 @@ def build(source: ModelSource) -> MechanismSpec:
     tables = {b.name: f"[[bodies]] #{i + 1} (name = {b.name!r})" for i, b in enumerate(f.bodies)}
     tables |= {j.name: f"[[joints]] #{i + 1} (name = {j.name!r})" for i, j in enumerate(f.joints)}
     tables["driver"] = "[driver]"
+    weights = []
+    for i, c in enumerate(f.counterweights):
+        with field_context(source, f"[[counterweights]] #{i + 1} (body = {c.body!r})"):
+            w = Counterweight(c.body, c.mass, c.position, c.inertia, c.name)
+        tables[w.name] = f"[[counterweights]] #{i + 1} (body = {c.body!r})"
+        weights.append(w)
     with field_context(source, "[model]", tables):
         mech = Mechanism(
             points=dict(f.points),
@@ -325,6 +357,7 @@ def build(source: ModelSource) -> MechanismSpec:
             output=f.settings.output,
             angle_datum=f.settings.angle_datum,
             name=f.model.name,
+            counterweights=tuple(weights),
         )
     with field_context(source, "[settings] → trace"):
         for p in f.settings.trace:

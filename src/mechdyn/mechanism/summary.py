@@ -90,7 +90,35 @@ def model_tables(mechanism: Mechanism) -> list[Table]:
         ["joint", "kind", "bodies", "point", "x [mm]", "y [mm]"],
         joints,
     )
-    return [bodies, joint_table]
+    tables = [bodies, joint_table]
+    if mechanism.counterweights:
+        tables.append(_counterweight_table(mechanism))
+    return tables
+
+
+def _counterweight_table(mechanism: Mechanism) -> Table:
+    """The counterweights: link, mass (kg), own inertia (kg·m²) and drawing position (mm)."""
+    rows = []
+    for w in mechanism.counterweights:
+        p = w.position
+        xy = mechanism.points[p] if isinstance(p, str) else p
+        rows.append(
+            [
+                w.name,
+                w.body,
+                float(w.mass),
+                float(w.inertia),
+                float(convert(xy[0], "m", "mm")),
+                float(convert(xy[1], "m", "mm")),
+                p if isinstance(p, str) else "",
+            ]
+        )
+    return Table(
+        f"{mechanism.name}: the counterweights",
+        ["counterweight", "link", "mass [kg]", "inertia [kg·m²]", "x [mm]", "y [mm]", "at point"],
+        rows,
+        note="Folded into their links: the bodies above carry them (mass, centre of mass, inertia).",
+    )
 
 
 def model_frame(mechanism: Mechanism) -> pd.DataFrame:

@@ -1,0 +1,299 @@
+"""The result of :func:`mechdyn.balance.balance`: the counterweights found, what they buy, and the
+trade-off front."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mechdyn.balance.influence import Influence
+from mechdyn.balance.objectives import split
+from mechdyn.results import Result, Table, summary_table
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["BalanceResult"]
+
+_REPORTED = (
+    "shaking_force_rms",
+    "shaking_force_peak",
+    "shaking_force_range",
+    "shaking_moment_rms",
+    "shaking_moment_range",
+    "driving_torque_rms",
+    "driving_torque_range",
+)
+_FLOOR = ("floor_force_rms", "floor_force_peak", "floor_force_range")
+
+
+def _header(key: str) -> str:
+    """A front column's header: ``weight_shaking_moment_rms_ratio`` → "weight shaking moment rms",
+    ``floor_force_rms_N`` → "floor force rms [N]"."""
+    from mechdyn.units import key_label
+
+    label, unit = key_label(key)
+    return label if unit in ("", "1") else f"{label} [{unit}]"
+
+
+def _unit(name: str) -> str:
+    return "N" if split(name)[0] in ("shaking_force", "floor_force") else "Nm"
+
+
+@dataclass(frozen=True, repr=False)
+class BalanceResult(Result):
+    """Counterweights found for a mechanism, before and after.
+
+    Attributes
+    ----------
+    influence : Influence
+        The linear maps (shaking force, moment, driving torque) the design was found on.
+    floor : FloorMap or None
+        The floor force through the support model, when one was given.
+    slots : tuple of CounterweightSlot
+        The links and their bounds.
+    objective : dict
+        Metric → weight (one metric: weight 1).
+    design : ndarray
+        (L, 3) per link: mass (kg), radius (m) and angle β (rad, from +x of the drawing) from its
+        reference point.
+    method : str
+        How it was found.
+    exact : bool
+        Whether the design is the exact optimum of a linear problem (no bound cut it).
+    front : tuple of dict
+        The trade-off front: one row per weighting.
+    setup_seconds, solve_seconds : float
+        Time to build the linear maps (one inverse dynamics, the support responses) and to optimise, s.
+    """
+
+    influence: Influence
+    floor: Any
+    slots: tuple[Any, ...]
+    objective: dict[str, float]
+    design: np.ndarray
+    method: str
+    exact: bool
+    front: tuple[dict[str, float], ...] = ()
+    setup_seconds: float = 0.0
+    solve_seconds: float = 0.0
+
+    @property
+    def counterweights(self) -> tuple[Any, ...]:
+        """The counterweights found (:class:`mechdyn.mechanism.Counterweight`, drawing positions)."""
+        return self.influence.counterweights(self._uv)
+
+    @property
+    def _uv(self) -> np.ndarray:
+        m, r, b = self.design.T
+        return np.column_stack([m, r * np.cos(b), r * np.sin(b)])
+
+    @property
+    def mechanism(self) -> Any:
+        """The mechanism with the counterweights found added (:class:`mechdyn.mechanism.Mechanism`)."""
+        m = self.influence.mechanism
+        return replace(m, counterweights=m.counterweights + self.counterweights)
+
+    @cached_property
+    def _x(self) -> np.ndarray:
+        from mechdyn.balance.solve import Evaluator
+
+        return Evaluator(self.influence).coefficients(self.design)
+
+    def _metrics(self, x: np.ndarray) -> dict[str, float]:
+        from mechdyn.balance.solve import Evaluator
+
+        names = list(_REPORTED) + (list(_FLOOR) if self.floor is not None else [])
+        vals = Evaluator(self.influence, self.floor).metrics(x, names)
+        return {n: float(v) for n, v in vals.items()}
+
+    @cached_property
+    def before(self) -> dict[str, float]:
+        """Every metric without the counterweights found, SI (N, N·m)."""
+        return self._metrics(np.zeros_like(self._x))
+
+    @cached_property
+    def after(self) -> dict[str, float]:
+        """Every metric with them, SI (N, N·m)."""
+        return self._metrics(self._x)
+
+    def summary(self) -> dict[str, Any]:
+        """Counterweight mass, each metric before and after, the objective's ratio, timings (SI)."""
+        out: dict[str, Any] = {
+            "counterweight_mass_total_kg": float(self.design[:, 0].sum()),
+            "objective": " + ".join(
+                n if w == 1 and len(self.objective) == 1 else f"{w:g}·{n}" for n, w in self.objective.items()
+            ),
+            "objective_ratio": self._objective_ratio(),
+        }
+        for n in self.before:
+            u = _unit(n)
+            out[f"{n}_before_{u}"] = self.before[n]
+            out[f"{n}_after_{u}"] = self.after[n]
+        cw = {}
+        for k, s in enumerate(self.slots):
+            m, r, b = (float(v) for v in self.design[k])
+            p = self.influence.origin(k) + r * np.array([math.cos(b), math.sin(b)])
+            cw[s.link] = {
+                "mass_kg": m,
+                "radius_m": r,
+                "angle_deg": math.degrees(b) % 360.0,
+                "x_m": float(p[0]),
+                "y_m": float(p[1]),
+                "from_point": self.influence.points[k],
+            }
+        out["counterweights"] = cw
+        out["method"] = self.method
+        out["exact"] = bool(self.exact)
+        out["setup_time_s"] = float(self.setup_seconds)
+        out["solve_time_s"] = float(self.solve_seconds)
+        return out
+
+    def _objective_ratio(self) -> float:
+        num = sum(w * self.after[n] / max(self.before[n], 1e-300) for n, w in self.objective.items())
+        return float(num / sum(self.objective.values()))
+
+    @cached_property
+    def _columns(self) -> dict[str, np.ndarray]:
+        from mechdyn.balance.solve import Evaluator
+
+        ev = Evaluator(self.influence)
+        b0, b1 = ev.infl.channels(np.zeros_like(self._x)), ev.infl.channels(self._x)
+        cols: dict[str, np.ndarray] = {"angle_deg": np.degrees(self.influence.angle)}
+        for j, name in enumerate(("shaking_force_x", "shaking_force_y", "shaking_moment", "driving_torque")):
+            u = "N" if j < 2 else "Nm"
+            cols[f"{name}_before_{u}"] = b0[:, j]
+            cols[f"{name}_after_{u}"] = b1[:, j]
+        if self.floor is not None:
+            f0, f1 = self.floor.force(np.zeros_like(self._x)), self.floor.force(self._x)
+            inv = np.empty_like(self.floor.order)
+            inv[self.floor.order] = np.arange(inv.size)  # back to the crank angles' order
+            if f0.shape[0] == inv.size:
+                for j, axis in enumerate("xyz"):
+                    cols[f"floor_force_{axis}_before_N"] = f0[inv, j]
+                    cols[f"floor_force_{axis}_after_N"] = f1[inv, j]
+        return cols
+
+    def to_frame(self) -> pd.DataFrame:
+        """Per crank angle: shaking force, moment, driving torque (and floor force) before and after."""
+        import pandas as pd
+
+        return pd.DataFrame(self._columns)
+
+    def front_frame(self) -> pd.DataFrame:
+        """The trade-off front, one row per weighting (weights, mass kg, metrics N and N·m)."""
+        import pandas as pd
+
+        return pd.DataFrame(list(self.front))
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        """The per-angle columns and the design (mass kg, radius m, angle rad per link)."""
+        from mechdyn.results import frame_arrays
+
+        out = frame_arrays(self.to_frame())
+        out["design"] = (np.asarray(self.design), "kg, m, rad")
+        return out
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """The summary, the counterweights and the trade-off front."""
+        s = self.summary()
+        cw = s.pop("counterweights")
+        tables = [summary_table(s, display_units=display_units)]
+        tables.append(
+            Table(
+                "counterweights found",
+                ["link", "mass [kg]", "radius [mm]", "angle [deg]", "x [mm]", "y [mm]", "from point"],
+                [
+                    [
+                        link,
+                        d["mass_kg"],
+                        d["radius_m"] * _MM,
+                        d["angle_deg"],
+                        d["x_m"] * _MM,
+                        d["y_m"] * _MM,
+                        d["from_point"],
+                    ]
+                    for link, d in cw.items()
+                ],
+                note="Positions in the drawing; radius and angle from the link's reference point.",
+            )
+        )
+        if self.front:
+            keys = list(self.front[0])
+            tables.append(
+                Table(
+                    "trade-off front (weights of force, shaking moment, driving torque RMS)",
+                    [_header(k) for k in keys],
+                    [[row[k] for k in keys] for row in self.front],
+                    note="Each row: the counterweights minimising the weighted sum of the three RMS values, "
+                    "each relative to its value without counterweights.",
+                )
+            )
+        return tables
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """Shaking force (polar) and driving torque before and after, and the trade-off front."""
+        out = {
+            "balance_shaking_force.png": self._plot_force,
+            "balance_torque_moment.png": self._plot_torque,
+        }
+        if self.front:
+            out["balance_front.png"] = self._plot_front
+        return out
+
+    def _plot_force(self) -> Any:
+        import matplotlib.pyplot as plt
+
+        c = self._columns
+        _fig, ax = plt.subplots(figsize=(5, 5))
+        for tag in ("before", "after"):
+            ax.plot(c[f"shaking_force_x_{tag}_N"], c[f"shaking_force_y_{tag}_N"], label=tag)
+        ax.set_xlabel("shaking force x [N]")
+        ax.set_ylabel("shaking force y [N]")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.legend()
+        return ax
+
+    def _plot_torque(self) -> Any:
+        import matplotlib.pyplot as plt
+
+        c = self._columns
+        _fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+        for tag in ("before", "after"):
+            axes[0].plot(c["angle_deg"], c[f"driving_torque_{tag}_Nm"], label=tag)
+            axes[1].plot(c["angle_deg"], c[f"shaking_moment_{tag}_Nm"], label=tag)
+        axes[0].set_ylabel("driving torque [N·m]")
+        axes[1].set_ylabel("shaking moment [N·m]")
+        axes[1].set_xlabel("crank angle [deg]")
+        axes[0].legend()
+        return axes[0]
+
+    def _plot_front(self) -> Any:
+        import matplotlib.pyplot as plt
+
+        rows = self.front
+        force = next(k for k in rows[0] if k.endswith("_N"))
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        x = [r[force] for r in rows]
+        y = [r["shaking_moment_rms_Nm"] for r in rows]
+        sc = ax.scatter(x, y, c=[r["driving_torque_range_Nm"] for r in rows])
+        fig.colorbar(sc, ax=ax, label="driving torque range [N·m]")
+        ax.set_xlabel(force.replace("_", " ").removesuffix(" N") + " [N]")
+        ax.set_ylabel("shaking moment rms [N·m]")
+        return ax
+
+
+_MM = 1.0  # replaced below by the unit registry's factor (no hand-typed unit factors)
+
+
+def _mm_factor() -> float:
+    from mechdyn.units import convert
+
+    return float(convert(1.0, "m", "mm"))
+
+
+_MM = _mm_factor()
