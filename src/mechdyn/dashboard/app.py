@@ -69,25 +69,39 @@ def _line_figures(
     from mechdyn.studies.plots import choose_curves
 
     x, names = choose_curves([c for _, c in curves], limit)
-    if x is None:  # no curve kept
+    if x is None or not names:  # no curve kept, or none that all of them keep
         return []
+    from mechdyn.units import SHOWN_UNITS, convert, key_label, readable_unit
+
+    def shown(key: str, unit: str, arrays: list[Any]) -> tuple[str, str, float]:
+        """A curve's name in words, its unit as a designer reads it at its size, and the factor."""
+        words = key_label(key)[0] if unit else key.replace("_", " ")
+        pretty = SHOWN_UNITS.get(unit, unit)
+        big = max((float(np.nanmax(np.abs(a))) for a in arrays if np.size(a)), default=0.0)
+        display, label = readable_unit(big, pretty) if unit else (unit, unit)
+        factor = float(convert(1.0, unit, display)) if unit and display != unit else 1.0
+        return words, label, factor
+
+    x_words, x_unit, x_factor = shown(x, curves[0][1][x][1], [c[x][0] for _, c in curves])
+    x_title = f"{x_words} ({x_unit})" if x_unit else x_words
     figures = []
     for name in names:
-        unit = curves[0][1][name][1]
+        arrays = [np.asarray(c[name][0], dtype=np.float64) for _, c in curves]
+        words, unit, factor = shown(name, curves[0][1][name][1], arrays)
         data = [
             {
-                "x": np.asarray(c[x][0], dtype=np.float64).tolist(),
-                "y": np.asarray(c[name][0], dtype=np.float64).tolist(),
+                "x": (np.asarray(c[x][0], dtype=np.float64) * x_factor).tolist(),
+                "y": (y * factor).tolist(),
                 "name": label,
                 "mode": "lines",
                 "type": "scatter",
             }
-            for label, c in curves
+            for (label, c), y in zip(curves, arrays, strict=True)
         ]
         layout = {
-            "title": {"text": name},
-            "xaxis": {"title": {"text": x}},
-            "yaxis": {"title": {"text": f"{name} [{unit}]" if unit else name}},
+            "title": {"text": words},
+            "xaxis": {"title": {"text": x_title}},
+            "yaxis": {"title": {"text": f"{words} ({unit})" if unit else words}},
             "margin": {"t": 40},
         }
         figures.append({"data": data, "layout": layout})
