@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import EXAMPLES
+from mechdyn.store import ResultStore
 
 COUNTERWEIGHT = """
 [[counterweights]]
@@ -73,7 +74,8 @@ def test_a_counterweights_mass_is_a_study_parameter(tmp_path):
 
     (tmp_path / "press_cw.toml").write_text((EXAMPLES / "press_link_drive.toml").read_text() + COUNTERWEIGHT)
     (tmp_path / "study.toml").write_text(COUNTERWEIGHT_STUDY)
-    result = run_study(load_study(tmp_path / "study.toml"))
+    with ResultStore(str(tmp_path / "results.db")) as store:
+        result = run_study(load_study(tmp_path / "study.toml"), store)
     assert all(v.status == "ok" for v in result.variants)
     heavy = _by_value(result, "counterweights.crank counterweight.mass")[40_000.0]
     # the same design built directly: the file's counterweight, twice as heavy
@@ -92,7 +94,8 @@ def test_the_flywheel_and_the_motor_are_study_parameters(tmp_path):
     for name in ("press_driven.toml", "press_link_drive.toml"):
         shutil.copy(EXAMPLES / name, tmp_path / name)
     (tmp_path / "study.toml").write_text(DRIVE_STUDY)
-    result = run_study(load_study(tmp_path / "study.toml"))
+    with ResultStore(str(tmp_path / "results.db")) as store:
+        result = run_study(load_study(tmp_path / "study.toml"), store)
     assert all(v.status == "ok" for v in result.variants)
     base = next(v for v in result.variants if not v.parameters or v.id == result.base_id)
     flywheel = _by_value(result, "flywheel.inertia")

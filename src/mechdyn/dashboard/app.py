@@ -131,7 +131,7 @@ def _compare_row(
     (``"joint_force_peak_N · A"``) takes the unit its own name says, else its group's.
     """
     from mechdyn.reports.html import _cell
-    from mechdyn.units import convert, key_label, key_unit, readable_unit
+    from mechdyn.units import SHOWN_UNITS, convert, key_label, key_unit, readable_unit
 
     if given:  # a parameter as its study file wrote it, with its unit ("25 mm")
         return key.replace("_", " "), "", [_cell(c) for c in cells]
@@ -139,7 +139,8 @@ def _compare_row(
     words = " · ".join(key_label(p)[0] if n == 0 or "_" in p else p for n, p in enumerate(parts))
     column = shown.get(key)
     if column is not None and column.role == "output":  # in its study file's unit
-        return words, column.unit, [_cell(column.shown(c) if _is_value(c) else c) for c in cells]
+        unit = SHOWN_UNITS.get(column.unit.replace(" ", ""), column.unit)  # "N*m" as "N·m"
+        return words, unit, [_cell(column.shown(c) if _is_value(c) else c) for c in cells]
     named = [(key_unit(p), key_label(p)[1]) for p in reversed(parts)]
     si, unit = next(((u, label) for u, label in named if u not in (None, "1")), ("", ""))
     numbers = [abs(float(c)) for c in cells if _is_value(c) and not isinstance(c, int)]

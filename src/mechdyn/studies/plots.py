@@ -271,7 +271,8 @@ def choose_curves(
 ) -> tuple[str | None, list[str]]:
     """Which of several runs' or variants' curves to overlay: the abscissa (the first curve, a time
     or an angle) and the ``n`` curves of its length, kept by all, that differ most between them
-    (for one alone: the first ``n``); none with no curve.
+    (for one alone: the first ``n``); none with no curve. A check's residual (a power balance's
+    round-off) is never chosen: its relative spread is noise.
 
     Runs of different lengths or grids (two machines of different periods, one mechanism at 360
     and at 180 angles) are compared on the first one's abscissa: each curve is interpolated there
@@ -288,7 +289,7 @@ def choose_curves(
     for name, (y, _) in first.items():
         if name == x or np.asarray(y).shape != size or not all(name in c for c in curves):
             continue
-        if any(w in name for w in ("angle", "time")):
+        if any(w in name for w in ("angle", "time", "residual")):  # an abscissa, or a check's round-off
             continue
         try:
             stack = np.array([_on_grid(c, x, name, grid) for c in curves])
