@@ -100,7 +100,17 @@ COVERED = {
     },
     "PitchTable": {"kind", "radius", "eccentricity_ratio", "semi_major", "radii"},
     "DriverTable": {"body", "pivot", "tip", "speed", "speed_profile"},
-    "SettingsTable": {"gravity", "angle_datum", "n_angles", "output", "trace", "field_velocity"},
+    # rated_torque and rated_force: tests/test_mechanism_tonnage.py reads them from a file
+    "SettingsTable": {
+        "gravity",
+        "angle_datum",
+        "n_angles",
+        "output",
+        "trace",
+        "field_velocity",
+        "rated_torque",
+        "rated_force",
+    },
     "ProcessForceTable": {"body", "point", "direction", "versus", "table"},
     "CounterweightTable": {"body", "mass", "position", "inertia", "name"},
 }

@@ -166,7 +166,12 @@ _MECHANISM = TemplateExample(
             "radii": ["20 mm", "22 mm", "24 mm", "22 mm"],
         },
         "driver": {"speed_profile": [["0 deg", "12 rad/s"], ["180 deg", "14 rad/s"]]},
-        "settings": {"output": ["rocker", "B"], "field_velocity": ["0.5 m/s", "0 m/s"]},
+        "settings": {
+            "output": ["rocker", "B"],
+            "field_velocity": ["0.5 m/s", "0 m/s"],
+            "rated_torque": "1600 kN*m",
+            "rated_force": "10 MN",
+        },
         "process_forces": {
             "body": "rocker",
             "point": "B",

@@ -20,6 +20,8 @@ def _mechanism(loaded: Any, angles: int | None = None) -> Any:
     result = inverse_dynamics(loaded.model, n)
     if spec is not None and (spec.trace or spec.field_velocity is not None):
         result = replace(result, trace=tuple(spec.trace), field_velocity=spec.field_velocity)
+    if getattr(spec, "rated_torque", None) is not None:  # a press's rating: its tonnage
+        result = replace(result, rated_torque=spec.rated_torque, rated_force=spec.rated_force)
     return result
 
 
@@ -133,6 +135,44 @@ register(
             Output("joint_force_peak_N", "largest force in each joint"),
             Output("tooth_force_max_N", "largest mesh force of the gear pairs (geared mechanisms)"),
             Output("gear_pairs", "per gear pair: centre distance, ratio, convexity, pressure angles", ""),
+            Output("rated_torque_Nm", "a press's rated crank torque (from the file's settings)"),
+            Output(
+                "tonnage_capacity_min_N",
+                "smallest slide force the rated torque delivers on the working stroke, T_r/|ds/dθ|",
+            ),
+            Output("rated_force_N", "a press's rated force (from the file's settings)"),
+            Output(
+                "rated_point_before_bdc_m",
+                "distance before BDC from which the rated torque delivers the rated force (the rated point)",
+            ),
+            Output("rated_point_before_bdc_deg", "crank angle before BDC of the rated point"),
+            Output("tonnage_at_rated_point_N", "force the rated torque delivers at the rated point"),
+            Output(
+                "rated_energy_below_rated_point_J",
+                "work of the rated torque from the rated point to BDC (T_r times the crank angle)",
+            ),
+            Output(
+                "process_energy_per_stroke_J", "work the drive does against the process forces per stroke"
+            ),
+            Output(
+                "rated_torque_energy_over_process_J",
+                "work the rated torque can deliver over the crank angle where the process forces act",
+            ),
+            Output(
+                "process_force_to_capacity_max_ratio",
+                "largest ratio of the process force to the force the rated torque delivers",
+            ),
+            Output(
+                "crank_angle_at_process_force_to_capacity_max_deg",
+                "crank angle of the largest ratio of process force to available force",
+            ),
+            Output(
+                "process_force_to_capacity_max_before_bdc_m",
+                "distance before BDC of the largest ratio of process force to available force",
+            ),
+            Output(
+                "tonnage_verdict", "whether the process force stays within the tonnage curve, and where", ""
+            ),
             Output("power_balance_residual_relative", "power balance residual over the peak power"),
             Output("n_angles", "crank angles per revolution", ""),
         ),

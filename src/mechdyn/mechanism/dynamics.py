@@ -49,6 +49,13 @@ class DynamicsResult(Result):
         Drawing points whose motion the table gives and whose paths (coupler curves) the plots draw.
     field_velocity : (float, float), optional
         Velocity of the field under the machine, m/s (the trajectory plot adds it to the paths).
+    rated_torque : float, optional
+        A press's rated crank torque, N·m: with a slide output, the tonnage curve, the energy per
+        stroke and the capacity check (:mod:`mechdyn.mechanism.tonnage`) join the summary, the tables,
+        the columns and the plots (see :meth:`with_rating`).
+    rated_force : float, optional
+        The press's rated force, N: the rated point (the distance before BDC from which it is
+        available) is reported with it.
     """
 
     kinematics: KinematicsResult
@@ -57,6 +64,39 @@ class DynamicsResult(Result):
     load_jacobian: tuple[np.ndarray, np.ndarray] | None = None  # with gear flanks chosen by the load
     trace: tuple[str, ...] = ()
     field_velocity: tuple[float, float] | None = None
+    rated_torque: float | None = None
+    rated_force: float | None = None
+
+    def with_rating(self, rated_torque: Any, rated_force: Any = None) -> DynamicsResult:
+        """The same cycle with a press's rating, for the tonnage curve and the capacity check.
+
+        Parameters
+        ----------
+        rated_torque : float or quantity
+            The rated crank torque, N·m (e.g. ``"1600 kN*m"``), positive.
+        rated_force : float or quantity, optional
+            The rated press force, N (e.g. ``"10 MN"``), positive.
+
+        Returns
+        -------
+        DynamicsResult
+
+        Raises
+        ------
+        MechdynError
+            For a value that is not a positive torque or force.
+        """
+        from dataclasses import replace
+
+        from mechdyn.units import si_field
+
+        T = si_field("press rating", "rated_torque", rated_torque, "N*m", positive=True)
+        F = (
+            None
+            if rated_force is None
+            else si_field("press rating", "rated_force", rated_force, "N", positive=True)
+        )
+        return replace(self, rated_torque=T, rated_force=F)
 
     @property
     def mechanism(self) -> Mechanism:
@@ -187,8 +227,51 @@ class DynamicsResult(Result):
         k = self.kinematics
         return output_position(self.mechanism, k.q)
 
+    @property
+    def process_torque(self) -> np.ndarray:
+        """The torque the process forces ask of the crank in the sense it turns, −P / |θ̇|, N·m.
+
+        P is the power of the process forces on the linkage (Σ F·v over their points); positive where
+        they resist the motion. Quasi-static: the linkage's inertia and gravity are not in it.
+        """
+        m, k = self.mechanism, self.kinematics
+        P = np.zeros(self.angle.size)
+        if m.process_forces:
+            s_out = output_position(m, k.q)
+            for pf in m.process_forces:
+                _, v, _ = k.point(pf.body, pf.point)
+                fx, fy = pf.values(k.angle, s_out if s_out is not None else np.zeros(self.angle.size))
+                P += fx * v[:, 0] + fy * v[:, 1]
+        return -P / np.abs(self.crank_speed)
+
+    @cached_property
+    def _tonnage(self) -> tuple[dict[str, Any], dict[str, np.ndarray]] | None:
+        """The tonnage figures and columns (:func:`mechdyn.mechanism.tonnage.tonnage_figures`), with a
+        rated torque and a slide output; None otherwise."""
+        s = self.output_position
+        if self.rated_torque is None or s is None:
+            return None
+        from mechdyn.mechanism.tonnage import tonnage_figures
+
+        v = self._slide_motion[0]
+        return tonnage_figures(
+            self.angle, s, v, self.crank_speed, self.process_torque, self.rated_torque, self.rated_force
+        )
+
+    @cached_property
+    def _slide_motion(self) -> tuple[np.ndarray, np.ndarray]:
+        """The output slide's velocity (m/s) and acceleration (m/s²) along its axis."""
+        k = self.kinematics
+        slide = self.mechanism.output_joint()
+        assert slide is not None  # an output position comes from a slide
+        moving = slide.bodies[1] if slide.bodies[0] == GROUND else slide.bodies[0]
+        _, v, a = k.point(moving, slide.point)
+        u = np.array([math.cos(slide.axis), math.sin(slide.axis)])
+        return v @ u, a @ u
+
     def summary(self) -> dict[str, Any]:
-        """Stroke, dead centres, inertia-force extremes, torque, power balance (SI, angles in degrees)."""
+        """Stroke, dead centres, inertia-force extremes, torque, power balance (SI, angles in degrees);
+        with a rated torque and a slide, the tonnage figures (:mod:`mechdyn.mechanism.tonnage`)."""
         return copy.deepcopy(self._summary)  # worked out once: the tables and every plot ask for it
 
     @cached_property
@@ -227,6 +310,8 @@ class DynamicsResult(Result):
         if gears:
             out["tooth_force_max_N"] = max(peaks[g] for g in gears)
             out["gear_pairs"] = gears
+        if self._tonnage is not None:
+            out.update(self._tonnage[0])
         out["n_angles"] = int(self.angle.size)
         return out
 
@@ -354,6 +439,10 @@ class DynamicsResult(Result):
                     ],
                 )
             )
+        if self._tonnage is not None:
+            from mechdyn.mechanism.tonnage import tonnage_table
+
+            tables.append(tonnage_table(self._tonnage[0], self._tonnage[1], length, self.mechanism.name))
         from mechdyn.mechanism.summary import model_tables
 
         tables += model_tables(self.mechanism)
@@ -381,6 +470,8 @@ class DynamicsResult(Result):
             out["coupler_curves.png"] = lambda: mp.plot_coupler_curves(self)
         if self.trace:
             out["trajectory.png"] = lambda: mp.plot_trajectory(self, list(self.trace), self.field_velocity)
+        if self._tonnage is not None:
+            out["tonnage.png"] = lambda: mp.plot_tonnage(self)
         return out
 
     def animate(
@@ -431,15 +522,10 @@ class DynamicsResult(Result):
         cols: dict[str, Any] = {"angle_deg": np.degrees(self.angle), "time_s": self.kinematics.time}
         s = self.output_position
         if s is not None:
-            k = self.kinematics
-            slide = self.mechanism.output_joint()
-            assert slide is not None  # an output position comes from a slide
-            moving = slide.bodies[1] if slide.bodies[0] == GROUND else slide.bodies[0]
-            _, v, a = k.point(moving, slide.point)
-            u = np.array([math.cos(slide.axis), math.sin(slide.axis)])
-            cols.update(
-                output_position_m=s, output_velocity_m_per_s=v @ u, output_acceleration_m_per_s2=a @ u
-            )
+            v, a = self._slide_motion
+            cols.update(output_position_m=s, output_velocity_m_per_s=v, output_acceleration_m_per_s2=a)
+            if self._tonnage is not None:
+                cols.update(self._tonnage[1])
         cols["driving_torque_Nm"] = self.driving_torque
         cols["shaking_force_x_N"] = self.shaking_force[:, 0]
         cols["shaking_force_y_N"] = self.shaking_force[:, 1]

@@ -22,6 +22,7 @@ __all__ = [
     "plot_joint_forces",
     "plot_output_motion",
     "plot_shaking_polar",
+    "plot_tonnage",
     "plot_torque",
     "plot_trajectory",
     "plot_transmission_angle",
@@ -557,6 +558,58 @@ def plot_coupler_curves(result: DynamicsResult, ax: Any = None) -> Any:
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     ax.set_title(f"{m.name}: coupler curves")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_tonnage(result: DynamicsResult, ax: Any = None, length_unit: str = "mm") -> Any:
+    """The tonnage curve: the force the rated crank torque can deliver against the distance before
+    BDC on the working stroke (a logarithmic axis, from 1 mm before BDC), with the process force on
+    the slide and the rated point over it (:mod:`mechdyn.mechanism.tonnage`).
+
+    Parameters
+    ----------
+    result : DynamicsResult
+        A cycle with a rated torque and a slide output.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on.
+    length_unit : str
+        Display unit of the distance before BDC (any length unit).
+    """
+    ax = new_axes(ax)
+    tonnage = result._tonnage
+    if tonnage is None:
+        raise ValueError("the tonnage curve needs a rated torque and a slide output")
+    figures, cols = tonnage
+    d = cols["distance_before_bdc_m"]
+    cap = cols["tonnage_capacity_N"]
+    working = np.isfinite(cap)
+    order = np.argsort(d[working])
+    x = convert(d[working][order], "m", length_unit)
+    proc = cols["process_force_on_slide_N"][working][order]
+    shown = [float(np.nanmin(cap[working]) if working.any() else 1.0)]
+    shown += [float(np.nanmax(np.abs(proc)))] if np.isfinite(proc).any() else []
+    if "rated_force_N" in figures:
+        shown.append(figures["rated_force_N"])
+    unit, factor = display_unit(max(shown), "N")
+    ax.plot(x, cap[working][order] * factor, color="C0", lw=2, label="available force (rated torque)")
+    if np.nanmax(np.abs(proc), initial=0.0) > 0:
+        ax.plot(x, proc * factor, color="C3", lw=1.5, label="process force")
+    if "rated_force_N" in figures:
+        ax.axhline(figures["rated_force_N"] * factor, color="0.5", ls="--", lw=1, label="rated force")
+        ax.plot(
+            [convert(figures["rated_point_before_bdc_m"], "m", length_unit)],
+            [figures["tonnage_at_rated_point_N"] * factor],
+            "o",
+            color="k",
+            label="rated point",
+        )
+    ax.set_ylim(0.0, 2.5 * max(shown) * factor)
+    ax.set_xscale("log")  # the curve's rise near BDC and the whole stroke on one axis
+    ax.set_xlabel(f"distance before BDC ({length_unit}, logarithmic)")
+    ax.set_ylabel(f"slide force ({unit})")
+    ax.set_title(f"{result.mechanism.name}: tonnage")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return ax

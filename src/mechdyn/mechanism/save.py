@@ -124,6 +124,8 @@ def _spec_settings(spec: Any) -> dict[str, Any]:
         "n_angles": int(spec.n_angles),
         "trace": list(spec.trace) or None,
         "field_velocity": _pair(spec.field_velocity, "m/s") if spec.field_velocity is not None else None,
+        "rated_torque": _q(spec.rated_torque, "N*m") if getattr(spec, "rated_torque", None) else None,
+        "rated_force": _q(spec.rated_force, "N") if getattr(spec, "rated_force", None) else None,
     }
 
 

@@ -28,10 +28,12 @@ from mechdyn.io.fields import (
     Angle,
     AngularSpeed,
     FileModel,
+    Force,
     Inertia,
     Length,
     Mass,
     ModelTableBase,
+    Torque,
     Velocity,
 )
 from mechdyn.io.modelfile import ModelSource, field_context, validate
@@ -158,6 +160,13 @@ class SettingsTable(FileModel):
     table gives."""
     field_velocity: tuple[Velocity, Velocity] | None = None
     """Velocity of the machine over the ground, [v_x, v_y], for the paths over the field."""
+    rated_torque: Torque | None = Field(default=None, gt=0)
+    """A press's rated crank torque: with a slide output, the tonnage curve (the slide force it can
+    deliver at each crank angle, T_r/|ds/dθ|), the energy per stroke and the process force checked against
+    the curve are reported."""
+    rated_force: Force | None = Field(default=None, gt=0)
+    """A press's rated force (with ``rated_torque``): the rated point, the distance before bottom dead centre
+    from which the rated torque delivers it, is reported."""
 
     @field_validator("angle_datum", mode="before")
     @classmethod
@@ -202,6 +211,8 @@ class MechanismSpec:
     n_angles: int
     trace: tuple[str, ...] = ()
     field_velocity: tuple[float, float] | None = None
+    rated_torque: float | None = None  # N·m
+    rated_force: float | None = None  # N
 
     @property
     def name(self) -> str:
@@ -363,4 +374,12 @@ def build(source: ModelSource) -> MechanismSpec:
         for p in f.settings.trace:
             if p not in mech.points:
                 raise ValueError(f"point {p!r} is not in the drawing")
-    return MechanismSpec(mech, f.settings.n_angles, tuple(f.settings.trace), f.settings.field_velocity)
+    st = f.settings
+    with field_context(source, "[settings] → rated_torque"):
+        if st.rated_force is not None and st.rated_torque is None:
+            raise ValueError('rated_force needs rated_torque (the rated crank torque, e.g. "1600 kN*m")')
+        if st.rated_torque is not None and mech.output_joint() is None:
+            raise ValueError("a rated torque gives a press's tonnage: the mechanism needs a slide output")
+    return MechanismSpec(
+        mech, st.n_angles, tuple(st.trace), st.field_velocity, st.rated_torque, st.rated_force
+    )

@@ -37,7 +37,7 @@ def _support(
         cycles=cycles or s.start_up_cycles,
         method=s.start_up_method,
         mounts=mounts_from_drawing(machine, spec.estimates, applied),
-        excitation=spec.dynamics.summary() if spec.dynamics is not None else None,
+        excitation=spec.excitation_summary(),
         speeds=spec.sweep_speeds(),
         machine_group=int(machine_group) if machine_group is not None else s.machine_group,
         foundation=foundation or s.foundation,
@@ -119,7 +119,8 @@ register(
             Output("elastic_centre_residual", "coupling left at the elastic centre", "1"),
             Output(
                 "excitation",
-                "the summary of the mechanism whose shaking is the load (its stroke_m, ...), when it is one",
+                "the summary of the mechanism whose shaking is the load (its stroke_m, ...), when it is one; "
+                "for a drive file, at its real speed, with its speed_fluctuation_ratio, period_s, ...",
                 "",
             ),
             Output("running_speed_rpm", "the first unbalanced rotor's running speed (rotors only)"),
@@ -191,6 +192,7 @@ register(
         examples=(
             "mechdyn support examples/press_on_support.toml --plots plots",
             "mechdyn support examples/press_on_mounts.toml --cycles 2 --csv steady.csv",
+            "mechdyn support examples/press_driven_on_mounts.toml --plots plots",
             "mechdyn support examples/press_on_pads.toml --plots plots",
             "mechdyn support examples/pump_set_unbalance.toml --plots plots",
         ),

@@ -211,8 +211,15 @@ class PeriodicLoad:
         return cls(period, c)
 
     @classmethod
-    def from_mechanism(cls, dynamics: Any, placement: Placement | None = None) -> PeriodicLoad:
+    def from_mechanism(
+        cls, dynamics: Any, placement: Placement | None = None, period: Any = None
+    ) -> PeriodicLoad:
         """The load a mechanism puts on the machine: its shaking force and moment (frame loads).
+
+        The samples are placed in time by the kinematics' own times: at constant crank speed they
+        are equally spaced and are the series' samples; otherwise (a speed profile, a driven
+        mechanism) a periodic cubic spline in time resamples them onto equal time steps
+        (:meth:`from_times`), so that the series is periodic in time with the fundamental 1/T.
 
         Parameters
         ----------
@@ -225,6 +232,9 @@ class PeriodicLoad:
         placement : Placement, optional
             Where the mechanism's plane sits in the machine; by default
             :meth:`Placement.output_up`.
+        period : float or quantity, optional
+            Time of one revolution, s, from 1e-7 to 1e7 s; by default the driver's (2π over its
+            speed, or the integral of dθ/θ̇ over its speed profile).
         """
         mech = dynamics.mechanism
         place = placement or Placement.output_up(mech)
@@ -245,13 +255,40 @@ class PeriodicLoad:
         M = m0[:, None] * np.cross(place.x_axis, place.y_axis) + np.cross(place.origin, F)
         samples = np.hstack([F, M])
         angle = dynamics.angle
-        period = abs(float(mech.driver.time(np.array([2 * math.pi]))[0]))
+        if period is None:
+            period = abs(float(mech.driver.time(np.array([2 * math.pi]))[0]))
+        else:
+            period = si_field("load", "period", period, "s", positive=True)
         t = np.asarray(dynamics.kinematics.time, dtype=float)
         t = np.mod(t - t[np.argmin(angle)], period)
         order = np.argsort(t)
         if np.allclose(np.diff(t[order]), period / t.size, rtol=1e-9, atol=1e-12 * period):
             return cls.from_samples(period, samples[order], angle[order])
         return cls.from_times(period, t[order], samples[order], angle[order])
+
+    @classmethod
+    def from_drive(cls, result: Any, placement: Placement | None = None) -> PeriodicLoad:
+        """The load of a mechanism driven by a motor, at its real, fluctuating speed.
+
+        The shaking force and moment of the drive's periodic steady state
+        (:func:`mechdyn.drive.drive_analysis`: the inverse dynamics at the solved θ̇(θ) and θ̈(θ),
+        exact at equal steps of crank angle) over one period T of the drive. Those samples are not
+        equally spaced in time when the speed fluctuates (the crank dwells where it is slow), so a
+        periodic cubic spline in time resamples them onto as many equal time steps over T
+        (:meth:`from_times`; de Boor, *A Practical Guide to Splines*, ch. V): the load's fundamental
+        is 1/T and its harmonics are those of the force in time, not in crank angle. As in
+        :meth:`from_mechanism`, t = 0 is the mechanism's angle datum and the process (forming) force
+        stays inside the machine.
+
+        Parameters
+        ----------
+        result : mechdyn.drive.DriveResult
+            The drive's analysis (its ``loads`` at the real speed and its steady state's period, s).
+        placement : Placement, optional
+            Where the mechanism's plane sits in the machine; by default
+            :meth:`Placement.output_up`.
+        """
+        return cls.from_mechanism(result.loads, placement, period=result.steady.period)
 
     @classmethod
     def from_unbalance(cls, rotors: Any) -> PeriodicLoad:

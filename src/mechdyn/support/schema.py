@@ -4,11 +4,14 @@
 one-degree-of-freedom ``[support]`` (stiffness and damping ratio, as published for press A) or on
 ``[[mounts]]`` (position, stiffness and damping along three local axes, orientation, anchored).
 ``[excitation]`` is a mechanism model file (its shaking force and moment, placed in the machine by
-``origin``, ``x_axis`` and ``y_axis``), a vertical force over one ``period`` given as samples or
+``origin``, ``x_axis`` and ``y_axis``) or a drive model file (the same mechanism driven by its motor:
+the shaking at the drive's real, fluctuating speed, sampled uniformly in time over its period), a
+vertical force over one ``period`` given as samples or
 harmonics, or unbalanced rotors (``[[excitation.rotors]]``, with an optional ``speed_range`` to sweep).
 ``[analysis]`` picks the planar or spatial model, the start-up cycles and the factors of
 the stiffness and damping study. See ``examples/press_on_support.toml``,
-``examples/press_on_mounts.toml`` and ``examples/pump_set_unbalance.toml``.
+``examples/press_on_mounts.toml``, ``examples/press_driven_on_mounts.toml`` and
+``examples/pump_set_unbalance.toml``.
 """
 
 from __future__ import annotations
@@ -51,7 +54,7 @@ from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidB
 from mechdyn.support.unbalance import Rotor, frequency_given_as_speed
 from mechdyn.units import STANDARD_GRAVITY, convert
 
-__all__ = ["MechanismExcitation", "PlacedEstimate", "SupportFile", "SupportSpec", "build"]
+__all__ = ["DriveExcitation", "MechanismExcitation", "PlacedEstimate", "SupportFile", "SupportSpec", "build"]
 
 Vector3 = tuple[float, float, float]
 if TYPE_CHECKING:
@@ -168,9 +171,10 @@ class RotorTable(FileModel):
 
 class ExcitationTable(FileModel):
     mechanism: str | None = None
-    """A mechanism model file (relative to this file) whose shaking force and moment load the machine."""
+    """A mechanism model file (relative to this file) whose shaking force and moment load the machine,
+    or a drive model file (``type = "drive"``): the same at the drive's real, fluctuating speed."""
     angles: int | None = Field(default=None, ge=8, le=100_000)
-    """Crank angles per revolution for that mechanism (default: its own setting)."""
+    """Crank angles per revolution for that mechanism or drive (default: its own setting)."""
     origin: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
     """Where the mechanism's origin sits in the machine, [x, y, z]."""
     x_axis: Vector3 | None = None
@@ -341,6 +345,95 @@ class MechanismExcitation:
 
 
 @dataclass(frozen=True)
+class DriveExcitation:
+    """A mechanism driven by its motor that shakes the machine, read from a drive model file; nothing
+    computed yet.
+
+    The load is the shaking force and moment at the drive's periodic steady state (the real,
+    fluctuating crank speed θ̇(θ) with the motor, flywheel and forming force), sampled uniformly in
+    time over the drive's period (:meth:`PeriodicLoad.from_drive`). The support's start-up starts
+    the machine from rest under that periodic load, as for a mechanism at constant speed: the
+    mechanism is taken to be in its steady state already (the drive's own run-up from rest is
+    ``mechdyn drive``'s start-up, and is not what loads the mounts here).
+
+    Attributes
+    ----------
+    drive : mechdyn.drive.Drive
+        Motor, gearing, flywheel and the mechanism with its forming force.
+    angles : int
+        Crank positions over one revolution of the drive's steady state.
+    placement : Placement
+        Where the mechanism's plane sits in the machine.
+    path : str
+        The drive model file.
+    support_path : str
+        The support model file that names it (for errors).
+    """
+
+    drive: Any
+    angles: int
+    placement: Placement
+    path: str
+    support_path: str = ""
+
+    @property
+    def mechanism(self) -> Any:
+        """The driven mechanism, with its forming force (a ``Mechanism``)."""
+        return self.drive.mechanism
+
+    @cached_property
+    def result(self) -> Any:
+        """The drive's steady state and its loads at the real speed (a ``DriveResult``, no start-up).
+
+        Raises
+        ------
+        mechdyn.errors.ModelFileError
+            When the motor cannot keep the mechanism turning (a :class:`mechdyn.drive.StallError`, its
+            cause), naming the support file and the drive file.
+        """
+        from mechdyn.drive.forward import StallError
+        from mechdyn.drive.result import drive_analysis
+
+        try:
+            return drive_analysis(self.drive, self.angles, startup=False)
+        except StallError as exc:
+            raise ModelFileError(
+                self.support_path or self.path,
+                "[excitation] → mechanism",
+                f"the drive of {self.path} stalls, so it has no periodic steady state to load the machine "
+                f"with: {exc}",
+                self.path,
+            ) from exc
+
+    def dynamics(self) -> Any:
+        """The mechanism's inverse dynamics at the drive's real speed over one revolution (a
+        ``DynamicsResult``, rows in the crank angle from the datum, times not equally spaced)."""
+        return self.result.loads
+
+    def load(self) -> PeriodicLoad:
+        """The load on the machine, uniform in time over the drive's period."""
+        return PeriodicLoad.from_drive(self.result, self.placement)
+
+    def summary(self) -> dict[str, Any]:
+        """The mechanism's figures at the real speed, with the drive's speed, fluctuation and duty."""
+        d = self.result.summary()
+        keep = (
+            "crank_speed_mean_rad_s",
+            "crank_speed_max_rad_s",
+            "crank_speed_min_rad_s",
+            "speed_fluctuation_ratio",
+            "period_s",
+            "strokes_per_minute_rpm",
+            "motor_torque_rms_Nm",
+            "motor_torque_rms_to_rated_ratio",
+            "process_energy_per_stroke_J",
+            "flywheel_inertia_kg_m2",
+            "shaking_force_max_constant_speed_N",
+        )
+        return self.dynamics().summary() | {k: d[k] for k in keep if k in d}
+
+
+@dataclass(frozen=True)
 class PlacedEstimate:
     """A mount estimated from its drawing, standing under the machine.
 
@@ -381,7 +474,7 @@ class SupportSpec:
 
     name: str
     machine: MountedMachine
-    excitation: PeriodicLoad | MechanismExcitation
+    excitation: PeriodicLoad | MechanismExcitation | DriveExcitation
     settings: AnalysisTable
     estimates: dict[str, PlacedEstimate] = field(default_factory=dict)
     speed_range: tuple[float, float] | None = None
@@ -441,15 +534,16 @@ class SupportSpec:
 
     @property
     def mechanism_path(self) -> str | None:
-        """The mechanism model file the load comes from (None for samples or harmonics)."""
+        """The mechanism (or drive) model file the load comes from (None for samples or harmonics)."""
         e = self.excitation
-        return e.path if isinstance(e, MechanismExcitation) else None
+        return e.path if isinstance(e, MechanismExcitation | DriveExcitation) else None
 
     @cached_property
     def dynamics(self) -> Any:
-        """The mechanism's ``DynamicsResult`` when the load comes from one, else None."""
+        """The mechanism's ``DynamicsResult`` when the load comes from one (at the drive's real speed
+        for a drive), else None."""
         e = self.excitation
-        return e.dynamics() if isinstance(e, MechanismExcitation) else None
+        return e.dynamics() if isinstance(e, MechanismExcitation | DriveExcitation) else None
 
     @cached_property
     def load(self) -> PeriodicLoad:
@@ -457,7 +551,16 @@ class SupportSpec:
         e = self.excitation
         if isinstance(e, MechanismExcitation):
             return PeriodicLoad.from_mechanism(self.dynamics, e.placement)
+        if isinstance(e, DriveExcitation):
+            return e.load()
         return e
+
+    def excitation_summary(self) -> dict[str, Any] | None:
+        """The summary of the mechanism (or drive) that makes the load, else None."""
+        e = self.excitation
+        if isinstance(e, DriveExcitation):
+            return e.summary()
+        return self.dynamics.summary() if self.dynamics is not None else None
 
 
 def _inertia_tensor(t: MachineTable) -> np.ndarray:
@@ -466,9 +569,10 @@ def _inertia_tensor(t: MachineTable) -> np.ndarray:
     return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
 
 
-def _excitation(f: SupportFile, source: ModelSource) -> PeriodicLoad | MechanismExcitation:
+def _excitation(f: SupportFile, source: ModelSource) -> PeriodicLoad | MechanismExcitation | DriveExcitation:
     e = f.excitation
     if e.mechanism is not None:
+        from mechdyn.drive.schema import DriveSpec
         from mechdyn.mechanism.schema import MechanismSpec
 
         msource = referenced(source, e.mechanism)
@@ -482,18 +586,23 @@ def _excitation(f: SupportFile, source: ModelSource) -> PeriodicLoad | Mechanism
             )
         spec = build_source(msource)
         path = msource.path
-        if not isinstance(spec, MechanismSpec):
+        if not isinstance(spec, MechanismSpec | DriveSpec):
             raise ModelFileError(
                 source.path,
                 "[excitation] → mechanism",
-                f"{e.mechanism!r} is a {msource.model_type!r} model; give a mechanism model file",
+                f"{e.mechanism!r} is a {msource.model_type!r} model; give a mechanism model file, or a "
+                "drive model file (the mechanism driven by its motor)",
                 e.mechanism,
             )
+        mechanism = spec.mechanism if isinstance(spec, MechanismSpec) else spec.drive.mechanism
         with field_context(source, "[excitation]"):
             if e.x_axis is None:
-                place = Placement.output_up(spec.mechanism, e.origin)
+                place = Placement.output_up(mechanism, e.origin)
             else:
                 place = Placement(e.origin, e.x_axis, e.y_axis)
+        if isinstance(spec, DriveSpec):
+            n = e.angles or spec.settings.n_angles
+            return DriveExcitation(spec.drive, n, place, str(path), str(source.path))
         return MechanismExcitation(spec.mechanism, e.angles or spec.n_angles, place, str(path))
     if e.rotors is not None:
         return _rotors(e.rotors, source)
