@@ -310,3 +310,15 @@ def test_every_objective_is_no_worse_than_no_counterweight(objective):
         )
     else:
         assert len(r.front) == 10 and len(r.front_frame()) == 10
+
+
+def test_a_front_without_a_trade_off_is_one_row_that_says_so():
+    """A crank turning at constant speed about the origin, without gravity: its counterweight moves
+    neither the shaking moment nor the driving torque, so every weighting finds the same design."""
+    press = mechdyn.load(EXAMPLES / "press_link_drive.toml").model
+    result = balance(press, [CounterweightSlot("crank", (0, "60 t"), (0, "1.5 m"))], n_angles=72)
+    front = next(t for t in result.tables() if t.title.startswith("trade-off front"))
+    assert len(front.rows) == 1 and "no trade-off to make" in front.note
+    summary = result.tables()[0]
+    assert "objective" not in [r[0] for r in summary.rows] and summary.note.startswith("Objective: ")
+    assert any("[kN]" in c for c in front.columns)  # forces in the unit a designer reads them in

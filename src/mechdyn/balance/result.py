@@ -31,13 +31,20 @@ _REPORTED = (
 _FLOOR = ("floor_force_rms", "floor_force_peak", "floor_force_range")
 
 
-def _header(key: str) -> str:
-    """A front column's header: ``weight_shaking_moment_rms_ratio`` → "weight shaking moment rms",
-    ``floor_force_rms_N`` → "floor force rms [N]"."""
-    from mechdyn.units import key_label
+def _front_column(key: str, values: list[Any]) -> tuple[str, list[Any]]:
+    """A front column's header and values, in the unit a designer reads its largest value in:
+    ``weight_shaking_moment_rms_ratio`` → "weight shaking moment rms", ``floor_force_rms_N`` →
+    "floor force rms [kN]" with its values in kN."""
+    from mechdyn.units import convert, key_label, key_unit, readable_unit
 
     label, unit = key_label(key)
-    return label if unit in ("", "1") else f"{label} [{unit}]"
+    si = key_unit(key)
+    numbers = [abs(float(v)) for v in values if isinstance(v, (int, float)) and not isinstance(v, bool)]
+    if unit in ("", "1") or si is None or not numbers:
+        return label, values
+    display, shown = readable_unit(max(numbers), unit)
+    factor = float(convert(1.0, si, display))
+    return f"{label} [{shown}]", [v * factor if isinstance(v, float) else v for v in values]
 
 
 def _unit(name: str) -> str:
@@ -202,7 +209,14 @@ class BalanceResult(Result):
         """The summary, the counterweights and the trade-off front."""
         s = self.summary()
         cw = s.pop("counterweights")
-        tables = [summary_table(s, display_units=display_units)]
+        objective, method = s.pop("objective", None), s.pop("method", None)
+        said = []
+        if objective is not None:
+            said.append(f"Objective: {str(objective).replace('_', ' ')}")
+        if method is not None:
+            said.append(f"found by {method}")
+        summary = summary_table(s, display_units=display_units)
+        tables = [replace(summary, note=", ".join(said) + "." if said else summary.note)]
         tables.append(
             Table(
                 "counterweights found",
@@ -224,13 +238,26 @@ class BalanceResult(Result):
         )
         if self.front:
             keys = list(self.front[0])
+            outcomes = {
+                tuple(round(float(v), 9) for k, v in row.items() if not k.startswith("weight"))
+                for row in self.front
+            }
+            front = self.front if len(outcomes) > 1 else self.front[:1]
+            columns = [_front_column(k, [row[k] for row in front]) for k in keys]
             tables.append(
                 Table(
                     "trade-off front (weights of force, shaking moment, driving torque RMS)",
-                    [_header(k) for k in keys],
-                    [[row[k] for k in keys] for row in self.front],
+                    [header for header, _ in columns],
+                    [list(row) for row in zip(*(values for _, values in columns), strict=True)],
                     note="Each row: the counterweights minimising the weighted sum of the three RMS values, "
-                    "each relative to its value without counterweights.",
+                    "each relative to its value without counterweights."
+                    + (
+                        ""
+                        if len(front) > 1
+                        else f" Every one of the {len(self.front)} weightings finds this same design: the "
+                        "shaking moment and the driving torque do not change with these counterweights "
+                        "here, so there is no trade-off to make."
+                    ),
                 )
             )
         return tables
