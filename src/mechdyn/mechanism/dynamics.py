@@ -229,7 +229,8 @@ class DynamicsResult(Result):
 
     @property
     def process_torque(self) -> np.ndarray:
-        """The torque the process forces ask of the crank in the sense it turns, −P / |θ̇|, N·m.
+        """The torque the process forces ask of the crank in the sense it turns, −P divided by the
+        crank speed's magnitude, N·m.
 
         P is the power of the process forces on the linkage (Σ F·v over their points); positive where
         they resist the motion. Quasi-static: the linkage's inertia and gravity are not in it.
