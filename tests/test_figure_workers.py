@@ -144,29 +144,49 @@ class Source:
         ax.plot([0, i])
         return ax
 
+real_serve = FigureWorkers._serve
+
+
+def serve(self, job, report):  # each copy's start, counted
+    with open(sys.argv[2] + ".copies", "a") as log:
+        log.write(f"{os.getpid()}\\n")
+    return real_serve(self, job, report)
+
+
+FigureWorkers._serve = serve
+source = Source()
+if sys.argv[3] == "closure":  # a result that does not pickle: its early copy stops, new ones inherit it
+    source.hook = lambda: None
 with FigureWorkers(3) as drawing:
     drawing.start()
-    paths = drawing.draw(Source(), sys.argv[1])
+    paths = drawing.draw(source, sys.argv[1])
 assert all(p.stat().st_size > 500 for p in paths), paths
 print("matplotlib here:", "matplotlib.pyplot" in sys.modules)
 print("drawn here:", str(os.getpid()) in Path(sys.argv[2]).read_text().split())
 """
 
 
-def test_copies_started_early_draw_every_figure_and_this_process_never_imports_matplotlib(tmp_path):
+@pytest.mark.parametrize("result", ["pickles", "closure"])
+def test_copies_draw_every_figure_and_this_process_never_imports_matplotlib(tmp_path, result):
     import subprocess
     import sys
 
     script = tmp_path / "early.py"
     script.write_text(EARLY)
     done = subprocess.run(
-        [sys.executable, str(script), str(tmp_path / "out"), str(tmp_path / "log")],
+        [sys.executable, str(script), str(tmp_path / "out"), str(tmp_path / "log"), result],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     assert "matplotlib here: False" in done.stdout
     assert "drawn here: False" in done.stdout
-    assert len((tmp_path / "log").read_text().split()) == 6  # each figure once
+    drawn_by = (tmp_path / "log").read_text().split()
+    assert len(drawn_by) == 6  # each figure once
+    # three processes in all drew or could draw: one started early, and then, as this process does not
+    # draw, as many as there are processes to have (the early one's two, or two new ones that inherit
+    # a result that does not pickle, after the early one stopped)
+    copies = (tmp_path / "log.copies").read_text().split()
+    assert len(copies) == 3 and set(drawn_by) <= set(copies)
 
 
 def test_the_number_of_processes_follows_the_environment(monkeypatch):

@@ -61,6 +61,11 @@ def _get_ready(modules: tuple[str, ...]) -> None:
     plt.close(fig)
 
 
+def _drawn_here() -> bool:
+    """Whether this process has matplotlib imported already, so that drawing here costs no import."""
+    return "matplotlib.pyplot" in sys.modules
+
+
 def _drain(queue: int, makers: Makers, paths: list[Path], dpi: int, leave: int = 0) -> None:
     """Draw the figures whose indices this process takes from the queue (four bytes each), leaving
     the last ``leave`` of them to the other processes (which have matplotlib imported already)."""
@@ -306,7 +311,11 @@ class FigureWorkers:
         _write_all(cast(int, self._queue[1]), b"".join(i.to_bytes(4, "little") for i in range(len(names))))
         if not self._children:
             self._inherit = (makers, paths, dpi)
-            self._fork(min(self.workers, len(names)) - 1)
+            # this process takes its share only with matplotlib imported already (end()); else as
+            # many copies draw as there are processes to have (a result that does not pickle, such
+            # as a mechanism with a tabulated process force, comes here after its early copy stopped)
+            here = self.draw_here and _drawn_here()
+            self._fork(min(self.workers, len(names)) - (1 if here else 0))
         else:
             for child in self._children:
                 try:
@@ -332,7 +341,7 @@ class FigureWorkers:
             if not self._children:  # no other process: every figure is drawn here
                 for name, path in zip(makers, paths, strict=True):
                     save_figure(makers[name](), path, dpi=dpi)
-            elif self.draw_here and "matplotlib.pyplot" in sys.modules:
+            elif self.draw_here and _drawn_here():
                 # more figures than other processes, and matplotlib imported here already: this one
                 # takes the surplus (importing it only for that would cost more than it saves)
                 _drain(cast(int, self._queue[0]), makers, paths, dpi, leave=len(self._children))
