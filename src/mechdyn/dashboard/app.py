@@ -16,7 +16,9 @@ it may have no internet).
 
 from __future__ import annotations
 
+import base64
 import json
+import struct
 import threading
 from collections.abc import Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -53,6 +55,14 @@ def _date(text: str | None) -> date | None:
         return date.fromisoformat(text) if text else None
     except ValueError:
         return None
+
+
+def _png_size(head: bytes) -> tuple[int, int] | None:
+    """Width and height in pixels from the first bytes of a PNG (its IHDR chunk), None if not a PNG."""
+    if head[:8] != b"\x89PNG\r\n\x1a\n" or len(head) < 24:
+        return None
+    width, height = struct.unpack(">II", head[16:24])
+    return int(width), int(height)
 
 
 def _utc(t: datetime) -> str:
@@ -479,7 +489,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         return page(
             "study.html.j2",
             findings=ready[0] if ready else [],
-            figures=ready[1] if ready else [],
+            figures=figure_links(st, counts["variants"], ready[1]) if ready else [],
             findings_note=ready[2] if ready else "",
             findings_ready=ready is not None,
             study=st,
@@ -502,14 +512,40 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         st = study_of(request)
         if st is None:
             raise HTTPException(404)
-        ready = findings(st, studies.counts(st.id)["variants"], FINDINGS_WAIT)
+        n_variants = studies.counts(st.id)["variants"]
+        ready = findings(st, n_variants, FINDINGS_WAIT)
         if ready is None:
             return HTMLResponse("", status_code=202)
         tables, figures, note, _ = ready
         html = env.get_template("findings.html.j2").render(
-            findings=tables, figures=figures, findings_note=note
+            findings=tables, figures=figure_links(st, n_variants, figures), findings_note=note
         )
         return HTMLResponse(html)
+
+    def figure_links(st: Any, n_variants: int, figures: Sequence[Any]) -> list[dict[str, Any]]:
+        """The findings' pictures as links the browser loads when they come near the window (a page
+        that carried them inline would be megabytes of text to read before anything is drawn), each
+        with its size in pixels so that the page does not move as they arrive."""
+        return [
+            {
+                "url": f"/studies/{st.id}/findings/{n}.png?variants={n_variants}",
+                "caption": f.caption,
+                "size": _png_size(base64.b64decode(f.data[:64])),
+            }
+            for n, f in enumerate(figures)
+        ]
+
+    def study_figure(request: Request) -> Response:
+        """One picture of a study's findings (404 while they are worked out, or if there is none)."""
+        st = study_of(request)
+        if st is None:
+            raise HTTPException(404)
+        ready = findings(st, studies.counts(st.id)["variants"], FINDINGS_WAIT)
+        n = request.path_params["n"]
+        if ready is None or n >= len(ready[1]):
+            raise HTTPException(404)
+        figure = ready[1][n]
+        return Response(base64.b64decode(figure.data), media_type=figure.mime)
 
     def study_count(request: Request) -> JSONResponse:
         st = study_of(request)
@@ -787,6 +823,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             Route("/studies/{study_id:int}", study_page),
             Route("/api/studies/{study_id:int}/count", study_count),
             Route("/studies/{study_id:int}/findings", study_findings),
+            Route("/studies/{study_id:int}/findings/{n:int}.png", study_figure),
             Route("/api/studies/{study_id:int}/variants", study_variants),
             Route("/api/studies/{study_id:int}/points", study_points),
             Route("/api/studies/{study_id:int}/history", study_history),
