@@ -1,8 +1,10 @@
 """The web dashboard over a results database (``mechdyn dashboard``).
 
 Starlette (a small, maintained ASGI toolkit) with Jinja2 templates, served by uvicorn; interactive
-plots by Plotly.js, served from the installed ``plotly`` package (never a CDN: the machines that run
-it may have no internet).
+plots by Plotly.js: the part of it that the pages draw with (scatter, bar, WebGL scatter, 2-D histogram
+contour, parallel coordinates), built by ``scripts/build-plotly-bundle`` and shipped in the package
+(never a CDN: the machines that run it may have no internet); a third of the full bundle, which a
+browser takes seconds to read before it draws anything.
 
 - The database is opened read-only, and checked at start (a mechdyn database of this schema).
 - A request reaches it only as integer ids and filter values bound as SQL parameters, never as a
@@ -45,9 +47,7 @@ LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "::1", "[::1]")
 
 
 def _plotly_js() -> Path:
-    import plotly
-
-    return Path(plotly.__file__).parent / "package_data" / "plotly.min.js"
+    return Path(__file__).parent / "static" / "plotly-mechdyn.min.js"
 
 
 def _date(text: str | None) -> date | None:
