@@ -291,13 +291,26 @@ def _text(url: str) -> str:
         return r.read().decode()
 
 
-def test_nested_values_are_compared_as_rows_with_their_units(server):
+def test_nested_values_are_compared_as_tables_with_their_units(server):
+    """A nested value (a peak force per joint) is a table of its own, titled in words, one row per item
+    in one unit; lists of names read as names, vectors in one readable unit; no JSON anywhere."""
     html = _text(server + "/compare?run=1&run=2")
-    rows = re.findall(r"<tr><td>([^<]*)</td><td>([^<]*)</td>", html)
-    nested = [(label, unit) for label, unit in rows if label.startswith("joint force peak · ")]
+    rows = _compare_rows(html)
+    nested = [(label, unit) for label, unit, _ in rows if label.startswith("joint force peak · ")]
     assert len(nested) >= 4 and len({unit for _, unit in nested}) == 1 and nested[0][1] in ("N", "kN")
-    assert "{&#34;" not in html and '{"' not in html.split("<table")[1].split("</table>")[0]
-    assert not any("_" in label for label, _ in rows), rows  # every key in words
+    assert "<h3>Joint force peak</h3>" in html
+    tables = re.findall(r'<table class="side-by-side".*?</table>', html, re.S)
+    assert len(tables) >= 2 and not any("{&#34;" in t or "[&#34;" in t for t in tables)
+    assert not any("_" in label for label, _, _ in rows), rows  # every key in words
+
+
+def test_a_vector_is_compared_in_one_readable_unit():
+    from mechdyn.dashboard.app import _compare_row
+
+    label, unit, cells = _compare_row("floor_force_range_N", [[22284.0, 0.0, 843206.0], None], {}, False)
+    assert (label, unit) == ("floor force range", "kN") and cells[0].text == "22.284, 0, 843.21"
+    assert cells[1].text == "—"
+    assert _compare_row("frame_velocity_rms_m_per_s", [1.6737e-4], {}, False)[1] in ("mm/s",)
 
 
 def test_runs_and_variants_compared_together_keep_each_row_in_one_unit(server, stored):
@@ -318,12 +331,19 @@ def test_runs_and_variants_compared_together_keep_each_row_in_one_unit(server, s
 
 
 def _compare_rows(html: str) -> list[tuple[str, str, list[str]]]:
-    body = html.split('id="side-by-side"')[1].split("</table>")[0]
+    """(label, unit, cells) of every row of the compare page's tables, a nested table's rows labelled
+    "its title · item" as they read."""
     out = []
-    for row in re.findall(r"<tr>(.*?)</tr>", body, re.S):
-        cells = [re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)]
-        if len(cells) >= 2:
-            out.append((cells[0], cells[1], cells[2:]))
+    for title, body in re.findall(
+        r'(?:<h3>([^<]*)</h3>\s*)?<div class="tablewrap"><table class="side-by-side".*?>(.*?)</table>',
+        html,
+        re.S,
+    ):
+        prefix = title[:1].lower() + title[1:] + " · " if title else ""
+        for row in re.findall(r"<tr>(.*?)</tr>", body, re.S):
+            cells = [re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)]
+            if len(cells) >= 2:
+                out.append((prefix + cells[0], cells[1], cells[2:]))
     return out
 
 

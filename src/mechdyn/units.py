@@ -521,6 +521,8 @@ _READABLE: dict[str, list[tuple[float, str, str]]] = {
     "W": [(1e6, "MW", "MW"), (1e3, "kW", "kW"), (0.0, "W", "W")],
     "J": [(1e6, "MJ", "MJ"), (1e3, "kJ", "kJ"), (0.0, "J", "J")],
     "Pa": [(1e6, "MPa", "MPa"), (1e3, "kPa", "kPa"), (0.0, "Pa", "Pa")],
+    "m/s": [(10.0, "m/s", "m/s"), (0.0, "mm/s", "mm/s")],  # a vibration velocity is read in mm/s
+    "N·s/m": [(1e6, "kN*s/mm", "kN·s/mm"), (1e3, "kN*s/m", "kN·s/m"), (0.0, "N*s/m", "N·s/m")],
 }
 
 

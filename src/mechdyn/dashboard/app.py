@@ -153,11 +153,54 @@ def _compare_row(
         return words, unit, [_cell(column.shown(c) if _is_value(c) else c) for c in cells]
     named = [(key_unit(p), key_label(p)[1]) for p in reversed(parts)]
     si, unit = next(((u, label) for u, label in named if u not in (None, "1")), ("", ""))
-    numbers = [abs(float(c)) for c in cells if _is_value(c) and not isinstance(c, int)]
+    numbers = [abs(float(x)) for c in cells for x in _numbers(c)]
     if not si or not numbers:  # a number without unit, a count, a text
         return words, unit, [_cell(c) for c in cells]
     display, label = readable_unit(max(numbers), unit)
-    return words, label, [_cell(float(convert(float(c), si, display)) if _is_value(c) else c) for c in cells]
+
+    def shown_in(c: Any) -> Any:
+        if _is_value(c):
+            return float(convert(float(c), si, display))
+        if _numbers(c):  # a vector (a force's x, y, z ranges) in the same unit
+            return [float(convert(float(x), si, display)) for x in c]
+        return c
+
+    return words, label, [_cell(shown_in(c)) for c in cells]
+
+
+def _numbers(v: Any) -> list[Any]:
+    """The numbers of a value that is a number (not a count) or a list of numbers, else none."""
+    if _is_value(v) and not isinstance(v, int):
+        return [v]
+    if isinstance(v, (list, tuple)) and v and all(_is_value(x) for x in v):
+        return list(v)
+    return []
+
+
+def _compare_tables(items: list[dict[str, Any]], rows: Any) -> list[tuple[str, list[Any]]]:
+    """The compare page's tables: the values of the runs (or variants) themselves, then one table per
+    nested value (the excitation's figures, a force per joint), titled in words, its rows the items.
+
+    ``rows(keys)`` makes the rows of some keys (:func:`_compare_row` for each)."""
+    from mechdyn.units import key_label
+
+    keys = list(dict.fromkeys(k for row in items for k in row))
+    groups: dict[str, list[str]] = {"": []}
+    for k in keys:
+        group = k.split(" · ")[0] if " · " in k else ""
+        groups.setdefault(group, []).append(k)
+    out = []
+    for group, members in groups.items():
+        made = rows(members)
+        if group:
+            title = key_label(group)[0]
+            made = [(label.split(" · ", 1)[1], u, cells) for label, u, cells in made]
+            title = title[:1].upper() + title[1:]
+        else:
+            title = ""
+        if made:
+            out.append((title, made))
+    return out
 
 
 def _loopback(host: str) -> bool:
@@ -436,9 +479,11 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         # one unit for all columns: a study's output in its study file's unit, anything else in the
         # unit a designer reads its largest value in (a 530 kN force in kN, a stroke in mm)
         items = [dict(_nested_rows(row)) for row in values]
-        keys = list(dict.fromkeys(k for row in items for k in row))
         given = {k for i in variant_ids for k in studies.variant(i).given} if variant_ids else set()
-        rows = [_compare_row(k, [row.get(k) for row in items], shown, k in given) for k in keys]
+        tables = _compare_tables(
+            items,
+            lambda keys: [_compare_row(k, [row.get(k) for row in items], shown, k in given) for k in keys],
+        )
         what = "runs" if run_ids else "variants"
         heading = f"{len(columns)} {what} side by side" if columns else "Compare"
         return page(
@@ -446,7 +491,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             heading=heading,
             what=what,
             columns=columns,
-            rows=rows,
+            tables=tables,
             notes=notes,
             figures=_line_figures(curves) if len(curves) == len(columns) else [],
         )

@@ -100,6 +100,8 @@ def _cell(v: Any) -> Cell:
         return Cell(v, "holds" if v == "holds" else "fails")
     if isinstance(v, (list, tuple)) and v and all(isinstance(x, (int, float)) for x in v):
         return Cell(", ".join(_cell(x).text for x in v), "num")
+    if isinstance(v, (list, tuple)) and all(isinstance(x, str) for x in v):
+        return Cell(", ".join(v))  # names (a model's coordinates, the dominant one of each mode)
     if isinstance(v, (dict, list, tuple)):
         return Cell(json.dumps(v, default=str))
     return Cell(str(v))
