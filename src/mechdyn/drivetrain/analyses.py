@@ -49,7 +49,7 @@ def _default_modes(model: Any, modes: int | None, how: str) -> int | None:
     """All modes of a small model; the lowest _DEFAULT_MODES of a large one, said on stderr. A number
     of modes whose shapes the run could not keep (its memory and its stored summary grow with modes ×
     disks) is refused before the work, with the number that fits."""
-    n = len(model.disks)
+    n = len(model.dof_names)  # the disks and the nodes inside divided shafts
     if modes is not None and modes * n > _MAX_SHAPE_VALUES:
         raise MechdynError(
             f"{modes} modes of a {n}-disk model are {modes * n:,} shape values (about "

@@ -3,6 +3,11 @@
 The matrices are never typed by hand: every element contributes its blocks through
 :meth:`~mechdyn.drivetrain.elements.Element.blocks`, rigid meshes become a transformation
 θ = T q to independent coordinates q, and the reduced matrices are Tᵀ M T, Tᵀ K T, Tᵀ C T.
+
+M holds the disks' inertias and the mass blocks of shafts with their own inertia. While every mass
+block is diagonal (disks, lumped shafts), so is Tᵀ M T (T has one entry per row) and the assembly keeps
+its diagonal, :attr:`Assembly.mass`, for the fast paths; a consistent shaft makes M a band matrix,
+:attr:`Assembly.M`, which is always there.
 """
 
 from __future__ import annotations
@@ -11,10 +16,12 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
 
 from mechdyn.drivetrain.model import Drivetrain
-from mechdyn.errors import ModelCheckError
+from mechdyn.errors import ModelCheckError, ModelError
 
 __all__ = ["Assembly", "assemble"]
 
@@ -30,30 +37,75 @@ class Assembly:
     drivetrain : Drivetrain
         The model it was assembled from.
     T : scipy.sparse.csr_array
-        (n_disks, n_coordinates) transformation θ = T q; one entry per row (each disk follows one
-        independent coordinate through rigid meshes).
+        (n_dofs, n_coordinates) transformation θ = T q over the degrees of freedom
+        (:attr:`Drivetrain.dof_names`: the disks, then the nodes inside divided shafts); one entry per
+        row (each disk follows one independent coordinate through rigid meshes).
     coordinate_names : tuple of str
-        The disk that each independent coordinate is (the first disk of its rigidly geared group).
-    mass : ndarray
-        Reduced inertias (the reduced mass matrix is diagonal), kg·m².
-    K, C : scipy.sparse.csr_array
-        Reduced stiffness (N·m/rad) and damping (N·m·s/rad) matrices.
+        The disk (or shaft node) that each independent coordinate is (the first disk of its rigidly
+        geared group).
+    M, K, C : scipy.sparse.csr_array
+        Reduced mass (kg·m²), stiffness (N·m/rad) and damping (N·m·s/rad) matrices, Tᵀ A T.
     rigid_body_vectors : ndarray
-        (n_disks, n_free) exact rigid-body motions, one per free branch, rad per unit motion.
+        (n_dofs, n_free) exact rigid-body motions, one per free branch, rad per unit motion.
+    mass_diagonal : ndarray or None
+        The diagonal of M, kg·m², where M is diagonal (no consistent shaft inertia); else None.
     """
 
     drivetrain: Drivetrain
     T: sp.csr_array
     coordinate_names: tuple[str, ...]
-    mass: np.ndarray
+    M: sp.csr_array
     K: sp.csr_array
     C: sp.csr_array
     rigid_body_vectors: np.ndarray
+    mass_diagonal: np.ndarray | None = None
+
+    @property
+    def diagonal_mass(self) -> bool:
+        """True when the reduced mass matrix is diagonal (every mass block diagonal)."""
+        return self.mass_diagonal is not None
+
+    @property
+    def mass(self) -> np.ndarray:
+        """Reduced inertias, kg·m², the diagonal of a diagonal M (the fast paths).
+
+        Raises
+        ------
+        ModelError
+            Where M is not diagonal (a shaft with consistent inertia): use :attr:`M`.
+        """
+        if self.mass_diagonal is None:
+            raise ModelError(
+                "the mass matrix is not diagonal (a shaft carries consistent inertia); use Assembly.M, "
+                "or mass_model = 'lumped' for a diagonal one",
+                element=self.drivetrain.name,
+                field="mass",
+            )
+        return self.mass_diagonal
+
+    def mass_times(self, X: np.ndarray) -> np.ndarray:
+        """M X on the reduced coordinates, kg·m² times the unit of X (diagonal M: a scaling of rows).
+
+        Parameters
+        ----------
+        X : ndarray
+            (n,) or (n, m) reduced coordinates, e.g. mode shapes in rad.
+        """
+        if self.mass_diagonal is not None:
+            d = self.mass_diagonal
+            return d * X if X.ndim == 1 else d[:, None] * X
+        return np.asarray(self.M @ X)
+
+    def mass_operator(self) -> sp.sparray:
+        """M as a sparse matrix for the solvers, kg·m² (``diags_array`` of :attr:`mass` when diagonal)."""
+        if self.mass_diagonal is not None:
+            return sp.diags_array(self.mass_diagonal)
+        return self.M
 
     @property
     def n(self) -> int:
         """Number of independent coordinates."""
-        return self.mass.size
+        return self.K.shape[0]
 
     @property
     def n_rigid_body(self) -> int:
@@ -61,18 +113,23 @@ class Assembly:
         return self.rigid_body_vectors.shape[1]
 
     @cached_property
+    def M_full(self) -> sp.csr_array:
+        """Mass over all degrees of freedom before the rigid-mesh reduction, kg·m²."""
+        return _scatter(self.drivetrain, "mass")
+
+    @cached_property
     def K_full(self) -> sp.csr_array:
-        """Stiffness over all disks before the rigid-mesh reduction, N·m/rad."""
+        """Stiffness over all degrees of freedom before the rigid-mesh reduction, N·m/rad."""
         return _scatter(self.drivetrain, "stiffness")
 
     @cached_property
     def C_full(self) -> sp.csr_array:
-        """Damping over all disks before the rigid-mesh reduction, N·m·s/rad."""
+        """Damping over all degrees of freedom before the rigid-mesh reduction, N·m·s/rad."""
         return _scatter(self.drivetrain, "damping")
 
 
 def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
-    n = len(drivetrain.disks)
+    n = len(drivetrain.dof_names)
     rows, cols, vals = [], [], []
     for g in drivetrain.block_groups(which):
         k = g.dofs.shape[1]
@@ -88,8 +145,8 @@ def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
 
 def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
     """θ = T q for the rigid-mesh constraints; each disk follows its group's first disk."""
-    idx = drivetrain.disk_index
-    n = len(drivetrain.disks)
+    idx = drivetrain.dof_index
+    n = len(drivetrain.dof_names)
     links = []
     for e, b in drivetrain.element_blocks:
         if b.constraint is None:
@@ -99,7 +156,7 @@ def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
         ca, cb = b.constraint
         links.append((idx[b.disks[0]], idx[b.disks[1]], -ca / cb, e))
     if not links:
-        return sp.csr_array(sp.identity(n, format="csr")), drivetrain.disk_names
+        return sp.csr_array(sp.identity(n, format="csr")), drivetrain.dof_names
     group, amp, locked = drivetrain._propagate(links)
     for bad in locked:
         if bad is not None:
@@ -111,7 +168,7 @@ def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
     n_groups = int(group.max()) + 1
     T = sp.csr_array((amp, (np.arange(n), group)), shape=(n, n_groups))
     first = [int(np.flatnonzero(group == g)[0]) for g in range(n_groups)]
-    return T, tuple(drivetrain.disk_names[i] for i in first)
+    return T, tuple(drivetrain.dof_names[i] for i in first)
 
 
 def _reduce(T: sp.csr_array, A: sp.csr_array, reduced: bool) -> sp.csr_array:
@@ -143,33 +200,101 @@ def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
     -----
     Checks: every element block symmetric and positive semi-definite; the assembled K annihilates
     the exact rigid-body motion of each free branch (so the number of zero modes equals the number
-    of free branches). Together they make K symmetric semi-definite with the right null space.
+    of free branches). Together they make K symmetric semi-definite with the right null space. The
+    reduced M must be positive definite: every coordinate carries inertia, and a non-diagonal M
+    has a Cholesky factor.
 
     The checked assembly is built once per model and kept with it (:attr:`Drivetrain.assembly`).
     """
     return drivetrain.assembly if check else _assemble(drivetrain, check=False)
 
 
+def _mass_diagonal(drivetrain: Drivetrain) -> np.ndarray | None:
+    """The diagonal of the full mass matrix where every mass block is diagonal, else None.
+
+    Disks only: their inertias, exactly (the fast path every model without shaft inertia takes).
+    """
+    n = len(drivetrain.dof_names)
+    J = np.zeros(n)
+    for g in drivetrain.block_groups("mass"):
+        B = g.blocks
+        k = B.shape[1]
+        if k > 1 and np.any(B[:, ~np.eye(k, dtype=bool)]):
+            return None
+        np.add.at(J, g.dofs, np.diagonal(B, axis1=1, axis2=2))
+    return J
+
+
 def _assemble(drivetrain: Drivetrain, *, check: bool) -> Assembly:
     T, names = _reduction(drivetrain)
     reduced = T.shape[0] != T.shape[1]
-    J = drivetrain.inertias
-    mass = np.asarray(T.multiply(T).T @ J) if reduced else J  # one entry per row of T: TᵀMT diagonal
+    J = _mass_diagonal(drivetrain)
+    if J is not None:
+        mass = np.asarray(T.multiply(T).T @ J) if reduced else J  # one entry per row of T: TᵀMT diagonal
+        M = sp.csr_array(sp.diags_array(mass, format="csr"))
+    else:
+        mass = None
+        M = _reduce(T, _scatter(drivetrain, "mass"), reduced)
     rigid = drivetrain.free_branches()
-    R = np.column_stack(rigid) if rigid else np.zeros((len(J), 0))
+    R = np.column_stack(rigid) if rigid else np.zeros((T.shape[0], 0))
     asm = Assembly(
         drivetrain=drivetrain,
         T=T,
         coordinate_names=names,
-        mass=mass,
+        M=M,
         K=_reduce(T, _scatter(drivetrain, "stiffness"), reduced),
         C=_reduce(T, _scatter(drivetrain, "damping"), reduced),
         rigid_body_vectors=R,
+        mass_diagonal=mass,
     )
     if check:
         _check_elements(drivetrain)
+        _check_mass(asm)
         _check_rigid_body(asm)
     return asm
+
+
+#: Largest non-diagonal reduced M of wide band whose definiteness is checked by a dense Cholesky factor.
+_CHOLESKY_LIMIT = 3000
+
+
+def _check_mass(asm: Assembly) -> None:
+    """The reduced M symmetric positive definite: every coordinate has inertia, and M = L Lᵀ.
+
+    A non-diagonal M is factored in the reverse Cuthill–McKee order, as a band (a chain of shaft
+    elements has band 1), densely where the band is wide; beyond ``_CHOLESKY_LIMIT`` coordinates of
+    wide band the positive diagonal and the elements' positive semi-definite blocks are the check.
+    """
+    diagonal = asm.M.diagonal()
+    empty = np.flatnonzero(~(diagonal > 0))
+    if empty.size:
+        raise ModelCheckError(
+            f"coordinate {asm.coordinate_names[int(empty[0])]!r} has no inertia (mass matrix entry "
+            f"{diagonal[empty[0]]:g} kg·m²); give it a disk or a shaft with inertia",
+            element=asm.drivetrain.name,
+        )
+    if asm.diagonal_mass:
+        return
+    M = asm.M
+    if abs(M - M.T).max() > _TOL * abs(M).max():
+        raise ModelCheckError("the assembled mass matrix is not symmetric", element=asm.drivetrain.name)
+    perm = csgraph.reverse_cuthill_mckee(M, symmetric_mode=True)
+    Mp = sp.csr_array(M[perm][:, perm]).tocoo()
+    band = int(np.abs(Mp.row - Mp.col).max())
+    try:
+        if band <= 64:
+            n = M.shape[0]
+            upper = np.zeros((band + 1, n))
+            keep = Mp.col >= Mp.row
+            upper[band + Mp.row[keep] - Mp.col[keep], Mp.col[keep]] = Mp.data[keep]
+            sla.cholesky_banded(upper, lower=False)
+        elif M.shape[0] <= _CHOLESKY_LIMIT:
+            np.linalg.cholesky(M.toarray())
+    except np.linalg.LinAlgError:
+        raise ModelCheckError(
+            "the assembled mass matrix is not positive definite; check the shafts' inertias",
+            element=asm.drivetrain.name,
+        ) from None
 
 
 def _element_name(drivetrain: Drivetrain, position: int) -> str:

@@ -10,7 +10,10 @@ of M^-½ K M^-½, one ``numpy.linalg.eigh`` over the stack. A variant whose lowe
 batched solve cannot promise to :data:`mechdyn.vibration.eigen.ACCURACY` (the inertias or stiffnesses
 spread over many decades) is solved by :func:`~mechdyn.drivetrain.modal` on its own, as the single path
 would. Anything else (a value computed from geometry, a gear's data) raises
-:class:`~mechdyn.registry.NotBatchable`, and the study evaluates it one variant at a time.
+:class:`~mechdyn.registry.NotBatchable`, and the study evaluates it one variant at a time; so does a
+model whose mass matrix is not diagonal (a shaft with consistent inertia: the stack is built on
+M^-½, which needs a diagonal M). Shafts with lumped inertia, or divided into elements, batch as
+any other model (their nodes are coordinates of the stack).
 """
 
 from __future__ import annotations
@@ -72,10 +75,15 @@ def modal_batch(
     data = loaded.source.data
     model = loaded.model.with_rigid_gears() if rigid_gears else loaded.model
     asm = assemble(model)
+    if not asm.diagonal_mass:
+        raise NotBatchable(
+            "the mass matrix is not diagonal (a shaft with consistent inertia); each variant is solved on "
+            "its own"
+        )
     n, n_rb = asm.n, asm.n_rigid_body
     V = max((np.asarray(v).size for v in columns.values()), default=1)
     T = asm.T.toarray()
-    disk_index = model.disk_index
+    disk_index = model.dof_index
     blocks = {e.name: b for e, b in model.element_blocks}
     mass = np.tile(asm.mass, (V, 1))
     K = np.tile(asm.K.toarray(), (V, 1, 1))
@@ -101,7 +109,8 @@ def modal_batch(
                 if b is None or b.stiffness is None:  # a mesh made a rigid constraint: no spring left
                     continue
                 k0 = stiffness[name]
-                unit = np.zeros((len(model.disks), len(model.disks)))
+                n_dofs = len(model.dof_names)
+                unit = np.zeros((n_dofs, n_dofs))
                 at = [disk_index[x] for x in b.disks]
                 unit[np.ix_(at, at)] = b.stiffness / k0
                 K += (v - k0)[:, None, None] * (T.T @ unit @ T)[None]

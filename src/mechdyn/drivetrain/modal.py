@@ -44,8 +44,10 @@ def stiffness_factor(asm: Assembly) -> sp.csr_array | None:
     scipy.sparse.csr_array or None
         (n_springs, n_coordinates), in √(N·m/rad): a shaft of stiffness k between disks a and b gives
         the row √k (e_a − e_b); a flexible mesh √k_c (r_a e_a ± r_b e_b) (r_a, r_b base radii in m,
-        k_c in N/m); a grounded spring √k e_a; each row is then carried to the independent coordinates
-        as F_full T. None when some element's stiffness block is not of rank one (no element today).
+        k_c in N/m); a grounded spring √k e_a; a shaft divided into elements one row per sub-element
+        (:attr:`~mechdyn.drivetrain.elements.ElementBlocks.stiffness_rows`); each row is then carried to
+        the independent coordinates as F_full T. None when some element's stiffness block is neither of
+        rank one nor given as such rows (no element today).
 
     Notes
     -----
@@ -62,21 +64,29 @@ def stiffness_factor(asm: Assembly) -> sp.csr_array | None:
     for g in dt.block_groups("stiffness"):
         B, dofs = g.blocks, g.dofs
         m, width = dofs.shape
-        at = np.arange(m)
         j = np.argmax(np.diagonal(B, axis1=1, axis2=2), axis=1)
-        pivot = B[at, j, j]
-        s = B[at, :, j] / np.sqrt(np.where(pivot > 0, pivot, 1.0))[:, None]
+        pivot = B[np.arange(m), j, j]
+        s = B[np.arange(m), :, j] / np.sqrt(np.where(pivot > 0, pivot, 1.0))[:, None]
         scale = np.abs(B).max(axis=(1, 2))
         misfit = np.abs(B - s[:, :, None] * s[:, None, :]).max(axis=(1, 2))
-        if np.any((pivot <= 0) & (scale > 0)) or np.any(misfit > 1e-12 * scale):
-            return None
-        rows.append(np.repeat(count + at, width))
-        cols.append(dofs.ravel())
-        vals.append(s.ravel())
-        count += m
+        bad = ((pivot <= 0) & (scale > 0)) | (misfit > 1e-12 * scale)
+        for i in np.flatnonzero(bad):  # not of rank one: the element's own springs, if it gives them
+            given = dt.element_blocks[g.elements[i]][1].stiffness_rows
+            if given is None:
+                return None
+            r = given.shape[0]
+            rows.append(np.repeat(count + np.arange(r), width))
+            cols.append(np.tile(dofs[i], r))
+            vals.append(np.asarray(given, dtype=float).ravel())
+            count += r
+        at = np.flatnonzero(~bad)
+        rows.append(np.repeat(count + np.arange(at.size), width))
+        cols.append(dofs[at].ravel())
+        vals.append(s[at].ravel())
+        count += at.size
     F = sp.csr_array(
         (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))) if rows else ([], ([], [])),
-        shape=(count, len(dt.disks)),
+        shape=(count, len(dt.dof_names)),
     )
     return F if asm.T.shape[0] == asm.T.shape[1] else sp.csr_array(F @ asm.T)
 
@@ -92,10 +102,11 @@ class ModalResult(Result, Modes):
     omega : ndarray
         Natural circular frequencies of the flexible modes, rad/s, ascending.
     shapes : ndarray
-        (n_disks, n_modes) mass-normalised mode shapes for *every* disk, including disks removed by
-        rigid meshes (recovered as θ = T q), angles in rad for unit modal amplitude.
+        (n_dofs, n_modes) mass-normalised mode shapes for *every* disk, including disks removed by
+        rigid meshes (recovered as θ = T q), then the nodes inside divided shafts
+        (:attr:`Drivetrain.dof_names`), angles in rad for unit modal amplitude.
     rigid_body_shapes : ndarray
-        (n_disks, n_rigid_body) rigid-body motions, rad, largest entry 1.
+        (n_dofs, n_rigid_body) rigid-body motions, rad, largest entry 1.
     solver : str
         The eigen solver that ran.
     reduced_shapes : ndarray
@@ -123,16 +134,23 @@ class ModalResult(Result, Modes):
 
     @property
     def disk_names(self) -> tuple[str, ...]:
-        return self.drivetrain.disk_names
+        """The rows of :attr:`shapes`: the disks, then the nodes inside divided shafts."""
+        return self.drivetrain.dof_names
 
     @property
     def coordinate_names(self) -> tuple[str, ...]:
-        """The disks: :attr:`shapes` has one row per disk."""
-        return self.drivetrain.disk_names
+        """The disks (and shaft nodes): :attr:`shapes` has one row per degree of freedom."""
+        return self.drivetrain.dof_names
 
-    def coordinate_mass(self) -> np.ndarray:
-        """(n_disks,) the disks' inertias, kg·m² (the mass matrix over all disks is diagonal)."""
-        return self.drivetrain.inertias
+    def coordinate_mass(self) -> Any:
+        """The mass matrix over every degree of freedom, kg·m²: (n_dofs,) its diagonal where it is
+        diagonal (the disks' inertias, plus lumped shaft inertia), else the sparse (n_dofs, n_dofs) M."""
+        if not self.assembly.diagonal_mass:
+            return self.assembly.M_full
+        dt = self.drivetrain
+        if len(dt.dof_names) == len(dt.disks) and not any(getattr(e, "inertia", 0.0) for e in dt.elements):
+            return dt.inertias
+        return self.assembly.M_full.diagonal()
 
     @cached_property
     def unit_shapes(self) -> np.ndarray:
@@ -350,16 +368,19 @@ def modal(
     Notes
     -----
     Solves K q = ω² M q on the coordinates left after the rigid-mesh reduction θ = T q (e.g.
-    Friswell et al., *Dynamics of Rotating Machines*, 2010, ch. 9). The rigid-body modes are the exact
-    rigid motions of the free branches; their number is checked against K during assembly, so the
-    lowest that many eigenpairs are the zero modes and are set aside.
+    Friswell et al., *Dynamics of Rotating Machines*, 2010, ch. 9). With a diagonal M (disks, lumped
+    shafts) the fast and accurate paths of :func:`mechdyn.vibration.solve_eigen` run on its diagonal;
+    a consistent shaft inertia makes M a band matrix, solved as the generalised symmetric problem.
+    The rigid-body modes are the exact rigid motions of the free branches; their number is checked
+    against K during assembly, so the lowest that many eigenpairs are the zero modes and are set aside.
 
-    Every flexible frequency is accurate to 1e-6 (relative) however widely the inertias and
-    stiffnesses spread: where the fast solvers' error estimate cannot promise that, the frequencies
-    are recomputed from the springs' factor (:func:`stiffness_factor`) to high relative accuracy
-    (:func:`mechdyn.vibration.solve_eigen`, whose ``used`` then shows as :attr:`ModalResult.solver`
-    ``"bidiagonal"`` or ``"jacobi"``), or a :class:`~mechdyn.errors.ModelWarning` gives the condition
-    estimate.
+    With a diagonal M, every flexible frequency is accurate to 1e-6 (relative) however widely the
+    inertias and stiffnesses spread: where the fast solvers' error estimate cannot promise that, the
+    frequencies are recomputed from the springs' factor (:func:`stiffness_factor`) to high relative
+    accuracy (:func:`mechdyn.vibration.solve_eigen`, whose ``used`` then shows as
+    :attr:`ModalResult.solver` ``"bidiagonal"`` or ``"jacobi"``), or a
+    :class:`~mechdyn.errors.ModelWarning` gives the condition estimate. With a consistent M the
+    generalised solve is backward stable and the same error estimate warns where it cannot promise that.
 
     Examples
     --------
@@ -385,8 +406,9 @@ def modal(
         lam, Q, used = np.zeros(0), np.zeros((asm.n, 0)), "none"
     else:
         # the factor is built only if the fast eigen paths' error estimate calls for the accurate ones
+        mass = asm.mass_diagonal if asm.mass_diagonal is not None else asm.M
         lam, Q, used = solve_eigen(
-            asm.K, asm.mass, n_modes=want, solver=solver, factor=lambda: stiffness_factor(asm), n_rigid=n_rb
+            asm.K, mass, n_modes=want, solver=solver, factor=lambda: stiffness_factor(asm), n_rigid=n_rb
         )
     lam, Q = lam[n_rb:], Q[:, n_rb:]
     omega = np.sqrt(np.clip(lam, 0.0, None))

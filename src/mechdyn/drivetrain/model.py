@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -25,7 +26,7 @@ class BlockGroup:
     elements : ndarray
         (m,) positions in :attr:`Drivetrain.element_blocks`.
     dofs : ndarray
-        (m, k) disk indices of each block.
+        (m, k) degree-of-freedom indices (:attr:`Drivetrain.dof_names`) of each block.
     blocks : ndarray
         (m, k, k) the blocks.
     """
@@ -49,13 +50,18 @@ class Drivetrain:
         A title for tables, plots and the results store.
     provenance : mapping of str → str, optional
         Where a disk's inertia or an element's stiffness came from, by name, where it was not given as
-        a number (``"from geometry: l = 120 mm, d = 30 mm, G = 80 GPa"``); shown by
-        :func:`mechdyn.drivetrain.model_table`. Not part of the model's identity (equality).
+        a number (``"from geometry: l = 120 mm, d = 30 mm, G = 80 GPa"``), a shaft's own inertia under
+        ``"<shaft> (inertia)"``; shown by :func:`mechdyn.drivetrain.model_table`. Not part of the
+        model's identity (equality).
 
     Notes
     -----
     The model is immutable; variants are new objects (:meth:`with_rigid_gears`,
     :func:`dataclasses.replace`).
+
+    Its degrees of freedom (:attr:`dof_names`) are the disks, in order, then the nodes that elements
+    create inside themselves (a shaft divided into elements, ``"shaft[1]"``, …), element by element.
+    Without such elements they are the disks alone.
     """
 
     disks: tuple[Disk, ...]
@@ -85,8 +91,17 @@ class Drivetrain:
             if isinstance(e, Disk):
                 raise ModelError("a disk belongs in `disks`, not `elements`", element=e.name)
         for e, b in self.element_blocks:
+            for node in b.internal:
+                if node in seen:
+                    raise ModelError(
+                        f"the node {node!r} inside it has the name of another disk, element or node; "
+                        "rename one of them",
+                        element=e.name,
+                        field="name",
+                    )
+                seen.add(node)
             for disk_name in b.disks:
-                if disk_name not in known:
+                if disk_name not in known and disk_name not in b.internal:
                     raise ModelError(
                         f"refers to disk {disk_name!r}, which is not defined; "
                         f"defined disks: {', '.join(self.disk_names)}",
@@ -108,7 +123,25 @@ class Drivetrain:
 
     @cached_property
     def disk_index(self) -> dict[str, int]:
+        """Position of each disk among the degrees of freedom (the disks come first, in order)."""
         return {n: i for i, n in enumerate(self.disk_names)}
+
+    @cached_property
+    def dof_names(self) -> tuple[str, ...]:
+        """The degrees of freedom: the disks, then the nodes inside divided shafts (``"shaft[1]"``, …)."""
+        inside = tuple(node for _, b in self.element_blocks for node in b.internal)
+        return (*self.disk_names, *inside) if inside else self.disk_names
+
+    @cached_property
+    def dof_index(self) -> dict[str, int]:
+        """Position of each degree of freedom (disk or node inside an element) by name."""
+        return {n: i for i, n in enumerate(self.dof_names)}
+
+    @property
+    def total_inertia(self) -> float:
+        """Σ J of the disks plus the shafts' own inertias, kg·m² (what turns, meshes' ratios aside)."""
+        shafts = sum(getattr(e, "inertia", 0.0) for e in self.elements)
+        return float(sum(d.inertia for d in self.disks) + shafts)
 
     @property
     def inertias(self) -> np.ndarray:
@@ -138,7 +171,8 @@ class Drivetrain:
         return tuple((e, e.blocks()) for e in (*self.disks, *self.elements))
 
     def block_groups(self, which: str) -> tuple[BlockGroup, ...]:
-        """The elements' ``which`` blocks ("mass", "stiffness", "damping"), stacked by block size.
+        """The elements' ``which`` blocks ("mass", "stiffness", "damping"), stacked by block size, their
+        rows and columns the degrees of freedom :attr:`dof_names`.
 
         Parameters
         ----------
@@ -149,7 +183,7 @@ class Drivetrain:
 
     @cached_property
     def _block_groups(self) -> dict[str, tuple[BlockGroup, ...]]:
-        idx = self.disk_index
+        idx = self.dof_index
         out: dict[str, tuple[BlockGroup, ...]] = {}
         for which in ("mass", "stiffness", "damping"):
             by_size: dict[int, tuple[list[int], list[list[int]], list[np.ndarray]]] = {}
@@ -190,13 +224,18 @@ class Drivetrain:
 
     # -- topology -----------------------------------------------------------------------------
     def _links(self, only: type | None = None) -> list[tuple[int, int, float, Element]]:
-        idx = self.disk_index
+        idx = self.dof_index
         out = []
         for e, b in self.element_blocks:
             t = e.transmission()
-            if t is None or len(b.disks) != 2 or (only is not None and not isinstance(e, only)):
+            if t is None or len(b.disks) < 2 or (only is not None and not isinstance(e, only)):
                 continue
-            out.append((idx[b.disks[0]], idx[b.disks[1]], t, e))
+            # an element with nodes inside is a chain from its first to its last degree of freedom: the
+            # nodes follow one another at 1, the last link carries the element's transmission
+            chain = [idx[d] for d in b.disks]
+            for a, z in itertools.pairwise(chain[:-1]):
+                out.append((a, z, 1.0, e))
+            out.append((chain[-2], chain[-1], t, e))
         return out
 
     def _propagate(
@@ -207,7 +246,7 @@ class Drivetrain:
         Returns the group label per disk, the amplitude per disk (1 at the group's first disk), and
         per group the first element that closes a loop with inconsistent ratios (None if none).
         """
-        n = len(self.disks)
+        n = len(self.dof_names)
         adj: list[list[tuple[int, float, Element]]] = [[] for _ in range(n)]
         for a, b, t, e in links:
             adj[a].append((b, t, e))
@@ -240,7 +279,7 @@ class Drivetrain:
 
     @property
     def component_of_disk(self) -> np.ndarray:
-        """Label of the connected branch (through shafts and meshes) of each disk."""
+        """Label of the connected branch (through shafts and meshes) of each degree of freedom."""
         return self._components[0]
 
     def free_branches(self) -> list[np.ndarray]:
@@ -248,14 +287,14 @@ class Drivetrain:
 
         A branch is a set of disks connected through shafts and meshes. It turns freely (one
         rigid-body mode) unless a grounded spring holds it or a loop of meshes with inconsistent
-        ratios locks it. The vector gives each disk's angle for a unit angle of the branch's first
-        disk, following shaft (1) and mesh (∓ratio) transmissions.
+        ratios locks it. The vector gives each degree of freedom's angle (:attr:`dof_names`) for a
+        unit angle of the branch's first disk, following shaft (1) and mesh (∓ratio) transmissions.
         """
         group, amp, locked = self._components
         grounded: set[int] = set()
         for _, b in self.element_blocks:
             if b.grounds:
-                grounded.update(group[self.disk_index[d]] for d in b.disks)
+                grounded.update(group[self.dof_index[d]] for d in b.disks)
         vectors = []
         for g in range(len(locked)):
             if g in grounded or locked[g] is not None:
@@ -268,7 +307,7 @@ class Drivetrain:
         """Groups of disks joined by shafts alone (each group turns at one mean speed)."""
         group, _, _ = self._propagate(self._links(only=Shaft))
         lines: dict[int, list[str]] = {}
-        for name, g in zip(self.disk_names, group, strict=True):
+        for name, g in zip(self.disk_names, group[: len(self.disks)], strict=True):
             lines.setdefault(int(g), []).append(name)
         return [tuple(v) for v in lines.values()]
 
@@ -294,4 +333,4 @@ class Drivetrain:
         r = self.disk_index[reference]
         out = np.abs(amp / amp[r])
         out[group != group[r]] = np.nan
-        return out
+        return out[: len(self.disks)]

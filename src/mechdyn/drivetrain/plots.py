@@ -22,15 +22,39 @@ def _hz(f: float) -> str:
     return f"{f:.0f} Hz" if f >= 100 else f"{f:.4g} Hz"
 
 
-def _segments(result: ModalResult) -> tuple[list[list[int]], dict[int, str]]:
-    """The disks in order, split where neighbours are not joined at ratio 1 (a gear mesh between
-    them, or nothing): runs of disks to draw as one line, and a label for each break (the elements
-    that change the ratio there, e.g. ``mesh 1 (ratio 4.32)``)."""
-    names = result.disk_names
+def _dof_order(result: ModalResult) -> list[int]:
+    """The degrees of freedom in the order they are drawn: the disks as given, each divided shaft's
+    nodes between its two disks where those are neighbours (else after the disks)."""
+    names = list(result.disk_names)
+    index = {n: i for i, n in enumerate(names)}
+    internal = {n for _, b in result.drivetrain.element_blocks for n in b.internal}
+    order = [i for i, n in enumerate(names) if n not in internal]
+    for _, b in result.drivetrain.element_blocks:
+        if not b.internal:
+            continue
+        a, z = index[b.disks[0]], index[b.disks[-1]]
+        nodes = [index[n] for n in b.internal]
+        where = order.index(a)
+        if where + 1 < len(order) and order[where + 1] == z:
+            order[where + 1 : where + 1] = nodes
+        elif where > 0 and order[where - 1] == z:
+            order[where:where] = nodes[::-1]
+        else:
+            order.extend(nodes)
+    return order
+
+
+def _segments(result: ModalResult, names: Sequence[str]) -> tuple[list[list[int]], dict[int, str]]:
+    """The degrees of freedom in drawing order (``names``), split where neighbours are not joined at
+    ratio 1 (a gear mesh between them, or nothing): runs to draw as one line, and a label for each
+    break (the elements that change the ratio there, e.g. ``mesh 1 (ratio 4.32)``)."""
     drivetrain = result.drivetrain
     at_one: set[frozenset[str]] = set()
     ratio_labels: dict[str, list[str]] = {}
     for e, b in drivetrain.element_blocks:
+        if b.internal:  # a divided shaft: its nodes in a row at ratio 1
+            at_one.update(frozenset(p) for p in zip(b.disks, b.disks[1:], strict=False))
+            continue
         if len(b.disks) != 2:
             continue
         t = e.transmission()
@@ -91,14 +115,16 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
     else:
         panels = [ax] * max(len(modes), 1)
         ax.set_title(title, fontsize=10)
-    x = np.arange(len(result.disk_names))
-    runs, breaks = _segments(result)
+    order = _dof_order(result)
+    names = [result.disk_names[i] for i in order]
+    x = np.arange(len(names))
+    runs, breaks = _segments(result, names)
     for panel, m in zip(panels, modes, strict=False):
         el, share = result.dominant_element(m - 1)
         label = (
             f"mode {m}: {_hz(result.frequencies_hz[m - 1])}, most strain energy in {el} ({100 * share:.0f} %)"
         )
-        shape = result.unit_shapes[:, m - 1]
+        shape = result.unit_shapes[order, m - 1]
         color = None
         for run in runs:
             (line,) = panel.plot(
@@ -118,7 +144,8 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
             first.annotate(text, (i - 0.5, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -2),
                            textcoords="offset points", fontsize=7, va="top", color="0.35",
                            bbox={"fc": "white", "ec": "none", "alpha": 0.85, "pad": 1})  # fmt: skip
-    panels[-1].set_xticks(x, result.disk_names)
+    internal = {n for _, b in result.drivetrain.element_blocks for n in b.internal}
+    panels[-1].set_xticks(x, ["" if n in internal else n for n in names])  # a shaft's nodes unnamed
     panels[-1].set_xlabel("disk")
     for panel in panels:
         panel.set_ylabel("angle")

@@ -114,8 +114,9 @@ class FRFResult(Result):
     frequencies_hz : ndarray
         (n_f,) excitation frequencies, Hz.
     disk_names : tuple of str
+        The disks, then the nodes inside divided shafts (:attr:`Drivetrain.dof_names`).
     angles : ndarray
-        (n_f, n_disks) complex disk angle amplitudes, rad (θ(t) = Re[Θ e^{iωt}]).
+        (n_f, n_dofs) complex disk (and shaft node) angle amplitudes, rad (θ(t) = Re[Θ e^{iωt}]).
     element_names : tuple of str
     element_loads : ndarray
         (n_f, n_elements) complex internal loads: shaft torque (N·m), mesh force (N), grounded spring
@@ -329,7 +330,7 @@ def frf(
             field="frequencies_hz",
         )
     idx = drivetrain.disk_index
-    force = np.zeros(len(drivetrain.disks), dtype=complex)
+    force = np.zeros(len(drivetrain.dof_names), dtype=complex)
     for disk, amp in excitation.items():
         if disk not in idx:
             raise ModelError(
@@ -368,11 +369,11 @@ def frf(
     if isinstance(basis, str):
         chosen = f"direct solve at each frequency ({basis})"
         if isinstance(damping, RayleighDamping):
-            C = asm.C + damping.alpha * sp.diags_array(asm.mass) + damping.beta * asm.K
+            C = asm.C + damping.alpha * asm.mass_operator() + damping.beta * asm.K
         else:
             assert zeta is not None  # modal damping has its ratios
             C = _with_modal_damping(asm, modes, zeta)
-        Q = harmonic_solve(asm.K, C, sp.diags_array(asm.mass), F, w)
+        Q = harmonic_solve(asm.K, C, asm.mass_operator(), F, w)
         theta = np.asarray((asm.T @ Q.T).T)
     else:
         P, lam, c = basis
@@ -384,7 +385,7 @@ def frf(
         loads = loads + 1j * w[:, None] * np.asarray((L_rate @ theta.T).T)
     return FRFResult(
         f,
-        drivetrain.disk_names,
+        drivetrain.dof_names,
         theta,
         names,
         loads,
@@ -405,7 +406,7 @@ Method = Literal["auto", "modal", "direct"]
 def _load_rows(drivetrain: Drivetrain) -> tuple[tuple[str, ...], tuple[str, ...], sp.csr_array, sp.csr_array]:
     """The elements that carry a load, their units, and the sparse rows giving each load from the
     disk angles (N·m/rad or N/rad) and from their rates (N·m·s/rad or N·s/rad)."""
-    idx = drivetrain.disk_index
+    idx = drivetrain.dof_index
     names: list[str] = []
     units: list[str] = []
     rows: list[int] = []
@@ -422,7 +423,7 @@ def _load_rows(drivetrain: Drivetrain) -> tuple[tuple[str, ...], tuple[str, ...]
         cols += [idx[d] for d in b.disks]
         vals.append(b.load_row)
         rate_vals.append(b.load_rate_row if b.load_rate_row is not None else np.zeros(len(b.disks)))
-    shape = (len(names), len(drivetrain.disks))
+    shape = (len(names), len(drivetrain.dof_names))
     if not names:
         return (), (), sp.csr_array(shape), sp.csr_array(shape)
     L = sp.csr_array((np.concatenate(vals), (rows, cols)), shape=shape)
@@ -449,7 +450,7 @@ def _modal_ratios(damping: ModalDamping | RayleighDamping, modes: ModalResult) -
 
 def _with_modal_damping(asm: Assembly, modes: ModalResult, zeta: np.ndarray) -> np.ndarray:
     """C + M Φ diag(2 ζ_r ω_r) Φᵀ M over the flexible modes: full, modal damping couples every disk."""
-    MPhi = asm.mass[:, None] * modes.reduced_shapes
+    MPhi = asm.mass_times(modes.reduced_shapes)
     return np.asarray(asm.C.toarray() + (MPhi * (2 * zeta * modes.omega)) @ MPhi.T)
 
 
@@ -471,12 +472,12 @@ def _modal_basis(
     first = np.asarray(col.argmax(axis=0)).ravel()  # the disk each coordinate is (T = 1 there)
     R = asm.rigid_body_vectors[first]
     if n_rb:
-        L = np.linalg.cholesky(R.T @ (asm.mass[:, None] * R))
+        L = np.linalg.cholesky(R.T @ asm.mass_times(R))
         R = np.linalg.solve(L, R.T).T  # RᵀMR = I
     P = np.hstack([R, modes.reduced_shapes])
     lam = np.concatenate([np.zeros(n_rb), modes.omega**2])
     probe = np.random.default_rng(0).standard_normal((n, 2))
-    misfit = P.T @ (asm.mass[:, None] * (P @ probe)) - probe
+    misfit = P.T @ asm.mass_times(P @ probe) - probe
     if not np.all(np.abs(misfit) <= 1e-9 * np.abs(probe).max()):
         return "the modes are not orthonormal to 1e-9"
     c = np.zeros(n)

@@ -34,6 +34,10 @@ def _row(e: Any) -> dict[str, Any]:
             "disks": list(e.disks),
             "stiffness": _q(e.stiffness, "N*m/rad"),
             "damping": _q(e.damping, "N*m*s/rad") if e.damping else None,
+            # a shaft's own inertia as assembled (ρ J_p l where it came from its density)
+            "inertia": _q(e.inertia, "kg*m^2") if e.inertia else None,
+            "mass_model": e.mass_model if e.inertia else None,
+            "elements": e.elements if e.elements > 1 else None,
         }
     if isinstance(e, GearMesh):
         return {
@@ -58,7 +62,8 @@ def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any 
     Parameters
     ----------
     model : Drivetrain
-        The drivetrain; inertias in kg·m², stiffnesses in N·m/rad (shafts) and N/m (meshes), dampings
+        The drivetrain; inertias in kg·m² (disks, and shafts that carry their own, with their
+        ``mass_model`` and ``elements``), stiffnesses in N·m/rad (shafts) and N/m (meshes), dampings
         in N·m·s/rad and N·s/m, base radii in m, written exactly.
     settings : tuple of (CampbellSettings or None, ResponseSettings or None), optional
         The analysis tables of a loaded file (:attr:`mechdyn.io.LoadedModel.settings`).

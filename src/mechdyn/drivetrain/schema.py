@@ -10,12 +10,20 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Annotated, Any, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from mechdyn.drivetrain.elements import Disk, Element, GearMesh, GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.elements import (
+    MAX_SHAFT_ELEMENTS,
+    Disk,
+    Element,
+    GearMesh,
+    GroundDamper,
+    GroundSpring,
+    Shaft,
+)
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
 from mechdyn.errors import ModelFileError, ModelWarning
@@ -107,6 +115,17 @@ class ShaftTable(FileModel):
     """Shear modulus G of this shaft (default: ``[material] shear_modulus``)."""
     damping: TorsionalDamping = 0.0
     """Viscous torsional damping between the two disks."""
+    density: Density | None = None
+    """Density ρ of a shaft given by its geometry: the shaft then carries its own inertia ρ J_p l (only this
+    field does; ``[material] density`` is for the disks). Leave both out for a massless shaft."""
+    inertia: Inertia | None = None
+    """The whole shaft's own polar mass moment of inertia ρ J_p l, given directly (instead of ``density``)."""
+    mass_model: Literal["consistent", "lumped"] = "consistent"
+    """How the shaft's inertia enters the mass matrix: ``consistent`` (J/6 [[2, 1], [1, 2]]) or ``lumped``
+    (half on each end)."""
+    elements: int = Field(default=1, ge=1, le=MAX_SHAFT_ELEMENTS)
+    """Number of equal sub-elements the shaft is divided into (nodes ``name[1]``, … inside it); more
+    converge to the continuous shaft. Needs ``density`` or ``inertia`` above 1."""
 
     @model_validator(mode="after")
     def _one_way(self) -> ShaftTable:
@@ -116,6 +135,18 @@ class ShaftTable(FileModel):
         if self.stiffness is None and (self.length is None or self.diameter is None):
             raise ValueError(
                 "give stiffness, or length and diameter (with shear_modulus here or in [material])"
+            )
+        if self.density is not None and self.inertia is not None:
+            raise ValueError("give the shaft's density (with its geometry) or its inertia, not both")
+        if self.density is not None and not geometry:
+            raise ValueError(
+                "density needs the shaft's geometry (length, diameter); give inertia for a shaft given by "
+                "its stiffness"
+            )
+        if self.elements > 1 and self.density is None and self.inertia is None:
+            raise ValueError(
+                f"elements = {self.elements} divides the shaft, but it has no inertia; give density (with "
+                "its geometry) or inertia, or elements = 1"
             )
         return self
 
@@ -146,7 +177,10 @@ class MeshTable(FileModel):
     def _one_source(self) -> MeshTable:
         given = [k for k in ("teeth", "ratio", "base_radii", "stiffness") if getattr(self, k) is not None]
         if self.gear_pair is not None and self.kind == "internal":
-            raise ValueError("a gear_pair is an external spur pair; remove kind = 'internal'")
+            raise ValueError(
+                "a mesh with a gear_pair takes its kind from that pair; remove kind = 'internal' here "
+                "and set kind = 'internal' in the [[gear_pairs]] row"
+            )
         if self.gear_pair is not None and given:
             raise ValueError(
                 f"gear_pair {self.gear_pair!r} sets teeth, base radii and stiffness; "
@@ -156,7 +190,8 @@ class MeshTable(FileModel):
 
 
 class GearPairTable(FileModel):
-    """A spur pair whose mean mesh stiffness, teeth and base radii a mesh takes (``gear_pair = name``)."""
+    """A spur or helical pair, external or internal, whose mean mesh stiffness, teeth and base radii a
+    mesh takes (``gear_pair = name``)."""
 
     name: str
     """The pair's name, which a mesh's ``gear_pair`` refers to."""
@@ -168,6 +203,9 @@ class GearPairTable(FileModel):
     """Operating centre distance (default: the standard one for the profile shifts)."""
     tooth_model: Literal["truncated", "involute"] = "involute"
     """The tooth model of the mesh stiffness, as in a gear-pair file's ``[mesh]``."""
+    kind: Literal["external", "internal"] = "external"
+    """``internal``: the gear is a ring gear (internal teeth) meshing with the pinion inside it; the mesh
+    then turns both the same way."""
 
 
 class GroundSpringTable(FileModel):
@@ -345,31 +383,39 @@ def build(source: ModelSource) -> Drivetrain:
         for s in f.shafts:
             where = rows[s.name]
             if s.stiffness is not None:
-                elements.append(Shaft(s.name, s.disks, s.stiffness, s.damping))
+                elements.append(
+                    Shaft(s.name, s.disks, s.stiffness, s.damping, s.inertia or 0.0, s.mass_model, s.elements)
+                )
             else:
                 shear = s.shear_modulus if s.shear_modulus is not None else mat.shear_modulus
                 shear_modulus = _need(source, where, "shear_modulus", shear, "material")
-                elements.append(
-                    Shaft.from_geometry(
-                        s.name,
-                        s.disks,
-                        length=s.length,
-                        diameter=s.diameter,
-                        inner_diameter=s.inner_diameter,
-                        shear_modulus=shear_modulus,
-                        damping=s.damping,
-                    )
+                shaft = Shaft.from_geometry(
+                    s.name,
+                    s.disks,
+                    length=s.length,
+                    diameter=s.diameter,
+                    inner_diameter=s.inner_diameter,
+                    shear_modulus=shear_modulus,
+                    damping=s.damping,
+                    density=s.density,
+                    mass_model=s.mass_model,
+                    elements=s.elements if s.inertia is None else 1,
                 )
+                if s.inertia is not None:  # the schema allows density or inertia, not both
+                    shaft = replace(shaft, inertia=s.inertia, elements=s.elements)
+                elements.append(shaft)
                 said[s.name] = (
                     f"from geometry: l = {_mm(s.length)}, d = {_mm(s.diameter)}"
                     + (f", dᵢ = {_mm(s.inner_diameter)}" if s.inner_diameter else "")
                     + f", G = {show(float(shear_modulus), 'Pa', 'GPa', '.4g')}"
                 )
+            if s.density is not None:
+                said[f"{s.name} (inertia)"] = f"from geometry: ρ J_p l, ρ = {s.density:.5g} kg/m³"
     pairs = {}
     for i, gp in enumerate(f.gear_pairs):
         where = _where("gear_pairs", i, gp.name)
         pair = pair_from_tables(
-            source, where, gp.pinion, gp.gear, f.gear_material, gp.center_distance, gp.tooth_model
+            source, where, gp.pinion, gp.gear, f.gear_material, gp.center_distance, gp.tooth_model, gp.kind
         )
         pairs[gp.name] = pair
         with field_context(source, where):  # a mesh stiffness from guessed inputs says so

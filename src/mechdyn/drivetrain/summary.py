@@ -1,6 +1,6 @@
-"""The drivetrain as assembled: every disk's inertia and every element's stiffness, and where each
-came from (given in the file, computed from geometry, from gear data), as a table for the CLI,
-reports and ``to_frame()``."""
+"""The drivetrain as assembled: every disk's inertia, every element's stiffness and a shaft's own
+inertia (with its mass model and division), and where each came from (given in the file, computed
+from geometry, from gear data), as a table for the CLI, reports and ``to_frame()``."""
 
 from __future__ import annotations
 
@@ -44,6 +44,14 @@ def _rows(drivetrain: Drivetrain) -> list[list[Any]]:
         given = said.get(e.name, "given")
         if isinstance(e, Shaft):
             rows.append([e.name, e.stiffness, "N*m/rad", "shaft", " – ".join(e.disks), None, "", given])
+            if e.inertia:
+                kind = f"shaft inertia, {e.mass_model}" + (
+                    f", {e.elements} elements" if e.elements > 1 else ""
+                )
+                source = said.get(f"{e.name} (inertia)", "given")
+                rows.append(
+                    [f"{e.name} (inertia)", e.inertia, "kg*m^2", kind, " – ".join(e.disks), None, "", source]
+                )
         elif isinstance(e, GearMesh):
             ratio = 1 / abs(e.transmission())
             radii = " / ".join(f"{convert(r, 'm', 'mm'):.5g}" for r in e.base_radii) if e.base_radii else ""
@@ -80,7 +88,10 @@ def model_table(drivetrain: Drivetrain) -> Table:
     Returns
     -------
     Table
-        One row per disk and element, the value in SI with its unit (shown in readable units).
+        One row per disk and element, the value in SI with its unit (shown in readable units); a shaft
+        with its own inertia has a second row, ``"<name> (inertia)"`` in kg·m², whose kind names its
+        mass model and division and whose source says where it came from (ρ J_p l from geometry, or
+        given).
     """
     return Table(
         f"{drivetrain.name}: the model as assembled",

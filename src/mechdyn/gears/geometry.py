@@ -1,4 +1,5 @@
-"""Involute spur gears from ordinary gear data, their generated teeth and truncated-triangle teeth.
+"""Involute spur and helical gears, external and internal, from ordinary gear data, their generated
+teeth and truncated-triangle teeth.
 
 Standard involute geometry (e.g. ISO 21771:2007; Niemann & Winter, *Maschinenelemente* II):
 pitch radius r = m z/2, base radius r_b = r cos α, tip radius r_a = r + m (h_a* + x), root radius
@@ -16,6 +17,22 @@ Sainsot et al. (2004) at the root circle. The load angle at a contact radius r_c
 (pressure angle there minus the half tooth angle γ_c = s_c / (2 r_c)), the angle between the line of
 action and the perpendicular to the tooth's centre line (ISO 6336-3 uses the same construction for
 α_Fen).
+
+Helical gears (helix angle β): the module and pressure angle are the normal ones (m_n, α_n) and every
+radius, thickness and pitch here is in the transverse section (ISO 21771:2007, 4.2–4.3): transverse
+module m_t = m_n / cos β, tan α_t = tan α_n / cos β, r = m_t z/2, r_b = r cos α_t, addendum, dedendum
+and profile shift in normal modules (r_a = r + m_n (h_a* + x)), s_t = m_t π/2 + 2 x m_n tan α_t,
+base helix angle tan β_b = tan β cos α_t. The transverse section is the spur gear that the transverse
+section of the basic rack generates; the rack's tip rounding, an ellipse in that section, is taken as
+a circle of the normal radius ρ_fP (the fillet is approximate for β ≠ 0; the involute is exact).
+
+Internal gears (a ring with its teeth pointing inward): ISO 21771's formulas with z < 0, written here
+with a positive z: r_a = r − m_n (h_a* + x), r_f = r + m_n (h_f* − x), s = m (π/2 + 2 x tan α), and the
+tooth's arc thickness at r_y, s_y = 2 r_y (s/(2 r) − inv α + inv α_y): the tooth is the space of an
+external gear of the same data with the shift −x, and grows toward its root circle (outside). Positive
+x moves the profile toward the gear's axis (ISO 21771, 5.2). The load angle at a contact radius is
+α_c + γ_c (the radial component still presses the tooth toward its root, now outward); see
+:meth:`SpurGear.load_angle`.
 """
 
 from __future__ import annotations
@@ -34,13 +51,15 @@ from mechdyn.gears.tooth import TruncatedTooth
 from mechdyn.units import show
 from mechdyn.units import si_field as _q
 
-__all__ = ["MAX_RACK_FACTOR", "MAX_TEETH", "SpurGear", "inverse_involute", "involute"]
+__all__ = ["MAX_HELIX_DEG", "MAX_RACK_FACTOR", "MAX_TEETH", "SpurGear", "inverse_involute", "involute"]
 
 MAX_TEETH = 10_000
 """The most teeth a gear may have (as a drivetrain mesh's :data:`mechdyn.drivetrain.elements.MAX_TEETH`)."""
 MAX_RACK_FACTOR = 3.0
 """The largest addendum, dedendum, fillet radius and profile shift (in magnitude), in modules: ISO 53's
 basic racks have 1, 1.25 to 1.4, 0.38 and shifts within about ±1."""
+MAX_HELIX_DEG = 45.0
+"""The largest helix angle accepted, degrees (industrial helical gears stay below about 35°)."""
 
 
 def involute(alpha: float) -> float:
@@ -62,18 +81,19 @@ def inverse_involute(value: float) -> float:
 
 @dataclass(frozen=True)
 class SpurGear:
-    """An external involute spur gear.
+    """An involute cylindrical gear: spur or helical, external or internal (a ring gear).
 
     Parameters
     ----------
     teeth : int
         z, a whole number from 5 to :data:`MAX_TEETH`.
     module : float or quantity
-        m, m (e.g. ``"2 mm"``), from 1e-9 to 1e3 m.
+        m (the normal module m_n of a helical gear), m (e.g. ``"2 mm"``), from 1e-9 to 1e3 m.
     face_width : float or quantity
         b, m, from 1e-9 to 1e3 m.
     pressure_angle : float or quantity
-        α of the basic rack, rad (e.g. ``"20 deg"``), from 10° to 35°.
+        α of the basic rack (α_n, in the normal section, of a helical gear), rad (e.g. ``"20 deg"``),
+        from 10° to 35°.
     profile_shift : float
         x (addendum modification coefficient), dimensionless, within ±:data:`MAX_RACK_FACTOR`.
     addendum, dedendum : float
@@ -94,6 +114,12 @@ class SpurGear:
         ρ_fP* of the basic rack's tip rounding, in modules (0.38 by default, ISO 53 profile A): the
         cutter's rounded tip generates the tooth's root fillet (:meth:`generated_thickness_array`);
         from 0 to the full rounding of the rack's tip.
+    helix_angle : float or quantity
+        β at the reference circle, rad (e.g. ``"15 deg"``), from 0 to 45° (0: a spur gear). The hand
+        of the helix is not modelled: a pair takes equal β on both gears.
+    internal : bool
+        An internal gear (a ring gear, teeth pointing inward; see the module's notes): no bore (its
+        teeth stand on a rigid ring here), no fillet generated (the involute runs to the root circle).
 
     Raises
     ------
@@ -115,9 +141,30 @@ class SpurGear:
     rim_thickness: float | None = None
     web_width: float | None = None
     fillet_radius: float = 0.38
+    helix_angle: float = 0.0
+    internal: bool = False
 
     def __post_init__(self) -> None:
         n = self.name
+        beta = _q(n, "helix_angle", self.helix_angle, "rad", nonnegative=True)
+        if not beta <= math.radians(MAX_HELIX_DEG):
+            raise ModelError(
+                f"helix angle {math.degrees(beta):g}° must lie between 0° and {MAX_HELIX_DEG:g}°",
+                element=n,
+                field="helix_angle",
+            )
+        object.__setattr__(self, "helix_angle", beta)
+        if not isinstance(self.internal, bool | np.bool_):
+            raise ModelError(
+                f"internal = {self.internal!r} must be true or false", element=n, field="internal"
+            )
+        object.__setattr__(self, "internal", bool(self.internal))
+        if self.internal and self.bore_diameter is not None:
+            raise ModelError(
+                "an internal gear has no bore: its teeth stand on a rigid ring here; remove bore_diameter",
+                element=n,
+                field="bore_diameter",
+            )
         if (
             isinstance(self.teeth, bool)
             or not isinstance(self.teeth, int | np.integer)
@@ -225,41 +272,106 @@ class SpurGear:
                 field="profile_shift",
             )
 
+    # -- transverse section ---------------------------------------------------------------------
+    @property
+    def transverse_module(self) -> float:
+        """m_t = m_n / cos β, m (the module of a spur gear)."""
+        return self.module / math.cos(self.helix_angle) if self.helix_angle else self.module
+
+    @property
+    def transverse_pressure_angle(self) -> float:
+        """α_t, tan α_t = tan α_n / cos β, rad (ISO 21771:2007, 4.3; α of a spur gear)."""
+        if not self.helix_angle:
+            return self.pressure_angle
+        return math.atan(math.tan(self.pressure_angle) / math.cos(self.helix_angle))
+
+    @property
+    def base_helix_angle(self) -> float:
+        """β_b, tan β_b = tan β cos α_t, rad (ISO 21771:2007, 4.4)."""
+        return math.atan(math.tan(self.helix_angle) * math.cos(self.transverse_pressure_angle))
+
+    @property
+    def virtual_teeth(self) -> float:
+        """z_n = z / (cos²β_b cos β), the virtual number of teeth of the normal section (ISO 21771,
+        4.7; ISO 6336-3 uses it in place of z for helical gears)."""
+        if not self.helix_angle:
+            return float(self.teeth)
+        return self.teeth / (math.cos(self.base_helix_angle) ** 2 * math.cos(self.helix_angle))
+
     # -- radii, m --------------------------------------------------------------------------------
     @property
     def pitch_radius(self) -> float:
-        return self.module * self.teeth / 2.0
+        """r = m_t z / 2, m."""
+        return self.transverse_module * self.teeth / 2.0
 
     @property
     def base_radius(self) -> float:
-        return self.pitch_radius * math.cos(self.pressure_angle)
+        """r_b = r cos α_t, m."""
+        return self.pitch_radius * math.cos(self.transverse_pressure_angle)
 
     @property
     def tip_radius(self) -> float:
+        """r_a = r + m_n (h_a* + x), m; inside the pitch circle for an internal gear, r − m_n (h_a* + x)."""
+        if self.internal:
+            return self.pitch_radius - self.module * (self.addendum + self.profile_shift)
         return self.pitch_radius + self.module * (self.addendum + self.profile_shift)
 
     @property
     def root_radius(self) -> float:
+        """r_f = r − m_n (h_f* − x), m; outside the pitch circle for an internal gear, r + m_n (h_f* − x)."""
+        if self.internal:
+            return self.pitch_radius + self.module * (self.dedendum - self.profile_shift)
         return self.pitch_radius - self.module * (self.dedendum - self.profile_shift)
 
     @property
     def base_pitch(self) -> float:
-        """p_b = π m cos α, m."""
-        return math.pi * self.module * math.cos(self.pressure_angle)
+        """Transverse base pitch p_bt = π m_t cos α_t, m (π m cos α for a spur gear)."""
+        return math.pi * self.transverse_module * math.cos(self.transverse_pressure_angle)
 
     @property
     def form_radius(self) -> float:
-        """Where the truncated-triangle root section sits: the start of the involute, max(r_b, r_f)."""
+        """Where the truncated-triangle root section sits: the start of the involute, max(r_b, r_f); for
+        an internal gear the root circle (the involute runs to it here)."""
+        if self.internal:
+            return self.root_radius
         return max(self.base_radius, self.root_radius)
 
-    # -- thickness ---------------------------------------------------------------------------------
-    def thickness(self, radius: float) -> float:
-        """Arc tooth thickness at a radius on the involute (r ≥ r_b), m.
+    @property
+    def _flank(self) -> tuple[float, float]:
+        """Smallest and largest radius of the involute flank, m."""
+        if self.internal:
+            return self.tip_radius, self.root_radius
+        return self.base_radius, self.tip_radius
+
+    @property
+    def _pitch_thickness(self) -> float:
+        """Transverse arc tooth thickness on the pitch circle, s_t = m_t π/2 + 2 x m_n tan α_t, m."""
+        if not self.helix_angle:
+            return self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
+        return self.transverse_module * math.pi / 2.0 + 2.0 * self.profile_shift * self.module * math.tan(
+            self.transverse_pressure_angle
+        )
+
+    def load_height(self, radius: float) -> float:
+        """Height of a point of the flank above the root circle, m: r − r_f (r_f − r for an internal gear).
 
         Parameters
         ----------
         radius : float
-            Radius on the involute, m (r_b ≤ r ≤ r_a).
+            Radius on the flank, m.
+        """
+        return self.root_radius - radius if self.internal else radius - self.root_radius
+
+    # -- thickness ---------------------------------------------------------------------------------
+    def thickness(self, radius: float) -> float:
+        """Arc tooth thickness at a radius on the involute (transverse section), m.
+
+        s_y = 2 r_y (s/(2 r) + inv α − inv α_y), with s/(2 r) − inv α + inv α_y for an internal gear.
+
+        Parameters
+        ----------
+        radius : float
+            Radius on the involute, m (r_b ≤ r ≤ r_a; r_a ≤ r ≤ r_f for an internal gear).
 
         Raises
         ------
@@ -267,18 +379,19 @@ class SpurGear:
             For a radius off the involute (inside the base circle, beyond the tip circle, not finite).
         """
         radius = check_number(self.name, "radius", radius, "m", positive=True)
-        if not self.base_radius * (1 - 1e-12) <= radius <= self.tip_radius * (1 + 1e-9):
+        low, high = self._flank
+        if not low * (1 - 1e-12) <= radius <= high * (1 + 1e-9):
             raise ModelError(
-                f"radius {radius:g} m is off the involute, which runs from the base circle "
-                f"{self.base_radius:g} m to the tip circle {self.tip_radius:g} m",
+                f"radius {radius:g} m is off the involute, which runs from {low:g} m to {high:g} m",
                 element=self.name,
                 field="radius",
             )
-        s = self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
+        s = self._pitch_thickness
+        a = self.transverse_pressure_angle
         alpha_y = math.acos(min(1.0, self.base_radius / radius))
-        return (
-            2.0 * radius * (s / (2.0 * self.pitch_radius) + involute(self.pressure_angle) - involute(alpha_y))
-        )
+        if self.internal:
+            return 2.0 * radius * (s / (2.0 * self.pitch_radius) - involute(a) + involute(alpha_y))
+        return 2.0 * radius * (s / (2.0 * self.pitch_radius) + involute(a) - involute(alpha_y))
 
     def chordal_thickness(self, radius: float) -> float:
         """Chord across the tooth at a radius, m.
@@ -291,7 +404,8 @@ class SpurGear:
         return 2.0 * radius * math.sin(self.thickness(radius) / (2.0 * radius))
 
     def load_angle(self, radius: float) -> float:
-        """Angle between the line of action and the perpendicular to the tooth centre line, rad.
+        """Angle between the line of action and the perpendicular to the tooth centre line, rad:
+        α_c − γ_c (α_c + γ_c for an internal gear), γ_c = s_c/(2 r_c), in the transverse section.
 
         Parameters
         ----------
@@ -299,6 +413,8 @@ class SpurGear:
             Radius on the involute, m (r_b ≤ r ≤ r_a).
         """
         alpha_c = math.acos(min(1.0, self.base_radius / radius))
+        if self.internal:  # the involute unwinds the other way (module notes)
+            return alpha_c + self.thickness(radius) / (2.0 * radius)
         return alpha_c - self.thickness(radius) / (2.0 * radius)
 
     def tooth_compliances(self, load_radius: Any) -> dict[str, float]:
@@ -310,14 +426,17 @@ class SpurGear:
             Radius of the load point, m, between the start of the involute and the tip circle.
         """
         r = _q(self.name, "load_radius", load_radius, "m")
-        if not self.form_radius < r <= self.tip_radius * (1 + 1e-12):
+        low, high = (
+            (self.tip_radius, self.root_radius) if self.internal else (self.form_radius, self.tip_radius)
+        )
+        if not (low * (1 - 1e-12) <= r < high if self.internal else low < r <= high * (1 + 1e-12)):
             raise ModelError(
-                f"load radius {show(r, 'm', 'mm')} is off the flank ({show(self.form_radius, 'm', 'mm')} to "
-                f"{show(self.tip_radius, 'm', 'mm')})",
+                f"load radius {show(r, 'm', 'mm')} is off the flank ({show(low, 'm', 'mm')} to "
+                f"{show(high, 'm', 'mm')})",
                 element=self.name,
                 field="load_radius",
             )
-        return self.tooth().compliances(r - self.root_radius, self.load_angle(r))
+        return self.tooth().compliances(self.load_height(r), self.load_angle(r))
 
     def chordal_thickness_array(self, radius: np.ndarray) -> np.ndarray:
         """Chordal thickness at radii on the involute (vectorised :meth:`chordal_thickness`), m.
@@ -344,8 +463,8 @@ class SpurGear:
         and Applied Theory*, 2004, ch. 10), from φ₀ = u_c/r (the root circle) to where the rounding
         meets the rack's straight flank (the involute's start).
         """
-        m, a, r = self.module, self.pressure_angle, self.pitch_radius
-        rho = self.fillet_radius * m
+        m, a, r = self.module, self.transverse_pressure_angle, self.pitch_radius
+        rho = self.fillet_radius * m  # the normal rounding, taken as a circle in the transverse section
         vc = self.root_radius + rho
         if vc >= r:
             raise ModelError(
@@ -354,7 +473,9 @@ class SpurGear:
                 element=self.name,
                 field="profile_shift",
             )
-        uc = math.pi * m / 4 - (self.dedendum * m - rho) * math.tan(a) - rho / math.cos(a)
+        uc = (
+            math.pi * self.transverse_module / 4 - (self.dedendum * m - rho) * math.tan(a) - rho / math.cos(a)
+        )
         phi0, phi1 = uc / r, (uc - (r - vc) / math.tan(a)) / r
         s = np.linspace(0.0, 1.0, 801)
         phi = phi0 + (phi1 - phi0) * s**2  # dense near the root, where the fillet turns fastest
@@ -380,7 +501,9 @@ class SpurGear:
     @property
     def involute_start_radius(self) -> float:
         """Where the generated fillet meets the involute, m (ISO 21771's form radius r_Ff when the
-        teeth are not undercut)."""
+        teeth are not undercut); the root circle of an internal gear, whose fillet is not modelled."""
+        if self.internal:
+            return self.root_radius
         return float(self._fillet[0][-1])
 
     def generated_thickness_array(self, radius: np.ndarray) -> np.ndarray:
@@ -413,13 +536,12 @@ class SpurGear:
             Radii on the involute, m (r ≥ r_b).
         """
         r = np.asarray(radius, dtype=float)
-        s = self.module * (math.pi / 2.0 + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
+        s = self._pitch_thickness
+        a = self.transverse_pressure_angle
         alpha_y = np.arccos(np.minimum(1.0, self.base_radius / r))
-        return (
-            2.0
-            * r
-            * (s / (2.0 * self.pitch_radius) + involute(self.pressure_angle) - (np.tan(alpha_y) - alpha_y))
-        )
+        if self.internal:
+            return 2.0 * r * (s / (2.0 * self.pitch_radius) - involute(a) + (np.tan(alpha_y) - alpha_y))
+        return 2.0 * r * (s / (2.0 * self.pitch_radius) + involute(a) - (np.tan(alpha_y) - alpha_y))
 
     def profile_tooth(self) -> ProfileTooth:
         """The tooth as generated, for the potential-energy model (``tooth_model = "involute"``).
@@ -427,8 +549,24 @@ class SpurGear:
         The whole tooth from the root circle to the tip: the fillet that the basic rack's rounded
         tip cuts, then the true involute (:meth:`generated_thickness_array`), on the foundation of
         Sainsot et al. (2004) at the root circle with the tooth's chord there.
+
+        An internal gear's tooth: the involute from its root circle (outside) to its tip circle, its
+        chord integrated the same way (the potential-energy method applied to the ring's tooth as in
+        Chen & Shao, *Mech. Mach. Theory* 69 (2013) 1–12), on a rigid foundation: the ring's rim
+        deflection, which they model separately, is not included, and the Sainsot fit holds for the
+        body of an external gear only.
         """
         r_f = self.root_radius
+        if self.internal:
+            return ProfileTooth(
+                thickness=lambda y: self.chordal_thickness_array(r_f - np.asarray(y)),
+                root_height=0.0,
+                tip_height=r_f - self.tip_radius,
+                face_width=self.face_width,
+                youngs_modulus=self.youngs_modulus,
+                poisson_ratio=self.poisson_ratio,
+                name=f"{self.name} internal tooth",
+            )
         return ProfileTooth(
             thickness=lambda y: self.generated_thickness_array(r_f + np.asarray(y)),
             root_height=0.0,
@@ -451,7 +589,7 @@ class SpurGear:
     @property
     def guesses(self) -> tuple[str, ...]:
         """The inputs this gear's stiffness takes by default, each with what was taken."""
-        if self.bore_diameter is not None:
+        if self.bore_diameter is not None or self.internal:
             return ()
         return (
             f"{self.name}: no bore_diameter: the tooth foundation takes a bore of half the root diameter "
@@ -470,13 +608,26 @@ class SpurGear:
         """
         low = max(low_radius, self.base_radius)
         radii = [low + (self.tip_radius - low) * max(k, 1e-6) / 16.0 for k in range(17)]
-        return tuple((r - self.root_radius, self.load_angle(r)) for r in radii)
+        return tuple((self.load_height(r), self.load_angle(r)) for r in radii)
 
     def tooth(self) -> TruncatedTooth:
         """The truncated-triangle tooth of this gear, heights from the root circle: tapering from the
         start of the involute (max(r_b, r_f)) to the tip, and below it, down to the root circle, a
         segment of the thickness there (the part of the tooth between the root and base circles),
-        on the foundation of Sainsot et al. (2004) at the root circle."""
+        on the foundation of Sainsot et al. (2004) at the root circle. An internal gear's tooth tapers
+        from its root circle (outside) to its tip circle on a rigid foundation (see
+        :meth:`profile_tooth`)."""
+        if self.internal:
+            return TruncatedTooth(
+                tip_height=self.root_radius - self.tip_radius,
+                root_height=0.0,
+                tip_thickness=self.chordal_thickness(self.tip_radius),
+                root_thickness=self.chordal_thickness(self.root_radius),
+                face_width=self.face_width,
+                youngs_modulus=self.youngs_modulus,
+                poisson_ratio=self.poisson_ratio,
+                name=f"{self.name} internal tooth",
+            )
         r0 = self.form_radius
         foundation = {"root_radius": self.root_radius, "bore_radius": self.bore_radius}
         return TruncatedTooth(

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from mechdyn.checks import check_count
 from mechdyn.gears.iso6336 import IsoStiffness, iso_stiffness
 from mechdyn.gears.mesh import GearPair, MeshCycle
 from mechdyn.gears.tooth import TruncatedTooth, pair_compliance
@@ -27,6 +28,9 @@ _MODEL_WORDS = {"involute": "generated tooth: fillet and involute", "truncated":
 """How a table names each tooth model."""
 
 _PER_WIDTH = "N/(mm*um)"
+
+HARMONIC_ORDERS = 6
+"""How many harmonics of the mesh frequency a gear-pair result reports."""
 
 
 def _per_width(k: float, face_width: float) -> float:
@@ -60,6 +64,9 @@ class GearPairResult(Result):
         ISO 6336-1 Method B single and mesh stiffness.
     specific_load : float
         Load per face width used for ISO's load factor, N/mm.
+    orders : int
+        Harmonics of the mesh frequency reported (:meth:`MeshCycle.harmonics`), at most half the
+        cycle's positions less one.
     """
 
     pair: GearPair
@@ -68,11 +75,17 @@ class GearPairResult(Result):
     pitch: dict[str, float]
     iso: IsoStiffness
     specific_load: float
+    orders: int = HARMONIC_ORDERS
 
     @property
     def face_width(self) -> float:
         """Common face width, m."""
         return min(self.pair.pinion.face_width, self.pair.gear.face_width)
+
+    @property
+    def harmonic_orders(self) -> int:
+        """Harmonics reported: ``orders``, fewer for a short cycle."""
+        return min(self.orders, len(self.cycle.stiffness) // 2 - 1)
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -84,22 +97,30 @@ class GearPairResult(Result):
         return "involute" if self.pair.tooth_model == "truncated" else "truncated"
 
     def summary(self) -> dict[str, Any]:
-        """Contact ratio, mesh stiffness (mean, min, max, fluctuation), pitch-point pair stiffness and
-        its compliance terms, ISO c′ and c_γα with their factors."""
+        """Contact ratios, mesh stiffness (mean, min, max, fluctuation, harmonics), pitch-point pair
+        stiffness and its compliance terms, ISO c′, c_γα and c_γβ with their factors."""
         p, g, iso, cycle = self.pair.pinion, self.pair.gear, self.iso, self.cycle
+        amplitude, phase = cycle.harmonics(self.harmonic_orders)
         return {
             "contact_ratio": self.pair.contact_ratio,
+            "overlap_ratio": self.pair.overlap_ratio,
+            "total_contact_ratio": self.pair.total_contact_ratio,
+            "helix_angle_rad": self.pair.helix_angle,
+            "internal": self.pair.internal,
             "face_width_m": self.face_width,
             "mesh_stiffness_mean_N_per_m": cycle.mean,
             "mesh_stiffness_min_N_per_m": float(cycle.stiffness.min()),
             "mesh_stiffness_max_N_per_m": float(cycle.stiffness.max()),
             "mesh_stiffness_fluctuation": cycle.fluctuation,
+            "mesh_stiffness_harmonics_relative": [float(a) for a in amplitude],
+            "mesh_stiffness_harmonics_phase_rad": [float(f) for f in phase],
             "tooth_model": self.pair.tooth_model,
             "mesh_stiffness_mean_other_model_N_per_m": self.other.mean,
             "pair_stiffness_pitch_N_per_m": 1.0 / self.pitch["total"],
             "compliance_terms_pitch_m_per_N": self.pitch,
             "iso_c_prime_N_per_mm_um": iso.c_prime,
             "iso_c_gamma_N_per_mm_um": iso.c_gamma_alpha,
+            "iso_c_gamma_beta_N_per_mm_um": iso.c_gamma_beta,
             "iso_factors": {"q_prime": iso.q_prime, "C_M": iso.C_M, "C_R": iso.C_R, "C_B": iso.C_B},
             "base_radii_m": [p.base_radius, g.base_radius],
             "teeth": [p.teeth, g.teeth],
@@ -166,11 +187,19 @@ class GearPairResult(Result):
         )
         k_pitch = 1.0 / self.pitch["total"]
         kmin, kmax = float(cycle.stiffness.min()), float(cycle.stiffness.max())
+        ratios: list[list[Any]] = [["contact ratio ε_α", pair.contact_ratio, "", None]]
+        if pair.helix_angle:
+            ratios += [
+                ["overlap ratio ε_β", pair.overlap_ratio, "", None],
+                ["total contact ratio ε_γ", pair.total_contact_ratio, "", None],
+            ]
+        kind = "internal pair, " if pair.internal else ""
         stiffness = Table(
-            f"stiffness along the line of action ({_MODEL_WORDS[pair.tooth_model]})",
+            f"stiffness along the {'transverse ' if pair.helix_angle else ''}line of action "
+            f"({kind}{_MODEL_WORDS[pair.tooth_model]})",
             ["quantity", "value", "unit", "per face width [N/(mm·µm)]"],
             [
-                ["contact ratio ε_α", pair.contact_ratio, "", None],
+                *ratios,
                 ["one tooth pair at the pitch point", k_pitch, "N/m", _per_width(k_pitch, b)],
                 ["mesh stiffness, mean over a cycle", cycle.mean, "N/m", _per_width(cycle.mean, b)],
                 ["mesh stiffness, min", kmin, "N/m", _per_width(kmin, b)],
@@ -189,20 +218,42 @@ class GearPairResult(Result):
                     iso.c_prime,
                 ],
                 ["ISO 6336-1 mesh stiffness c_γα", iso.mesh_stiffness(b), "N/m", iso.c_gamma_alpha],
+                [
+                    "ISO 6336-1 mesh stiffness c_γβ (face load)",
+                    float(convert(iso.c_gamma_beta, _PER_WIDTH, "N/m^2")) * b,
+                    "N/m",
+                    iso.c_gamma_beta,
+                ],
+            ],
+        )
+        amplitude, phase = cycle.harmonics(self.harmonic_orders)
+        harmonics = Table(
+            "harmonics of the mesh stiffness, k(τ) = k̄ [1 + Σ a_n cos(2π n τ + φ_n)], τ in mesh cycles",
+            ["order n", "amplitude a_n [%]", "phase φ_n [deg]"],
+            [
+                [n, 100.0 * float(a), float(np.degrees(f))]
+                for n, a, f in zip(range(1, len(amplitude) + 1), amplitude, phase, strict=True)
             ],
         )
         return [
             geometry,
             _terms_table("compliance of one tooth pair at the pitch point", self.pitch),
             stiffness,
+            harmonics,
         ]
 
     def plots(self, **display_units: str) -> dict[str, Any]:
-        """``mesh_stiffness.png``: the mesh stiffness over one mesh cycle."""
-        return {"mesh_stiffness.png": lambda: self.cycle.plot()}
+        """``mesh_stiffness.png``: the mesh stiffness over one mesh cycle;
+        ``mesh_stiffness_harmonics.png``: its harmonics, bar chart."""
+        return {
+            "mesh_stiffness.png": lambda: self.cycle.plot(),
+            "mesh_stiffness_harmonics.png": lambda: self.cycle.plot_harmonics(orders=self.harmonic_orders),
+        }
 
 
-def gear_pair_stiffness(pair: GearPair, points: int = 400, specific_load: float = 100.0) -> GearPairResult:
+def gear_pair_stiffness(
+    pair: GearPair, points: int = 400, specific_load: float = 100.0, orders: int = HARMONIC_ORDERS
+) -> GearPairResult:
     """Mesh stiffness of a gear pair over a mesh cycle, with ISO 6336-1 Method B beside it.
 
     Parameters
@@ -212,6 +263,9 @@ def gear_pair_stiffness(pair: GearPair, points: int = 400, specific_load: float 
         Positions along one mesh cycle.
     specific_load : float
         Load per face width for ISO's load factor, N/mm (ISO 6336-1:2019, 9.3.1).
+    orders : int
+        Harmonics of the mesh frequency in the summary, the tables and the bar chart, a whole number
+        from 1 to 1000 (fewer where the cycle has too few positions).
 
     Returns
     -------
@@ -225,6 +279,7 @@ def gear_pair_stiffness(pair: GearPair, points: int = 400, specific_load: float 
         pair.pair_compliances(pair.pitch_point),
         iso_stiffness(pair, specific_load=specific_load),
         specific_load,
+        check_count(pair.pinion.name, "orders", orders, low=1, high=1000, what="harmonics"),
     )
 
 

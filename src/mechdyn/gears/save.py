@@ -17,7 +17,8 @@ def _gear(g: SpurGear) -> dict[str, Any]:
     def length(value: float | None) -> Any:
         return None if value is None else quantity_text(value, "m")
 
-    return {
+    helix = {"helix_angle": quantity_text(g.helix_angle, "rad")} if g.helix_angle else {}
+    return helix | {
         "teeth": int(g.teeth),
         "module": length(g.module),
         "face_width": length(g.face_width),
@@ -35,8 +36,9 @@ def _gear(g: SpurGear) -> dict[str, Any]:
 
 
 def to_toml(model: GearPair, settings: Any = None, *, path: Path, source: Any = None) -> str:
-    """The gear-pair model file of ``model``: both gears by their data, the centre distance and the
-    tooth model, and the ``[mesh]`` settings of a loaded file.
+    """The gear-pair model file of ``model``: both gears by their data (the helix angle when not 0),
+    the centre distance, the tooth model, ``kind = "internal"`` for an internal pair, and the
+    ``[mesh]`` settings of a loaded file.
 
     The gears of a gear-pair file are named ``pinion`` and ``gear``: a pair whose gears have these
     names comes back equal.
@@ -67,6 +69,8 @@ def to_toml(model: GearPair, settings: Any = None, *, path: Path, source: Any = 
         "center_distance": quantity_text(model.center_distance, "m") if model.center_distance else None,
         "tooth_model": model.tooth_model,
     }
+    if model.internal:
+        mesh["kind"] = "internal"
     if settings is not None:
         mesh["points"] = int(settings.points)
         mesh["specific_load"] = quantity_text(settings.specific_load, "N/mm")

@@ -42,16 +42,19 @@ class MaterialTable(FileModel):
 
 
 class GearTable(FileModel):
-    """One spur gear from ordinary gear data."""
+    """One spur or helical gear from ordinary gear data."""
 
     teeth: int = Field(ge=5)
     """Number of teeth z."""
     module: Length
-    """Module m (the pitch diameter is m z)."""
+    """Module m (the pitch diameter is m z); the normal module m_n of a helical gear (pitch diameter
+    m_n z / cos β)."""
     face_width: Length
     """Face width b."""
     pressure_angle: Angle = math.radians(20.0)
-    """Standard pressure angle α of the basic rack."""
+    """Standard pressure angle α of the basic rack (the normal pressure angle α_n of a helical gear)."""
+    helix_angle: Angle = 0.0
+    """Helix angle β at the reference circle (0: spur gear); both gears of a pair take the same β."""
     profile_shift: float = 0.0
     """Profile-shift coefficient x (in modules)."""
     addendum: float = 1.0
@@ -70,7 +73,8 @@ class GearTable(FileModel):
     poisson_ratio: float | None = Field(default=None, gt=-1.0, lt=0.5)
     """Poisson's ratio of this gear (default: ``[material]``)."""
 
-    def build(self, name: str, material: MaterialTable) -> SpurGear:
+    def build(self, name: str, material: MaterialTable, internal: bool = False) -> SpurGear:
+        """The gear, named ``name``, with the material's defaults; ``internal`` for a ring gear."""
         return SpurGear(
             teeth=self.teeth,
             module=self.module,
@@ -88,6 +92,8 @@ class GearTable(FileModel):
             rim_thickness=self.rim_thickness,
             web_width=self.web_width,
             fillet_radius=self.fillet_radius,
+            helix_angle=self.helix_angle,
+            internal=internal,
         )
 
 
@@ -97,6 +103,9 @@ class MeshSettings(FileModel):
     tooth_model: Literal["truncated", "involute"] = "involute"
     """``involute`` (the tooth as the rack generates it, root fillet and involute, potential energy integrated
     over its thickness) or ``truncated`` (truncated-triangle tooth, closed form)."""
+    kind: Literal["external", "internal"] = "external"
+    """``external`` (two external gears) or ``internal`` (the pinion inside the ``[gear]``, a ring gear with
+    more teeth; its teeth point inward, it has no bore)."""
     points: int = Field(default=400, ge=4, le=100_000)
     """Positions over one mesh cycle at which the mesh stiffness is computed."""
     specific_load: LineLoad = 100.0  # N/mm, for the ISO load correction
@@ -138,12 +147,14 @@ def pair_from_tables(
     material: MaterialTable,
     center_distance: float | None,
     tooth_model: Literal["truncated", "involute"] = "involute",
+    kind: Literal["external", "internal"] = "external",
 ) -> GearPair:
-    """Build a :class:`GearPair` from gear tables, errors located at ``where``."""
+    """Build a :class:`GearPair` from gear tables, errors located at ``where``; ``kind = "internal"``
+    makes the gear a ring gear."""
     with field_context(source, f"{where} → pinion"):
         p = pinion.build("pinion", material)
     with field_context(source, f"{where} → gear"):
-        g = gear.build("gear", material)
+        g = gear.build("gear", material, internal=kind == "internal")
     with field_context(source, where):
         return GearPair(p, g, center_distance, tooth_model)
 
@@ -152,7 +163,14 @@ def build_gear_pair(source: ModelSource) -> GearPairSpec:
     """Builder for ``[model] type = "gear_pair"``."""
     f = validate(GearPairModel, source)
     pair = pair_from_tables(
-        source, "[mesh]", f.pinion, f.gear, f.material, f.mesh.center_distance, f.mesh.tooth_model
+        source,
+        "[mesh]",
+        f.pinion,
+        f.gear,
+        f.material,
+        f.mesh.center_distance,
+        f.mesh.tooth_model,
+        f.mesh.kind,
     )
     return GearPairSpec(f.model.name, pair, f.mesh.points, f.mesh.specific_load)
 

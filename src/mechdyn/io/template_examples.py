@@ -58,6 +58,7 @@ def register_template_example(file_type: str, example: TemplateExample) -> None:
 
 
 _GEAR_EXTRAS = {
+    "helix_angle": "0 deg",
     "bore_diameter": "30 mm",
     "rim_thickness": "6 mm",
     "web_width": "6 mm",
@@ -99,6 +100,10 @@ _DRIVETRAIN = TemplateExample(
             "diameter": "30 mm",
             "shear_modulus": "80 GPa",
             "damping": "0 N*m*s/rad",
+            "density": "7850 kg/m^3",
+            "inertia": "3.1e-4 kg*m^2",
+            "mass_model": "consistent",
+            "elements": 4,
         },
         "meshes": {
             "name": "mesh",
@@ -349,14 +354,16 @@ _GEAR_PAIR = TemplateExample(
             "web_width": "8 mm",
             "youngs_modulus": "206 GPa",
             "poisson_ratio": 0.3,
+            "helix_angle": "0 deg",
         },
         "gear": {
             "rim_thickness": "8 mm",
             "web_width": "8 mm",
             "youngs_modulus": "206 GPa",
             "poisson_ratio": 0.3,
+            "helix_angle": "0 deg",
         },
-        "mesh": {"center_distance": "60 mm"},
+        "mesh": {"center_distance": "60 mm", "kind": "external"},
     },
 )
 

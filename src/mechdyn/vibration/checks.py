@@ -1,8 +1,9 @@
 """Checks of assembled matrices: symmetry, semi-definiteness and the rigid-body mode count.
 
 Every model's matrices are assembled, never typed, and then checked here before any solve: M and K
-symmetric, K positive semi-definite, and exactly as many zero modes as the model has free rigid-body
-motions (one per free drivetrain branch; none for a machine standing on its mounts).
+symmetric, M positive definite, K positive semi-definite, and exactly as many zero modes as the model
+has free rigid-body motions (one per free drivetrain branch; none for a machine standing on its
+mounts).
 """
 
 from __future__ import annotations
@@ -49,8 +50,9 @@ def check_matrices(
     Raises
     ------
     ModelCheckError
-        Naming the first asymmetric entry, the negative eigenvalue, or the zero-mode count and the
-        degrees of freedom whose stiffness row does not balance (a stray grounding term).
+        Naming the first asymmetric entry, an M that is not positive definite (a consistent mass matrix
+        with a coordinate that carries no inertia), the negative eigenvalue of K, or the zero-mode
+        count and the degrees of freedom whose stiffness row does not balance (a stray grounding term).
     mechdyn.errors.ModelError
         For a NaN or an infinity in M or K (naming the entry), or ``rtol`` out of range.
     """
@@ -73,6 +75,15 @@ def check_matrices(
             )
     from scipy.linalg import eigh
 
+    try:  # M must be positive definite: every coordinate carries mass, consistent or lumped
+        np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        lowest = np.linalg.eigvalsh(M)
+        worst = names[int(np.argmin(np.diagonal(M)))]
+        raise ModelCheckError(
+            f"M is not positive definite (eigenvalue {lowest.min():.4g}; smallest diagonal entry at "
+            f"{worst}): every degree of freedom needs inertia"
+        ) from None
     lam, vec = eigh(K, M)
     big = np.abs(lam).max()
     R = np.ones((n, 1)) if rigid_body_vectors is None else np.asarray(rigid_body_vectors).reshape(n, -1)

@@ -1,10 +1,12 @@
 """Symmetric eigen solvers for K q = ω² M q (dense, banded and sparse paths, and accurate ones).
 
-A full mass matrix (a rigid machine on mounts, its inertia tensor coupling the coordinates) goes to LAPACK's
-generalised solver. With M diagonal (a drivetrain), the problem becomes the standard one A y = λ y with A =
-M^-½ K M^-½. A chain of disks gives a tridiagonal A and a geared tree a narrow band after reverse
-Cuthill–McKee ordering, so the banded path avoids the dense O(n³) reduction (divide and conquer on the
-tridiagonal); the sparse path (shift-invert Lanczos, ARPACK) returns the lowest modes of very large models.
+A full mass matrix (a rigid machine on mounts, its inertia tensor coupling the coordinates; a drivetrain
+whose shafts carry consistent inertia) goes to LAPACK's generalised solver, or to shift-invert Lanczos for
+the lowest modes of a large sparse one. With M diagonal (a drivetrain of disks), the problem becomes the
+standard one A y = λ y with A = M^-½ K M^-½. A chain of disks gives a tridiagonal A and a geared tree a
+narrow band after reverse Cuthill–McKee ordering, so the banded path avoids the dense O(n³) reduction
+(divide and conquer on the tridiagonal); the sparse path (shift-invert Lanczos, ARPACK) returns the lowest
+modes of very large models.
 
 These fast paths are backward stable: every eigenvalue comes with an *absolute* error of about ε‖A‖, so a
 model whose inertias or stiffnesses spread over many decades (‖A‖/λ large) can get its low natural
@@ -106,9 +108,13 @@ def solve_eigen(
     ----------
     K : sparse array or ndarray
         Stiffness, (n, n), symmetric positive semi-definite, in the model's SI units (N/m, N·m/rad).
-    mass : ndarray
+    mass : ndarray or sparse array
         Diagonal of M, (n,), all positive, in the model's SI units (kg, kg·m²); or the full (n, n)
-        symmetric positive-definite M, which is solved densely (LAPACK ``sygvd``/``sygvx``).
+        symmetric positive-definite M, dense or sparse. A diagonal one takes the paths below; any
+        other is solved as the generalised problem: densely (LAPACK ``sygvd``/``sygvx``, M = L Lᵀ by
+        Cholesky and the standard problem of L⁻¹ K L⁻ᵀ), or for a few lowest modes of a large sparse
+        model (``sparse``, or ``auto`` as for a wide band below) by shift-invert Lanczos with M
+        (:func:`scipy.sparse.linalg.eigsh`).
     n_modes : int, optional
         Number of lowest eigenpairs; all when None.
     solver : {"auto", "dense", "banded", "sparse"}
@@ -141,11 +147,11 @@ def solve_eigen(
     Warns
     -----
     ModelWarning
-        When some flexible natural frequencies may be wrong by more than :data:`ACCURACY` (relative) and
-        no accurate path applies (no ``factor``; a model of more than 2000 coordinates that is not a
-        chain; a branch closed by a loop of springs whose scaled condition is poor, such as a loop of
-        flexible meshes whose ratios nearly agree). The message gives the condition estimate and how
-        far the frequencies may be off.
+        When some flexible natural frequencies may be wrong by more than :data:`ACCURACY` (relative) and no
+        accurate path applies (no ``factor``; a mass matrix that is not diagonal; a model of more than 2000
+        coordinates that is not a chain; a branch closed by a loop of springs whose scaled condition is poor,
+        such as a loop of flexible meshes whose ratios nearly agree). The message gives the condition estimate
+        and how far the frequencies may be off.
 
     Notes
     -----
@@ -183,9 +189,16 @@ def solve_eigen(
 
     if solver not in SOLVERS:
         raise ValueError(f"unknown eigen solver {solver!r}; expected one of {', '.join(SOLVERS)}")
-    mass = np.asarray(mass, dtype=float)
-    finite_matrices("eigen solver", K=K, M=mass)
-    masses = np.diagonal(mass) if mass.ndim == 2 else mass
+    if sp.issparse(mass):
+        Ms = sp.csr_array(mass, dtype=float)
+        finite_matrices("eigen solver", K=K, M=Ms)
+        off = sp.csr_array(Ms - sp.diags_array(Ms.diagonal()))
+        off.eliminate_zeros()
+        mass = Ms.diagonal() if off.nnz == 0 else Ms
+    else:
+        mass = np.asarray(mass, dtype=float)
+        finite_matrices("eigen solver", K=K, M=mass)
+    masses = mass.diagonal() if mass.ndim == 2 else mass
     if not np.all(masses > 0):
         i = int(np.flatnonzero(~(masses > 0))[0])
         raise ModelError(
@@ -195,6 +208,8 @@ def solve_eigen(
         )
     n = mass.shape[0]
     k = n if n_modes is None else min(check_count("eigen solver", "n_modes", n_modes, high=10**9), n)
+    if sp.issparse(mass):
+        return _general(K, mass, k, solver, factor, n_rigid)
     if mass.ndim == 2:
         if np.count_nonzero(mass - np.diag(np.diagonal(mass))):
             Kd = _dense_array(K)
@@ -205,6 +220,65 @@ def solve_eigen(
     if factor is None and n_rigid is None:
         return lam, Q, used
     return _checked(K, mass, k, lam, Q, used, factor, n_rigid)
+
+
+def _general(
+    K: Any, M: sp.csr_array, k: int, solver: str, factor: Any, n_rigid: int | None
+) -> tuple[np.ndarray, np.ndarray, str]:
+    """K q = λ M q for a sparse, non-diagonal, positive-definite M (a consistent mass matrix).
+
+    Dense: LAPACK ``sygvd``/``sygvx`` (Cholesky M = L Lᵀ, then the standard problem of L⁻¹ K L⁻ᵀ),
+    backward stable. Sparse (a few lowest modes of a large model): shift-invert Lanczos with M just
+    below zero. Where the error estimate ε‖A‖/(2λ) exceeds ``ACCURACY``/100 for a wanted flexible mode
+    (and ``n_rigid`` or ``factor`` is given), the one-sided Jacobi SVD of G = F L⁻ᵀ replaces the result
+    (models of up to 2000 coordinates with a stiffness factor), or a
+    :class:`~mechdyn.errors.ModelWarning` gives the condition estimate.
+    """
+    n = M.shape[0]
+    Ks = sp.csr_array(K, dtype=float)
+    m_diag = M.diagonal()
+    d = 1.0 / np.sqrt(m_diag)
+    wide = k < n // 10 and k < 200 and n > _DENSE_LIMIT
+    if (solver == "sparse" or (solver == "auto" and wide)) and k < n - 1:
+        scale = float(np.abs(Ks.diagonal() / m_diag).max())
+        lam, Q = spla.eigsh(Ks.tocsc(), k=k, M=M.tocsc(), sigma=-1e-9 * scale, which="LM")
+        order = np.argsort(lam)
+        lam, Q = lam[order], Q[:, order]
+        Q = Q / np.sqrt(np.einsum("ij,ij->j", Q, np.asarray(M @ Q)))  # Qᵀ M Q = I
+        used = "sparse"
+    else:
+        lam, Q = _dense(Ks.toarray(), k, M.toarray())
+        used = "dense"
+    lam = np.asarray(lam)
+    F = None
+    if n_rigid is None:
+        F = _clean_factor(factor, n) if factor is not None else None
+        if F is None:
+            return lam, Q, used
+        n_rigid = int(np.count_nonzero(~_groups(F, n)[2]))
+    if k <= n_rigid:
+        return lam, Q, used
+    # ‖A‖ of A = L⁻¹ K L⁻ᵀ: the largest λ when all are at hand, else Gershgorin's bound on D⁻½ K D⁻½
+    # (D = diag M; a consistent mass matrix is within a factor 3 of its diagonal)
+    norm = float(max(abs(lam[0]), abs(lam[-1]))) if k == n else 3.0 * float(np.max((abs(Ks) @ d) * d))
+    flex = lam[n_rigid:]
+    s = int(np.searchsorted(flex, doubt_below(norm)))
+    if not s:
+        return lam, Q, used
+    if F is None and factor is not None:
+        F = _clean_factor(factor, n)
+    if F is None or n > _JACOBI_LIMIT:
+        why = (
+            "no stiffness factor K = Fᵀ F is at hand"
+            if F is None
+            else f"the model has more than {_JACOBI_LIMIT} coordinates"
+        )
+        _warn_estimate(norm, flex[:s], f"the mass matrix is not diagonal and {why}")
+        return lam, Q, used
+    lam_a, Q_a, doubtful = _jacobi(F, M, n_rigid)
+    for kappa, modes in doubtful:
+        _warn_loop(kappa, lam_a[modes])
+    return lam_a[:k], Q_a[:, :k], "jacobi"
 
 
 def _fast(K: Any, mass: np.ndarray, k: int, solver: str) -> tuple[np.ndarray, np.ndarray, str]:
@@ -374,16 +448,21 @@ def _dgejsv(X: np.ndarray, left: bool) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _jacobi(
-    F: sp.csr_array, mass: np.ndarray, n_rigid: int
+    F: sp.csr_array, mass: np.ndarray | sp.csr_array, n_rigid: int
 ) -> tuple[np.ndarray, np.ndarray, list[tuple[float, np.ndarray]]]:
     """All eigenpairs from the one-sided Jacobi SVD of G = F M^-½, group by group.
 
     Returns λ (rigid-body zeros first, then ascending), M-normalised Q, and for each group closed by a
     loop whose scaled condition cannot vouch for :data:`ACCURACY`: the estimate and its modes' positions.
+    A sparse, non-diagonal M (its groups those of K) enters through its Cholesky factor, M = L Lᵀ, group
+    by group: G = F L⁻ᵀ and Q = L⁻ᵀ Y (a consistent mass matrix is well conditioned once scaled by its
+    diagonal, so this keeps the accuracy of the springs' data).
     """
-    n = mass.size
-    d = 1.0 / np.sqrt(mass)
-    G = sp.csr_array(F @ sp.diags_array(d))
+    general = sp.issparse(mass)
+    n = mass.shape[0]
+    full: Any = mass  # the sparse M where it is not diagonal
+    d = np.ones(n) if general else 1.0 / np.sqrt(mass)
+    G = F if general else sp.csr_array(F @ sp.diags_array(d))
     label, row_group, grounded = _groups(F, n)
     n_groups = grounded.size
     rows_of = np.argsort(row_group, kind="stable")
@@ -404,11 +483,15 @@ def _jacobi(
         span = slice(start, start + nc)
         start += nc
         if mc == 0:  # a disk on its own: one rigid-body mode
-            Y[cols, span] = 1.0
+            Y[cols, span] = 1.0 / np.sqrt(full[cols][:, cols].toarray()) if general else 1.0
             is_rigid[span] = True
             structural += 1
             continue
         Gc = G[rows][:, cols].toarray()
+        links = np.count_nonzero(Gc)
+        if general:  # G = F L⁻ᵀ on this group
+            Lc = sla.cholesky(full[cols][:, cols].toarray(), lower=True)
+            Gc = sla.solve_triangular(Lc, Gc.T, lower=True).T
         if mc < nc:  # a free tree (mc = nc − 1): Gcᵀ has full column rank, Gc's null space is the rigid mode
             s, U = _dgejsv(np.asfortranarray(Gc.T), left=True)
             is_rigid[span.start + mc : span.stop] = True
@@ -418,8 +501,10 @@ def _jacobi(
             if not grounded[g]:  # closed by a loop, nothing grounds it: σ_min may be a rigid-body mode
                 candidates.append((s[-1] / s[0] if s[0] > 0 else 0.0, span.stop - 1))
         s_all[span.start : span.start + s.size] = s
-        Y[np.ix_(cols, np.arange(span.start, span.stop))] = U
-        if np.count_nonzero(Gc) > nc + mc - 1:  # more coordinate–spring links than a tree has: a loop
+        Y[np.ix_(cols, np.arange(span.start, span.stop))] = (
+            sla.solve_triangular(Lc.T, U, lower=False) if general else U
+        )
+        if links > nc + mc - 1:  # more coordinate–spring links than a tree has: a loop
             loops.append((Gc, span))
     # n_rigid says how many of those free loop-closed groups turn freely (the others are locked by a
     # loop of meshes whose ratios disagree): the ones with the relatively smallest σ_min
