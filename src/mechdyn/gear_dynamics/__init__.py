@@ -1,0 +1,34 @@
+"""Geared drivetrains in time: time-varying mesh stiffness, transmission error, backlash, motors.
+
+:class:`GearSystem` turns a :class:`mechdyn.drivetrain.Drivetrain` into the equations of motion in its
+reduced coordinates, each flexible mesh a :class:`MeshLink` (stiffness over the mesh cycle, static
+transmission error, backlash). :func:`simulate` integrates it in time under the torque inputs of
+:mod:`~mechdyn.gear_dynamics.loads` (constant, harmonic, step, ramp, tabulated, a motor of
+:mod:`mechdyn.drive`, an emergency stop) and returns a :class:`SimulationResult`.
+"""
+
+from mechdyn._lazy import attach
+
+__all__ = attach(
+    __name__,
+    {
+        # -- system (time-domain core) --
+        "GearSystem": "system",
+        "MeshLink": "system",
+        "rectangular_profile": "system",
+        # -- time simulation --
+        "simulate": "simulate",
+        "static_deflection": "simulate",
+        "SimulationResult": "result",
+        "ContactLoss": "result",
+        # -- torque inputs --
+        "BrakeStop": "loads",
+        "ConstantTorque": "loads",
+        "HarmonicTorque": "loads",
+        "MotorTorque": "loads",
+        "RampTorque": "loads",
+        "StepTorque": "loads",
+        "TabulatedTorque": "loads",
+        # -- steady state and Floquet stability (steady.py, floquet.py): names merged here --
+    },
+)
