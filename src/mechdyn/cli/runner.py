@@ -171,11 +171,7 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
     animation, for a linkage)."""
     from mechdyn.figure_workers import FigureWorkers
 
-    # the processes that will draw the plots start now and import matplotlib while the analysis runs
     with FigureWorkers() as drawing:
-        if args.plots:
-            module = analysis.function.__module__
-            drawing.start(module, module.rpartition(".")[0] + ".plots")
         return _run(args, analysis, drawing)
 
 
@@ -190,6 +186,12 @@ def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
         warnings.simplefilter("always")
         loaded = load_model(args.file)
         check_name("[model] name", loaded.name, args.file)
+        if args.plots:
+            # the processes that will draw the plots start now and import matplotlib while the analysis
+            # runs; started after the model is read, they inherit what reading it imported (NumPy,
+            # pint, pydantic) instead of importing it a second time beside this process
+            module = analysis.function.__module__
+            drawing.start(module, module.rpartition(".")[0] + ".plots")
         # the database is checked before the work: a wrong --db costs nothing
         with ResultStore(args.db) as store:
             label = store.label
