@@ -197,7 +197,7 @@ def test_the_findings_carry_their_pictures(server):
         pytest.fail("the findings never came")
     # the pictures are links (a page carrying them inline is megabytes of text read before anything
     # is drawn), loaded as they come near the window, each with its size so the page does not move
-    images = re.findall(r'<img [^>]*src="([^"]+)" loading="lazy" width="(\d+)" height="(\d+)"', html)
+    images = re.findall(r'<img [^>]*src="([^"]+)" loading="lazy"[^>]* width="(\d+)" height="(\d+)"', html)
     assert images and "base64" not in html
     for url, width, height in images:
         with urllib.request.urlopen(server + url.replace("&amp;", "&")) as r:
@@ -205,10 +205,12 @@ def test_the_findings_carry_their_pictures(server):
             assert r.headers["content-type"] == "image/png"
         assert png[:8] == b"\x89PNG\r\n\x1a\n"
         assert struct.unpack(">II", png[16:24]) == (int(width), int(height))
-    with pytest.raises(urllib.error.HTTPError) as missing:
-        urllib.request.urlopen(server + f"/studies/1/findings/{len(images)}.png")
-    missing.value.close()
-    assert missing.value.code == 404
+    state = images[0][0].split("?")[1]  # the number of variants whose findings these are
+    for wrong in (f"/studies/1/findings/{len(images)}.png?{state}", "/studies/1/findings/0.png?variants=1"):
+        with pytest.raises(urllib.error.HTTPError) as missing:  # no such picture, no such state
+            urllib.request.urlopen(server + wrong)
+        missing.value.close()
+        assert missing.value.code == 404
 
 
 def test_every_view_of_a_study_is_drawn_in_a_real_browser(server):

@@ -581,16 +581,23 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         ]
 
     def study_figure(request: Request) -> Response:
-        """One picture of a study's findings (404 while they are worked out, or if there is none)."""
+        """One picture of a study's findings for the number of variants its link names (the findings of
+        that state, kept; no query), 404 if they are not worked out or there is no such picture."""
         st = study_of(request)
         if st is None:
             raise HTTPException(404)
-        ready = findings(st, studies.counts(st.id)["variants"], FINDINGS_WAIT)
+        n_variants = _int(request.query_params, "variants", -1)
+        with findings_lock:
+            future = kept.get((st.id, n_variants))
         n = request.path_params["n"]
-        if ready is None or n >= len(ready[1]):
+        if future is None or not future.done() or n >= len(future.result()[1]):
             raise HTTPException(404)
-        figure = ready[1][n]
-        return Response(base64.b64decode(figure.data), media_type=figure.mime)
+        figure = future.result()[1][n]
+        return Response(
+            base64.b64decode(figure.data),
+            media_type=figure.mime,
+            headers={"Cache-Control": "private, max-age=3600"},  # a state's pictures never change
+        )
 
     def study_count(request: Request) -> JSONResponse:
         st = study_of(request)
