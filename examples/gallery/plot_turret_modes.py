@@ -2,7 +2,7 @@
 Mill turret: modes with flexible and rigid gear meshes
 ======================================================
 
-Reference machine B, the indexing path of an NC lathe's mill turret (SPEC §3): seven disks, three
+Reference machine B, the indexing path of an NC lathe's mill turret (SPEC §3): six disks, three
 shafts, two gear meshes with the published mesh stiffness. ``mechdyn modal FILE --compare-rigid``
 does the same.
 """
