@@ -336,6 +336,7 @@ def test_the_documentation_documents_every_json_key(db, capsys):
         ["modal", example, "--compare-rigid"],
         ["campbell", example],
         ["frf", example, "--points", "20"],
+        ["simulate", str(EXAMPLES / "turret_milling_startup.toml"), "--duration", "20 ms"],
         ["gear", gear],
         ["gear", tooth],
         ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "36"],

@@ -37,6 +37,7 @@ OPTIONS = {
     "mechanism": [{"angles": 36}],
     "support": [{"cycles": 2}],
     "drive": [{"angles": 180, "no_startup": True}],
+    "simulate": [{"duration": 0.005, "initial_speed": 100.0}],
 }
 CASES = [
     pytest.param(name, mtype, opts, id=f"{name}-{mtype}-{i}")

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 import mechdyn
 from conftest import EXAMPLES
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.schema import DrivetrainSettings
 from mechdyn.errors import MechdynError, ModelWarning
 from mechdyn.gears import GearPair, SpurGear
 from mechdyn.mechanism import (
@@ -174,7 +175,7 @@ def test_a_drivetrain_built_in_python_comes_back_equal(tmp_path):
     model = _gearbox()
     again = round_trip(model, tmp_path)
     assert again.type == "drivetrain" and again.model == model
-    assert again.settings == (None, None)
+    assert again.settings == DrivetrainSettings()  # no analysis tables
     text = (tmp_path / "saved.toml").read_text()
     assert 'inertia = "0.0040369 kg*m^2"' in text and 'kind = "internal"' in text
     assert "[[ground_dampers]]" in text and "ratio = 2.5" in text
@@ -222,7 +223,7 @@ def test_a_drivetrain_keeps_its_analysis_tables_and_provenance_comments(tmp_path
     loaded = load_quiet(EXAMPLES / "turret_milling_gear_data.toml")
     text = mechdyn.save(loaded, tmp_path / "c.toml").read_text()
     assert "# gear pair" in text  # where the mesh stiffness came from, as a comment
-    assert "[campbell]" in text or loaded.settings[0] is None
+    assert "[campbell]" in text or loaded.settings.campbell is None
 
 
 def _machine(**kw):

@@ -67,7 +67,13 @@ def test_rows_are_labelled_in_words_and_every_number_column_has_one_format(name,
 
 
 # light options for the analyses that would otherwise integrate or sweep at length
-_LIGHT = {"mechanism": {"angles": 72}, "support": {"cycles": 1}, "frf": {"points": 200}}
+_LIGHT = {
+    "mechanism": {"angles": 72},
+    "support": {"cycles": 1},
+    "frf": {"points": 200},
+    # a few milliseconds of a free run at speed: every drivetrain example, with or without [simulation]
+    "simulate": {"duration": 0.005, "initial_speed": 100.0},
+}
 
 
 def _significant(text: str) -> int:

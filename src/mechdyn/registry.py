@@ -45,6 +45,7 @@ __all__ = [
 # file type), imported on first look-up.
 CAPABILITIES = (
     "mechdyn.drivetrain.analyses",
+    "mechdyn.gear_dynamics.analyses",
     "mechdyn.mechanism.analyses",
     "mechdyn.support.analyses",
     "mechdyn.gears.analyses",

@@ -90,7 +90,8 @@ def _where(loaded: Any) -> str:
 
 def _file_settings(loaded: Any) -> tuple[Any, Any]:
     """The file's [campbell] and [response] settings (None for a model built in Python)."""
-    return loaded.settings or (None, None)
+    s = loaded.settings
+    return (s.campbell, s.response) if s is not None else (None, None)
 
 
 def _campbell(

@@ -56,8 +56,9 @@ def _row(e: Any) -> dict[str, Any]:
 
 
 def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any = None) -> str:
-    """The drivetrain model file of ``model``: its disks and elements, and the ``[campbell]`` and
-    ``[response]`` tables of ``settings``.
+    """The drivetrain model file of ``model``: its disks and elements, and the ``[campbell]``,
+    ``[response]``, ``[motor]``, ``[[loads]]`` and ``[simulation]`` tables and the meshes' backlash,
+    transmission error and stiffness variation of ``settings``.
 
     Parameters
     ----------
@@ -65,7 +66,7 @@ def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any 
         The drivetrain; inertias in kg·m² (disks, and shafts that carry their own, with their
         ``mass_model`` and ``elements``), stiffnesses in N·m/rad (shafts) and N/m (meshes), dampings
         in N·m·s/rad and N·s/m, base radii in m, written exactly.
-    settings : tuple of (CampbellSettings or None, ResponseSettings or None), optional
+    settings : DrivetrainSettings, optional
         The analysis tables of a loaded file (:attr:`mechdyn.io.LoadedModel.settings`).
     path : Path
         The file to be written.
@@ -80,8 +81,21 @@ def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any 
     Raises
     ------
     MechdynError
-        For an element of a kind the file format has no table for.
+        For an element of a kind the file format has no table for, or a mesh whose stiffness varies as
+        its gear pair's (the written file gives the mesh by its teeth and stiffness, without the gears).
     """
+    campbell = getattr(settings, "campbell", None)
+    response = getattr(settings, "response", None)
+    dynamics = getattr(settings, "dynamics", None)
+    mesh_rows = dynamics.meshes if dynamics is not None else {}
+    for name, m in mesh_rows.items():
+        if m.stiffness_variation == "gears":
+            raise MechdynError(
+                f"mechdyn.save: mesh {name!r} takes its stiffness over the mesh cycle from its gear pair, "
+                "and a saved drivetrain gives its meshes by teeth and stiffness, without the gears; save "
+                'the file as it is, or give the mesh stiffness_variation = "constant" or a '
+                "{ fluctuation, contact_ratio } table first"
+            )
     doc = TomlDocument()
     doc.comment(written_by("A drivetrain"))
     doc.table("model", model_header("drivetrain", model.name, source))
@@ -91,7 +105,8 @@ def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any 
     for table, kind in _TABLES:
         for e in model.elements:
             if isinstance(e, kind):
-                doc.table(table, _row(e), array=True, note=model.provenance.get(e.name, ""))
+                row = {**_row(e), **_mesh_dynamics(mesh_rows.get(e.name))}
+                doc.table(table, row, array=True, note=model.provenance.get(e.name, ""))
     odd = [e for e in model.elements if not isinstance(e, tuple(k for _, k in _TABLES))]
     if odd:
         e = odd[0]
@@ -99,7 +114,6 @@ def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any 
             f"mechdyn.save: element {e.name!r} is a {type(e).__name__}; a drivetrain file holds shafts, "
             "gear meshes, grounded springs and grounded dampers"
         )
-    campbell, response = settings if isinstance(settings, tuple) else (None, None)
     if campbell is not None:
         doc.table(
             "campbell",
@@ -112,7 +126,74 @@ def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any 
         )
     if response is not None:
         _response(doc, response)
+    if dynamics is not None:
+        _simulation_tables(doc, dynamics)
     return doc.text()
+
+
+def _mesh_dynamics(m: Any) -> dict[str, Any]:
+    if m is None:
+        return {}
+    variation = m.stiffness_variation
+    return {
+        "backlash": _q(m.backlash, "m") if m.backlash is not None else None,
+        "transmission_error": _q(m.transmission_error, "m") if m.transmission_error else None,
+        "stiffness_variation": (
+            {"fluctuation": float(variation[0]), "contact_ratio": float(variation[1])}
+            if isinstance(variation, tuple)
+            else None
+        ),
+    }
+
+
+# the unit of each field of [motor], [[loads]] and [simulation] as written (fields not named: as read)
+_UNITS = {
+    "power": "W",
+    "synchronous_speed": "rad/s",
+    "rated_speed": "rad/s",
+    "rotor_inertia": "kg*m^2",
+    "torque": "N*m",
+    "initial_torque": "N*m",
+    "time": "s",
+    "start": "s",
+    "end": "s",
+    "amplitude": "N*m",
+    "frequency": "Hz",
+    "phase": "rad",
+    "brake": "N*m",
+    "hold_speed": "rad/s",
+    "duration": "s",
+    "initial_speed": "rad/s",
+    "output_step": "s",
+}
+
+
+def _fields(table: Any) -> dict[str, Any]:
+    """A table's fields that differ from their defaults, quantities with their units (a load's start is
+    a time; the simulation's start is a word)."""
+    out: dict[str, Any] = {}
+    for name, info in type(table).model_fields.items():
+        value = getattr(table, name)
+        if value is None or value == info.default:
+            continue
+        if isinstance(value, float) and name in _UNITS:
+            out[name] = _q(value, _UNITS[name])
+        elif isinstance(value, tuple | list):
+            out[name] = [list(v) if isinstance(v, tuple) else v for v in value]
+        else:
+            out[name] = value
+    return out
+
+
+def _simulation_tables(doc: TomlDocument, d: Any) -> None:
+    if d.motor is not None:
+        motor = _fields(d.motor)
+        doc.table("motor", {"disk": motor.pop("disk"), "type": d.motor.type, **motor})
+    for load in d.loads:
+        row = _fields(load)
+        doc.table("loads", {"kind": row.pop("kind"), **row}, array=True)
+    if d.simulation is not None:
+        doc.table("simulation", _fields(d.simulation))
 
 
 def _response(doc: TomlDocument, r: Any) -> None:

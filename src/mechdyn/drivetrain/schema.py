@@ -3,7 +3,9 @@
 A file has ``[model] type = "drivetrain"``, an optional ``[material]`` with defaults for elements
 given by geometry, arrays of tables ``[[disks]]``, ``[[shafts]]``, ``[[meshes]]``,
 ``[[ground_springs]]``, ``[[ground_dampers]]``, and optional ``[campbell]`` and ``[response]``
-tables for those analyses. Every dimensional value carries its unit. See ``examples/``.
+tables for those analyses. A time simulation (``mechdyn simulate``) reads each mesh's ``backlash``,
+``transmission_error`` and ``stiffness_variation``, a ``[motor]`` on a disk, ``[[loads]]`` and
+``[simulation]``. Every dimensional value carries its unit. See ``examples/``.
 """
 
 from __future__ import annotations
@@ -11,10 +13,12 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from dataclasses import field as dataclass_field
 from typing import Annotated, Any, Literal
 
-from pydantic import ConfigDict, Field, model_validator
+from pydantic import BeforeValidator, ConfigDict, Field, model_validator
 
+from mechdyn.drive.schema import MotorTable as DriveMotorTable
 from mechdyn.drivetrain.elements import (
     MAX_SHAFT_ELEMENTS,
     Disk,
@@ -51,7 +55,16 @@ from mechdyn.io.fields import (
 from mechdyn.io.modelfile import ModelSource, field_context, validate
 from mechdyn.units import show
 
-__all__ = ["CampbellSettings", "DrivetrainFile", "ResponseSettings", "build", "settings"]
+__all__ = [
+    "CampbellSettings",
+    "DrivetrainFile",
+    "DrivetrainSettings",
+    "DynamicsSettings",
+    "MeshDynamics",
+    "ResponseSettings",
+    "build",
+    "settings",
+]
 
 
 # an excitation order: cycles per revolution, a positive finite number
@@ -151,6 +164,54 @@ class ShaftTable(FileModel):
         return self
 
 
+class StiffnessVariationTable(FileModel):
+    """A mesh stiffness that alternates between single and double tooth contact (a rectangular wave)."""
+
+    fluctuation: Dimensionless = Field(ge=0.0, lt=2.0)
+    """Peak-to-peak mesh stiffness over the mean, k/k̄ (e.g. 0.3)."""
+    contact_ratio: Dimensionless = Field(ge=1.0, le=2.0)
+    """Transverse contact ratio ε, from 1 to 2: the fraction ε − 1 of the cycle has two pairs in
+    contact."""
+
+    @model_validator(mode="after")
+    def _positive(self) -> StiffnessVariationTable:
+        low = 1.0 - self.fluctuation * (self.contact_ratio - 1.0)
+        if low <= 0.0:
+            raise ValueError(
+                f"fluctuation {self.fluctuation:g} with contact_ratio {self.contact_ratio:g} makes the "
+                f"single-contact stiffness {low:g} × the mean, not positive; give a smaller fluctuation"
+            )
+        return self
+
+
+def _stiffness_variation(value: Any) -> Any:
+    """A word or a table, each refused in words: the union's own errors would name its branches."""
+    from pydantic import ValidationError
+
+    hint = '"constant", "gears", or a table { fluctuation = 0.3, contact_ratio = 1.6 }'
+    if isinstance(value, str):
+        if value not in ("constant", "gears"):
+            raise ValueError(f"{value!r} is not a stiffness variation; give {hint}")
+        return value
+    if isinstance(value, dict):
+        try:
+            return StiffnessVariationTable.model_validate(value)
+        except ValidationError as exc:
+            e = exc.errors()[0]
+            field = ".".join(str(x) for x in e["loc"])
+            message = str(e["msg"]).removeprefix("Value error, ")
+            raise ValueError(f"{field + ': ' if field else ''}{message}") from None
+    if isinstance(value, StiffnessVariationTable):
+        return value
+    raise ValueError(f"{value!r} is not a stiffness variation; give {hint}")
+
+
+# "constant", "gears" or a rectangular wave; checked by _stiffness_variation before the union
+StiffnessVariation = Annotated[
+    Literal["constant", "gears"] | StiffnessVariationTable, BeforeValidator(_stiffness_variation)
+]
+
+
 class MeshTable(FileModel):
     name: str
     """The mesh's name, unique among the elements."""
@@ -172,6 +233,16 @@ class MeshTable(FileModel):
     gear_pair: str | None = None
     """The name of a ``[[gear_pairs]]`` row: the mesh then takes its teeth, base radii and mean mesh stiffness
     (over a mesh cycle) from that gear data."""
+    backlash: Length | None = Field(default=None, gt=0.0)
+    """Total backlash along the line of action, for ``mechdyn simulate``: the teeth separate and may hit
+    the back flanks (default: none, the teeth always in contact)."""
+    transmission_error: Length = Field(default=0.0, ge=0.0)
+    """Amplitude of the static transmission error, a sine at the mesh frequency, for ``mechdyn simulate``
+    (needs the teeth)."""
+    stiffness_variation: StiffnessVariation = "constant"
+    """How the mesh stiffness varies over the mesh cycle in ``mechdyn simulate``: ``"constant"`` (the
+    mean), ``"gears"`` (the cycle of the ``gear_pair``'s teeth), or a rectangular wave
+    ``{ fluctuation = 0.3, contact_ratio = 1.6 }`` (needs the teeth). Modal analyses use the mean."""
 
     @model_validator(mode="after")
     def _one_source(self) -> MeshTable:
@@ -186,7 +257,146 @@ class MeshTable(FileModel):
                 f"gear_pair {self.gear_pair!r} sets teeth, base radii and stiffness; "
                 f"remove {', '.join(given)}"
             )
+        if self.stiffness_variation == "gears" and self.gear_pair is None:
+            raise ValueError(
+                'stiffness_variation = "gears" takes the mesh cycle of a gear pair; give gear_pair = the '
+                "name of a [[gear_pairs]] row, or stiffness_variation = { fluctuation = 0.3, "
+                "contact_ratio = 1.6 }"
+            )
         return self
+
+
+class MotorTable(DriveMotorTable):
+    """A motor driving one disk in ``mechdyn simulate``: the drive file's ``[motor]`` (an induction
+    motor from its rating, or a torque–speed curve) with the disk it drives."""
+
+    disk: str
+    """The disk the motor drives (its rotor: the rotor's inertia belongs in that disk's ``inertia``)."""
+    ratio: Dimensionless = Field(default=1.0, gt=0.0)
+    """Motor speed over the disk's speed, for a loss-free gear or belt between them (1: on the disk)."""
+    direction: Literal[1, -1] = 1
+    """1: the motor drives the disk in the positive sense of rotation; −1: the negative sense."""
+    rotor_inertia: Inertia = Field(default=0.0, ge=0.0)
+    """Leave it out here: the rotor is the ``disk``, whose ``inertia`` holds it (only 0 is accepted)."""
+
+    @model_validator(mode="after")
+    def _rotor_is_the_disk(self) -> MotorTable:
+        if self.rotor_inertia:
+            raise ValueError(
+                f"rotor_inertia: the rotor is disk {self.disk!r}; add its inertia to that disk's inertia "
+                "and remove rotor_inertia here"
+            )
+        return self
+
+
+# the fields each kind of [[loads]] row reads (besides kind and disk) and those it needs
+_LOAD_FIELDS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "constant": (("torque",), ("torque",)),
+    "step": (("torque", "time", "initial_torque"), ("torque", "time")),
+    "ramp": (("torque", "start", "end", "initial_torque"), ("torque", "start", "end")),
+    "table": (("rows",), ("rows",)),
+    "harmonic": (("amplitude", "frequency", "phase", "torque"), ("amplitude", "frequency")),
+    "stop": (("time", "brake", "hold_speed"), ("time",)),
+}
+
+
+class LoadTable(FileModel):
+    """A torque on a disk in ``mechdyn simulate``; the ``kind`` says which fields it reads."""
+
+    kind: Literal["constant", "step", "ramp", "table", "harmonic", "stop"]
+    """``constant`` (torque), ``step`` (initial_torque, then torque from time), ``ramp`` (initial_torque
+    to torque from start to end), ``table`` (rows of [time, torque]), ``harmonic`` (torque + amplitude
+    cos(2π frequency t + phase)), ``stop`` (the ``[motor]`` switched off at time, a brake holding)."""
+    disk: str | None = None
+    """The disk it acts on (a ``stop`` acts on the motor's disk: leave it out there)."""
+    torque: Torque | None = None
+    """The torque (constant), the torque after the step or the ramp, or the mean of a harmonic torque, in
+    the drivetrain's positive sense: a load resists a disk turning that way with a negative torque, and
+    one turning the other way (beyond an external mesh) with a positive one."""
+    initial_torque: Torque = 0.0
+    """The torque before the step or the ramp (step, ramp)."""
+    time: Time | None = Field(default=None, ge=0.0)
+    """The instant of the step or the stop (step, stop)."""
+    start: Time | None = Field(default=None, ge=0.0)
+    """When the ramp begins (ramp)."""
+    end: Time | None = Field(default=None, ge=0.0)
+    """When the ramp ends, after its start (ramp)."""
+    rows: list[tuple[str, str]] | None = None
+    """Rows [time, torque], times increasing, e.g. [["0 s", "0 N*m"], ["0.5 s", "-8 N*m"]] (table); the
+    torque is interpolated linearly and the end values hold outside."""
+    amplitude: Torque | None = None
+    """Amplitude of the harmonic torque (harmonic)."""
+    frequency: Frequency | None = Field(default=None, ge=0.0)
+    """Frequency of the harmonic torque (harmonic)."""
+    phase: Angle = 0.0
+    """Phase of the harmonic torque at t = 0 (harmonic)."""
+    brake: Torque = Field(default=0.0, ge=0.0)
+    """Brake torque opposing the motor's disk after the stop (stop; 0: the motor only switched off)."""
+    hold_speed: AngularSpeed = Field(default=0.01, gt=0.0)
+    """Speed below which the brake torque falls smoothly to zero, so a stopped train is held (stop)."""
+
+    @model_validator(mode="after")
+    def _fields_of_kind(self) -> LoadTable:
+        reads, needs = _LOAD_FIELDS[self.kind]
+        missing = [k for k in needs if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"a {self.kind} load needs {', '.join(missing)}; {_LOAD_EXAMPLES[self.kind]}")
+        defaults = LoadTable.model_fields
+        extra = [
+            k
+            for k in self.model_fields_set
+            if k not in ("kind", "disk", *reads) and getattr(self, k) != defaults[k].default
+        ]
+        if extra:
+            raise ValueError(
+                f"{', '.join(sorted(extra))} {'is' if len(extra) == 1 else 'are'} not read by a {self.kind} "
+                f"load; remove {'it' if len(extra) == 1 else 'them'} ({_LOAD_EXAMPLES[self.kind]})"
+            )
+        if self.kind == "stop":
+            if self.disk is not None:
+                raise ValueError("a stop acts on the [motor]'s disk; remove disk")
+        elif self.disk is None:
+            raise ValueError(f"a {self.kind} load needs the disk it acts on; give disk = its name")
+        if self.kind == "ramp" and not (self.end or 0.0) > (self.start or 0.0):
+            raise ValueError(f"the ramp ends at {self.end:g} s, not after its start at {self.start:g} s")
+        if self.kind == "table" and len(self.rows or []) < 2:
+            raise ValueError(
+                'a table load needs two rows or more, e.g. [["0 s", "0 N*m"], ["1 s", "-5 N*m"]]'
+            )
+        return self
+
+
+_LOAD_EXAMPLES = {
+    "constant": 'e.g. torque = "-12 N*m"',
+    "step": 'e.g. torque = "-12 N*m", time = "0.5 s"',
+    "ramp": 'e.g. torque = "-12 N*m", start = "0.5 s", end = "0.8 s"',
+    "table": 'e.g. rows = [["0 s", "0 N*m"], ["0.5 s", "-12 N*m"]]',
+    "harmonic": 'e.g. amplitude = "2 N*m", frequency = "50 Hz"',
+    "stop": 'e.g. time = "1.5 s", brake = "20 N*m"',
+}
+
+_METHODS = Literal["LSODA", "Radau", "BDF", "DOP853", "RK45", "RK23"]
+
+
+class SimulationTable(FileModel):
+    """The time simulation of ``mechdyn simulate``."""
+
+    duration: Time = Field(gt=0.0)
+    """Simulated time, e.g. "2 s"."""
+    initial_speed: AngularSpeed = 0.0
+    """Speed of the ``reference`` disk at t = 0 (every disk in the rigid rotation of that speed)."""
+    reference: str | None = None
+    """The disk of ``initial_speed`` (default: the first disk)."""
+    start: Literal["static", "rest"] = "static"
+    """``static``: the train starts deflected by the torques at t = 0; ``rest``: not deflected."""
+    output_step: Time | None = Field(default=None, gt=0.0)
+    """Sample the result every output_step (default: every integration step; give one for long runs)."""
+    method: _METHODS = "LSODA"
+    """Time integrator (``scipy.integrate.solve_ivp``): LSODA switches between Adams and BDF as needed."""
+    rtol: Dimensionless = Field(default=1e-7, ge=1e-13, le=1e-2)
+    """Relative tolerance of the integrator."""
+    cycle_steps: int = Field(default=8, ge=1, le=100_000)
+    """Fewest integration steps per mesh cycle (a varying mesh stiffness is resolved, not stepped over)."""
 
 
 class GearPairTable(FileModel):
@@ -289,6 +499,22 @@ class DrivetrainFile(FileModel):
     ground_dampers: list[GroundDamperTable] = Field(default_factory=list)
     campbell: CampbellTable | None = None
     response: ResponseTable | None = None
+    motor: MotorTable | None = None
+    """A motor on a disk, for ``mechdyn simulate``."""
+    loads: list[LoadTable] = Field(default_factory=list)
+    """Torques on disks over time, for ``mechdyn simulate``."""
+    simulation: SimulationTable | None = None
+    """The time simulation of ``mechdyn simulate``: duration, initial speed, integrator."""
+
+
+class _MeshDynamicsRow(FileModel):
+    model_config = ConfigDict(extra="ignore", frozen=True)
+
+    name: str
+    gear_pair: str | None = None
+    backlash: Length | None = None
+    transmission_error: Length = 0.0
+    stiffness_variation: StiffnessVariation = "constant"
 
 
 class _AnalysisTables(FileModel):
@@ -298,6 +524,12 @@ class _AnalysisTables(FileModel):
 
     campbell: CampbellTable | None = None
     response: ResponseTable | None = None
+    meshes: list[_MeshDynamicsRow] = Field(default_factory=list)
+    gear_pairs: list[GearPairTable] = Field(default_factory=list)
+    gear_material: GearMaterialTable = GearMaterialTable()
+    motor: MotorTable | None = None
+    loads: list[LoadTable] = Field(default_factory=list)
+    simulation: SimulationTable | None = None
 
 
 def _where(table: str, i: int, name: str) -> str:
@@ -491,10 +723,130 @@ class ResponseSettings:
     damping: ModalDamping | RayleighDamping
 
 
-def settings(
-    source: ModelSource, drivetrain: Drivetrain
-) -> tuple[CampbellSettings | None, ResponseSettings | None]:
-    """Read the optional analysis tables of a drivetrain file, checking disk names."""
+@dataclass(frozen=True)
+class MeshDynamics:
+    """A mesh's ``backlash``, ``transmission_error`` and ``stiffness_variation`` (for ``mechdyn simulate``).
+
+    Attributes
+    ----------
+    backlash : float or None
+        Total backlash along the line of action, m (None: always in contact).
+    transmission_error : float
+        Amplitude of the static transmission error, a sine at the mesh frequency, m.
+    stiffness_variation : str or tuple of float
+        ``"constant"``, ``"gears"`` (the cycle of ``gear_pair``), or (fluctuation, contact ratio) of a
+        rectangular wave, dimensionless.
+    gear_pair : GearPair or None
+        The gear data whose mesh cycle ``"gears"`` takes.
+    """
+
+    backlash: float | None = None
+    transmission_error: float = 0.0
+    stiffness_variation: str | tuple[float, float] = "constant"
+    gear_pair: Any = None
+
+    def profile(self) -> Any:
+        """The stiffness profile :meth:`GearSystem.from_drivetrain` takes (a MeshCycle, a mapping, or
+        None for a constant stiffness)."""
+        if self.stiffness_variation == "gears":
+            return self.gear_pair.mesh_cycle()
+        if isinstance(self.stiffness_variation, tuple):
+            fluctuation, contact_ratio = self.stiffness_variation
+            return {"fluctuation": fluctuation, "contact_ratio": contact_ratio}
+        return None
+
+
+@dataclass(frozen=True)
+class DynamicsSettings:
+    """The time-simulation tables of a drivetrain file: mesh dynamics, ``[motor]``, ``[[loads]]`` and
+    ``[simulation]`` as read (SI values).
+
+    Attributes
+    ----------
+    meshes : dict of str to MeshDynamics
+        The meshes that set backlash, a transmission error or a varying stiffness, by name.
+    motor : MotorTable or None
+        The ``[motor]`` table.
+    loads : tuple of LoadTable
+        The ``[[loads]]`` rows.
+    simulation : SimulationTable or None
+        The ``[simulation]`` table.
+    """
+
+    meshes: dict[str, MeshDynamics] = dataclass_field(default_factory=dict)
+    motor: MotorTable | None = None
+    loads: tuple[LoadTable, ...] = ()
+    simulation: SimulationTable | None = None
+
+    def system_options(self) -> dict[str, dict[str, Any]]:
+        """``mesh_profiles``, ``errors`` and ``backlash`` for :meth:`GearSystem.from_drivetrain`."""
+        profiles = {n: m.profile() for n, m in self.meshes.items() if m.stiffness_variation != "constant"}
+        errors = {
+            n: {"amplitude": m.transmission_error} for n, m in self.meshes.items() if m.transmission_error
+        }
+        gaps = {n: m.backlash for n, m in self.meshes.items() if m.backlash is not None}
+        return {"mesh_profiles": profiles, "errors": errors, "backlash": gaps}
+
+    def inputs(self) -> list[Any]:
+        """The torque inputs of :mod:`mechdyn.gear_dynamics.loads`: the motor, then the loads in file order
+        (a ``stop`` replaces the motor)."""
+        from mechdyn.drive.motor import InductionMotor, TorqueSpeedCurve
+        from mechdyn.gear_dynamics import loads as L
+
+        out: list[Any] = []
+        motor = None
+        if self.motor is not None:
+            m = self.motor
+            if m.type == "induction":
+                assert m.power and m.synchronous_speed and m.rated_speed and m.pullout_ratio  # the schema's
+                curve: Any = InductionMotor.from_rating(
+                    m.power, m.synchronous_speed, m.rated_speed, m.pullout_ratio, 0.0, "motor"
+                )
+            else:
+                curve = TorqueSpeedCurve.from_table(m.curve or [], 0.0, "motor")
+            motor = L.MotorTorque(m.disk, curve, m.ratio, m.direction)
+            out.append(motor)
+        for row in self.loads:
+            r: Any = row  # the fields its kind needs are there (LoadTable checked them)
+            if r.kind == "stop":
+                assert motor is not None and r.time is not None  # settings() checked
+                out[0] = L.BrakeStop(out[0], r.time, r.brake, r.hold_speed)
+                continue
+            disk = str(r.disk)
+            if r.kind == "constant":
+                out.append(L.ConstantTorque(disk, r.torque))
+            elif r.kind == "step":
+                out.append(L.StepTorque(disk, r.torque, r.time, r.initial_torque))
+            elif r.kind == "ramp":
+                out.append(L.RampTorque(disk, r.torque, r.start, r.end, r.initial_torque))
+            elif r.kind == "table":
+                out.append(L.TabulatedTorque.from_table(disk, r.rows or []))
+            else:
+                out.append(L.HarmonicTorque(disk, r.amplitude, r.frequency, r.phase, r.torque or 0.0))
+        return out
+
+
+@dataclass(frozen=True)
+class DrivetrainSettings:
+    """The analysis tables of a drivetrain file (:attr:`mechdyn.io.LoadedModel.settings`).
+
+    Attributes
+    ----------
+    campbell : CampbellSettings or None
+        ``[campbell]``.
+    response : ResponseSettings or None
+        ``[response]``.
+    dynamics : DynamicsSettings or None
+        The mesh dynamics, ``[motor]``, ``[[loads]]`` and ``[simulation]`` (None when the file has none).
+    """
+
+    campbell: CampbellSettings | None = None
+    response: ResponseSettings | None = None
+    dynamics: DynamicsSettings | None = None
+
+
+def settings(source: ModelSource, drivetrain: Drivetrain) -> DrivetrainSettings:
+    """Read the optional analysis tables of a drivetrain file, checking disk and mesh names."""
     import cmath
 
     f = validate(_AnalysisTables, source)
@@ -525,4 +877,81 @@ def settings(
         else:
             damping = ModalDamping(0.02 if r.modal_damping is None else r.modal_damping)
         resp = ResponseSettings(exc, r.frequency_range, r.points, tuple(r.outputs), damping)
-    return camp, resp
+    return DrivetrainSettings(camp, resp, _dynamics(source, f, drivetrain, check))
+
+
+def _dynamics(
+    source: ModelSource, f: _AnalysisTables, drivetrain: Drivetrain, check: Any
+) -> DynamicsSettings | None:
+    """The time-simulation tables, their names checked against the drivetrain."""
+    meshes: dict[str, MeshDynamics] = {}
+    for i, m in enumerate(f.meshes):
+        variation = m.stiffness_variation
+        if m.backlash is None and not m.transmission_error and variation == "constant":
+            continue
+        where = _where("meshes", i, m.name)
+        element = drivetrain.element(m.name)
+        if getattr(element, "rigid", False):
+            given = (
+                "backlash"
+                if m.backlash is not None
+                else ("transmission_error" if m.transmission_error else "stiffness_variation")
+            )
+            raise ModelFileError(
+                source.path,
+                f"{where} → {given}",
+                "a rigid mesh (no stiffness) has no backlash, transmission error or stiffness variation; "
+                "give the mesh its stiffness (with base_radii) or a gear_pair",
+            )
+        if getattr(element, "teeth", None) is None and (m.transmission_error or variation != "constant"):
+            given = "transmission_error" if m.transmission_error else "stiffness_variation"
+            raise ModelFileError(
+                source.path,
+                f"{where} → {given}",
+                "a transmission error or a stiffness varying over the mesh cycle needs the teeth (the mesh "
+                "phase counts them); give teeth = [z_a, z_b] instead of ratio",
+            )
+        pair = None
+        if variation == "gears":
+            j, gp = next((j, g) for j, g in enumerate(f.gear_pairs) if g.name == m.gear_pair)
+            pair = pair_from_tables(
+                source,
+                _where("gear_pairs", j, gp.name),
+                gp.pinion,
+                gp.gear,
+                f.gear_material,
+                gp.center_distance,
+                gp.tooth_model,
+                gp.kind,
+            )
+        shape = (
+            variation
+            if isinstance(variation, str)
+            else (float(variation.fluctuation), float(variation.contact_ratio))
+        )
+        meshes[m.name] = MeshDynamics(m.backlash, m.transmission_error, shape, pair)
+    if f.motor is not None:
+        check("[motor] → disk", f.motor.disk)
+    for i, load in enumerate(f.loads):
+        if load.kind == "stop" and f.motor is None:
+            raise ModelFileError(
+                source.path,
+                f"[[loads]] #{i + 1} → kind",
+                "a stop switches off the [motor]; add a [motor] table, or give the braking torque as a step "
+                "load",
+                "stop",
+            )
+        check(f"[[loads]] #{i + 1} → disk", load.disk)
+    stops = [i for i, load in enumerate(f.loads) if load.kind == "stop"]
+    if len(stops) > 1:
+        raise ModelFileError(
+            source.path,
+            f"[[loads]] #{stops[1] + 1} → kind",
+            "the motor stops once; keep one stop row",
+            "stop",
+        )
+    if f.simulation is not None:
+        check("[simulation] → reference", f.simulation.reference)
+    if not meshes and f.motor is None and not f.loads and f.simulation is None:
+        return None
+    return DynamicsSettings(meshes, f.motor, tuple(f.loads), f.simulation)

@@ -23,8 +23,9 @@ STATIC_SHARE = 1e-6
 
 @dataclass(frozen=True)
 class ContactLoss:
-    """One interval in which a mesh's loaded flanks are apart (the flanks in contact when the run
-    started: the drive side, or the back side under a reversed load).
+    """One interval in which a mesh's loaded flanks are apart (the flanks the inputs press together at
+    the start of the run, else at its end, by the sign of the quasi-static mesh force: the drive side,
+    or the back side of a mesh whose driving gear turns the negative way or under a reversed load).
 
     Attributes
     ----------

@@ -555,7 +555,13 @@ def _result(
         Q_end = _load_torques(system, inputs, float(t[-1]), qd[:, -1])
         u = static_deflection(system, Q_end)
         static = np.array([mesh.mean_stiffness * (mesh.g @ u) for mesh in system.meshes])
-    losses = _contact_losses(system, modes[:, 0], changes, float(t[-1]))
+    loaded_flanks = None
+    if inputs:  # the flanks the inputs press together at the start, else at the end of the run
+        u0 = static_deflection(system, _load_torques(system, inputs, float(t[0]), qd[:, 0]))
+        first = np.array([mesh.g @ u0 for mesh in system.meshes])
+        last = static if static is not None else np.zeros(len(system.meshes))
+        loaded_flanks = np.where(np.abs(first) > 0.0, np.sign(first), np.sign(last))
+    losses = _contact_losses(system, modes[:, 0], changes, loaded_flanks)
     return SimulationResult(
         system=system,
         time=t,
@@ -580,15 +586,24 @@ def _result(
 
 
 def _contact_losses(
-    system: GearSystem, initial: np.ndarray, changes: list[tuple[float, int, int, int]], t_end: float
+    system: GearSystem,
+    initial: np.ndarray,
+    changes: list[tuple[float, int, int, int]],
+    loaded_flanks: np.ndarray | None,
 ) -> tuple[ContactLoss, ...]:
-    """Intervals in which each mesh's loaded flanks are apart: the flanks in contact at the start (the
-    drive side when the run starts in the gap), left for the gap and regained."""
+    """Intervals in which each mesh's loaded flanks are apart, left for the gap and regained. The loaded
+    flanks are those the inputs press together (``loaded_flanks``: the sign of the quasi-static mesh
+    force at the start, else at the end of the run; in a train whose disks turn both ways the back
+    flanks of some meshes carry the load), else those in contact at the start (the drive side when the
+    run starts in the gap)."""
     out = []
     for j, mesh in enumerate(system.meshes):
-        working = _DRIVE if initial[j] == _GAP else int(initial[j])
+        if loaded_flanks is not None and loaded_flanks[j] != 0.0 and mesh.backlash is not None:
+            working = _DRIVE if loaded_flanks[j] > 0.0 else _BACK
+        else:
+            working = _DRIVE if initial[j] == _GAP else int(initial[j])
         opposite = _BACK if working == _DRIVE else _DRIVE
-        start: float | None = 0.0 if initial[j] == _GAP else None
+        start: float | None = 0.0 if initial[j] != working else None
         impacts = 0
         for t, jj, old, new in changes:
             if jj != j:

@@ -114,6 +114,45 @@ _DRIVETRAIN = TemplateExample(
             "base_radii": ["18.79 mm", "56.38 mm"],
             "stiffness": "3e8 N/m",
             "gear_pair": "pair",
+            "backlash": "60 um",
+            "transmission_error": "5 um",
+        },
+        "meshes.stiffness_variation": {"fluctuation": 0.3, "contact_ratio": 1.6},
+        "motor": {
+            "disk": "motor",
+            "type": "induction",
+            "power": "4 kW",
+            "synchronous_speed": "1500 rpm",
+            "rated_speed": "1440 rpm",
+            "pullout_ratio": 2.8,
+            "curve": [["0 rpm", "60 N*m"], ["1440 rpm", "26.5 N*m"], ["1500 rpm", "0 N*m"]],
+            "ratio": 1.0,
+            "direction": 1,
+        },
+        "loads": {
+            "kind": "ramp",
+            "disk": "load",
+            "torque": "-20 N*m",
+            "initial_torque": "0 N*m",
+            "time": "1 s",
+            "start": "0.5 s",
+            "end": "0.8 s",
+            "rows": [["0 s", "0 N*m"], ["0.5 s", "-20 N*m"]],
+            "amplitude": "2 N*m",
+            "frequency": "50 Hz",
+            "phase": "0 deg",
+            "brake": "40 N*m",
+            "hold_speed": "0.01 rad/s",
+        },
+        "simulation": {
+            "duration": "2 s",
+            "initial_speed": "0 rpm",
+            "reference": "motor",
+            "start": "rest",
+            "output_step": "1 ms",
+            "method": "LSODA",
+            "rtol": 1e-7,
+            "cycle_steps": 8,
         },
         "gear_pairs": {"name": "pair", "center_distance": "80 mm"},
         "gear_pairs.pinion": {"teeth": 20, "module": "2 mm", "face_width": "20 mm", **_GEAR_EXTRAS},
@@ -127,7 +166,12 @@ _DRIVETRAIN = TemplateExample(
         "density here or in [material]).",
         "meshes": "A mesh by its teeth or ratio (rigid), with base_radii and stiffness (flexible), or by "
         "gear_pair = the name of a [[gear_pairs]] row. A mesh needs both its disks: add a [[disks]] "
-        'row "output" before uncommenting this one.',
+        'row "output" before uncommenting this one. backlash, transmission_error and '
+        "stiffness_variation are read by mechdyn simulate only.",
+        "motor": "mechdyn simulate: a motor on a disk, by its rating (Kloss's formula) or, with type = "
+        '"curve", its torque-speed curve; with [simulation] this template runs mechdyn simulate FILE.',
+        "loads": "mechdyn simulate: a torque on a disk; kind says which fields it reads (a ramp: torque, "
+        "start, end, initial_torque).",
     },
 )
 
