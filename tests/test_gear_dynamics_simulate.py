@@ -465,8 +465,18 @@ def test_result_protocol(tmp_path):
     frame = result.to_frame()
     assert {"time_s", "a_speed_rad_s", "m_force_N", "m_dte_m"} <= set(frame.columns)
     assert len(frame) == result.time.size
-    titles = [t.title for t in result.tables(force_unit="kN")]
-    assert titles == ["summary", "max speed", "final speed", "meshes", "contact losses"]
+    tables = {t.title: t for t in result.tables(force_unit="kN")}
+    assert list(tables) == ["summary", "speeds", "meshes", "contact losses"]
+    # speeds in rpm; the contact losses one row per mesh, adding up the intervals
+    from mechdyn.units import convert
+
+    assert tables["speeds"].rows[0][2] == pytest.approx(convert(s["final_speed_rad_s"]["a"], "rad/s", "rpm"))
+    (row,) = tables["contact losses"].rows
+    lost = result.contact_losses
+    assert row[:2] == ["m", len(lost)] and row[-1] == sum(c.back_impacts for c in lost)
+    ends = [c.end if c.end is not None else result.time[-1] for c in lost]
+    apart = sum(e - c.start for c, e in zip(lost, ends, strict=True))
+    assert row[2] == pytest.approx(convert(apart, "s", "ms"))
     arrays = result.arrays()
     assert arrays["m_force_N"][1] == "N" and arrays["energy_kinetic_J"][1] == "J"
     plots = result.plots()

@@ -238,12 +238,27 @@ class SimulationResult(Result):
         **display_units : str
             ``force_unit``, ``length_unit``: see :func:`mechdyn.results.summary_table`.
         """
-        from mechdyn.results import nested_tables
         from mechdyn.units import convert, readable
 
         summary = self.summary()
-        speeds = {k: summary[k] for k in ("max_speed_rad_s", "final_speed_rad_s")}
-        tables = [summary_table(summary, display_units=display_units), *nested_tables(speeds)]
+        tables = [summary_table(summary, display_units=display_units)]
+        speeds = [
+            [
+                disk,
+                float(convert(summary["max_speed_rad_s"][disk], "rad/s", "rpm")),
+                float(convert(summary["final_speed_rad_s"][disk], "rad/s", "rpm")),
+            ]
+            for disk in summary["final_speed_rad_s"]
+        ]
+        tables.append(
+            Table(
+                "speeds",
+                ["disk", "top speed [rpm]", "at the end [rpm]"],
+                speeds,
+                note="The top speed is a magnitude; the speed at the end is signed in the drivetrain's one "
+                "sense of rotation (a disk beyond an external mesh turns the negative way).",
+            )
+        )
         if self.mesh_names:
             s = self.summary()
             force_unit = display_units.get("force_unit", "N")
@@ -280,12 +295,36 @@ class SimulationResult(Result):
                 )
             )
         if self.contact_losses:
+            rows = []
+            for n in dict.fromkeys(c.mesh for c in self.contact_losses):
+                lost = [c for c in self.contact_losses if c.mesh == n]
+                ends = [c.end if c.end is not None else float(self.time[-1]) for c in lost]
+                rows.append(
+                    [
+                        n,
+                        len(lost),
+                        float(convert(sum(e - c.start for c, e in zip(lost, ends, strict=True)), "s", "ms")),
+                        float(convert(max(e - c.start for c, e in zip(lost, ends, strict=True)), "s", "ms")),
+                        float(convert(lost[0].start, "s", "ms")),
+                        float(convert(ends[-1], "s", "ms")),
+                        sum(c.back_impacts for c in lost),
+                    ]
+                )
             tables.append(
                 Table(
                     "contact losses",
-                    ["mesh", "start [s]", "end [s]", "back-side impacts"],
-                    [[c.mesh, c.start, c.end, c.back_impacts] for c in self.contact_losses],
-                    note="An end of — : the flanks were still apart when the run ended.",
+                    [
+                        "mesh",
+                        "intervals",
+                        "apart in all [ms]",
+                        "longest [ms]",
+                        "first from [ms]",
+                        "last until [ms]",
+                        "back-side impacts",
+                    ],
+                    rows,
+                    note="Every interval is in the result's contact_losses and its to_frame(); a last "
+                    "interval still open when the run ended counts to the end.",
                 )
             )
         return tables
