@@ -4,7 +4,10 @@
 reduced coordinates, each flexible mesh a :class:`MeshLink` (stiffness over the mesh cycle, static
 transmission error, backlash). :func:`simulate` integrates it in time under the torque inputs of
 :mod:`~mechdyn.gear_dynamics.loads` (constant, harmonic, step, ramp, tabulated, a motor of
-:mod:`mechdyn.drive`, an emergency stop) and returns a :class:`SimulationResult`.
+:mod:`mechdyn.drive`, an emergency stop) and returns a :class:`SimulationResult`. :func:`speed_sweep` gives the periodic steady state over a
+speed range (harmonic balance, shooting) with the dynamic mesh force and the dynamic factor against
+ISO 6336-1's K_v; :func:`floquet` and :func:`stability_chart` the Floquet multipliers of the
+time-periodic system, the parametric instabilities a Campbell diagram does not show.
 """
 
 from mechdyn._lazy import attach
@@ -29,6 +32,15 @@ __all__ = attach(
         "RampTorque": "loads",
         "StepTorque": "loads",
         "TabulatedTorque": "loads",
-        # -- steady state and Floquet stability (steady.py, floquet.py): names merged here --
+        # -- periodic steady state over speed, Floquet stability --
+        "speed_sweep": "steady",
+        "steady_state": "steady",
+        "SpeedSweepResult": "steady",
+        "SteadyState": "steady",
+        "floquet": "floquet",
+        "monodromy": "floquet",
+        "stability_chart": "floquet",
+        "FloquetResult": "floquet",
+        "StabilityChart": "floquet",
     },
 )

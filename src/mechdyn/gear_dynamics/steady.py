@@ -1,0 +1,1069 @@
+"""Periodic steady state of a geared drivetrain at constant speed, and its sweep over speed.
+
+The reference disk (a motor) turns at exactly Ω — a kinematic input, the usual boundary condition of
+a speed sweep — and the loads draw constant torques. About the nominal rigid rotation q = Ω t r the
+teeth-in-contact vibration x obeys the linear time-periodic system of :mod:`.floquet`,
+
+    M ẍ + C ẋ + K(t) x = F₀ + Σ_j g_j (k_j(τ_j) e_j(τ_j) + c_j ė_j),  τ_j = z_j θ_a,nominal / (2π),
+
+excited by the static transmission errors e_j and, through the varying stiffness, by the mean load.
+Its periodic response comes from
+
+* **harmonic balance** (the fast path): x = Σ_p X_p exp(i p ω₀ t), p = −H … H; the stiffness
+  harmonics couple X_p to X_(p − h m_j), so one sparse linear system in the coefficients gives the
+  response exactly up to the truncation (Nayfeh & Mook, *Nonlinear Oscillations*, 1979, §5.4, Hill's
+  determinant; Blankenship & Kahraman, *J. Sound Vib.* 185 (1995) 743–765 for gear pairs);
+* **shooting**: the one-period propagator [[Φ, y_p], [0, 1]] of the forced system (Magnus product or
+  solve_ivp, :mod:`.floquet`) and y₀ = (I − Φ)⁻¹ y_p (e.g. Nayfeh & Balachandran, *Applied Nonlinear
+  Dynamics*, 1995, §7.1); with backlash the same shooting wrapped in Newton's method on the nonlinear
+  flow, its Jacobian from the variational equations, continued over speed from each solution to the
+  next.
+
+Several meshes share the common period of their mesh frequencies (the greatest common divisor of
+their rational ratios, :func:`.floquet.period_plan`); where it is longer than 64 mesh periods the
+dominant mesh's period is used and the others held at their mean stiffness, with a note.
+
+The dynamic factor K_v = max f_j / f_j,static compares with ISO 6336-1's K_v where the gear data
+are given (``gear_pairs``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+from mechdyn.checks import check_count
+from mechdyn.errors import ModelError
+from mechdyn.gear_dynamics.floquet import (
+    UNSTABLE_MARGIN,
+    LinearPeriodic,
+    PeriodPlan,
+    _check_speed,
+    _monodromy,
+    _spectral,
+    _speeds,
+    interpolant_harmonics,
+    interpolate,
+    interpolated_slope,
+    ivp_propagators,
+    linear_periodic,
+    ordered_product,
+    period_plan,
+    product_harmonics,
+    propagators,
+    segments,
+)
+from mechdyn.results import Result, Table
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["SpeedSweepResult", "SteadyState", "speed_sweep", "steady_state"]
+
+Method = Literal["auto", "harmonic_balance", "shooting"]
+_METHODS = ("auto", "harmonic_balance", "shooting")
+
+
+# -- harmonic balance ---------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Balance:
+    """The speed-independent part of the harmonic-balance system."""
+
+    H: int
+    K_held: np.ndarray  # structure plus every mesh at its mean stiffness, N·m/rad
+    varying: tuple[int, ...]  # the meshes whose stiffness varies in the period
+    toeplitz: np.ndarray  # (J_v, 2H+1, 2H+1): k̄_j (c_(p − p') − δ) of each varying mesh, N/m
+    forcing_orders: tuple[np.ndarray, ...]  # per mesh: global orders p of its error terms
+    ke: tuple[np.ndarray, ...]  # per mesh: coefficients of (k e)(τ) at those orders, N
+    e: tuple[np.ndarray, ...]  # per mesh: coefficients of e(τ), m
+
+
+def _balance(lin: LinearPeriodic, plan: PeriodPlan, harmonics: int) -> _Balance:
+    top = max(int(plan.orders.max()) if plan.orders.size else 1, 1)
+    H = harmonics * top
+    p = np.arange(-H, H + 1)
+    diff = p[:, None] - p[None, :]
+    K_held = lin.K.copy()
+    varying, blocks, orders, kes, es = [], [], [], [], []
+    for j in range(len(lin.names)):
+        o, sgn = int(plan.orders[j]), int(plan.signs[j])
+        if o == 0:  # held at its mean stiffness
+            K_held += lin.mean_stiffness[j] * np.outer(lin.G[j], lin.G[j])
+            orders.append(np.zeros(0, int))
+            kes.append(np.zeros(0, complex))
+            es.append(np.zeros(0, complex))
+            continue
+        h = diff // o * sgn
+        c = interpolant_harmonics(lin.profiles[j], h.ravel()).reshape(h.shape)
+        # Z carries every mesh at k̄ (so that it is regular at p = 0); T the deviation from it
+        K_held += lin.mean_stiffness[j] * np.outer(lin.G[j], lin.G[j])
+        varying.append(j)
+        blocks.append(
+            np.where(diff % o == 0, lin.mean_stiffness[j] * c, 0.0) - lin.mean_stiffness[j] * np.eye(p.size)
+        )
+        he = np.arange(-(H // o), H // o + 1)
+        err = lin.errors[j]
+        if np.any(err):
+            prof = lin.profiles[j]
+            if prof.size != err.size:  # the system samples both alike; resample where not
+                P = max(prof.size, err.size)
+                prof, err = interpolate(prof, np.arange(P) / P), interpolate(err, np.arange(P) / P)
+            kes.append(lin.mean_stiffness[j] * product_harmonics(prof, err, he))
+            es.append(interpolant_harmonics(err, he))
+        else:
+            kes.append(np.zeros(he.size, complex))
+            es.append(np.zeros(he.size, complex))
+        orders.append(he * sgn * o)
+    n_p = 2 * H + 1
+    toeplitz = np.array(blocks).reshape(len(blocks), n_p, n_p)
+    return _Balance(H, K_held, tuple(varying), toeplitz, tuple(orders), tuple(kes), tuple(es))
+
+
+def _hb_solve(lin: LinearPeriodic, plan: PeriodPlan, bal: _Balance, speed: float) -> np.ndarray:
+    """(2H+1, m) complex coefficients X_p, p = −H … H.
+
+    The meshes couple the harmonics only through their deflections Δ_(j,p) = g_j · X_p, so the
+    system is condensed onto them: with Z_p = K − (p ω₀)² M + i p ω₀ C (every mesh at its mean
+    stiffness), T_j the Toeplitz matrix of k_j − k̄_j and R_p = G Z_p⁻¹ Gᵀ, (I + R T) Δ = G Z⁻¹ F, a
+    dense system of J (2H+1) unknowns instead of
+    m (2H+1) (the Woodbury identity, e.g. Golub & Van Loan, *Matrix Computations*, 4th ed., §2.1.4);
+    then X_p = Z_p⁻¹ (F_p − Σ_j g_j (T Δ)_(j,p)).
+    """
+    H, m = bal.H, lin.m
+    n_p = 2 * H + 1
+    w0 = 2 * np.pi * plan.fundamental * speed
+    p = np.arange(-H, H + 1)
+    Z = (
+        bal.K_held[None, :, :]
+        - (p * w0)[:, None, None] ** 2 * lin.M[None, :, :]
+        + 1j * (p * w0)[:, None, None] * lin.C[None, :, :]
+    )
+    F = np.zeros((n_p, m), complex)
+    F[H] += lin.force(speed)
+    for j in range(len(lin.names)):
+        if bal.forcing_orders[j].size == 0:
+            continue
+        rate = 1j * bal.forcing_orders[j] * w0  # d/dt of exp(i p ω₀ t)
+        amp = bal.ke[j] + lin.mesh_damping[j] * rate * bal.e[j]
+        F[bal.forcing_orders[j] + H] += np.multiply.outer(amp, lin.G[j])
+    Gv = lin.G[list(bal.varying)]  # (J_v, m)
+    J = Gv.shape[0]
+    rhs = np.concatenate([F[:, :, None], np.broadcast_to(Gv.T, (n_p, m, J))], axis=2)
+    sol = np.linalg.solve(Z, rhs)  # (n_p, m, 1 + J): Z⁻¹ F and Z⁻¹ Gᵀ
+    if J == 0:
+        return sol[:, :, 0]
+    ZF, ZG = sol[:, :, 0], sol[:, :, 1:]
+    R = np.einsum("im,pmj->pij", Gv, ZG)  # (n_p, J, J)
+    # S[(p, i), (q, j)] = δ + R_p[i, j] T_j[p, q]
+    S = np.einsum("pij,jpq->piqj", R, bal.toeplitz).reshape(n_p * J, n_p * J)
+    S[np.diag_indices_from(S)] += 1.0
+    delta = np.linalg.solve(S, (ZF @ Gv.T).ravel()).reshape(n_p, J)
+    coupling = np.einsum("jpq,qj->pj", bal.toeplitz, delta)  # (n_p, J): mesh force harmonics, N
+    return ZF - np.einsum("pmj,pj->pm", ZG, coupling)
+
+
+def _series(X: np.ndarray, w0: float, N: int) -> tuple[np.ndarray, np.ndarray]:
+    """x(t) and ẋ(t) at t = l T / N from two-sided coefficients (2H+1, m)."""
+    H = (X.shape[0] - 1) // 2
+    p = np.arange(-H, H + 1)
+    if N < 2 * H + 1:  # fewer samples than harmonics: sum directly
+        basis = np.exp(2j * np.pi * np.outer(np.arange(N) / N, p))
+        return (basis @ X).real, (basis @ (X * (1j * p * w0)[:, None])).real
+    full = np.zeros((N, X.shape[1]), complex)
+    full[np.mod(p, N)] = X
+    x = np.fft.ifft(full, axis=0).real * N
+    fullv = np.zeros_like(full)
+    fullv[np.mod(p, N)] = X * (1j * p * w0)[:, None]
+    v = np.fft.ifft(fullv, axis=0).real * N
+    return x, v
+
+
+# -- mesh forces over one period -----------------------------------------------------------------------
+def _mesh_forces(
+    lin: LinearPeriodic, plan: PeriodPlan, speed: float, t_over_T: np.ndarray, x: np.ndarray, v: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(N, J) mesh forces (N) and deflections δ (m) along the lines of action."""
+    f0 = plan.fundamental * speed
+    J = len(lin.names)
+    force = np.empty((t_over_T.size, J))
+    delta = x @ lin.G.T
+    rate = v @ lin.G.T
+    for j in range(J):
+        o = int(plan.orders[j])
+        tau = plan.signs[j] * o * t_over_T
+        k: Any
+        e: Any
+        e_dot: Any
+        if o:
+            k = lin.mean_stiffness[j] * interpolate(lin.profiles[j], tau)
+            e = interpolate(lin.errors[j], tau)
+            e_dot = interpolated_slope(lin.errors[j], tau) * plan.signs[j] * o * f0
+        else:
+            k, e, e_dot = lin.mean_stiffness[j], 0.0, 0.0
+        x_rel = delta[:, j] - e
+        b = lin.backlash[j]
+        if b is None:
+            h, contact = x_rel, np.ones(x_rel.shape, bool)
+        else:
+            contact = (x_rel > 0) | (x_rel < -b)
+            h = np.where(x_rel > 0, x_rel, np.where(x_rel < -b, x_rel + b, 0.0))
+        force[:, j] = k * h + lin.mesh_damping[j] * (rate[:, j] - e_dot) * contact
+    return force, delta
+
+
+def _grid(lin: LinearPeriodic, plan: PeriodPlan, H: int) -> int:
+    """Time samples per period: resolve the profiles (4 per sample interval) and the harmonics."""
+    need = [4 * p.size * int(o) for p, o in zip(lin.profiles, plan.orders, strict=True) if o]
+    return int(max([2 * H + 2, 256, *need]))
+
+
+# -- shooting ------------------------------------------------------------------------------------------
+def _shoot_linear(
+    lin: LinearPeriodic, plan: PeriodPlan, speed: float, integrator: str, substeps: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Times (fractions of T), x and ẋ of the periodic solution of the linear system, and Φ(T)."""
+    m = lin.m
+    d = 2 * m
+    if integrator == "ivp":
+        n_seg = segments(lin, plan, 1)
+        E = ivp_propagators(lin, plan, speed, n_seg, forced=True)
+    else:
+        n_seg = segments(lin, plan, substeps, speed)
+        E = propagators(lin, plan, speed, n_seg, forced=True)
+    t = np.arange(n_seg) / n_seg
+    Phi = ordered_product(E)
+    y0 = np.linalg.solve(np.eye(d) - Phi[:d, :d], Phi[:d, d])
+    z = np.empty((n_seg, d + 1))
+    z[0] = np.append(y0, 1.0)
+    for k in range(n_seg - 1):
+        z[k + 1] = E[k] @ z[k]
+    return t, z[:, :m], z[:, m:d], Phi[:d, :d]
+
+
+class _FlowError(RuntimeError):
+    """The nonlinear flow could not be integrated (a trial state of Newton's method far off)."""
+
+
+def _flow(
+    lin: LinearPeriodic,
+    plan: PeriodPlan,
+    speed: float,
+    y0: np.ndarray,
+    t_eval: np.ndarray | None,
+    periods: int = 1,
+    variational: bool = True,
+    rtol: float = 1e-10,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Periods of the nonlinear (backlash) flow and, with ``variational``, its Jacobian: the states
+    at ``t_eval`` (fractions of the last period) and at the end."""
+    from scipy.integrate import solve_ivp
+
+    m = lin.m
+    d = 2 * m
+    T = plan.period(speed)
+    f0 = plan.fundamental * speed
+    Minv = np.linalg.inv(lin.M)
+    F0 = lin.force(speed)
+    J = len(lin.names)
+    o = [int(v) for v in plan.orders * plan.signs]
+    gap = [np.inf if x is None else float(x) for x in lin.backlash]
+    cm = [float(c) for c in lin.mesh_damping]
+    kbar = [float(k) for k in lin.mean_stiffness]
+    prof = [p.tolist() for p in lin.profiles]
+    err = [e.tolist() for e in lin.errors]
+    G = lin.G
+    MinvG = Minv @ G.T  # (m, J)
+    # the linear part without the meshes' damping (switched by the contact below)
+    A_lin = -Minv @ (lin.C - (G.T * lin.mesh_damping) @ G)
+    B_lin = -Minv @ lin.K
+    base = Minv @ F0
+    outer = [-Minv @ np.outer(g, g) for g in G]
+
+    def mesh(t: float, delta: np.ndarray, rate: np.ndarray) -> tuple[list[float], list[float], list[float]]:
+        """Mesh forces, and their stiffness and damping where in contact, at time t."""
+        fm, ke, ce = [0.0] * J, [0.0] * J, [0.0] * J
+        for j in range(J):
+            k, e, ed = kbar[j], 0.0, 0.0
+            if o[j]:
+                P = len(prof[j])
+                u = (o[j] * f0 * t % 1.0) * P
+                i = min(int(u), P - 1)
+                f = u - i
+                i2 = (i + 1) % P
+                k = kbar[j] * (prof[j][i] * (1.0 - f) + prof[j][i2] * f)
+                e = err[j][i] * (1.0 - f) + err[j][i2] * f
+                ed = (err[j][i2] - err[j][i]) * P * o[j] * f0
+            xr = float(delta[j]) - e
+            if xr > 0.0:
+                h = xr
+            elif xr < -gap[j]:
+                h = xr + gap[j]
+            else:
+                continue
+            fm[j] = k * h + cm[j] * (float(rate[j]) - ed)
+            ke[j], ce[j] = k, cm[j]
+        return fm, ke, ce
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        x, v = y[:m], y[m:d]
+        fm, ke, ce = mesh(t, G @ x, G @ v)
+        a = base + B_lin @ x + A_lin @ v - MinvG @ np.asarray(fm)
+        if not variational:
+            return np.concatenate([v, a])
+        Y = y[d:].reshape(d, d)
+        lower_x = B_lin + sum(ke[j] * outer[j] for j in range(J))
+        lower_v = A_lin + sum(ce[j] * outer[j] for j in range(J))
+        dY = np.concatenate([Y[m:], lower_x @ Y[:m] + lower_v @ Y[m:]])
+        return np.concatenate([v, a, dY.ravel()])
+
+    # piece by piece between the corners of the profiles, so that no step straddles one
+    pieces = segments(lin, plan, 1)
+    y = np.concatenate([y0, np.eye(d).ravel()]) if variational else np.asarray(y0, float)
+    atol = 1e-14 * max(np.abs(y0).max(), 1e-12)
+    wanted = None if t_eval is None else (periods - 1 + np.asarray(t_eval, float)) * T
+    samples = []
+    for k in range(periods * pieces):
+        a, b = k * T / pieces, (k + 1) * T / pieces
+        inside = np.zeros(0) if wanted is None else wanted[(wanted >= a) & (wanted < b)]
+        sol = solve_ivp(rhs, (a, b), y, method="DOP853", rtol=rtol, atol=atol, t_eval=np.append(inside, b))
+        if sol.status < 0:  # a contact's damping force jumps where the teeth meet: try an implicit method
+            sol = solve_ivp(rhs, (a, b), y, method="Radau", rtol=rtol, atol=atol, t_eval=np.append(inside, b))
+        if sol.status < 0:
+            raise _FlowError(sol.message)
+        samples.append(sol.y[:, :-1])
+        y = sol.y[:, -1]
+    return np.concatenate(samples, axis=1), y
+
+
+def _warm_start(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> np.ndarray:
+    """A start for Newton near the attracting orbit: the static deflection run for the periods in which
+    the slowest mode of the mean system decays by e⁻⁶ (at most 100)."""
+    m = lin.m
+    K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
+    A = np.block(
+        [[np.zeros((m, m)), np.eye(m)], [-np.linalg.solve(lin.M, K), -np.linalg.solve(lin.M, lin.C)]]
+    )
+    decay = -np.linalg.eigvals(A).real.max()
+    T = plan.period(speed)
+    periods = int(min(100, max(1, np.ceil(6.0 / max(decay * T, 1e-12)))))
+    y = np.concatenate([np.linalg.solve(K, lin.force(speed)), np.zeros(m)])
+    return _flow(lin, plan, speed, y, None, periods=periods, variational=False, rtol=1e-7)[1]
+
+
+def _shoot_nonlinear(
+    lin: LinearPeriodic, plan: PeriodPlan, speed: float, y0: np.ndarray, N: int, tol: float = 1e-7
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool, np.ndarray]:
+    """Damped Newton on y(T; y₀) = y₀, the Jacobian Φ − I from the variational equations (the mesh
+    damping in ``lin.C`` is switched by the contact)."""
+    m = lin.m
+    d = 2 * m
+
+    def residual(y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        try:
+            with np.errstate(over="ignore", invalid="ignore"):  # a trial far off may blow up
+                end = _flow(lin, plan, speed, y, None)[1]
+        except (_FlowError, ValueError):  # ValueError: solve_ivp refuses a state that is not finite
+            return np.full(d, np.inf), np.eye(d), float("inf")
+        if not np.isfinite(end).all():
+            return np.full(d, np.inf), np.eye(d), float("inf")
+        r = end[:d] - y
+        scale = np.concatenate([np.full(m, np.abs(y[:m]).max()), np.full(m, np.abs(y[m:]).max())]) + 1e-300
+        return r, end[d:].reshape(d, d), float(np.abs(r / scale).max())
+
+    converged = False
+    r, Phi, size = residual(y0)
+    for _ in range(40):
+        if size <= tol:
+            converged = True
+            break
+        if not np.isfinite(size):
+            break
+        step = np.linalg.lstsq(Phi - np.eye(d), -r, rcond=None)[0]
+        for _halving in range(8):  # backtrack until the residual falls
+            trial = y0 + step
+            r_t, Phi_t, size_t = residual(trial)
+            if size_t < size:
+                break
+            step = step / 2
+        else:
+            break
+        y0, r, Phi, size = trial, r_t, Phi_t, size_t
+    t = np.arange(N) / N
+    try:
+        states = _flow(lin, plan, speed, y0, t, variational=False)[0]
+    except _FlowError:
+        states = np.full((d, N), np.nan)
+    return t, states[:m].T, states[m:d].T, converged, Phi
+
+
+# -- results ------------------------------------------------------------------------------------------
+def _static_forces(lin: LinearPeriodic, speed: float) -> np.ndarray:
+    K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
+    x = np.linalg.solve(K, lin.force(speed))
+    return lin.mean_stiffness * (lin.G @ x)
+
+
+def _dynamic_factor(force: np.ndarray, static: np.ndarray) -> np.ndarray:
+    """max of the force in the sense of the static one over the static force (NaN without load)."""
+    sense = np.sign(static)
+    loaded = np.abs(static) > 1e-9 * np.abs(force).max(axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        kv = np.max(force * sense, axis=0) / np.abs(static)
+    return np.where(loaded, kv, np.nan)
+
+
+@dataclass(frozen=True, repr=False)
+class SteadyState(Result):
+    """The periodic steady state of a drivetrain at one speed.
+
+    Attributes
+    ----------
+    speed : float
+        Reference speed Ω, rad/s.
+    period : float
+        The common mesh period T, s.
+    time : ndarray
+        (N,) times over one period, s.
+    mesh_names : tuple of str
+    mesh_force : ndarray
+        (N, J) dynamic mesh forces along the lines of action, N.
+    deflection : ndarray
+        (N, J) mesh deflections δ = g · x (the dynamic transmission error), m.
+    static_force : ndarray
+        (J,) mesh forces of the mean load at mean stiffness, N.
+    coordinates : ndarray
+        (N, n) vibration of the system's coordinates about the nominal rotation, rad.
+    method : str
+    converged : bool
+        False where Newton's method (backlash) did not reach the periodic solution.
+    notes : tuple of str
+    """
+
+    speed: float
+    period: float
+    time: np.ndarray
+    mesh_names: tuple[str, ...]
+    mesh_force: np.ndarray
+    deflection: np.ndarray
+    static_force: np.ndarray
+    coordinates: np.ndarray
+    method: str
+    converged: bool = True
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def dynamic_factor(self) -> np.ndarray:
+        """(J,) K_v = max dynamic mesh force / static mesh force, dimensionless (NaN without load)."""
+        return _dynamic_factor(self.mesh_force, self.static_force)
+
+    @property
+    def dte_amplitude(self) -> np.ndarray:
+        """(J,) half the peak-to-peak dynamic transmission error, m."""
+        return 0.5 * np.ptp(self.deflection, axis=0)
+
+    def summary(self) -> dict[str, Any]:
+        """Speed (rad/s), period (s) and, per mesh, force extremes and RMS (N), K_v, DTE amplitude (m)."""
+        f = self.mesh_force
+        return {
+            "speed_rad_s": self.speed,
+            "period_s": self.period,
+            "method": self.method,
+            "meshes": {
+                n: {
+                    "force_max_N": float(f[:, j].max()),
+                    "force_min_N": float(f[:, j].min()),
+                    "force_rms_N": float(np.sqrt(np.mean(f[:, j] ** 2))),
+                    "static_force_N": float(self.static_force[j]),
+                    "dynamic_factor_ratio": float(self.dynamic_factor[j]),
+                    "dte_amplitude_m": float(self.dte_amplitude[j]),
+                }
+                for j, n in enumerate(self.mesh_names)
+            },
+        }
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per time step: time (s), each mesh's force (N) and deflection (m)."""
+        import pandas as pd
+
+        cols: dict[str, Any] = {"time_s": self.time}
+        for j, n in enumerate(self.mesh_names):
+            cols[f"{n}_force_N"] = self.mesh_force[:, j]
+            cols[f"{n}_dte_m"] = self.deflection[:, j]
+        return pd.DataFrame(cols)
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """Notes on the period and on convergence."""
+        return self.notes + (() if self.converged else ("Newton's method did not converge",))
+
+
+def _check_method(method: str) -> None:
+    if method not in _METHODS:
+        raise ModelError(
+            f"method {method!r}: give 'auto', 'harmonic_balance' or 'shooting'",
+            element="gear dynamics",
+            field="method",
+        )
+
+
+def _check_integrator(integrator: str) -> None:
+    if integrator not in ("magnus", "ivp"):
+        raise ModelError(
+            f"integrator {integrator!r}: give 'magnus' or 'ivp'", element="gear dynamics", field="integrator"
+        )
+
+
+def _choose(lin: LinearPeriodic, method: str) -> str:
+    nonlinear = any(b is not None for b in lin.backlash)
+    if method == "auto":
+        return "shooting" if nonlinear else "harmonic_balance"
+    if method == "harmonic_balance" and nonlinear:
+        raise ModelError(
+            "harmonic balance here is linear (teeth in contact) and a mesh has backlash; use "
+            "method='shooting' (Newton on the nonlinear flow) or remove the backlash",
+            element="gear dynamics",
+            field="method",
+        )
+    return method
+
+
+class _Solver:
+    """One speed's periodic solution by the chosen method, sharing the speed-independent parts."""
+
+    def __init__(
+        self,
+        lin: LinearPeriodic,
+        plan: PeriodPlan,
+        method: str,
+        harmonics: int,
+        substeps: int,
+        integrator: str,
+        points: int | None = None,
+        stability: bool = False,
+    ) -> None:
+        self.lin, self.plan, self.method, self.points = lin, plan, method, points
+        self.stability = stability
+        self.rho = float("nan")
+        self.harmonics, self.substeps, self.integrator = harmonics, substeps, integrator
+        self.nonlinear = any(b is not None for b in lin.backlash)
+        self.bal = (
+            _balance(lin, plan, harmonics) if (method == "harmonic_balance" or self.nonlinear) else None
+        )
+        self.start: np.ndarray | None = None  # continuation: the last periodic state
+
+    def solve(self, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+        """Times (fractions of T), x, ẋ and convergence; :attr:`rho` the spectral radius where known."""
+        lin, plan = self.lin, self.plan
+        self.rho = float("nan")
+        if self.method == "harmonic_balance":
+            assert self.bal is not None
+            X = _hb_solve(lin, plan, self.bal, speed)
+            N = _grid(lin, plan, self.bal.H) if self.points is None else self.points
+            x, v = _series(X, 2 * np.pi * plan.fundamental * speed, N)
+            if self.stability:
+                self.rho = _spectral(_monodromy(lin, plan, speed, "magnus", self.substeps))[1]
+            return np.arange(N) / N, x, v, True
+        if not self.nonlinear:
+            t, x, v, Phi = _shoot_linear(lin, plan, speed, self.integrator, self.substeps)
+            self.rho = _spectral(Phi)[1]
+            return t, x, v, True
+        assert self.bal is not None
+        if self.start is None:  # a run from the static deflection starts Newton
+            self.start = _warm_start(lin, plan, speed)
+        N = _grid(lin, plan, self.bal.H)
+        t, x, v, ok, Phi = _shoot_nonlinear(lin, plan, speed, self.start, N)
+        if ok:
+            self.start = np.concatenate([x[0], v[0]])
+            self.rho = _spectral(Phi)[1]
+        return t, x, v, ok
+
+
+def steady_state(
+    system: Any,
+    speed: float,
+    *,
+    reference: str,
+    load: Mapping[str, Any] | None = None,
+    method: Method = "auto",
+    harmonics: int = 16,
+    integrator: Literal["magnus", "ivp"] = "magnus",
+    substeps: int = 4,
+    points: int | None = None,
+) -> SteadyState:
+    """The periodic steady state of a drivetrain at one constant speed.
+
+    Parameters
+    ----------
+    system : GearSystem
+        The time-varying system of a drivetrain.
+    speed : float
+        Speed Ω of the reference disk, rad/s, positive, held exactly (kinematic input).
+    reference : str
+        The disk turning at Ω (a motor disk).
+    load : mapping of str to float, optional
+        Torque drawn at each named disk, N·m (or quantities), resisting its rotation.
+    method : {"auto", "harmonic_balance", "shooting"}
+        ``"auto"``: harmonic balance, or shooting with Newton where a mesh has backlash.
+    harmonics : int
+        Harmonics of each mesh frequency kept by harmonic balance, a count from 1 to 2000.
+    integrator : {"magnus", "ivp"}
+        The propagator of linear shooting (:func:`mechdyn.gear_dynamics.floquet.monodromy`).
+    substeps : int
+        Magnus segments per profile sample interval, a count from 1 to 1000.
+    points : int, optional
+        Time samples per period of the harmonic-balance response, a count from 8 (default: 4 per
+        profile sample interval, at least 256 and 2H + 2). Shooting samples at its segment ends.
+
+    Returns
+    -------
+    SteadyState
+
+    Notes
+    -----
+    Harmonic balance of a linear periodic system (Nayfeh & Mook, *Nonlinear Oscillations*, 1979,
+    §5.4); shooting (Nayfeh & Balachandran, *Applied Nonlinear Dynamics*, 1995, §7.1).
+    """
+    _check_method(method)
+    _check_integrator(integrator)
+    harmonics = check_count("gear dynamics", "harmonics", harmonics, low=1, high=2000, what="harmonics")
+    substeps = check_count("gear dynamics", "substeps", substeps, low=1, high=1000, what="substeps")
+    speed = _check_speed("speed", speed)
+    lin = linear_periodic(system, reference=reference, load=load)
+    chosen = _choose(lin, method)
+    plan = period_plan(lin)
+    if points is not None:
+        points = check_count("gear dynamics", "points", points, low=8, high=10**7, what="time samples")
+    t, x, v, ok = _Solver(lin, plan, chosen, harmonics, substeps, integrator, points).solve(speed)
+    force, delta = _mesh_forces(lin, plan, speed, t, x, v)
+    T = plan.period(speed)
+    return SteadyState(
+        speed=speed,
+        period=T,
+        time=t * T,
+        mesh_names=lin.names,
+        mesh_force=force,
+        deflection=delta,
+        static_force=_static_forces(lin, speed),
+        coordinates=x @ lin.basis.T,
+        method=chosen if chosen == "harmonic_balance" else f"shooting ({integrator})",
+        converged=ok,
+        notes=(plan.note,) if plan.note else (),
+    )
+
+
+# -- speed sweep -----------------------------------------------------------------------------------------
+@dataclass(frozen=True, repr=False)
+class SpeedSweepResult(Result):
+    """Periodic steady state of a drivetrain over speed: mesh forces, dynamic factors, DTE, resonances.
+
+    Attributes
+    ----------
+    speeds : ndarray
+        (n_s,) reference speeds Ω, rad/s, ascending (the given ones and those added near peaks).
+    reference : str
+        The disk held at Ω.
+    mesh_names : tuple of str
+    mesh_cycles : ndarray
+        (J,) mesh cycles per radian of the reference disk (f_mesh = cycles · Ω), dimensionless.
+    force_max, force_min, force_rms : ndarray
+        (n_s, J) largest, smallest and root-mean-square mesh force over a period, N.
+    static_force : ndarray
+        (n_s, J) mesh force of the mean load at mean stiffness, N.
+    dte_amplitude : ndarray
+        (n_s, J) half peak-to-peak dynamic transmission error along the line of action, m.
+    iso_dynamic_factor : ndarray
+        (n_s, J) ISO 6336-1 K_v of the meshes whose gear data were given (NaN for the others),
+        dimensionless.
+    converged : ndarray
+        (n_s,) False where Newton's method (backlash) did not converge.
+    spectral_radius : ndarray
+        (n_s,) largest Floquet multiplier modulus of the periodic solution (the teeth-in-contact
+        system for harmonic balance; the orbit's own monodromy for shooting), dimensionless; NaN
+        where not computed.
+    method : str
+    harmonics : int
+        Harmonics of each mesh frequency (harmonic balance), count.
+    notes : tuple of str
+    """
+
+    speeds: np.ndarray
+    reference: str
+    mesh_names: tuple[str, ...]
+    mesh_cycles: np.ndarray
+    force_max: np.ndarray
+    force_min: np.ndarray
+    force_rms: np.ndarray
+    static_force: np.ndarray
+    dte_amplitude: np.ndarray
+    iso_dynamic_factor: np.ndarray
+    converged: np.ndarray
+    spectral_radius: np.ndarray
+    method: str
+    harmonics: int
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def stable(self) -> np.ndarray:
+        """(n_s,) False where the periodic solution is unstable (largest Floquet multiplier above 1:
+        a parametric resonance, where the steady state shown is not reached); True where ρ ≤ 1 or not
+        computed."""
+        return ~(self.spectral_radius > 1.0 + UNSTABLE_MARGIN)
+
+    @property
+    def dynamic_factor(self) -> np.ndarray:
+        """(n_s, J) K_v = max dynamic mesh force / static mesh force (in the static force's sense),
+        dimensionless; NaN where there is no load."""
+        sense = np.sign(self.static_force)
+        extreme = np.where(sense >= 0, self.force_max, -self.force_min)
+        loaded = np.abs(self.static_force) > 1e-9 * np.maximum(np.abs(self.force_max), np.abs(self.force_min))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(loaded, extreme / np.abs(self.static_force), np.nan)
+
+    @property
+    def force_amplitude(self) -> np.ndarray:
+        """(n_s, J) half peak-to-peak mesh force, N."""
+        return 0.5 * (self.force_max - self.force_min)
+
+    @property
+    def mesh_frequencies_hz(self) -> np.ndarray:
+        """(n_s, J) mesh frequencies, Hz."""
+        return np.abs(self.mesh_cycles)[None, :] * self.speeds[:, None]
+
+    def resonances(self) -> dict[str, list[float]]:
+        """Per mesh, the speeds (rad/s) of the local maxima of its force amplitude, each refined by a
+        parabola through the peak sample and its neighbours."""
+        out: dict[str, list[float]] = {}
+        s = self.speeds
+        for j, name in enumerate(self.mesh_names):
+            y = self.force_amplitude[:, j]
+            peaks = []
+            for i in _local_maxima(y):
+                x0, x1, x2 = s[i - 1 : i + 2]
+                y0, y1, y2 = y[i - 1 : i + 2]
+                den = (x0 - x1) * (x0 - x2) * (x1 - x2)
+                a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den
+                b = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
+                peaks.append(float(-b / (2 * a)) if a < 0 and x0 < -b / (2 * a) < x2 else float(x1))
+            out[name] = peaks
+        return out
+
+    def summary(self) -> dict[str, Any]:
+        """Speed range (rad/s), method, and per mesh the largest K_v and where (rad/s), the static
+        force (N), the largest DTE amplitude (m) and the resonance speeds (rad/s)."""
+        kv = self.dynamic_factor
+        res = self.resonances()
+        meshes = {}
+        for j, name in enumerate(self.mesh_names):
+            finite = np.isfinite(kv[:, j])
+            i = int(np.nanargmax(np.where(finite, kv[:, j], -np.inf))) if finite.any() else 0
+            meshes[name] = {
+                "dynamic_factor_max_ratio": float(kv[i, j]) if finite.any() else float("nan"),
+                "dynamic_factor_max_at_rad_s": float(self.speeds[i]),
+                "static_force_N": float(self.static_force[0, j]),
+                "force_max_N": float(self.force_max[:, j].max()),
+                "dte_amplitude_max_m": float(self.dte_amplitude[:, j].max()),
+                "resonance_speeds_rad_s": res[name],
+            }
+            if np.isfinite(self.iso_dynamic_factor[:, j]).any():
+                meshes[name]["iso_dynamic_factor_max_ratio"] = float(np.nanmax(self.iso_dynamic_factor[:, j]))
+        return {
+            "reference": self.reference,
+            "method": self.method,
+            "speed_min_rad_s": float(self.speeds.min()),
+            "speed_max_rad_s": float(self.speeds.max()),
+            "points": int(self.speeds.size),
+            "unstable_points": int((~self.stable).sum()),
+            "meshes": meshes,
+        }
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per speed: speed (rad/s, rpm) and per mesh its frequency (Hz), force max, min, RMS
+        and static (N), K_v, ISO K_v and DTE amplitude (m)."""
+        import pandas as pd
+
+        from mechdyn.units import convert
+
+        cols: dict[str, Any] = {
+            "speed_rad_s": self.speeds,
+            "speed_rpm": np.asarray(convert(self.speeds, "rad/s", "rpm")),
+        }
+        kv = self.dynamic_factor
+        for j, n in enumerate(self.mesh_names):
+            cols[f"{n}_mesh_frequency_hz"] = self.mesh_frequencies_hz[:, j]
+            cols[f"{n}_force_max_N"] = self.force_max[:, j]
+            cols[f"{n}_force_min_N"] = self.force_min[:, j]
+            cols[f"{n}_force_rms_N"] = self.force_rms[:, j]
+            cols[f"{n}_static_force_N"] = self.static_force[:, j]
+            cols[f"{n}_dynamic_factor_ratio"] = kv[:, j]
+            cols[f"{n}_iso_dynamic_factor_ratio"] = self.iso_dynamic_factor[:, j]
+            cols[f"{n}_dte_amplitude_m"] = self.dte_amplitude[:, j]
+        cols["converged"] = self.converged
+        cols["spectral_radius_ratio"] = self.spectral_radius
+        cols["stable"] = self.stable
+        return pd.DataFrame(cols)
+
+    def tables(self, **display_units: str) -> list[Table]:
+        """Per mesh: largest K_v and where (rpm), static force, largest DTE amplitude, resonances (rpm)."""
+        from mechdyn.units import convert, readable
+
+        force_unit = display_units.get("force_unit")
+        rows = []
+        s = self.summary()["meshes"]
+        for name, m in s.items():
+            f = m["static_force_N"]
+            f_shown = (float(convert(f, "N", force_unit)), force_unit) if force_unit else readable(f, "N")
+            dte, dte_unit = readable(m["dte_amplitude_max_m"], "m")
+            rpm = [f"{float(convert(v, 'rad/s', 'rpm')):.5g}" for v in m["resonance_speeds_rad_s"]]
+            rows.append(
+                [
+                    name,
+                    m["dynamic_factor_max_ratio"],
+                    float(convert(m["dynamic_factor_max_at_rad_s"], "rad/s", "rpm")),
+                    m.get("iso_dynamic_factor_max_ratio"),
+                    f"{f_shown[0]:.4g} {f_shown[1]}",
+                    f"{dte:.4g} {dte_unit}",
+                    ", ".join(rpm) or "none",
+                ]
+            )
+        return [
+            Table(
+                f"speed sweep of disk {self.reference!r}: dynamic mesh forces",
+                [
+                    "mesh",
+                    "K_v max",
+                    "at [rpm]",
+                    "ISO K_v max",
+                    "static force",
+                    "DTE amplitude max",
+                    "resonances [rpm]",
+                ],
+                rows,
+                note=" ".join((f"Computed by {self.method}.", *self.notes)),
+            )
+        ]
+
+    def plots(self, **display_units: str) -> dict[str, Any]:
+        """``speed_sweep.png``: K_v (and ISO K_v) over speed per mesh; ``speed_sweep_dte.png``: DTE."""
+        from mechdyn.gear_dynamics.sweep_plots import plot_speed_sweep, plot_sweep_dte
+
+        return {
+            "speed_sweep.png": lambda: plot_speed_sweep(self, **display_units),
+            "speed_sweep_dte.png": lambda: plot_sweep_dte(self, **display_units),
+        }
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """The period chosen, missing loads, speeds where Newton did not converge."""
+        out = list(self.notes)
+        if not self.converged.all():
+            bad = self.speeds[~self.converged]
+            out.append(f"Newton's method did not converge at {bad.size} speeds (from {bad.min():.4g} rad/s)")
+        if not self.stable.all():
+            bad = self.speeds[~self.stable]
+            out.append(
+                f"the periodic solution is unstable (parametric resonance, Floquet ρ > 1) at {bad.size} "
+                f"speeds between {bad.min():.4g} and {bad.max():.4g} rad/s: there the forces shown are not "
+                "reached"
+            )
+        return tuple(out)
+
+
+def _sweep_kv(stack: list[np.ndarray]) -> np.ndarray:
+    force_max, force_min, static = stack[0], stack[1], stack[3]
+    loaded = np.abs(static) > 1e-9 * np.maximum(np.abs(force_max), np.abs(force_min))
+    return np.where(loaded, 1.0, np.nan)
+
+
+def _local_maxima(y: np.ndarray) -> np.ndarray:
+    if y.size < 3:
+        return np.zeros(0, int)
+    inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
+    scale = np.abs(y).max()
+    return inner[y[inner] > 1e-9 * scale] if scale > 0 else inner[:0]
+
+
+def _iso_factors(
+    system: Any, lin: LinearPeriodic, speeds: np.ndarray, static: np.ndarray, gear_pairs: Mapping[str, Any]
+) -> tuple[np.ndarray, list[str]]:
+    """ISO 6336-1 K_v per speed for the meshes whose gear pair is given (NaN elsewhere)."""
+    out = np.full((speeds.size, len(lin.names)), np.nan)
+    notes: list[str] = []
+    for name in gear_pairs:
+        if name not in lin.names:
+            raise ModelError(
+                f"gear data for {name!r}, which is not a flexible mesh; give one of {', '.join(lin.names)}",
+                element="gear dynamics",
+                field="gear_pairs",
+            )
+    if not gear_pairs:
+        return out, notes
+    from mechdyn.gears import iso6336
+
+    iso = getattr(iso6336, "iso_dynamic_factor", None)
+    if iso is None:  # pragma: no cover - the gears package has it since this module was written
+        notes.append("ISO 6336-1 K_v is not available in this version (mechdyn.gears.iso_dynamic_factor)")
+        return out, notes
+    dt = system.drivetrain
+    meshes = {m.name: m for m in system.meshes}
+    for name, pair in gear_pairs.items():
+        j = lin.names.index(name)
+        pinion_speed = np.abs(np.asarray(meshes[name].phase_row, float) @ lin.rigid) * speeds
+        force = float(np.mean(np.abs(static[:, j])))
+        if force == 0.0:
+            notes.append(f"mesh {name!r}: no load, so no ISO 6336-1 K_v")
+            continue
+        element = dt.element(name)
+        inertias = tuple(float(dt.disks[dt.disk_index[d]].inertia) for d in element.disks)
+        factor = iso(
+            pair,
+            pinion_speed,
+            force * pair.pinion.base_radius,
+            inertias=inertias,  # T₁ = F_bn r_b1
+        )
+        out[:, j] = np.asarray(factor.K_v, float)
+        notes.extend(f"ISO 6336-1 K_v of {name!r}: {n}" for n in factor.notes)
+    return out, notes
+
+
+def speed_sweep(
+    system: Any,
+    speeds: Any,
+    *,
+    reference: str,
+    load: Mapping[str, Any] | None = None,
+    method: Method = "auto",
+    harmonics: int = 16,
+    refine: int = 3,
+    gear_pairs: Mapping[str, Any] | None = None,
+    integrator: Literal["magnus", "ivp"] = "magnus",
+    substeps: int = 4,
+    stability: bool = True,
+) -> SpeedSweepResult:
+    """Dynamic mesh forces, dynamic factors and DTE of a drivetrain over its running speed.
+
+    Parameters
+    ----------
+    system : GearSystem
+        The time-varying system of a drivetrain (:class:`mechdyn.gear_dynamics.GearSystem`).
+    speeds : array_like
+        Speeds Ω of the reference disk, rad/s, positive (sorted; duplicates dropped).
+    reference : str
+        The disk held at Ω (a motor disk; a kinematic input).
+    load : mapping of str to float, optional
+        Torque drawn at each named disk, N·m (or quantities), resisting its rotation; the static mesh
+        forces of K_v follow from it. Without a load K_v is NaN.
+    method : {"auto", "harmonic_balance", "shooting"}
+        ``"auto"``: harmonic balance, or shooting with Newton continued over speed where a mesh has
+        backlash.
+    harmonics : int
+        Harmonics of each mesh frequency kept by harmonic balance, a count from 1 to 2000.
+    refine : int
+        Rounds of adding speeds either side of every local maximum of a mesh's force amplitude (so
+        that the peaks are resolved), a count from 0 to 20.
+    gear_pairs : mapping of str to GearPair, optional
+        Mesh name → its :class:`mechdyn.gears.GearPair`: adds ISO 6336-1's K_v to the result.
+    integrator : {"magnus", "ivp"}
+        The propagator of linear shooting.
+    substeps : int
+        Magnus segments per profile sample interval, a count from 1 to 1000.
+    stability : bool
+        Also compute each periodic solution's largest Floquet multiplier (harmonic balance: the
+        monodromy matrix by the Magnus product, :func:`mechdyn.gear_dynamics.floquet.monodromy`;
+        shooting has it anyway) and flag the speeds where it is unstable.
+
+    Returns
+    -------
+    SpeedSweepResult
+
+    Notes
+    -----
+    Each speed's periodic solution as :func:`steady_state` (harmonic balance: one sparse solve per
+    speed, the speed-independent stiffness coupling assembled once). With backlash, Newton's method
+    starts from the previous speed's solution (natural continuation); where it fails, the step is
+    halved up to three times. K_v = max f / f_static follows ISO 6336-1 (2019), clause 6's
+    definition of the dynamic factor as the ratio of the largest to the nominal tooth load.
+    """
+    _check_method(method)
+    _check_integrator(integrator)
+    harmonics = check_count("gear dynamics", "harmonics", harmonics, low=1, high=2000, what="harmonics")
+    refine = check_count("gear dynamics", "refine", refine, low=0, high=20, what="refinement rounds")
+    substeps = check_count("gear dynamics", "substeps", substeps, low=1, high=1000, what="substeps")
+    s = np.unique(_speeds(speeds))
+    lin = linear_periodic(system, reference=reference, load=load)
+    if not lin.names:
+        raise ModelError(
+            "the drivetrain has no flexible gear mesh; give a mesh a stiffness",
+            element="gear dynamics",
+            field="system",
+        )
+    chosen = _choose(lin, method)
+    plan = period_plan(lin)
+    solver = _Solver(lin, plan, chosen, harmonics, substeps, integrator, stability=stability)
+    J = len(lin.names)
+    rows: dict[float, tuple[np.ndarray, ...]] = {}
+
+    def run(speed: float) -> bool:
+        t, x, v, ok = solver.solve(speed)
+        force, delta = _mesh_forces(lin, plan, speed, t, x, v)
+        rows[speed] = (
+            force.max(axis=0),
+            force.min(axis=0),
+            np.sqrt(np.mean(force**2, axis=0)),
+            _static_forces(lin, speed),
+            0.5 * np.ptp(delta, axis=0),
+            np.array([ok, solver.rho]),
+        )
+        return ok
+
+    previous = None
+    for speed in s:
+        ok = run(float(speed))
+        if not ok and previous is not None:  # smaller steps from the last good solution
+            for k in (1, 2, 3):
+                for step in np.linspace(previous, speed, 2**k + 1)[1:-1]:
+                    run(float(step))
+                if run(float(speed)):
+                    break
+        previous = float(speed)
+    for _ in range(refine):
+        grid = np.array(sorted(rows))
+        amp = np.array([0.5 * (rows[g][0] - rows[g][1]) for g in grid]).reshape(grid.size, J)
+        new: set[float] = set()
+        for j in range(J):
+            for i in _local_maxima(amp[:, j]):
+                new.update({0.5 * (grid[i - 1] + grid[i]), 0.5 * (grid[i] + grid[i + 1])})
+        new -= set(rows)
+        if not new:
+            break
+        for speed in sorted(new):
+            run(float(speed))
+    grid = np.array(sorted(rows))
+    stack = [np.array([rows[g][k] for g in grid]).reshape(grid.size, -1) for k in range(6)]
+    iso, iso_notes = _iso_factors(system, lin, grid, stack[3], dict(gear_pairs or {}))
+    notes = [plan.note] if plan.note else []
+    if not np.isfinite(_sweep_kv(stack)).any():
+        notes.append("no load given: the dynamic factor K_v needs a static mesh force (give load=...)")
+    return SpeedSweepResult(
+        speeds=grid,
+        reference=reference,
+        mesh_names=lin.names,
+        mesh_cycles=lin.cycles,
+        force_max=stack[0],
+        force_min=stack[1],
+        force_rms=stack[2],
+        static_force=stack[3],
+        dte_amplitude=stack[4],
+        iso_dynamic_factor=iso,
+        converged=stack[5][:, 0].astype(bool),
+        spectral_radius=stack[5][:, 1],
+        method=(
+            f"harmonic balance ({harmonics} harmonics per mesh)"
+            if chosen == "harmonic_balance"
+            else f"shooting ({integrator}{', Newton continuation' if solver.nonlinear else ''})"
+        ),
+        harmonics=harmonics,
+        notes=tuple(notes + iso_notes),
+    )

@@ -1,0 +1,150 @@
+"""Plots of speed sweeps and Floquet stability of geared drivetrains (matplotlib, imported lazily)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from mechdyn.gear_dynamics.floquet import FloquetResult, StabilityChart
+    from mechdyn.gear_dynamics.steady import SpeedSweepResult
+
+__all__ = ["plot_floquet", "plot_speed_sweep", "plot_stability_chart", "plot_sweep_dte"]
+
+
+def _rpm(speeds: np.ndarray) -> np.ndarray:
+    from mechdyn.units import convert
+
+    return np.asarray(convert(speeds, "rad/s", "rpm"))
+
+
+def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: Any) -> Any:
+    """Dynamic factor K_v of every mesh over the reference speed (rpm), ISO 6336-1 K_v dashed where
+    given, resonance speeds marked.
+
+    Parameters
+    ----------
+    result : SpeedSweepResult
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on (default: a new figure).
+    **display_units : str
+        Accepted for the result protocol; K_v is dimensionless.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from mechdyn.plotting import new_axes
+
+    ax = new_axes(ax)
+    rpm = _rpm(result.speeds)
+    kv = result.dynamic_factor
+    loaded = np.isfinite(kv).any(axis=0)
+    res = result.resonances()
+    for j, name in enumerate(result.mesh_names):
+        if loaded[j]:
+            (line,) = ax.plot(rpm, kv[:, j], label=f"{name}: K_v (periodic steady state)")
+            for s in res[name]:
+                ax.axvline(float(_rpm(np.array([s]))[0]), color=line.get_color(), lw=0.6, ls=":")
+        else:
+            ax.plot(rpm, result.force_amplitude[:, j], label=f"{name}: force amplitude (N), no load")
+        iso = result.iso_dynamic_factor[:, j]
+        if np.isfinite(iso).any():
+            ax.plot(rpm, iso, ls="--", label=f"{name}: K_v of ISO 6336-1")
+    ax.set_xlabel(f"speed of disk {result.reference} (rpm)")
+    ax.set_ylabel("dynamic factor K_v (max / static mesh force)")
+    ax.set_title("dynamic mesh force over speed")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_sweep_dte(result: SpeedSweepResult, ax: Any = None, **display_units: Any) -> Any:
+    """Amplitude of the dynamic transmission error of every mesh over speed (rpm).
+
+    Parameters
+    ----------
+    result : SpeedSweepResult
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on (default: a new figure).
+    **display_units : str
+        ``length_unit`` (e.g. ``"um"``) for the DTE; default: the unit its size reads best in.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from mechdyn.plotting import display_unit, new_axes
+    from mechdyn.units import convert
+
+    ax = new_axes(ax)
+    unit = display_units.get("length_unit")
+    if unit:
+        shown, factor = unit, float(convert(1.0, "m", unit))
+    else:
+        shown, factor = display_unit(result.dte_amplitude, "m")
+    for j, name in enumerate(result.mesh_names):
+        ax.plot(_rpm(result.speeds), result.dte_amplitude[:, j] * factor, label=name)
+    ax.set_xlabel(f"speed of disk {result.reference} (rpm)")
+    ax.set_ylabel(f"DTE amplitude ({shown})")
+    ax.set_title("dynamic transmission error along the line of action")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_floquet(result: FloquetResult, ax: Any = None) -> Any:
+    """Largest Floquet multiplier modulus ρ over speed (rpm), unstable ranges shaded.
+
+    Parameters
+    ----------
+    result : FloquetResult
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on (default: a new figure).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from mechdyn.plotting import new_axes
+
+    ax = new_axes(ax)
+    rpm = _rpm(result.speeds)
+    ax.plot(rpm, result.spectral_radius, label="ρ, largest multiplier modulus")
+    ax.axhline(1.0, color="0.5", ls="--", lw=0.8)
+    for a, b in result.unstable_ranges():
+        ax.axvspan(float(_rpm(np.array([a]))[0]), float(_rpm(np.array([b]))[0]), color="C3", alpha=0.25)
+    ax.set_xlabel(f"speed of disk {result.reference} (rpm)")
+    ax.set_ylabel("spectral radius of the monodromy matrix")
+    ax.set_title("parametric stability (Floquet): unstable where ρ > 1")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_stability_chart(chart: StabilityChart, ax: Any = None) -> Any:
+    """Unstable regions (ρ > 1) over speed (rpm) and stiffness variation ε, with the speeds where the
+    mesh frequency is 2 f_n / k marked.
+
+    Parameters
+    ----------
+    chart : StabilityChart
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on (default: a new figure).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from mechdyn.plotting import new_axes
+
+    ax = new_axes(ax)
+    rpm = _rpm(chart.speeds)
+    ax.contourf(
+        rpm, chart.amplitudes, chart.unstable.astype(float), levels=[0.5, 1.5], colors=["C3"], alpha=0.5
+    )
+    for s in chart.critical_speeds(2):
+        if chart.speeds.min() <= s <= chart.speeds.max():
+            ax.axvline(float(_rpm(np.array([s]))[0]), color="0.4", lw=0.6, ls=":")
+    ax.set_xlabel(f"speed of disk {chart.reference} (rpm)")
+    ax.set_ylabel(f"stiffness variation ε of mesh {chart.mesh}")
+    ax.set_title("stability chart: shaded where the vibration grows (ρ > 1)")
+    return ax
