@@ -4,10 +4,11 @@
 reduced coordinates, each flexible mesh a :class:`MeshLink` (stiffness over the mesh cycle, static
 transmission error, backlash). :func:`simulate` integrates it in time under the torque inputs of
 :mod:`~mechdyn.gear_dynamics.loads` (constant, harmonic, step, ramp, tabulated, a motor of
-:mod:`mechdyn.drive`, an emergency stop) and returns a :class:`SimulationResult`. :func:`speed_sweep` gives the periodic steady state over a
-speed range (harmonic balance, shooting) with the dynamic mesh force and the dynamic factor against
-ISO 6336-1's K_v; :func:`floquet` and :func:`stability_chart` the Floquet multipliers of the
-time-periodic system, the parametric instabilities a Campbell diagram does not show.
+:mod:`mechdyn.drive`, an emergency stop) and returns a :class:`SimulationResult`. :func:`speed_sweep`
+gives the periodic steady state over a speed range (harmonic balance, shooting) with the dynamic mesh
+force and the dynamic factor against ISO 6336-1's K_v; :func:`floquet` and :func:`stability_chart` the
+Floquet multipliers of the time-periodic system, the parametric instabilities a Campbell diagram does
+not show.
 """
 
 from mechdyn._lazy import attach
