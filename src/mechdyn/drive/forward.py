@@ -117,7 +117,7 @@ class StartUp:
     settled_at : float
         Time after which every crank pass is within ``tolerance`` of the steady state's speed, s.
     deviation : float
-        Largest |φ̇ − φ̇_steady(φ)| over the last revolution, relative to the steady mean speed,
+        Largest abs(φ̇ − φ̇_steady(φ)) over the last revolution, relative to the steady mean speed,
         dimensionless.
     revolutions : int
         Whole revolutions integrated, a count.
