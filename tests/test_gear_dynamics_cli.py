@@ -335,3 +335,55 @@ def test_save_refuses_a_stiffness_from_gears_it_cannot_write(tmp_path):
         mechdyn.errors.MechdynError, match="takes its stiffness over the mesh cycle from its gear"
     ):
         mechdyn.save(_startup(), tmp_path / "x.toml")
+
+
+def test_a_design_study_varies_a_mesh_s_backlash_and_reads_a_dynamic_factor(tmp_path):
+    """``simulate`` in a study: a mesh's backlash varied one at a time, an output of one mesh stored
+    per variant, each variant the same as the analysis run on the changed file by itself."""
+    model = PAIR.replace(
+        'damping = "500 N*s/m"', 'damping = "500 N*s/m"\nbacklash = "20 um"\ntransmission_error = "4 um"'
+    )
+    model += """
+[[loads]]
+kind = "constant"
+disk = "load"
+torque = "-2 N*m"
+
+[simulation]
+duration = "20 ms"
+initial_speed = "1500 rpm"
+"""
+    (tmp_path / "pair.toml").write_text(model)
+    (tmp_path / "study.toml").write_text(
+        """
+[study]
+name = "pair-backlash"
+kind = "oat"
+model = "pair.toml"
+analysis = "simulate"
+
+[[parameters]]
+path = "meshes.mesh.backlash"
+levels = ["+100 %"]
+
+[[outputs]]
+output = "dynamic_factor.mesh"
+
+[[outputs]]
+output = "mesh_force_peak_N.mesh"
+"""
+    )
+    db = str(tmp_path / "s.db")
+    assert main(["study", str(tmp_path / "study.toml"), "--db", db, "--json"]) == 0
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore
+
+    with ResultStore(db, read_only=True) as store:
+        variants = StudyStore(store).variants("pair-backlash")
+    assert len(variants) == 2 and all(v.status == "ok" for v in variants)
+    (tmp_path / "wider.toml").write_text(model.replace('backlash = "20 um"', 'backlash = "40 um"'))
+    alone = get("simulate").run(mechdyn.load(tmp_path / "wider.toml")).summary()
+    wider = next(v for v in variants if v.given["meshes.mesh.backlash"] == "40 um")
+    outputs = dict(wider.outputs)
+    assert outputs["mesh_force_peak_N.mesh"] == pytest.approx(alone["mesh_force_peak_N"]["mesh"], rel=1e-9)
+    assert outputs["dynamic_factor.mesh"] == pytest.approx(alone["dynamic_factor"]["mesh"], rel=1e-9)
