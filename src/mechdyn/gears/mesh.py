@@ -32,6 +32,7 @@ constant over the cycle.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -328,6 +329,9 @@ class GearPair:
             Positions per cycle, a whole number from 4 to :data:`MAX_POINTS`.
         """
         points = check_count(self.pinion.name, "points", points, low=4, high=MAX_POINTS, what="positions")
+        return _mesh_cycle(self, points)
+
+    def _mesh_cycle(self, points: int) -> MeshCycle:
         pb = self.pinion.base_pitch
         x = np.linspace(0.0, pb, points, endpoint=False)
         k = np.zeros(points)
@@ -377,6 +381,18 @@ def _window_mean(k: np.ndarray, period: float, window: float) -> np.ndarray:
     turns, j = np.divmod(i + whole, n)
     inside = turns * cumulative[n] + cumulative[j] - cumulative[i]
     return (inside + h * (f * k[j] + 0.5 * f * f * (k_next[j] - k[j]))) / window
+
+
+@functools.lru_cache(maxsize=32)
+def _mesh_cycle(pair: GearPair, points: int) -> MeshCycle:
+    """A pair's mesh cycle, worked out once per pair and number of positions (a drivetrain file's
+    meshes on one pair, its mean stiffness and its profile for a simulation, take the same); its
+    arrays are read-only, being shared."""
+    cycle = pair._mesh_cycle(points)
+    for value in vars(cycle).values():
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+    return cycle
 
 
 @dataclass(frozen=True)
