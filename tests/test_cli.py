@@ -337,6 +337,11 @@ def test_the_documentation_documents_every_json_key(db, capsys):
         ["campbell", example],
         ["frf", example, "--points", "20"],
         ["simulate", str(EXAMPLES / "turret_milling_startup.toml"), "--duration", "20 ms"],
+        [
+            "speed-sweep",
+            str(EXAMPLES / "turret_milling_startup.toml"),
+            *("--speed-range", "2000 rpm", "3000 rpm", "--points", "5", "--harmonics", "4"),
+        ],
         ["gear", gear],
         ["gear", tooth],
         ["mechanism", str(EXAMPLES / "slider_crank.toml"), "--angles", "36"],

@@ -38,6 +38,15 @@ OPTIONS = {
     "support": [{"cycles": 2}],
     "drive": [{"angles": 180, "no_startup": True}],
     "simulate": [{"duration": 0.005, "initial_speed": 100.0}],
+    "speed-sweep": [
+        {
+            "speed_range": (200.0, 300.0),
+            "points": 4,
+            "harmonics": 4,
+            "no_stability": True,
+            "no_backlash": True,
+        }
+    ],
 }
 CASES = [
     pytest.param(name, mtype, opts, id=f"{name}-{mtype}-{i}")

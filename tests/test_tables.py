@@ -73,6 +73,14 @@ _LIGHT = {
     "frf": {"points": 200},
     # a few milliseconds of a free run at speed: every drivetrain example, with or without [simulation]
     "simulate": {"duration": 0.005, "initial_speed": 100.0},
+    # a few speeds and harmonics, teeth in contact: every drivetrain example, with or without [speed_sweep]
+    "speed-sweep": {
+        "speed_range": (200.0, 300.0),
+        "points": 4,
+        "harmonics": 4,
+        "no_stability": True,
+        "no_backlash": True,
+    },
 }
 
 

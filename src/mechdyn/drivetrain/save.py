@@ -57,8 +57,8 @@ def _row(e: Any) -> dict[str, Any]:
 
 def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any = None) -> str:
     """The drivetrain model file of ``model``: its disks and elements, and the ``[campbell]``,
-    ``[response]``, ``[motor]``, ``[[loads]]`` and ``[simulation]`` tables and the meshes' backlash,
-    transmission error and stiffness variation of ``settings``.
+    ``[response]``, ``[motor]``, ``[[loads]]``, ``[simulation]`` and ``[speed_sweep]`` tables and the
+    meshes' backlash, transmission error and stiffness variation of ``settings``.
 
     Parameters
     ----------
@@ -128,6 +128,9 @@ def to_toml(model: Drivetrain, settings: Any = None, *, path: Path, source: Any 
         _response(doc, response)
     if dynamics is not None:
         _simulation_tables(doc, dynamics)
+    sweep = getattr(settings, "speed_sweep", None)
+    if sweep is not None:
+        doc.table("speed_sweep", _fields(sweep))
     return doc.text()
 
 
@@ -165,6 +168,7 @@ _UNITS = {
     "duration": "s",
     "initial_speed": "rad/s",
     "output_step": "s",
+    "speed_range": "rad/s",
 }
 
 
@@ -178,6 +182,8 @@ def _fields(table: Any) -> dict[str, Any]:
             continue
         if isinstance(value, float) and name in _UNITS:
             out[name] = _q(value, _UNITS[name])
+        elif name == "speed_range":
+            out[name] = [_q(v, _UNITS[name]) for v in value]
         elif isinstance(value, tuple | list):
             out[name] = [list(v) if isinstance(v, tuple) else v for v in value]
         else:

@@ -5,7 +5,8 @@ given by geometry, arrays of tables ``[[disks]]``, ``[[shafts]]``, ``[[meshes]]`
 ``[[ground_springs]]``, ``[[ground_dampers]]``, and optional ``[campbell]`` and ``[response]``
 tables for those analyses. A time simulation (``mechdyn simulate``) reads each mesh's ``backlash``,
 ``transmission_error`` and ``stiffness_variation``, a ``[motor]`` on a disk, ``[[loads]]`` and
-``[simulation]``. Every dimensional value carries its unit. See ``examples/``.
+``[simulation]``; a speed sweep (``mechdyn speed-sweep``) reads ``[speed_sweep]``. Every dimensional
+value carries its unit. See ``examples/``.
 """
 
 from __future__ import annotations
@@ -62,6 +63,7 @@ __all__ = [
     "DynamicsSettings",
     "MeshDynamics",
     "ResponseSettings",
+    "SpeedSweepTable",
     "build",
     "settings",
 ]
@@ -399,6 +401,31 @@ class SimulationTable(FileModel):
     """Fewest integration steps per mesh cycle (a varying mesh stiffness is resolved, not stepped over)."""
 
 
+class SpeedSweepTable(FileModel):
+    """The periodic steady state over speed of ``mechdyn speed-sweep``."""
+
+    speed_range: tuple[AngularSpeed, AngularSpeed] | None = None
+    """Lowest and highest speed of the ``reference`` disk, both above zero, e.g. ["1000 rpm", "5000 rpm"]."""
+    points: int = Field(default=60, ge=3, le=10_000)
+    """Speeds evenly spaced over the range (more are added near each resonance peak)."""
+    reference: str | None = None
+    """The disk held at each speed (default: the ``[motor]``'s disk, else the first disk)."""
+    harmonics: int = Field(default=16, ge=1, le=2000)
+    """Harmonics of each mesh frequency kept by harmonic balance."""
+    backlash: bool = True
+    """``false``: the teeth stay in contact, the meshes' backlash ignored (harmonic balance, fast; a
+    warning says where the mesh force would reverse); ``true``: shooting with Newton's method where a
+    mesh has backlash (slow)."""
+
+    @model_validator(mode="after")
+    def _range(self) -> SpeedSweepTable:
+        if self.speed_range is not None and not 0 < self.speed_range[0] < self.speed_range[1]:
+            raise ValueError(
+                'speed_range: give [low, high] with 0 < low < high, e.g. ["1000 rpm", "5000 rpm"]'
+            )
+        return self
+
+
 class GearPairTable(FileModel):
     """A spur or helical pair, external or internal, whose mean mesh stiffness, teeth and base radii a
     mesh takes (``gear_pair = name``)."""
@@ -505,6 +532,8 @@ class DrivetrainFile(FileModel):
     """Torques on disks over time, for ``mechdyn simulate``."""
     simulation: SimulationTable | None = None
     """The time simulation of ``mechdyn simulate``: duration, initial speed, integrator."""
+    speed_sweep: SpeedSweepTable | None = None
+    """The periodic steady state over speed of ``mechdyn speed-sweep``: speed range, points, reference."""
 
 
 class _MeshDynamicsRow(FileModel):
@@ -530,6 +559,7 @@ class _AnalysisTables(FileModel):
     motor: MotorTable | None = None
     loads: list[LoadTable] = Field(default_factory=list)
     simulation: SimulationTable | None = None
+    speed_sweep: SpeedSweepTable | None = None
 
 
 def _where(table: str, i: int, name: str) -> str:
@@ -838,11 +868,19 @@ class DrivetrainSettings:
         ``[response]``.
     dynamics : DynamicsSettings or None
         The mesh dynamics, ``[motor]``, ``[[loads]]`` and ``[simulation]`` (None when the file has none).
+    speed_sweep : SpeedSweepTable or None
+        ``[speed_sweep]`` (SI values).
+    gear_pairs : dict of str to GearPair
+        The gear data of each mesh given by a ``gear_pair``, by mesh name (for ISO 6336-1's K_v); read
+        from the model's gear data, not an analysis table, so not compared (a saved file gives its
+        meshes by teeth and stiffness).
     """
 
     campbell: CampbellSettings | None = None
     response: ResponseSettings | None = None
     dynamics: DynamicsSettings | None = None
+    speed_sweep: SpeedSweepTable | None = None
+    gear_pairs: dict[str, Any] = dataclass_field(default_factory=dict, compare=False)
 
 
 def settings(source: ModelSource, drivetrain: Drivetrain) -> DrivetrainSettings:
@@ -877,7 +915,34 @@ def settings(source: ModelSource, drivetrain: Drivetrain) -> DrivetrainSettings:
         else:
             damping = ModalDamping(0.02 if r.modal_damping is None else r.modal_damping)
         resp = ResponseSettings(exc, r.frequency_range, r.points, tuple(r.outputs), damping)
-    return DrivetrainSettings(camp, resp, _dynamics(source, f, drivetrain, check))
+    if f.speed_sweep is not None:
+        check("[speed_sweep] → reference", f.speed_sweep.reference)
+    return DrivetrainSettings(
+        camp, resp, _dynamics(source, f, drivetrain, check), f.speed_sweep, _mesh_gear_pairs(source, f)
+    )
+
+
+def _mesh_gear_pairs(source: ModelSource, f: _AnalysisTables) -> dict[str, Any]:
+    """The GearPair of each mesh given by a ``gear_pair``, by mesh name (each pair built once)."""
+    built: dict[str, Any] = {}
+    out: dict[str, Any] = {}
+    for m in f.meshes:
+        if m.gear_pair is None:
+            continue
+        if m.gear_pair not in built:
+            j, gp = next((j, g) for j, g in enumerate(f.gear_pairs) if g.name == m.gear_pair)
+            built[m.gear_pair] = pair_from_tables(
+                source,
+                _where("gear_pairs", j, gp.name),
+                gp.pinion,
+                gp.gear,
+                f.gear_material,
+                gp.center_distance,
+                gp.tooth_model,
+                gp.kind,
+            )
+        out[m.name] = built[m.gear_pair]
+    return out
 
 
 def _dynamics(

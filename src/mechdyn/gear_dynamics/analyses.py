@@ -1,21 +1,38 @@
-"""Geared drivetrains in time in the registry: ``simulate``.
+"""Geared drivetrains in time in the registry: ``simulate`` and ``speed-sweep``.
 
 The analysis runs on a ``type = "drivetrain"`` file: each mesh's ``backlash``, ``transmission_error`` and
-``stiffness_variation`` build the :class:`~mechdyn.gear_dynamics.GearSystem`; the ``[motor]`` and the
-``[[loads]]`` are its torque inputs; ``[simulation]`` gives the defaults of the options. The model type
-itself is registered by :mod:`mechdyn.drivetrain.analyses`.
+``stiffness_variation`` build the :class:`~mechdyn.gear_dynamics.GearSystem` (one builder,
+:func:`_system`); the ``[motor]`` and the ``[[loads]]`` are its torque inputs; ``[simulation]`` and
+``[speed_sweep]`` give the defaults of the options. The model type itself is registered by
+:mod:`mechdyn.drivetrain.analyses`.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from mechdyn.errors import MechdynError
+from mechdyn.errors import MechdynError, ModelFileError
 from mechdyn.registry import Analysis, Option, Output, register
 
 __all__: list[str] = []
 
 _METHODS = ("LSODA", "Radau", "BDF", "DOP853", "RK45", "RK23")
+
+
+def _where(loaded: Any) -> str:
+    return str(loaded.source.path) if loaded.source is not None else repr(loaded.name)
+
+
+def _system(loaded: Any, backlash: bool = True) -> Any:
+    """The :class:`~mechdyn.gear_dynamics.GearSystem` of a drivetrain file: its meshes' stiffness
+    variation, transmission error and (unless ``backlash`` is False) backlash."""
+    from mechdyn.gear_dynamics.system import GearSystem
+
+    dynamics = loaded.settings.dynamics if loaded.settings is not None else None
+    options = dynamics.system_options() if dynamics is not None else {}
+    if not backlash:
+        options["backlash"] = {}
+    return GearSystem.from_drivetrain(loaded.model, **options)
 
 
 def _simulate(
@@ -30,9 +47,8 @@ def _simulate(
     cycle_steps: int | None = None,
 ) -> Any:
     from mechdyn.gear_dynamics.simulate import simulate
-    from mechdyn.gear_dynamics.system import GearSystem
 
-    where = loaded.source.path if loaded.source is not None else repr(loaded.name)
+    where = _where(loaded)
     settings = loaded.settings
     dynamics = settings.dynamics if settings is not None else None
     table = dynamics.simulation if dynamics is not None else None
@@ -48,8 +64,7 @@ def _simulate(
             f"{where}: nothing moves the train; add a [motor] table or [[loads]] rows, or give "
             "[simulation] initial_speed (or --initial-speed '1500 rpm')"
         )
-    options = dynamics.system_options() if dynamics is not None else {}
-    system = GearSystem.from_drivetrain(loaded.model, **options)
+    system = _system(loaded)
 
     def pick(value: Any, name: str, default: Any) -> Any:
         return value if value is not None else (getattr(table, name) if table is not None else default)
@@ -127,6 +142,155 @@ register(
         examples=(
             "mechdyn simulate examples/turret_milling_startup.toml --plots plots",
             "mechdyn simulate examples/turret_milling_startup.toml --duration '0.2 s' --json",
+        ),
+    )
+)
+
+
+def _running_load(loaded: Any, system: Any, reference: str) -> dict[str, float]:
+    """Torque drawn at each disk once the train runs, N·m, resisting the disk's rotation: each
+    ``[[loads]]`` row's final torque (a constant's torque, a step's or ramp's after it, a harmonic
+    load's mean, a table's last row); a ``stop`` is passed over."""
+    import numpy as np
+
+    from mechdyn.gear_dynamics import loads as L
+
+    dynamics = loaded.settings.dynamics if loaded.settings is not None else None
+    if dynamics is None or not dynamics.loads:
+        return {}
+    dt = system.drivetrain
+    T = np.asarray(system.T, float)
+    r = np.asarray(system.rigid_body, float).reshape(T.shape[1], -1)[:, 0]
+    ref = float(T[dt.disk_index[reference]] @ r) or 1.0
+    out: dict[str, float] = {}
+    for row in dynamics.loads:
+        if row.kind == "stop":
+            continue
+        disk = str(row.disk)
+        if row.kind == "table":
+            torque = float(L.TabulatedTorque.from_table(disk, row.rows or []).torques[-1])
+        else:
+            torque = float(row.torque or 0.0)
+        # the file's torque is in the positive sense; speed_sweep's resists the disk's turning
+        sense = float(np.sign(T[dt.disk_index[disk]] @ r / ref)) or 1.0
+        out[disk] = out.get(disk, 0.0) - torque * sense
+    return out
+
+
+def _speed_sweep(
+    loaded: Any,
+    speed_range: tuple[float, float] | None = None,
+    points: int | None = None,
+    reference: str | None = None,
+    harmonics: int | None = None,
+    no_backlash: bool = False,
+    no_stability: bool = False,
+) -> Any:
+    import dataclasses
+
+    import numpy as np
+
+    from mechdyn.gear_dynamics.steady import speed_sweep
+
+    settings = loaded.settings
+    table = settings.speed_sweep if settings is not None else None
+    dynamics = settings.dynamics if settings is not None else None
+    speeds = speed_range or (table.speed_range if table is not None else None)
+    if speeds is None:
+        raise ModelFileError(
+            _where(loaded),
+            "[speed_sweep] → speed_range",
+            'no speed range; add a [speed_sweep] table with speed_range (e.g. speed_range = ["1000 rpm", '
+            "\"5000 rpm\"]), or pass --speed-range '1000 rpm' '5000 rpm'",
+        )
+    low, high = speeds
+    if not 0 < low < high:
+        raise ModelFileError(
+            _where(loaded),
+            "--speed-range",
+            "give 0 < LOW < HIGH, e.g. '1000 rpm' '5000 rpm' (a steady state needs the train turning)",
+        )
+    n = points if points is not None else (table.points if table is not None else 60)
+    motor = dynamics.motor.disk if dynamics is not None and dynamics.motor is not None else None
+    ref = reference or (table.reference if table is not None else None) or motor or loaded.model.disk_names[0]
+    backlash = not no_backlash and (table.backlash if table is not None else True)
+    system = _system(loaded, backlash=backlash)
+    result = speed_sweep(
+        system,
+        np.linspace(low, high, n),
+        reference=ref,
+        load=_running_load(loaded, system, ref),
+        harmonics=harmonics if harmonics is not None else (table.harmonics if table is not None else 16),
+        gear_pairs=settings.gear_pairs if settings is not None else None,
+        stability=not no_stability,
+    )
+    gaps = dynamics.system_options()["backlash"] if dynamics is not None else {}
+    if not backlash and gaps:
+        reversed_ = [
+            name
+            for j, name in enumerate(result.mesh_names)
+            if name in gaps and np.any(np.sign(result.force_min[:, j]) != np.sign(result.force_max[:, j]))
+        ]
+        note = (
+            f"The backlash of {', '.join(repr(g) for g in gaps)} is ignored: the teeth are held in contact"
+            + (
+                f"; the force of {', '.join(repr(m) for m in reversed_)} reverses, so there the teeth "
+                "would separate and the result is not valid there (sweep with the backlash: backlash = true "
+                "in [speed_sweep] and no --no-backlash; slow)"
+                if reversed_
+                else ""
+            )
+        )
+        result = dataclasses.replace(result, notes=(*result.notes, note))
+    return result
+
+
+register(
+    Analysis(
+        "speed-sweep",
+        ("drivetrain",),
+        _speed_sweep,
+        "periodic steady state over speed: dynamic mesh forces, K_v (with ISO 6336-1's), DTE, resonances",
+        headline=("points", "unstable_points"),
+        options=(
+            Option(
+                "speed_range",
+                "quantity",
+                "speeds of the reference disk, e.g. '1000 rpm' '5000 rpm' (default: [speed_sweep])",
+                unit="rad/s",
+                nargs=2,
+                metavar=("LOW", "HIGH"),
+            ),
+            Option("points", "int", "speeds evenly spaced over the range (default 60)", minimum=3),
+            Option(
+                "reference",
+                "text",
+                "the disk held at each speed (default: the [motor]'s disk, else the first)",
+                metavar="DISK",
+            ),
+            Option("harmonics", "int", "harmonics of each mesh frequency (default 16)", minimum=1),
+            Option("no_backlash", "flag", "hold the teeth in contact: ignore the backlash (fast)"),
+            Option("no_stability", "flag", "skip the Floquet stability of each periodic solution (faster)"),
+        ),
+        outputs=(
+            Output("reference", "the disk held at each speed", ""),
+            Output("method", "harmonic balance, or shooting where a mesh has backlash", ""),
+            Output("speed_min_rad_s", "the lowest speed swept"),
+            Output("speed_max_rad_s", "the highest speed swept"),
+            Output("points", "speeds computed (those given and those added near the peaks)", ""),
+            Output("unstable_points", "speeds where the periodic solution is unstable (Floquet ρ > 1)", ""),
+            Output(
+                "meshes",
+                "per flexible mesh: dynamic_factor_max_ratio and dynamic_factor_max_at_rad_s, "
+                "static_force_N, force_max_N, dte_amplitude_max_m, resonance_speeds_rad_s and, with gear "
+                "data, iso_dynamic_factor_max_ratio",
+                "",
+            ),
+        ),
+        examples=(
+            "mechdyn speed-sweep examples/turret_milling_startup.toml --plots plots",
+            "mechdyn speed-sweep examples/turret_milling_startup.toml --speed-range '2500 rpm' '4000 rpm' "
+            "--points 30 --json",
         ),
     )
 )

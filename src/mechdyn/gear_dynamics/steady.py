@@ -841,7 +841,7 @@ class SpeedSweepResult(Result):
                     "resonances [rpm]",
                 ],
                 rows,
-                note=" ".join((f"Computed by {self.method}.", *self.notes)),
+                note=" ".join((f"Computed by {self.method}.", *(n.rstrip(".") + "." for n in self.notes))),
             )
         ]
 

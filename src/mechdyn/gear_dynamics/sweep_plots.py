@@ -52,7 +52,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
         iso = result.iso_dynamic_factor[:, j]
         if np.isfinite(iso).any():
             ax.plot(rpm, iso, ls="--", label=f"{name}: K_v of ISO 6336-1")
-    ax.set_xlabel(f"speed of disk {result.reference} (rpm)")
+    ax.set_xlabel(f"speed of disk {result.reference!r} (rpm)")
     ax.set_ylabel("dynamic factor K_v (max / static mesh force)")
     ax.set_title("dynamic mesh force over speed")
     ax.legend(fontsize="small")
@@ -85,7 +85,7 @@ def plot_sweep_dte(result: SpeedSweepResult, ax: Any = None, **display_units: An
         shown, factor = display_unit(result.dte_amplitude, "m")
     for j, name in enumerate(result.mesh_names):
         ax.plot(_rpm(result.speeds), result.dte_amplitude[:, j] * factor, label=name)
-    ax.set_xlabel(f"speed of disk {result.reference} (rpm)")
+    ax.set_xlabel(f"speed of disk {result.reference!r} (rpm)")
     ax.set_ylabel(f"DTE amplitude ({shown})")
     ax.set_title("dynamic transmission error along the line of action")
     ax.legend(fontsize="small")
@@ -113,7 +113,7 @@ def plot_floquet(result: FloquetResult, ax: Any = None) -> Any:
     ax.axhline(1.0, color="0.5", ls="--", lw=0.8)
     for a, b in result.unstable_ranges():
         ax.axvspan(float(_rpm(np.array([a]))[0]), float(_rpm(np.array([b]))[0]), color="C3", alpha=0.25)
-    ax.set_xlabel(f"speed of disk {result.reference} (rpm)")
+    ax.set_xlabel(f"speed of disk {result.reference!r} (rpm)")
     ax.set_ylabel("spectral radius of the monodromy matrix")
     ax.set_title("parametric stability (Floquet): unstable where ρ > 1")
     ax.legend(fontsize="small")

@@ -154,6 +154,13 @@ _DRIVETRAIN = TemplateExample(
             "rtol": 1e-7,
             "cycle_steps": 8,
         },
+        "speed_sweep": {
+            "speed_range": ["500 rpm", "3000 rpm"],
+            "points": 60,
+            "reference": "motor",
+            "harmonics": 16,
+            "backlash": True,
+        },
         "gear_pairs": {"name": "pair", "center_distance": "80 mm"},
         "gear_pairs.pinion": {"teeth": 20, "module": "2 mm", "face_width": "20 mm", **_GEAR_EXTRAS},
         "gear_pairs.gear": {"teeth": 60, "module": "2 mm", "face_width": "20 mm", **_GEAR_EXTRAS},
@@ -172,6 +179,8 @@ _DRIVETRAIN = TemplateExample(
         '"curve", its torque-speed curve; with [simulation] this template runs mechdyn simulate FILE.',
         "loads": "mechdyn simulate: a torque on a disk; kind says which fields it reads (a ramp: torque, "
         "start, end, initial_torque).",
+        "speed_sweep": "mechdyn speed-sweep: the periodic steady state over the speed of the reference "
+        "disk; the [[loads]] rows' final torques load the train.",
     },
 )
 
