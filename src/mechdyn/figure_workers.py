@@ -1,15 +1,15 @@
 """A result's figures drawn by several processes.
 
 Drawing a figure is matplotlib's own work, one core per figure, and a run's figures are independent of
-each other: where the platform forks a process cheaply and safely (Linux), the figures are shared
-among copies of this process. A copy started before the analysis (:meth:`FigureWorkers.start`)
-imports matplotlib while it runs, then receives the result, pickled, and forks the further copies
-that draw beside it, which inherit matplotlib imported and the result (importing matplotlib is as
-much work as drawing three figures: it is done once, and never by this process when it has not done
-it already); copies started when the figures are asked for inherit them. Each copy takes the next
-figure from a queue when it is free, so that one large figure does not hold up the rest, and ends
-without running this process's exit handlers. An error in any copy is raised in this process, as
-raised there, once every copy has ended; the figures drawn by then are on disk.
+each other: where the platform forks a process cheaply and safely (Linux), the figures are shared among
+copies of this process. A copy started before the analysis (:meth:`FigureWorkers.start`) imports
+matplotlib while it runs, then receives the result, pickled (by cloudpickle where it holds local
+functions), and forks the further copies that draw beside it, which inherit matplotlib imported and the
+result (importing matplotlib is as much work as drawing three figures: it is done once, and never by
+this process when it has not done it already); copies started when the figures are asked for inherit
+them. Each copy takes the next figure from a queue when it is free, so that one large figure does not
+hold up the rest, and ends without running this process's exit handlers. An error in any copy is raised
+in this process, as raised there, once every copy has ended; the figures drawn by then are on disk.
 """
 
 from __future__ import annotations
@@ -86,6 +86,18 @@ def _drain(queue: int, makers: Makers, paths: list[Path], dpi: int, leave: int =
             return
         i = int.from_bytes(record, "little")
         save_figure(makers[names[i]](), paths[i], dpi=dpi)
+
+
+def _pickled(job: Any) -> bytes:
+    """A job as bytes for a copy: by the standard pickle, or, where it holds functions made inside other
+    functions (a mechanism's tabulated process force, an eccentric pitch curve), by cloudpickle, which
+    carries them by value (the copy unpickles either with :func:`pickle.loads`)."""
+    try:
+        return pickle.dumps(job)
+    except Exception:
+        import cloudpickle
+
+        return cast(bytes, cloudpickle.dumps(job))
 
 
 def _write_all(fd: int, data: bytes) -> None:
@@ -293,8 +305,8 @@ class FigureWorkers:
         payload = b""
         if self._children:  # started early: they need the result itself
             try:
-                payload = pickle.dumps((source, paths, dpi))
-            except Exception:  # a mapping of closures: those copies stop, new ones inherit it
+                payload = _pickled((source, paths, dpi))
+            except Exception:  # what even cloudpickle cannot take: those copies stop, new ones inherit it
                 self.close()
         try:
             self._hand_out(names, makers, paths, dpi, payload)
