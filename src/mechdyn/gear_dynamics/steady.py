@@ -687,6 +687,10 @@ class SpeedSweepResult(Result):
     harmonics : int
         Harmonics of each mesh frequency (harmonic balance), count.
     notes : tuple of str
+        What the user should know (the period chosen, a missing load): the result's warnings.
+    assumptions : tuple of str
+        What ISO 6336-1's K_v took where the gear data do not say (an accuracy grade's deviations, no
+        tip relief): stated under the table, not warnings.
     """
 
     speeds: np.ndarray
@@ -704,6 +708,7 @@ class SpeedSweepResult(Result):
     method: str
     harmonics: int
     notes: tuple[str, ...] = field(default=())
+    assumptions: tuple[str, ...] = field(default=())
 
     @property
     def stable(self) -> np.ndarray:
@@ -841,7 +846,12 @@ class SpeedSweepResult(Result):
                     "resonances [rpm]",
                 ],
                 rows,
-                note=" ".join((f"Computed by {self.method}.", *(n.rstrip(".") + "." for n in self.notes))),
+                note=" ".join(
+                    (
+                        f"Computed by {self.method}.",
+                        *(n.rstrip(".") + "." for n in self.notes + self.assumptions),
+                    )
+                ),
             )
         ]
 
@@ -1065,5 +1075,6 @@ def speed_sweep(
             else f"shooting ({integrator}{', Newton continuation' if solver.nonlinear else ''})"
         ),
         harmonics=harmonics,
-        notes=tuple(notes + iso_notes),
+        notes=tuple(notes),
+        assumptions=tuple(iso_notes),
     )
