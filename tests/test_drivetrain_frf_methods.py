@@ -29,7 +29,11 @@ def _agree(a, b, rtol=1e-9):
 def test_every_example_frf_is_the_same_by_modes_and_by_direct_solve(name):
     loaded = mechdyn.load(EXAMPLES / name)
     result = get("frf").run(loaded, excite=[loaded.model.disk_names[0]], points=300)
-    assert result.method.startswith("modal superposition over all")
+    own_dampers = any(b.damping is not None for _, b in loaded.model.element_blocks)
+    if own_dampers:  # turret C's start-up model damps its meshes and shafts: the modes do not apply
+        assert result.method == "direct solve at each frequency (the model's own dampers couple the modes)"
+    else:
+        assert result.method.startswith("modal superposition over all")
     direct = frf(
         loaded.model,
         result.frequencies_hz,
