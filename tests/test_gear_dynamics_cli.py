@@ -387,3 +387,90 @@ output = "mesh_force_peak_N.mesh"
     outputs = dict(wider.outputs)
     assert outputs["mesh_force_peak_N.mesh"] == pytest.approx(alone["mesh_force_peak_N"]["mesh"], rel=1e-9)
     assert outputs["dynamic_factor.mesh"] == pytest.approx(alone["dynamic_factor"]["mesh"], rel=1e-9)
+
+
+# -- --motor: another file's [motor] --------------------------------------------------------------
+
+CURVE = (
+    '\n[motor]\ntype = "curve"\n'
+    'curve = [["0 rpm", "30 N*m"], ["1400 rpm", "25 N*m"], ["1500 rpm", "0 N*m"]]\n'
+)
+
+
+def _simulated(tmp_path, capsys, model_text, *options):
+    path = tmp_path / "pair.toml"
+    path.write_text(model_text)
+    argv = ["simulate", str(path), "--duration", "20 ms", "--json", "--db", str(tmp_path / "r.db")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert main([*argv, *options]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    return {k: doc[k] for k in ("final_speed_rad_s", "mesh_force_peak_N", "input_work_J")}
+
+
+def test_motor_option_drives_with_another_file_s_motor_as_if_written_in_the_model(tmp_path, capsys):
+    other = tmp_path / "motor.toml"
+    other.write_text(CURVE + 'disk = "motor"\n')
+    inline = _simulated(tmp_path, capsys, PAIR + CURVE + 'disk = "motor"\n')
+    # the model's own induction motor is replaced by the curve: the same run as the curve written in
+    by_option = _simulated(tmp_path, capsys, PAIR + MOTOR_OK, "--motor", str(other))
+    assert by_option == inline
+    own = _simulated(tmp_path, capsys, PAIR + MOTOR_OK)
+    assert own["final_speed_rad_s"]["motor"] != pytest.approx(inline["final_speed_rad_s"]["motor"], rel=1e-3)
+
+
+def test_motor_option_takes_a_drive_file_s_motor_onto_the_reference_disk(tmp_path, capsys):
+    drive = EXAMPLES / "press_driven.toml"  # a 90 kW induction motor, with its rotor's inertia
+    table = drive.read_text().split("[motor]")[1].split("[transmission]")[0]
+    table = "\n".join(line for line in table.splitlines() if not line.startswith("rotor_inertia"))
+    inline = _simulated(tmp_path, capsys, PAIR + '\n[motor]\ndisk = "load"\n' + table)
+    path = tmp_path / "pair.toml"
+    path.write_text(PAIR)
+    argv = ["simulate", str(path), "--duration", "20 ms", "--json", "--db", str(tmp_path / "r.db")]
+    assert main([*argv, "--motor", str(drive), "--reference", "load"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert any(
+        "[motor] → rotor_inertia = '1.4 kg*m^2' is not added: the rotor is disk 'load'" in w
+        for w in doc["warnings"]
+    )
+    assert {k: doc[k] for k in inline} == inline
+
+
+@pytest.mark.parametrize(
+    ("motor", "options", "where", "message"),
+    [
+        ('[model]\nname = "x"\n', [], "[motor]", "no [motor] table; give a drive or drivetrain file"),
+        (CURVE, [], "[motor] → disk", "names no disk and the model has no [motor]; add disk = "),
+        (
+            CURVE + 'disk = "motor"\nratoi = 2\n',
+            [],
+            "[motor] → ratoi",
+            "ratio",
+        ),
+        (
+            CURVE + 'disk = "nowhere"\n',
+            [],
+            "[motor] → disk",
+            "'nowhere' is not a disk of the drivetrain; give one of motor, load",
+        ),
+    ],
+    ids=["no motor table", "no disk", "misspelt field", "unknown disk"],
+)
+def test_a_bad_motor_file_is_named_with_its_fix(tmp_path, capsys, motor, options, where, message):
+    other = tmp_path / "other_motor.toml"
+    other.write_text(motor)
+    path = tmp_path / "pair.toml"
+    path.write_text(PAIR)
+    argv = [
+        "simulate",
+        str(path),
+        "--duration",
+        "20 ms",
+        "--db",
+        str(tmp_path / "r.db"),
+        "--motor",
+        str(other),
+    ]
+    assert main([*argv, *options]) == 2
+    err = capsys.readouterr().err
+    assert message in err and where in err and "other_motor.toml" in err and "Traceback" not in err

@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 from dataclasses import field as dataclass_field
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import BeforeValidator, ConfigDict, Field, TypeAdapter, model_validator
 
 from mechdyn.drive.schema import MotorTable as DriveMotorTable
 from mechdyn.drivetrain.elements import (
@@ -53,7 +53,7 @@ from mechdyn.io.fields import (
     TorsionalDamping,
     TorsionalStiffness,
 )
-from mechdyn.io.modelfile import ModelSource, field_context, validate
+from mechdyn.io.modelfile import ModelSource, field_context, read_toml, validate
 from mechdyn.units import show
 
 __all__ = [
@@ -289,6 +289,83 @@ class MotorTable(DriveMotorTable):
                 "and remove rotor_inertia here"
             )
         return self
+
+
+class _MotorFile(FileModel):
+    """A file read for its ``[motor]`` only (``mechdyn simulate --motor FILE``): a drive file, a
+    drivetrain file or a file of its own; its other tables are not read."""
+
+    model_config = ConfigDict(extra="ignore")
+    motor: MotorTable
+
+
+def _nonzero_inertia(value: Any) -> bool:
+    try:
+        return bool(TypeAdapter(Inertia).validate_python(value))
+    except ValueError:
+        return True  # shown as written in the warning
+
+
+def motor_file(path: str, disk: str | None, disks: Sequence[str]) -> MotorTable:
+    """The ``[motor]`` table of another file, to drive a drivetrain in ``mechdyn simulate --motor``.
+
+    Parameters
+    ----------
+    path : str
+        A TOML file with a ``[motor]`` table: a drive file's (an induction motor from its rating, or a
+        torque–speed curve), a drivetrain file's, or a file holding only that table.
+    disk : str or None
+        The disk it drives where the table names none (a drive file's motor drives a crank).
+    disks : sequence of str
+        The drivetrain's disks, one of which it must drive.
+
+    Returns
+    -------
+    MotorTable
+        Checked as a drivetrain's ``[motor]``; a drive file's ``rotor_inertia`` is left out, with a
+        warning, as the rotor is the disk (its inertia is the disk's ``inertia``).
+
+    Raises
+    ------
+    ModelFileError
+        No such file, no ``[motor]`` table, no disk, or a field in error (named, with its fix).
+    """
+    source = read_toml(path, "a .toml file with a [motor] table (a drive or drivetrain file)")
+    table = source.data.get("motor")
+    if not isinstance(table, dict):
+        raise ModelFileError(
+            source.path,
+            "[motor]",
+            'no [motor] table; give a drive or drivetrain file, or a file with [motor] type = "induction", '
+            'power = "3 kW", synchronous_speed = "3000 rpm", rated_speed = "2880 rpm", pullout_ratio = 2.8',
+        )
+    data = dict(table)
+    if "disk" not in data:
+        if disk is None:
+            raise ModelFileError(
+                source.path,
+                "[motor] → disk",
+                'names no disk and the model has no [motor]; add disk = "the motor\'s disk" here, or a '
+                "[motor] table to the model, or pass --reference DISK",
+            )
+        data["disk"] = disk
+    rotor = data.pop("rotor_inertia", None)
+    if rotor is not None and _nonzero_inertia(rotor):
+        warnings.warn(
+            f"{source.path}: [motor] → rotor_inertia = {rotor!r} is not added: the rotor is disk "
+            f"{data['disk']!r}, whose inertia the model gives",
+            ModelWarning,
+            stacklevel=2,
+        )
+    checked = validate(_MotorFile, replace(source, data={**source.data, "motor": data})).motor
+    if checked.disk not in disks:
+        raise ModelFileError(
+            source.path,
+            "[motor] → disk",
+            f"{checked.disk!r} is not a disk of the drivetrain; give one of {', '.join(disks)}",
+            checked.disk,
+        )
+    return checked
 
 
 # the fields each kind of [[loads]] row reads (besides kind and disk) and those it needs

@@ -45,13 +45,21 @@ def _simulate(
     rtol: float | None = None,
     output_step: float | None = None,
     cycle_steps: int | None = None,
+    motor: str | None = None,
 ) -> Any:
+    from dataclasses import replace
+
+    from mechdyn.drivetrain.schema import DynamicsSettings, motor_file
     from mechdyn.gear_dynamics.simulate import simulate
 
     where = _where(loaded)
     settings = loaded.settings
     dynamics = settings.dynamics if settings is not None else None
     table = dynamics.simulation if dynamics is not None else None
+    if motor is not None:  # another file's [motor] in place of the model's own
+        own = dynamics.motor if dynamics is not None else None
+        chosen = motor_file(motor, own.disk if own is not None else reference, loaded.model.disk_names)
+        dynamics = replace(dynamics or DynamicsSettings(), motor=chosen)
     if duration is None and table is None:
         raise MechdynError(
             f'{where}: no duration; add a [simulation] table with duration (e.g. duration = "2 s"), '
@@ -61,7 +69,8 @@ def _simulate(
     speed = initial_speed if initial_speed is not None else (table.initial_speed if table else 0.0)
     if not inputs and speed == 0.0:
         raise MechdynError(
-            f"{where}: nothing moves the train; add a [motor] table or [[loads]] rows, or give "
+            f"{where}: nothing moves the train; add a [motor] table or [[loads]] rows (or pass --motor "
+            "FILE, a drive file's [motor]), or give "
             "[simulation] initial_speed (or --initial-speed '1500 rpm')"
         )
     system = _system(loaded)
@@ -122,6 +131,13 @@ register(
                 metavar="STEP",
             ),
             Option("cycle_steps", "int", "fewest integration steps per mesh cycle (default 8)", minimum=1),
+            Option(
+                "motor",
+                "text",
+                "drive with the [motor] of FILE (a drive or drivetrain file) instead of the model's own; "
+                "on its disk, else on the model's motor disk, else on --reference",
+                metavar="FILE",
+            ),
         ),
         outputs=(
             Output("duration_s", "simulated time"),
