@@ -181,3 +181,23 @@ def test_backlash_held_in_contact_says_so(tmp_path, capsys):
     doc = _run(capsys, tmp_path, _write(tmp_path, text + SWEEP), "--no-backlash", "--no-stability")
     assert doc["method"].startswith("harmonic balance")
     assert any("backlash of 'mesh' is ignored" in w for w in doc["warnings"])
+
+
+def test_the_sweep_with_backlash_goes_the_way_the_file_or_the_option_says(tmp_path, capsys):
+    text = PAIR.replace('damping = "800 N*s/m"', 'damping = "800 N*s/m"\nbacklash = "50 um"')
+    sweep = SWEEP.replace('["1000 rpm", "3000 rpm"]', '["500 rpm", "700 rpm"]').replace("6", "3")
+    path = _write(tmp_path, text + sweep + 'direction = "both"\n')
+    with pytest.warns(ModelWarning, match="bore_diameter"):
+        assert mechdyn.load(path).settings.speed_sweep.direction == "both"
+    both = _run(capsys, tmp_path, path, "--no-stability")
+    assert both["method"].startswith("shooting") and both["parameters"] == {"no_stability": True}
+    # the teeth stay in contact at this light speed: the two branches are one, and said to be
+    assert both["meshes"]["mesh"]["hysteresis_speeds_rad_s"] == []
+    up = _run(capsys, tmp_path, path, "--no-stability", "--direction", "up")
+    assert up["parameters"]["direction"] == "up" and "hysteresis_speeds_rad_s" not in up["meshes"]["mesh"]
+    assert up["meshes"]["mesh"]["dynamic_factor_max_ratio"] == pytest.approx(
+        both["meshes"]["mesh"]["dynamic_factor_max_ratio"], rel=1e-9
+    )
+    with pytest.raises(SystemExit):
+        main(["speed-sweep", str(path), "--db", str(tmp_path / "r.db"), "--direction", "sideways"])
+    assert "invalid choice: 'sideways'" in capsys.readouterr().err

@@ -491,8 +491,11 @@ class SpeedSweepTable(FileModel):
     """Harmonics of each mesh frequency kept by harmonic balance."""
     backlash: bool = True
     """``false``: the teeth stay in contact, the meshes' backlash ignored (harmonic balance, fast; a
-    warning says where the mesh force would reverse); ``true``: shooting with Newton's method where a
-    mesh has backlash (slow)."""
+    note says where the mesh force would reverse); ``true``: shooting with Newton's method where a
+    mesh has backlash, through contact loss and back-side contact (about a second a speed)."""
+    direction: Literal["up", "down", "both"] = "up"
+    """With backlash, the order in which the speeds are swept, each solution the start of the next:
+    ``up``, ``down``, or ``both`` (the two branches of the jump, and the speeds between them)."""
 
     @model_validator(mode="after")
     def _range(self) -> SpeedSweepTable:

@@ -201,6 +201,7 @@ def _speed_sweep(
     harmonics: int | None = None,
     no_backlash: bool = False,
     no_stability: bool = False,
+    direction: str | None = None,
 ) -> Any:
     import dataclasses
 
@@ -239,6 +240,7 @@ def _speed_sweep(
         harmonics=harmonics if harmonics is not None else (table.harmonics if table is not None else 16),
         gear_pairs=settings.gear_pairs if settings is not None else None,
         stability=not no_stability,
+        direction=direction or (table.direction if table is not None else "up"),  # type: ignore[arg-type]
     )
     gaps = dynamics.system_options()["backlash"] if dynamics is not None else {}
     if not backlash and gaps:
@@ -251,8 +253,8 @@ def _speed_sweep(
             f"The backlash of {', '.join(repr(g) for g in gaps)} is ignored: the teeth are held in contact"
             + (
                 f"; the force of {', '.join(repr(m) for m in reversed_)} reverses, so there the teeth "
-                "would separate and the result is not valid there (sweep with the backlash: backlash = true "
-                "in [speed_sweep] and no --no-backlash; slow)"
+                "would separate and the result is not valid there (sweep with the backlash for the steady "
+                "state with contact loss: backlash = true in [speed_sweep], no --no-backlash)"
                 if reversed_
                 else ""
             )
@@ -285,12 +287,23 @@ register(
                 metavar="DISK",
             ),
             Option("harmonics", "int", "harmonics of each mesh frequency (default 16)", minimum=1),
-            Option("no_backlash", "flag", "hold the teeth in contact: ignore the backlash (fast)"),
+            Option("no_backlash", "flag", "hold the teeth in contact: ignore the backlash (faster)"),
+            Option(
+                "direction",
+                "choice",
+                "with backlash, sweep the speeds up, down or both (both: the two branches of the jump)",
+                choices=("up", "down", "both"),
+            ),
             Option("no_stability", "flag", "skip the Floquet stability of each periodic solution (faster)"),
         ),
         outputs=(
             Output("reference", "the disk held at each speed", ""),
-            Output("method", "harmonic balance, or shooting where a mesh has backlash", ""),
+            Output(
+                "method",
+                "harmonic balance, or shooting (Newton, continued over speed through contact loss) where "
+                "a mesh has backlash",
+                "",
+            ),
             Output("speed_min_rad_s", "the lowest speed swept"),
             Output("speed_max_rad_s", "the highest speed swept"),
             Output("points", "speeds computed (those given and those added near the peaks)", ""),

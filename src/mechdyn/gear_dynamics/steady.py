@@ -16,8 +16,11 @@ Its periodic response comes from
 * **shooting**: the one-period propagator [[Φ, y_p], [0, 1]] of the forced system (Magnus product or
   solve_ivp, :mod:`.floquet`) and y₀ = (I − Φ)⁻¹ y_p (e.g. Nayfeh & Balachandran, *Applied Nonlinear
   Dynamics*, 1995, §7.1); with backlash the same shooting wrapped in Newton's method on the nonlinear
-  flow, its Jacobian from the variational equations, continued over speed from each solution to the
-  next.
+  flow, integrated from one contact change to the next (located events), its Jacobian from the
+  variational equations mapped by the saltation matrix at every contact change
+  (:mod:`._nonsmooth`), continued over speed from each solution to the next, up or down
+  (``direction``), so that the jump of the softening backlash nonlinearity shows (Kahraman & Singh,
+  *J. Sound Vib.* 142 (1990) 49–75).
 
 Several meshes share the common period of their mesh frequencies (the greatest common divisor of
 their rational ratios, :func:`.floquet.period_plan`); where it is longer than 64 mesh periods the
@@ -30,13 +33,14 @@ are given (``gear_pairs``).
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
+from mechdyn.gear_dynamics._nonsmooth import FlowError, NonsmoothFlow
 from mechdyn.gear_dynamics.floquet import (
     UNSTABLE_MARGIN,
     LinearPeriodic,
@@ -65,6 +69,17 @@ __all__ = ["SpeedSweepResult", "SteadyState", "speed_sweep", "steady_state"]
 
 Method = Literal["auto", "harmonic_balance", "shooting"]
 _METHODS = ("auto", "harmonic_balance", "shooting")
+Direction = Literal["up", "down", "both"]
+_DIRECTIONS = ("up", "down", "both")
+#: A local maximum of a sweep's force amplitude is a resonance where its prominence (the height
+#: above the higher of the two minima that separate it from higher ground, as
+#: :func:`scipy.signal.find_peaks`) is at least this fraction of the peak's own height.
+PEAK_PROMINENCE = 0.02
+#: The up and down sweeps differ (a jump, hysteresis) where their force amplitudes differ by more than
+#: this fraction of the larger.
+HYSTERESIS_RTOL = 0.01
+#: Runs of :func:`_settle_periods` periods, each followed by Newton, before a speed is given up.
+_SETTLE_ROUNDS = 4
 
 
 # -- harmonic balance ---------------------------------------------------------------------------------
@@ -243,8 +258,7 @@ def _shoot_linear(
     return t, z[:, :m], z[:, m:d], Phi[:d, :d]
 
 
-class _FlowError(RuntimeError):
-    """The nonlinear flow could not be integrated (a trial state of Newton's method far off)."""
+_FlowError = FlowError
 
 
 def _flow(
@@ -257,90 +271,15 @@ def _flow(
     variational: bool = True,
     rtol: float = 1e-10,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Periods of the nonlinear (backlash) flow and, with ``variational``, its Jacobian: the states
-    at ``t_eval`` (fractions of the last period) and at the end."""
-    from scipy.integrate import solve_ivp
-
-    m = lin.m
-    d = 2 * m
-    T = plan.period(speed)
-    f0 = plan.fundamental * speed
-    Minv = np.linalg.inv(lin.M)
-    F0 = lin.force(speed)
-    J = len(lin.names)
-    o = [int(v) for v in plan.orders * plan.signs]
-    gap = [np.inf if x is None else float(x) for x in lin.backlash]
-    cm = [float(c) for c in lin.mesh_damping]
-    kbar = [float(k) for k in lin.mean_stiffness]
-    prof = [p.tolist() for p in lin.profiles]
-    err = [e.tolist() for e in lin.errors]
-    G = lin.G
-    MinvG = Minv @ G.T  # (m, J)
-    # the linear part without the meshes' damping (switched by the contact below)
-    A_lin = -Minv @ (lin.C - (G.T * lin.mesh_damping) @ G)
-    B_lin = -Minv @ lin.K
-    base = Minv @ F0
-    outer = [-Minv @ np.outer(g, g) for g in G]
-
-    def mesh(t: float, delta: np.ndarray, rate: np.ndarray) -> tuple[list[float], list[float], list[float]]:
-        """Mesh forces, and their stiffness and damping where in contact, at time t."""
-        fm, ke, ce = [0.0] * J, [0.0] * J, [0.0] * J
-        for j in range(J):
-            k, e, ed = kbar[j], 0.0, 0.0
-            if o[j]:
-                P = len(prof[j])
-                u = (o[j] * f0 * t % 1.0) * P
-                i = min(int(u), P - 1)
-                f = u - i
-                i2 = (i + 1) % P
-                k = kbar[j] * (prof[j][i] * (1.0 - f) + prof[j][i2] * f)
-                e = err[j][i] * (1.0 - f) + err[j][i2] * f
-                ed = (err[j][i2] - err[j][i]) * P * o[j] * f0
-            xr = float(delta[j]) - e
-            if xr > 0.0:
-                h = xr
-            elif xr < -gap[j]:
-                h = xr + gap[j]
-            else:
-                continue
-            fm[j] = k * h + cm[j] * (float(rate[j]) - ed)
-            ke[j], ce[j] = k, cm[j]
-        return fm, ke, ce
-
-    def rhs(t: float, y: np.ndarray) -> np.ndarray:
-        x, v = y[:m], y[m:d]
-        fm, ke, ce = mesh(t, G @ x, G @ v)
-        a = base + B_lin @ x + A_lin @ v - MinvG @ np.asarray(fm)
-        if not variational:
-            return np.concatenate([v, a])
-        Y = y[d:].reshape(d, d)
-        lower_x = B_lin + sum(ke[j] * outer[j] for j in range(J))
-        lower_v = A_lin + sum(ce[j] * outer[j] for j in range(J))
-        dY = np.concatenate([Y[m:], lower_x @ Y[:m] + lower_v @ Y[m:]])
-        return np.concatenate([v, a, dY.ravel()])
-
-    # piece by piece between the corners of the profiles, so that no step straddles one
-    pieces = segments(lin, plan, 1)
-    y = np.concatenate([y0, np.eye(d).ravel()]) if variational else np.asarray(y0, float)
-    atol = 1e-14 * max(np.abs(y0).max(), 1e-12)
-    wanted = None if t_eval is None else (periods - 1 + np.asarray(t_eval, float)) * T
-    samples = []
-    for k in range(periods * pieces):
-        a, b = k * T / pieces, (k + 1) * T / pieces
-        inside = np.zeros(0) if wanted is None else wanted[(wanted >= a) & (wanted < b)]
-        sol = solve_ivp(rhs, (a, b), y, method="DOP853", rtol=rtol, atol=atol, t_eval=np.append(inside, b))
-        if sol.status < 0:  # a contact's damping force jumps where the teeth meet: try an implicit method
-            sol = solve_ivp(rhs, (a, b), y, method="Radau", rtol=rtol, atol=atol, t_eval=np.append(inside, b))
-        if sol.status < 0:
-            raise _FlowError(sol.message)
-        samples.append(sol.y[:, :-1])
-        y = sol.y[:, -1]
-    return np.concatenate(samples, axis=1), y
+    """Periods of the nonlinear (backlash) flow and, with ``variational``, its Jacobian (saltation at
+    every contact change, :class:`._nonsmooth.NonsmoothFlow`): the states at ``t_eval`` (fractions of
+    the last period) and at the end."""
+    samples, end, _ = NonsmoothFlow(lin, plan, speed, rtol).run(y0, t_eval, periods, variational)
+    return samples, end
 
 
-def _warm_start(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> np.ndarray:
-    """A start for Newton near the attracting orbit: the static deflection run for the periods in which
-    the slowest mode of the mean system decays by e⁻⁶ (at most 100)."""
+def _settle_periods(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> int:
+    """Periods in which the slowest mode of the mean system decays by e⁻⁶ (at most 100)."""
     m = lin.m
     K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
     A = np.block(
@@ -348,26 +287,40 @@ def _warm_start(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> np.ndarr
     )
     decay = -np.linalg.eigvals(A).real.max()
     T = plan.period(speed)
-    periods = int(min(100, max(1, np.ceil(6.0 / max(decay * T, 1e-12)))))
-    y = np.concatenate([np.linalg.solve(K, lin.force(speed)), np.zeros(m)])
+    return int(min(100, max(1, np.ceil(6.0 / max(decay * T, 1e-12)))))
+
+
+def _settle(lin: LinearPeriodic, plan: PeriodPlan, speed: float, y: np.ndarray) -> np.ndarray:
+    """The state after a run from ``y`` for :func:`_settle_periods` periods at ``speed``: near the
+    orbit that attracts ``y`` (what a slow sweep reaches after a jump)."""
+    periods = _settle_periods(lin, plan, speed)
     return _flow(lin, plan, speed, y, None, periods=periods, variational=False, rtol=1e-7)[1]
+
+
+def _warm_start(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> np.ndarray:
+    """A start for Newton near the attracting orbit: the static deflection run for the periods in which
+    the slowest mode of the mean system decays by e⁻⁶ (at most 100)."""
+    m = lin.m
+    K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
+    y = np.concatenate([np.linalg.solve(K, lin.force(speed)), np.zeros(m)])
+    return _settle(lin, plan, speed, y)
 
 
 def _shoot_nonlinear(
     lin: LinearPeriodic, plan: PeriodPlan, speed: float, y0: np.ndarray, N: int, tol: float = 1e-7
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool, np.ndarray]:
-    """Damped Newton on y(T; y₀) = y₀, the Jacobian Φ − I from the variational equations (the mesh
-    damping in ``lin.C`` is switched by the contact)."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool, np.ndarray, float]:
+    """Damped Newton on y(T; y₀) = y₀, the Jacobian Φ − I from the variational equations with the
+    saltation matrices of the contact changes (the mesh damping in ``lin.C`` is switched by the
+    contact). Converged where the residual is below ``tol`` relative to the largest deflection and
+    speed of the state."""
     m = lin.m
     d = 2 * m
+    flow = NonsmoothFlow(lin, plan, speed)
 
     def residual(y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         try:
-            with np.errstate(over="ignore", invalid="ignore"):  # a trial far off may blow up
-                end = _flow(lin, plan, speed, y, None)[1]
-        except (_FlowError, ValueError):  # ValueError: solve_ivp refuses a state that is not finite
-            return np.full(d, np.inf), np.eye(d), float("inf")
-        if not np.isfinite(end).all():
+            end = flow.run(y)[1]
+        except (FlowError, ValueError):  # ValueError: solve_ivp refuses a state that is not finite
             return np.full(d, np.inf), np.eye(d), float("inf")
         r = end[:d] - y
         scale = np.concatenate([np.full(m, np.abs(y[:m]).max()), np.full(m, np.abs(y[m:]).max())]) + 1e-300
@@ -393,10 +346,20 @@ def _shoot_nonlinear(
         y0, r, Phi, size = trial, r_t, Phi_t, size_t
     t = np.arange(N) / N
     try:
-        states = _flow(lin, plan, speed, y0, t, variational=False)[0]
-    except _FlowError:
-        states = np.full((d, N), np.nan)
-    return t, states[:m].T, states[m:d].T, converged, Phi
+        states, end = flow.run(y0, t, variational=False)[:2]
+        closure = _closure(y0, end)
+    except FlowError:
+        states, closure = np.full((d, N), np.nan), float("nan")
+    return t, states[:m].T, states[m:d].T, converged, Phi, closure
+
+
+def _closure(y0: np.ndarray, end: np.ndarray) -> float:
+    """How far the orbit misses itself after one period: the largest mismatch of the deflections
+    and of the speeds, each relative to its largest value in y₀, dimensionless."""
+    m = y0.size // 2
+    r = end[: 2 * m] - y0
+    scale = np.concatenate([np.full(m, np.abs(y0[:m]).max()), np.full(m, np.abs(y0[m:]).max())]) + 1e-300
+    return float(np.abs(r / scale).max())
 
 
 # -- results ------------------------------------------------------------------------------------------
@@ -547,6 +510,7 @@ class _Solver:
         self.lin, self.plan, self.method, self.points = lin, plan, method, points
         self.stability = stability
         self.rho = float("nan")
+        self.closure = float("nan")  # the last orbit's closure after one period (backlash)
         self.harmonics, self.substeps, self.integrator = harmonics, substeps, integrator
         self.nonlinear = any(b is not None for b in lin.backlash)
         self.bal = (
@@ -554,10 +518,18 @@ class _Solver:
         )
         self.start: np.ndarray | None = None  # continuation: the last periodic state
 
-    def solve(self, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-        """Times (fractions of T), x, ẋ and convergence; :attr:`rho` the spectral radius where known."""
+    def solve(
+        self, speed: float, *, start: np.ndarray | None = None, settle: bool = True
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+        """Times (fractions of T), x, ẋ and convergence; :attr:`rho` the spectral radius where known.
+
+        With backlash, Newton starts from ``start`` (default: the last periodic state, or a run from the
+        static deflection); with ``settle``, where it fails or lands on an unstable orbit, it starts
+        again from a run of :func:`_settle_periods` periods from that start at this speed (the orbit a
+        slow sweep reaches: after a jump, the other branch), up to four runs in a row."""
         lin, plan = self.lin, self.plan
         self.rho = float("nan")
+        self.closure = float("nan")
         if self.method == "harmonic_balance":
             assert self.bal is not None
             X = _hb_solve(lin, plan, self.bal, speed)
@@ -571,13 +543,30 @@ class _Solver:
             self.rho = _spectral(Phi)[1]
             return t, x, v, True
         assert self.bal is not None
-        if self.start is None:  # a run from the static deflection starts Newton
-            self.start = _warm_start(lin, plan, speed)
+        if start is None:
+            if self.start is None:  # a run from the static deflection starts Newton
+                self.start = _warm_start(lin, plan, speed)
+            start = self.start
         N = _grid(lin, plan, self.bal.H)
-        t, x, v, ok, Phi = _shoot_nonlinear(lin, plan, speed, self.start, N)
+        t, x, v, ok, Phi, closure = _shoot_nonlinear(lin, plan, speed, start, N)
+        rho = _spectral(Phi)[1] if ok else float("inf")
+        settled = start
+        for _round in range(_SETTLE_ROUNDS if settle else 0):
+            if rho <= 1.0 + UNSTABLE_MARGIN:
+                break
+            try:
+                settled = _settle(lin, plan, speed, settled)
+            except FlowError:
+                break
+            again = _shoot_nonlinear(lin, plan, speed, settled, N)
+            rho_again = _spectral(again[4])[1] if again[3] else float("inf")
+            if again[3] and rho_again < rho:
+                t, x, v, ok, Phi, closure = again
+                rho = rho_again
+        self.closure = closure
         if ok:
             self.start = np.concatenate([x[0], v[0]])
-            self.rho = _spectral(Phi)[1]
+            self.rho = rho
         return t, x, v, ok
 
 
@@ -691,6 +680,14 @@ class SpeedSweepResult(Result):
     assumptions : tuple of str
         What ISO 6336-1's K_v took where the gear data do not say (an accuracy grade's deviations, no
         tip relief): stated under the table, not warnings.
+    closure : ndarray or None
+        (n_s,) with backlash: how far each orbit misses itself after one period, the largest mismatch
+        of the deflections and of the speeds relative to their largest values, dimensionless (NaN
+        where Newton failed and without backlash).
+    direction : str
+        ``"up"`` or ``"down"``: the order in which the speeds were visited (continuation).
+    down : SpeedSweepResult or None
+        With ``direction="both"``: the down sweep over the same speeds (None otherwise).
     """
 
     speeds: np.ndarray
@@ -709,6 +706,9 @@ class SpeedSweepResult(Result):
     harmonics: int
     notes: tuple[str, ...] = field(default=())
     assumptions: tuple[str, ...] = field(default=())
+    closure: np.ndarray | None = None
+    direction: str = "up"
+    down: SpeedSweepResult | None = None
 
     @property
     def stable(self) -> np.ndarray:
@@ -738,14 +738,15 @@ class SpeedSweepResult(Result):
         return np.abs(self.mesh_cycles)[None, :] * self.speeds[:, None]
 
     def resonances(self) -> dict[str, list[float]]:
-        """Per mesh, the speeds (rad/s) of the local maxima of its force amplitude, each refined by a
-        parabola through the peak sample and its neighbours."""
+        """Per mesh, the speeds (rad/s) of the peaks of its force amplitude, each refined by a parabola
+        through the peak sample and its neighbours: the local maxima whose prominence is at least
+        :data:`PEAK_PROMINENCE` of their height (so that ripples are not listed)."""
         out: dict[str, list[float]] = {}
         s = self.speeds
         for j, name in enumerate(self.mesh_names):
             y = self.force_amplitude[:, j]
             peaks = []
-            for i in _local_maxima(y):
+            for i in _peaks(y):
                 x0, x1, x2 = s[i - 1 : i + 2]
                 y0, y1, y2 = y[i - 1 : i + 2]
                 den = (x0 - x1) * (x0 - x2) * (x1 - x2)
@@ -755,9 +756,26 @@ class SpeedSweepResult(Result):
             out[name] = peaks
         return out
 
+    def hysteresis(self) -> dict[str, tuple[float, float] | None]:
+        """With a down sweep (``direction="both"``): per mesh, the lowest and highest speed (rad/s) at
+        which the up and the down sweep, both converged, differ in force amplitude by more than
+        :data:`HYSTERESIS_RTOL` of the larger (the band of the jump phenomenon), or None where they
+        agree; empty without a down sweep."""
+        if self.down is None:
+            return {}
+        common, iu, idn = np.intersect1d(self.speeds, self.down.speeds, return_indices=True)
+        ok = self.converged[iu] & self.down.converged[idn]
+        out: dict[str, tuple[float, float] | None] = {}
+        for j, name in enumerate(self.mesh_names):
+            a, b = self.force_amplitude[iu, j], self.down.force_amplitude[idn, j]
+            differ = ok & (np.abs(a - b) > HYSTERESIS_RTOL * np.maximum(np.abs(a), np.abs(b)))
+            out[name] = (float(common[differ].min()), float(common[differ].max())) if differ.any() else None
+        return out
+
     def summary(self) -> dict[str, Any]:
         """Speed range (rad/s), method, and per mesh the largest K_v and where (rad/s), the static
-        force (N), the largest DTE amplitude (m) and the resonance speeds (rad/s)."""
+        force (N), the largest DTE amplitude (m) and the resonance speeds (rad/s); with a down sweep
+        also the speeds (rad/s) between which the up and down sweeps differ."""
         kv = self.dynamic_factor
         res = self.resonances()
         meshes = {}
@@ -772,6 +790,9 @@ class SpeedSweepResult(Result):
                 "dte_amplitude_max_m": float(self.dte_amplitude[:, j].max()),
                 "resonance_speeds_rad_s": res[name],
             }
+            if self.down is not None:
+                band = self.hysteresis()[name]
+                meshes[name]["hysteresis_speeds_rad_s"] = list(band) if band else []
             if np.isfinite(self.iso_dynamic_factor[:, j]).any():
                 meshes[name]["iso_dynamic_factor_max_ratio"] = float(np.nanmax(self.iso_dynamic_factor[:, j]))
         return {
@@ -868,9 +889,13 @@ class SpeedSweepResult(Result):
     def warnings(self) -> tuple[str, ...]:
         """The period chosen, missing loads, speeds where Newton did not converge."""
         out = list(self.notes)
-        if not self.converged.all():
-            bad = self.speeds[~self.converged]
-            out.append(f"Newton's method did not converge at {bad.size} speeds (from {bad.min():.4g} rad/s)")
+        for sweep in (self, self.down):
+            if sweep is not None and not sweep.converged.all():
+                bad = sweep.speeds[~sweep.converged]
+                out.append(
+                    f"Newton's method did not converge at {bad.size} speeds (from {bad.min():.4g} rad/s)"
+                    + (" sweeping down" if sweep is self.down else "")
+                )
         if not self.stable.all():
             bad = self.speeds[~self.stable]
             out.append(
@@ -893,6 +918,22 @@ def _local_maxima(y: np.ndarray) -> np.ndarray:
     inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
     scale = np.abs(y).max()
     return inner[y[inner] > 1e-9 * scale] if scale > 0 else inner[:0]
+
+
+def _peaks(y: np.ndarray) -> np.ndarray:
+    """Indices of the interior local maxima of ``y`` whose prominence (:func:`scipy.signal.find_peaks`)
+    is at least :data:`PEAK_PROMINENCE` of their own value, and above 1e-9 of the largest value."""
+    from scipy.signal import find_peaks
+
+    y = np.asarray(y, float)
+    finite = np.isfinite(y)
+    if y.size < 3 or not finite.any():
+        return np.zeros(0, int)
+    y = np.where(finite, y, y[finite].min())  # a speed where Newton failed is no peak
+    idx, props = find_peaks(y, prominence=0.0)
+    scale = np.abs(y).max()
+    keep = (props["prominences"] >= PEAK_PROMINENCE * np.abs(y[idx])) & (np.abs(y[idx]) > 1e-9 * scale)
+    return idx[keep] if scale > 0 else idx[:0]
 
 
 def _iso_factors(
@@ -951,6 +992,7 @@ def speed_sweep(
     integrator: Literal["magnus", "ivp"] = "magnus",
     substeps: int = 4,
     stability: bool = True,
+    direction: Direction = "up",
 ) -> SpeedSweepResult:
     """Dynamic mesh forces, dynamic factors and DTE of a drivetrain over its running speed.
 
@@ -983,6 +1025,12 @@ def speed_sweep(
         Also compute each periodic solution's largest Floquet multiplier (harmonic balance: the
         monodromy matrix by the Magnus product, :func:`mechdyn.gear_dynamics.floquet.monodromy`;
         shooting has it anyway) and flag the speeds where it is unstable.
+    direction : {"up", "down", "both"}
+        The order in which the speeds are visited, which matters with backlash only (each speed starts
+        from the solution of the one before, so that a sweep follows one branch of the response
+        until it ends and then jumps, as a slowly run-up or run-down machine does): ``"up"``
+        (ascending), ``"down"`` (descending) or ``"both"`` (up, then down from the top; the result is
+        the up sweep with the down sweep as its :attr:`SpeedSweepResult.down`).
 
     Returns
     -------
@@ -992,15 +1040,26 @@ def speed_sweep(
     -----
     Each speed's periodic solution as :func:`steady_state` (harmonic balance: one sparse solve per
     speed, the speed-independent stiffness coupling assembled once). With backlash, Newton's method
-    starts from the previous speed's solution (natural continuation); where it fails, the step is
-    halved up to three times. K_v = max f / f_static follows ISO 6336-1 (2019), clause 6's
-    definition of the dynamic factor as the ratio of the largest to the nominal tooth load.
+    on the event-located flow starts from the previous speed's solution (natural continuation); where
+    it fails or finds an unstable orbit, the step is halved up to three times, and then the previous
+    solution is run for the periods in which the slowest mode decays by e⁻⁶ at the new speed and
+    Newton starts from there: past the end of a branch (a fold of the softening backlash
+    nonlinearity) the sweep jumps to the other branch, so that the up and down sweeps differ inside
+    the band of multiple solutions (Kahraman & Singh, *J. Sound Vib.* 142 (1990) 49–75). A speed where
+    Newton still fails is kept with ``converged`` False. K_v = max f / f_static follows ISO 6336-1
+    (2019), clause 6's definition of the dynamic factor as the ratio of the largest to the nominal tooth load.
     """
     _check_method(method)
     _check_integrator(integrator)
     harmonics = check_count("gear dynamics", "harmonics", harmonics, low=1, high=2000, what="harmonics")
     refine = check_count("gear dynamics", "refine", refine, low=0, high=20, what="refinement rounds")
     substeps = check_count("gear dynamics", "substeps", substeps, low=1, high=1000, what="substeps")
+    if direction not in _DIRECTIONS:
+        raise ModelError(
+            f"direction {direction!r}: give 'up', 'down' or 'both'",
+            element="gear dynamics",
+            field="direction",
+        )
     s = np.unique(_speeds(speeds))
     lin = linear_periodic(system, reference=reference, load=load)
     if not lin.names:
@@ -1012,11 +1071,67 @@ def speed_sweep(
     chosen = _choose(lin, method)
     plan = period_plan(lin)
     solver = _Solver(lin, plan, chosen, harmonics, substeps, integrator, stability=stability)
+    iso_cache: dict[bytes, tuple[np.ndarray, list[str]]] = {}
+
+    def result(sweep: str) -> SpeedSweepResult:
+        grid, stack = _sweep(solver, s, sweep, refine)
+        key = grid.tobytes()
+        if key not in iso_cache:
+            iso_cache[key] = _iso_factors(system, lin, grid, stack[3], dict(gear_pairs or {}))
+        iso, iso_notes = iso_cache[key]
+        notes = [plan.note] if plan.note else []
+        if not np.isfinite(_sweep_kv(stack)).any():
+            notes.append("no load given: the dynamic factor K_v needs a static mesh force (give load=...)")
+        return SpeedSweepResult(
+            speeds=grid,
+            reference=reference,
+            mesh_names=lin.names,
+            mesh_cycles=lin.cycles,
+            force_max=stack[0],
+            force_min=stack[1],
+            force_rms=stack[2],
+            static_force=stack[3],
+            dte_amplitude=stack[4],
+            iso_dynamic_factor=iso,
+            converged=stack[5][:, 0].astype(bool),
+            spectral_radius=stack[5][:, 1],
+            closure=stack[5][:, 2],
+            method=(
+                f"harmonic balance ({harmonics} harmonics per mesh)"
+                if chosen == "harmonic_balance"
+                else f"shooting ({integrator}{', Newton continuation' if solver.nonlinear else ''})"
+            ),
+            harmonics=harmonics,
+            notes=tuple(notes),
+            assumptions=tuple(iso_notes),
+            direction=sweep,
+        )
+
+    if direction == "both":
+        up = result("up")
+        down = result("down") if solver.nonlinear else replace(up, direction="down")
+        return replace(up, down=down)
+    return result(direction)
+
+
+def _sweep(
+    solver: _Solver, s: np.ndarray, direction: str, refine: int
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The speeds computed (ascending) and the stacked rows (force max, min, RMS, static force, DTE
+    amplitude, [converged, ρ]) of one sweep over the ascending speeds ``s``, visited upwards or
+    downwards. With backlash each speed starts Newton from the periodic state of the speed before;
+    where that fails (or the orbit found is unstable) the step is halved up to three times, and then
+    the state of the last good speed is run for a while at the new speed before Newton (a jump)."""
+    lin, plan = solver.lin, solver.plan
     J = len(lin.names)
     rows: dict[float, tuple[np.ndarray, ...]] = {}
+    states: dict[float, np.ndarray] = {}
 
-    def run(speed: float) -> bool:
-        t, x, v, ok = solver.solve(speed)
+    def run(speed: float, *, start: np.ndarray | None = None, settle: bool = True, keep: bool = True) -> bool:
+        t, x, v, ok = solver.solve(speed, start=start, settle=settle)
+        good = ok and not solver.rho > 1.0 + UNSTABLE_MARGIN
+        if not (good or keep):
+            return False
         force, delta = _mesh_forces(lin, plan, speed, t, x, v)
         rows[speed] = (
             force.max(axis=0),
@@ -1024,20 +1139,30 @@ def speed_sweep(
             np.sqrt(np.mean(force**2, axis=0)),
             _static_forces(lin, speed),
             0.5 * np.ptp(delta, axis=0),
-            np.array([ok, solver.rho]),
+            np.array([ok, solver.rho, solver.closure]),
         )
-        return ok
+        if ok and solver.nonlinear:
+            states[speed] = np.concatenate([x[0], v[0]])
+        return good
 
+    order = s if direction == "up" else s[::-1]
     previous = None
-    for speed in s:
-        ok = run(float(speed))
+    for speed in order.tolist():
+        if not solver.nonlinear:  # a unique solution at each speed
+            run(speed)
+            continue
+        ok = run(speed, settle=previous is None)
         if not ok and previous is not None:  # smaller steps from the last good solution
             for k in (1, 2, 3):
+                last_good = solver.start
                 for step in np.linspace(previous, speed, 2**k + 1)[1:-1]:
-                    run(float(step))
-                if run(float(speed)):
+                    run(float(step), settle=False, keep=False)
+                if run(speed, settle=False):
                     break
-        previous = float(speed)
+                solver.start = last_good
+            else:  # a fold: run the last good state at this speed, then Newton (the jump)
+                run(speed, settle=True)
+        previous = speed
     for _ in range(refine):
         grid = np.array(sorted(rows))
         amp = np.array([0.5 * (rows[g][0] - rows[g][1]) for g in grid]).reshape(grid.size, J)
@@ -1048,33 +1173,12 @@ def speed_sweep(
         new -= set(rows)
         if not new:
             break
-        for speed in sorted(new):
-            run(float(speed))
+        for speed in sorted(new, reverse=direction == "down"):
+            start = None
+            if solver.nonlinear:  # from the speed visited before it, on the same branch
+                before = [g for g in states if (g < speed if direction == "up" else g > speed)]
+                if before:
+                    start = states[max(before) if direction == "up" else min(before)]
+            run(float(speed), start=start)
     grid = np.array(sorted(rows))
-    stack = [np.array([rows[g][k] for g in grid]).reshape(grid.size, -1) for k in range(6)]
-    iso, iso_notes = _iso_factors(system, lin, grid, stack[3], dict(gear_pairs or {}))
-    notes = [plan.note] if plan.note else []
-    if not np.isfinite(_sweep_kv(stack)).any():
-        notes.append("no load given: the dynamic factor K_v needs a static mesh force (give load=...)")
-    return SpeedSweepResult(
-        speeds=grid,
-        reference=reference,
-        mesh_names=lin.names,
-        mesh_cycles=lin.cycles,
-        force_max=stack[0],
-        force_min=stack[1],
-        force_rms=stack[2],
-        static_force=stack[3],
-        dte_amplitude=stack[4],
-        iso_dynamic_factor=iso,
-        converged=stack[5][:, 0].astype(bool),
-        spectral_radius=stack[5][:, 1],
-        method=(
-            f"harmonic balance ({harmonics} harmonics per mesh)"
-            if chosen == "harmonic_balance"
-            else f"shooting ({integrator}{', Newton continuation' if solver.nonlinear else ''})"
-        ),
-        harmonics=harmonics,
-        notes=tuple(notes),
-        assumptions=tuple(iso_notes),
-    )
+    return grid, [np.array([rows[g][k] for g in grid]).reshape(grid.size, -1) for k in range(6)]

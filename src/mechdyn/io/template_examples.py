@@ -160,6 +160,7 @@ _DRIVETRAIN = TemplateExample(
             "reference": "motor",
             "harmonics": 16,
             "backlash": True,
+            "direction": "up",
         },
         "gear_pairs": {"name": "pair", "center_distance": "80 mm"},
         "gear_pairs.pinion": {"teeth": 20, "module": "2 mm", "face_width": "20 mm", **_GEAR_EXTRAS},
