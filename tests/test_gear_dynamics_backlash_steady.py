@@ -144,6 +144,9 @@ def test_up_and_down_sweeps_show_the_jump():
     (band,) = r.hysteresis().values()
     assert band is not None and band[0] <= speeds[1] <= band[1] < speeds[2]
     assert r.summary()["meshes"]["m"]["hysteresis_speeds_rad_s"] == list(band)
+    note = r.tables()[0].note
+    assert "'m' has two branches from" in note and "the table is the up sweep's" in note
+    assert note.startswith("Computed by shooting with Newton's method on the backlash flow, continued")
 
 
 def test_sweep_direction_is_checked_and_harmonic_balance_ignores_it():
@@ -159,6 +162,8 @@ def test_sweep_direction_is_checked_and_harmonic_balance_ignores_it():
     both = speed_sweep(tight, [50.0, 60.0], reference="pinion", refine=0, direction="both")
     np.testing.assert_array_equal(up.force_max, both.force_max)
     assert both.down is not None and both.hysteresis() == {"m": None}
+    assert "Swept up and down, 'm' has one branch (no jump)." in both.tables()[0].note
+    assert "Swept up and down" not in up.tables()[0].note
 
 
 def test_resonances_leave_out_ripples():

@@ -772,6 +772,24 @@ class SpeedSweepResult(Result):
             out[name] = (float(common[differ].min()), float(common[differ].max())) if differ.any() else None
         return out
 
+    def _hysteresis_notes(self) -> list[str]:
+        """The jump in words, where a down sweep was made (rpm)."""
+        if self.down is None:
+            return []
+        from mechdyn.units import convert
+
+        out = []
+        for name, band in self.hysteresis().items():
+            if band is None:
+                out.append(f"Swept up and down, {name!r} has one branch (no jump).")
+            else:
+                low, high = (float(convert(v, "rad/s", "rpm")) for v in band)
+                out.append(
+                    f"Swept up and down, {name!r} has two branches from {low:.4g} to {high:.4g} rpm (the "
+                    "jump): the table is the up sweep's."
+                )
+        return out
+
     def summary(self) -> dict[str, Any]:
         """Speed range (rad/s), method, and per mesh the largest K_v and where (rad/s), the static
         force (N), the largest DTE amplitude (m) and the resonance speeds (rad/s); with a down sweep
@@ -870,6 +888,7 @@ class SpeedSweepResult(Result):
                 note=" ".join(
                     (
                         f"Computed by {self.method}.",
+                        *self._hysteresis_notes(),
                         *(n.rstrip(".") + "." for n in self.notes + self.assumptions),
                     )
                 ),
@@ -1099,7 +1118,11 @@ def speed_sweep(
             method=(
                 f"harmonic balance ({harmonics} harmonics per mesh)"
                 if chosen == "harmonic_balance"
-                else f"shooting ({integrator}{', Newton continuation' if solver.nonlinear else ''})"
+                else (
+                    f"shooting with Newton's method on the backlash flow, continued over speed ({sweep})"
+                    if solver.nonlinear
+                    else f"shooting ({integrator})"
+                )
             ),
             harmonics=harmonics,
             notes=tuple(notes),
