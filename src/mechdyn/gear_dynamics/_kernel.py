@@ -9,7 +9,9 @@ Per flexible mesh j: δ = g·q, τ = ph·q (ph = z_a/(2π) × the row of θ_a), 
 error e(τ) interpolated linearly between P samples per cycle; contact mode 0 (drive side, or no
 backlash: h = x), 1 (in the gap: no force) or 2 (back side: h = x + b), x = δ − e(τ). The mode is a
 discrete state the integrator's events switch; the force does not read the sign of x, so that a root
-located a rounding error on either side of the boundary cannot make it chatter.
+located a rounding error on either side of the boundary cannot make it chatter. The events read x
+itself (linear in the state), each boundary x = 0 and x = −b on its own: a product such as
+x (x + b) keeps its sign when a step crosses the whole backlash.
 """
 
 import numba
@@ -132,8 +134,8 @@ def jacobian(y, n, A, W, K, C, G, PH, prof, P, kbar, cm, mode):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def event_values(y, n, A, G, PH, err, P, gap, out):
-    """x (x + b) of every mesh into ``out``: zero at both edges of the backlash, negative in the gap."""
+def event_values(y, n, A, G, PH, err, P, out):
+    """x = δ − e(τ) of every mesh into ``out``, m: the contact boundaries are x = 0 and x = −b."""
     q = np.zeros(n)
     for i in range(n):
         s = 0.0
@@ -147,13 +149,12 @@ def event_values(y, n, A, G, PH, err, P, gap, out):
             d += G[j, k] * q[k]
             t += PH[j, k] * q[k]
         e, _ = _interp(err[j], P[j], t)
-        x = d - e
-        out[j] = x * (x + gap[j]) if gap[j] >= 0.0 else 1.0
+        out[j] = d - e
 
 
 @numba.njit(cache=True, error_model="numpy")
-def event_value(y, n, A, G, PH, err, P, gap, j):
-    """x (x + b) of mesh ``j`` alone (the integrator asks for one event function at a time)."""
+def event_value(y, n, A, G, PH, err, P, j):
+    """x = δ − e(τ) of mesh ``j`` alone, m (the root finder asks for one mesh at a time)."""
     d = 0.0
     t = 0.0
     for i in range(n):
@@ -163,5 +164,4 @@ def event_value(y, n, A, G, PH, err, P, gap, j):
         d += G[j, i] * s
         t += PH[j, i] * s
     e, _ = _interp(err[j], P[j], t)
-    x = d - e
-    return x * (x + gap[j])
+    return d - e

@@ -10,12 +10,22 @@ stiff BDF formulas as the train needs) with a compiled right-hand side and Jacob
 (:mod:`mechdyn.gear_dynamics._kernel`). Three things keep the accuracy of the piecewise model:
 
 * **Contact changes are events.** Each mesh with backlash is in one of three modes (drive-side
-  contact, gap, back-side contact), a discrete state the force reads. After every step the compiled
-  event function x (x + b), x = δ − e, says whether a mesh has left its mode; the instant is located
-  by Brent's method on the step's dense output, and the integration restarts there in the new mode,
-  so that no step straddles the kink of the force or the jump of the contact damping. (This is
-  :func:`scipy.integrate.solve_ivp`'s event handling, done on the solver's steps directly: one
-  compiled call per step for all meshes instead of one Python call per mesh.)
+  contact, gap, back-side contact), a discrete state the force reads. After every step a compiled
+  call gives x = δ − e of every mesh, and each exit of its mode is checked on its own, with its
+  direction: drive → gap where x falls through 0, back → gap where x rises through −b, gap → drive
+  where x rises through 0, gap → back where x falls through −b (so that a step that carries the
+  teeth across the whole backlash is seen, and the side hit decides the new mode). The instant is
+  located by Brent's method on the step's dense output, and the integration restarts there in the
+  new mode, so that no step straddles the kink of the force or the jump of the contact damping.
+  (This is :func:`scipy.integrate.solve_ivp`'s event handling, done on the solver's steps directly:
+  one compiled call per step for all meshes instead of one Python call per mesh.)
+* **A restart sits on the boundary it has crossed.** The located root is a rounding error on either
+  side of it; the new mode is left only after x has been inside it (the step is probed from the
+  restart on), so that a state a rounding error on the old side is not a new crossing. Where x
+  never gets inside (a grazing touch: the relative velocity zero at the boundary), the mesh goes
+  back at once, and the touch is not recorded as a change. The contact law is the one of
+  :mod:`mechdyn.gear_dynamics._nonsmooth` (Kelvin–Voigt: f = k h + c ẋ_r in contact, which may pull
+  just before the teeth part), so that a run settles on the orbit Newton shooting finds there.
 * **The mesh cycle is resolved.** The stiffness profile may jump (single/double tooth contact); its
   samples are joined by straight lines, so the jump is a steep ramp. The step is limited to
   1/``cycle_steps`` (default 8) of the shortest mesh period at the speed the present acceleration
@@ -305,13 +315,13 @@ def simulate(
     mode = np.zeros(m, dtype=np.int64)
     ev_buf = np.zeros(m)
     gap = pk["gap"]
+    has_gap = gap >= 0
     if m:
-        kern.event_values(y, n, A, pk["G"], pk["PH"], pk["err"], pk["P"], gap, ev_buf)
-        for j in range(m):
-            if gap[j] >= 0 and ev_buf[j] < 0:
-                mode[j] = _GAP
-            elif gap[j] >= 0 and _x(system, pk, A, y, j) < -gap[j] / 2:
-                mode[j] = _BACK
+        kern.event_values(y, n, A, pk["G"], pk["PH"], pk["err"], pk["P"], ev_buf)
+        mode[has_gap & (ev_buf < 0)] = _GAP
+        mode[has_gap & (ev_buf <= -gap)] = _BACK
+    # each mode's exits: margin = sign · x + offset, positive inside the mode, per mesh and boundary
+    exit_sign, exit_offset = _exits(gap)
 
     breakpoints = sorted({b for load in inputs for b in load.breakpoints if 0.0 < b < t_total})
     out_buf = np.zeros(2 * n + 3)
@@ -353,18 +363,21 @@ def simulate(
 
     solver_class = getattr(scipy.integrate, method)
     solver_kwargs: dict[str, Any] = {"jac": jac} if method in ("Radau", "BDF", "LSODA") else {}
-    has_gap = gap >= 0
     any_gap = bool(has_gap.any())
-    event_args = (n, A, pk["G"], pk["PH"], pk["err"], pk["P"], gap)
+    event_args = (n, A, pk["G"], pk["PH"], pk["err"], pk["P"])
+    rows = np.arange(m)
 
-    def events_at(yy: np.ndarray) -> np.ndarray:
-        kern.event_values(yy, n, A, pk["G"], pk["PH"], pk["err"], pk["P"], gap, ev_buf)
-        return ev_buf.copy()
+    def margins(yy: np.ndarray) -> np.ndarray:
+        """(m, 2) distances of x from the two exits of each mesh's present mode (inf: no exit)."""
+        kern.event_values(yy, *event_args, ev_buf)
+        sg, off = exit_sign[mode], exit_offset[rows, mode]
+        return sg * ev_buf[:, None] + off
 
     times: list[np.ndarray] = [np.array([0.0])]
     states: list[np.ndarray] = [y[:, None].copy()]
     modes: list[np.ndarray] = [mode[:, None].copy()]
     changes: list[tuple[float, int, int, int]] = []
+    n_switches = 0  # the changes, grazing touches included
     t = 0.0
     segments = 0
     started = _time.perf_counter()
@@ -397,9 +410,8 @@ def simulate(
                 grid = np.append(grid, t_total)
         solver = solver_class(fun, t, y, t_end, max_step=step, rtol=rtol, atol=atol_vec, **solver_kwargs)
         segments += 1
-        signs = np.where(mode == _GAP, -1.0, 1.0)
-        s_prev = signs * events_at(y) if any_gap else None
-        hit: list[int] = []
+        s_prev = margins(y) if any_gap else None
+        hit: list[tuple[int, int]] = []
         while solver.status == "running":
             solver.step()
             if solver.status == "failed":
@@ -413,19 +425,16 @@ def simulate(
             dense = None
             t_hit = t1
             if any_gap:
-                s_new = signs * events_at(solver.y)
-                left = np.flatnonzero(has_gap & (s_new < 0))  # a mesh that has left its contact mode
-                if left.size:
-                    dense = solver.dense_output()
-                    assert s_prev is not None
-                    for jj in left.tolist():
-                        root = (
-                            t0 if s_prev[jj] <= 0 else _root(kern, dense, t0, t1, signs[jj], jj, event_args)
-                        )
-                        if root < t_hit - 1e-15 * max(1.0, t_hit):
-                            t_hit, hit = root, [jj]
-                        elif abs(root - t_hit) <= 1e-15 * max(1.0, t_hit):
-                            hit.append(jj)
+                s_new = margins(solver.y)
+                assert s_prev is not None
+                for jj, side in np.argwhere(s_new < 0).tolist():  # a mesh past an exit of its mode
+                    dense = dense if dense is not None else solver.dense_output()
+                    sg, off = float(exit_sign[mode[jj], side]), float(exit_offset[jj, mode[jj], side])
+                    root = _root(kern, dense, t0, t1, sg, off, jj, event_args, bool(s_prev[jj, side] > 0))
+                    if root < t_hit - 1e-15 * max(1.0, t_hit):
+                        t_hit, hit = root, [(jj, side)]
+                    elif abs(root - t_hit) <= 1e-15 * max(1.0, t_hit):
+                        hit.append((jj, side))
                 s_prev = s_new
             upto = t_hit if hit else t1
             if out_step is None:
@@ -447,14 +456,16 @@ def simulate(
             if hit:
                 assert dense is not None
                 y = np.asarray(dense(t_hit), dtype=float).copy()
-                for j in hit:
+                for j, side in hit:
                     old = int(mode[j])
-                    new = (
-                        _GAP if old != _GAP else (_DRIVE if _x(system, pk, A, y, j) > -gap[j] / 2 else _BACK)
-                    )
+                    new = int(_EXIT_TO[old, side])
                     mode[j] = new
-                    changes.append((t_hit, j, old, new))
-                if len(changes) > max_events:
+                    if changes and changes[-1] == (t_hit, j, new, old):
+                        changes.pop()  # a grazing touch: entered and left at one instant, no change
+                    else:
+                        changes.append((t_hit, j, old, new))
+                    n_switches += 1
+                if n_switches > max_events:
                     raise ModelError(
                         f"more than {max_events} contact changes by t = {t_hit:.6g} s: the contact chatters; "
                         "add mesh damping, or raise max_events",
@@ -478,26 +489,83 @@ def simulate(
     )
 
 
-def _x(system: GearSystem, pk: dict[str, Any], A: np.ndarray, y: np.ndarray, j: int) -> float:
-    n = system.n
-    q = A @ y[:n]
-    mesh = system.meshes[j]
-    tau = mesh.teeth * (mesh.phase_row @ q) / (2.0 * math.pi)
-    return float(mesh.g @ q - mesh.transmission_error(tau))
+def _exits(gap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The exits of each contact mode as margins sign · x + offset, positive inside the mode.
+
+    Parameters
+    ----------
+    gap : ndarray
+        (m,) backlash of each mesh, m (negative: none, the mesh never leaves the drive side).
+
+    Returns
+    -------
+    sign : ndarray
+        (3, 2) per mode (drive, gap, back) and exit: the sign of x (0: no such exit).
+    offset : ndarray
+        (m, 3, 2) per mesh, mode and exit: the offset, m (inf: no such exit).
+    """
+    sign = np.array([[1.0, 0.0], [-1.0, 1.0], [-1.0, 0.0]])
+    m = gap.size
+    offset = np.full((m, 3, 2), np.inf)
+    has = gap >= 0
+    offset[has, _DRIVE, 0] = 0.0  # drive side → gap where x falls through 0
+    offset[has, _GAP, 0] = 0.0  # gap → drive side where x rises through 0
+    offset[has, _GAP, 1] = gap[has]  # gap → back side where x falls through −b
+    offset[has, _BACK, 0] = -gap[has]  # back side → gap where x rises through −b
+    return sign, offset
 
 
-def _root(kern: Any, dense: Any, t0: float, t1: float, sign: float, j: int, args: tuple[Any, ...]) -> float:
-    """Where mesh ``j`` leaves its contact mode within the step [t0, t1], on the step's dense output."""
+_EXIT_TO = np.array([[_GAP, _GAP], [_DRIVE, _BACK], [_GAP, _GAP]])
+"""The mode each mode's exit leads to: drive and back side to the gap; the gap to the side it hits."""
+
+_PROBE = np.concatenate([2.0 ** -np.arange(40.0, 4.0, -1.0), np.arange(1, 17) / 16.0])
+"""Fractions of a step (ascending) at which a margin that starts on its boundary is probed."""
+
+
+def _root(
+    kern: Any,
+    dense: Any,
+    t0: float,
+    t1: float,
+    sign: float,
+    offset: float,
+    j: int,
+    args: tuple[Any, ...],
+    armed: bool,
+) -> float:
+    """Where mesh ``j`` crosses an exit of its contact mode within the step [t0, t1], on the step's
+    dense output: the first fall of the margin g = sign · x + offset through 0, g(t1) < 0.
+
+    A margin positive at t0 (``armed``) is bracketed by the step. One that starts on its boundary (a
+    rounding error either side of 0: the mode entered there, at a restart) leaves only after it has
+    been positive: the step is probed from t0 on for the first positive margin, and the root sought
+    after it. A margin never positive in the step (the relative velocity at the boundary zero, or
+    pointing out of the mode: a grazing touch) leaves at t0. The direction of the crossing thus
+    decides, not the side of the boundary that rounding puts the restart on.
+
+    Returns
+    -------
+    float
+        The time of the exit, s.
+    """
     from scipy.optimize import brentq
 
     def g(tt: float) -> float:
-        return sign * float(kern.event_value(np.asarray(dense(tt), dtype=float), *args, j))
+        return sign * float(kern.event_value(np.asarray(dense(tt), dtype=float), *args, j)) + offset
 
-    if g(t1) >= 0:  # pragma: no cover - called only where it is negative
+    g1 = g(t1)
+    if g1 >= 0:  # the dense output at t1 a rounding error off the state: the exit at the step's end
         return t1
-    if g(t0) <= 0:  # pragma: no cover - the dense output at t0 a rounding error off the state
-        return t0
-    return float(brentq(g, t0, t1, xtol=1e-15 * max(1.0, abs(t1)), rtol=4 * np.finfo(float).eps))
+    lo = t0
+    if not armed or g(t0) <= 0:
+        ts = t0 + (t1 - t0) * _PROBE
+        vals = np.array([g(float(tt)) for tt in ts[:-1]] + [g1])
+        inside = np.flatnonzero(vals > 0)
+        if not inside.size:
+            return t0
+        first_out = inside[0] + int(np.argmax(vals[inside[0] :] <= 0))
+        lo, t1 = float(ts[first_out - 1]), float(ts[first_out])
+    return float(brentq(g, lo, t1, xtol=1e-15 * max(1.0, abs(t1)), rtol=4 * np.finfo(float).eps))
 
 
 def _result(
