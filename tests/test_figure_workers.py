@@ -209,3 +209,83 @@ def test_the_number_of_processes_follows_the_environment(monkeypatch):
     assert plot_workers() == 3
     monkeypatch.delenv("MECHDYN_PLOT_WORKERS")
     assert plot_workers() >= 1
+
+
+class Recorder:
+    """A source whose figure notes which of ``watched`` the process drawing it had imported."""
+
+    def __init__(self, log: str, watched: tuple[str, ...]) -> None:
+        self.log, self.watched = log, watched
+
+    def plots(self):
+        return {"seen.png": self._make}
+
+    def _make(self):
+        import sys
+
+        with open(self.log, "w") as out:
+            out.write(" ".join(m for m in self.watched if m in sys.modules))
+        return _line(1.0)
+
+
+def test_processes_started_early_import_the_modules_they_are_told_to_expect(tmp_path):
+    import sys
+
+    watched = ("wave", "tabnanny")  # modules nothing here imports
+    assert not any(m in sys.modules for m in watched)
+    log = tmp_path / "seen.txt"
+    with FigureWorkers(2, draw_here=False) as drawing:
+        drawing.start()
+        drawing.expect("wave", "mechdyn.no_such_module")  # one that does not import is passed over
+        drawing.expect("tabnanny")  # told twice: both
+        drawing.draw(Recorder(str(log), watched), tmp_path)
+    assert log.read_text().split() == ["wave", "tabnanny"]
+    assert not any(m in sys.modules for m in watched)
+    assert _no_children_left()
+
+
+def test_expecting_modules_without_processes_started_early_is_nothing(tmp_path):
+    with FigureWorkers(2) as drawing:
+        drawing.expect("wave")
+        paths = drawing.draw(Curves(3), tmp_path)
+    assert all(p.stat().st_size > 1000 for p in paths)
+    assert _no_children_left()
+
+
+@pytest.mark.parametrize("free", [True, False], ids=["a core free: forked early", "no core free: late"])
+def test_the_command_draws_the_same_plots_whether_a_core_is_free_or_not(tmp_path, monkeypatch, free):
+    import mechdyn.figure_workers
+    from conftest import EXAMPLES
+    from mechdyn.cli.main import main
+
+    monkeypatch.setattr(mechdyn.figure_workers, "core_free", lambda: free)
+    started = []
+    real = FigureWorkers.start
+    monkeypatch.setattr(FigureWorkers, "start", lambda self, *m: started.append(m) or real(self, *m))
+    expected = []  # forked before the model is read, the copy is told what its result will hold
+    told = FigureWorkers.expect
+    monkeypatch.setattr(FigureWorkers, "expect", lambda self, *m: expected.append(m) or told(self, *m))
+    model = EXAMPLES / "press_on_mounts.toml"
+    argv = ["support", str(model), "--db", str(tmp_path / "r.db"), "--plots"]
+    assert main([*argv, str(tmp_path / "plots")]) == 0
+    with monkeypatch.context() as m:
+        m.setenv("MECHDYN_PLOT_WORKERS", "1")  # every figure drawn in one process: the reference
+        assert main([*argv, str(tmp_path / "one")]) == 0
+    drawn = sorted(p.name for p in (tmp_path / "plots").iterdir())
+    assert drawn and drawn == sorted(p.name for p in (tmp_path / "one").iterdir())
+    for name in drawn:
+        assert (tmp_path / "plots" / name).read_bytes() == (tmp_path / "one" / name).read_bytes(), name
+    assert started[0] == ("mechdyn.support.analyses", "mechdyn.support.plots")
+    assert bool(expected) == free
+    if free:
+        assert "mechdyn.support.model" in expected[0] and "mechdyn.support.schema" not in expected[0]
+    assert _no_children_left()
+
+
+def test_a_core_is_free_only_where_fewer_processes_run_than_there_are_cores(monkeypatch):
+    from mechdyn.figure_workers import core_free
+
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})  # this process runs: none is free
+    assert core_free() is False
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(4096)))
+    assert core_free() is True

@@ -7,9 +7,12 @@ matplotlib while it runs, then receives the result, pickled (by cloudpickle wher
 functions), and forks the further copies that draw beside it, which inherit matplotlib imported and the
 result (importing matplotlib is as much work as drawing three figures: it is done once, and never by
 this process when it has not done it already); copies started when the figures are asked for inherit
-them. Each copy takes the next figure from a queue when it is free, so that one large figure does not
-hold up the rest, and ends without running this process's exit handlers. An error in any copy is raised
-in this process, as raised there, once every copy has ended; the figures drawn by then are on disk.
+them. A copy started even before the model is read (where a core is idle, :func:`core_free`) is told
+which modules the result will need once the model is read (:meth:`FigureWorkers.expect`), and imports
+them while the analysis runs. Each copy takes the next figure from a queue when it is free, so that
+one large figure does not hold up the rest, and ends without running this process's exit handlers. An
+error in any copy is raised in this process, as raised there, once every copy has ended; the figures
+drawn by then are on disk.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, cast
 
-__all__ = ["FigureWorkers", "plot_workers"]
+__all__ = ["FigureWorkers", "core_free", "plot_workers"]
 
 Makers = Mapping[str, Callable[[], Any]]
 
@@ -42,16 +45,14 @@ def plot_workers() -> int:
 def _get_ready(modules: tuple[str, ...]) -> None:
     """What a copy does before its result comes: import matplotlib and the modules that will draw,
     and draw one small figure in memory (the fonts are read and laid out on the first text drawn)."""
-    import importlib
     import io
 
     import matplotlib.pyplot as plt
 
-    for name in modules:
-        try:
-            importlib.import_module(name)
-        except ModuleNotFoundError:  # a module that may not exist (an analysis without plots of its own)
-            pass
+    from mechdyn.units import registry
+
+    _import(list(modules))
+    registry()  # the figures' display units (made already where this process was forked late: kept)
     fig, ax = plt.subplots(figsize=(2, 1.5), layout="constrained")
     ax.plot([0.0, 1.0], [0.0, 1.0], label="warm-up")
     ax.set_title("warm-up")
@@ -106,11 +107,52 @@ def _write_all(fd: int, data: bytes) -> None:
         view = view[os.write(fd, view) :]
 
 
-def _read_all(fd: int) -> bytes:
-    chunks = []
-    while chunk := os.read(fd, 1 << 16):
+def _read_exactly(fd: int, n: int) -> bytes:
+    """``n`` bytes from a pipe, or fewer where it ends first."""
+    chunks, left = [], n
+    while left and (chunk := os.read(fd, min(left, 1 << 16))):
         chunks.append(chunk)
+        left -= len(chunk)
     return b"".join(chunks)
+
+
+# What goes down a copy's job pipe: frames of one kind byte and eight bytes of length, then the bytes.
+_MODULES, _RESULT = b"m", b"r"
+
+
+def _frame(kind: bytes, data: bytes) -> bytes:
+    return kind + len(data).to_bytes(8, "little") + data
+
+
+def _next_frame(fd: int) -> tuple[bytes, bytes] | None:
+    """The next frame of a job pipe, or None where the pipe ends (nothing more to come)."""
+    head = _read_exactly(fd, 9)
+    if len(head) < 9:
+        return None
+    data = _read_exactly(fd, int.from_bytes(head[1:], "little"))
+    return head[:1], data
+
+
+def _import(modules: list[str]) -> None:
+    import importlib
+
+    for name in modules:
+        try:
+            importlib.import_module(name)
+        except ImportError:  # a module that may not exist (an analysis without plots of its own)
+            pass
+
+
+def core_free() -> bool:
+    """Whether a core of those this process may use is idle now: fewer processes runnable at this
+    instant (this one included, the kernel's count in ``/proc/loadavg``) than cores, so that a process
+    started now works beside this one rather than taking turns with it. False where it cannot tell."""
+    try:
+        with open("/proc/loadavg") as f:
+            running = int(f.read().split()[3].split("/")[0])
+        return running < len(os.sched_getaffinity(0))
+    except (OSError, ValueError, IndexError, AttributeError):
+        return False
 
 
 def _report(fd: int, error: BaseException | None, caught: list[warnings.WarningMessage]) -> None:
@@ -188,6 +230,23 @@ class FigureWorkers:
             self._fork(1)
         return self
 
+    def expect(self, *modules: str) -> None:
+        """Tell the processes started early which modules the result to come will need (those of the
+        model it is made from), so that they import them while it is made, not once it has come.
+
+        Parameters
+        ----------
+        *modules : str
+            Module names; one that does not import is passed over.
+        """
+        data = _frame(_MODULES, " ".join(modules).encode())
+        for child in self._children:
+            if child["job"] is not None:
+                try:
+                    _write_all(child["job"], data)
+                except BrokenPipeError:  # that copy has ended: its report says why
+                    pass
+
     def _fork(self, n: int) -> None:
         self._open_queue()
         sys.stdout.flush()
@@ -226,10 +285,11 @@ class FigureWorkers:
             )
             if self._inherit is None:
                 _get_ready(self._ready)
-                payload = _read_all(job)
-                if not payload:  # nothing to draw after all
+                while (frame := _next_frame(job)) is not None and frame[0] == _MODULES:
+                    _import(frame[1].decode().split())  # what the result will need, while it is made
+                if frame is None:  # nothing to draw after all
                     return 0
-                source, paths, dpi = pickle.loads(payload)
+                source, paths, dpi = pickle.loads(frame[1])
                 makers = source.plots() if hasattr(source, "plots") else source
                 more = min(self._helpers, len(paths) - 1)
                 if more > 0:  # they report to this copy, which reports for all of them
@@ -331,7 +391,7 @@ class FigureWorkers:
         else:
             for child in self._children:
                 try:
-                    _write_all(child["job"], payload)
+                    _write_all(child["job"], _frame(_RESULT, payload))
                 except BrokenPipeError:  # that copy has ended: its report says why
                     pass
         self._close_queue(1)

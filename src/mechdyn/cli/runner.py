@@ -175,23 +175,45 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         return _run(args, analysis, drawing)
 
 
+def _model_modules(analysis: Analysis) -> list[str]:
+    """The modules of mechdyn that reading a model imported, less those of reading files: those its
+    result may hold objects of (SciPy's where it was imported)."""
+    package = analysis.function.__module__.rpartition(".")[0]
+    skip = (".schema", ".analyses", ".io", ".cli", ".store", ".studies", ".reports", ".dashboard")
+    found = [
+        m
+        for m in list(sys.modules)
+        if m.startswith("mechdyn.") and not any(m.endswith(x) or f"{x}." in m for x in skip) and m != package
+    ]
+    return (["scipy"] if "scipy" in sys.modules else []) + found + ["mechdyn.results"]
+
+
 def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
     from mechdyn.errors import MechdynError, ModelFileError
+    from mechdyn.figure_workers import core_free
     from mechdyn.io.modelfile import load_model
     from mechdyn.store import ResultStore
     from mechdyn.store.store import StoreError, check_name, jsonable
 
     options = {o.name: getattr(args, o.name) for o in analysis.options}
+    module = analysis.function.__module__
+    drawn_by = (module, module.rpartition(".")[0] + ".plots")  # imported by the drawing processes
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        early = bool(args.plots) and core_free()
+        if early:
+            # a core is idle: the process that will draw the plots starts now and imports matplotlib
+            # beside this one while it reads the model (mostly imports too) and runs the analysis
+            drawing.start(*drawn_by)
         loaded = load_model(args.file)
         check_name("[model] name", loaded.name, args.file)
-        if args.plots:
-            # the processes that will draw the plots start now and import matplotlib while the analysis
-            # runs; started after the model is read, they inherit what reading it imported (NumPy,
-            # pint, pydantic) instead of importing it a second time beside this process
-            module = analysis.function.__module__
-            drawing.start(module, module.rpartition(".")[0] + ".plots")
+        if early:  # what the result will hold: the modules of the model just read
+            drawing.expect(*_model_modules(analysis))
+        elif args.plots:
+            # no core to spare: started once the model is read, the drawing processes inherit what
+            # reading it imported (NumPy, pint, pydantic) instead of importing it a second time while
+            # this process competes with them for one core
+            drawing.start(*drawn_by)
         # the database is checked before the work: a wrong --db costs nothing
         with ResultStore(args.db) as store:
             label = store.label
