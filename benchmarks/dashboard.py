@@ -9,11 +9,13 @@ The study is a real one (``examples/studies/press_sobol.toml`` with more base sa
 as Sobol sampling needs: the smallest past 10⁵ variants), run into a fresh SQLite file. mechdyn:
 ``mechdyn dashboard`` over it (uvicorn in a thread), each request timed
 from the client, the median of five after one to warm up: the study page, a page of its table sorted
-by an output, its 500th page, the sample of points its plots draw, the history, the Pareto front,
+by an output, its 500th page and its last, the sample of points its plots draw, the history, the Pareto front,
 the importances, the findings. Baseline, in the same run: a plain static file of the same data (every
 variant's parameters and outputs as JSON, what a page would send without the database's help) served
 by the same server the same way. In Chromium (where Playwright and a Chromium are installed): the
-time from opening the page to its first view drawn, and to the scatter plot drawn once scrolled to.
+time from opening the page to its first view drawn, and to the scatter plot drawn once scrolled to
+(``*_painted_seconds``: measured in the page, from scrolling until the plot's frame is painted; the
+others as Playwright sees it), then to every point of its sample drawn in WebGL when asked for.
 """
 
 from __future__ import annotations
@@ -113,22 +115,45 @@ def _browser(address: str) -> dict[str, float] | str:
     exe = os.environ.get("MECHDYN_TEST_CHROMIUM") or shutil.which("chromium")
     if not exe:
         return "no Chromium (scripts/with-chromium installs one)"
-    out = {}
+    # the page marks each view drawn (data-drawn, once painted); the time it was painted is taken in
+    # the page itself, as Playwright's polls of a busy page come late
+    painted = """window.__drawn = {};
+      new MutationObserver(ms => ms.forEach(m => {
+        const el = m.target;
+        if (el.hasAttribute("data-drawn") && !(el.id in window.__drawn))
+          window.__drawn[el.id] = performance.now();
+      })).observe(document, {subtree: true, attributeFilter: ["data-drawn"]});"""
+    out: dict[str, float] = {}
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=exe, args=["--no-sandbox"])
         page = browser.new_page(viewport={"width": 1280, "height": 900})
+        page.add_init_script(painted)
         for attempt in ("cold", "warm"):
             t0 = time.perf_counter()
             page.goto(address + "/studies/1")
             expect(page.locator("#variants tbody tr").first).to_be_attached(timeout=120_000)
             page.locator("#history").scroll_into_view_if_needed()
-            expect(page.locator("#history .main-svg").first).to_be_attached(timeout=120_000)
+            expect(page.locator("#history")).to_have_attribute("data-drawn", "yes", timeout=120_000)
             first = time.perf_counter() - t0
             t1 = time.perf_counter()
+            scrolled = page.evaluate("performance.now()")
             page.locator("#scatter").scroll_into_view_if_needed()
-            expect(page.locator("#scatter .main-svg").first).to_be_attached(timeout=120_000)
+            expect(page.locator("#scatter")).to_have_attribute("data-drawn", "yes", timeout=120_000)
+            seen = time.perf_counter() - t1
+            drawn = page.evaluate("window.__drawn")
             out[f"{attempt}_first_view_seconds"] = first
-            out[f"{attempt}_scatter_seconds"] = time.perf_counter() - t1
+            out[f"{attempt}_first_view_painted_seconds"] = drawn["history"] / 1e3
+            out[f"{attempt}_scatter_seconds"] = seen
+            out[f"{attempt}_scatter_painted_seconds"] = (drawn["scatter"] - scrolled) / 1e3
+            # every point of the sample, in WebGL, when asked for
+            t2 = page.evaluate(
+                "document.getElementById('scatter').removeAttribute('data-drawn'),"
+                " delete window.__drawn.scatter, performance.now()"
+            )
+            page.select_option("#scatter-points", "all")
+            expect(page.locator("#scatter")).to_have_attribute("data-drawn", "yes", timeout=120_000)
+            webgl = page.evaluate("window.__drawn.scatter") - t2
+            out[f"{attempt}_scatter_webgl_painted_seconds"] = webgl / 1e3
         browser.close()
     return out
 
@@ -163,10 +188,14 @@ def main(argv: list[str] | None = None) -> int:
                 time.sleep(0.2)
             findings_seconds = time.perf_counter() - cold
             last = min(500, samples * 10 // 100)
+            end = -(-samples * 10 // 100)  # the table's last page
             requests = {
                 "study page": "/studies/1",
                 "table, sorted by an output": "/api/studies/1/variants?sort=8&order=desc",
                 f"table, page {last}": f"/api/studies/1/variants?sort=8&page={last}",
+                f"table, last page ({end}), by a parameter, largest first": (
+                    f"/api/studies/1/variants?sort=3&order=desc&page={end}"
+                ),
                 "points (the plots' sample)": "/api/studies/1/points",
                 "history with the best so far": "/api/studies/1/history",
                 "Pareto front": "/api/studies/1/pareto?x=8&y=9",

@@ -427,8 +427,12 @@ def test_a_study_of_a_hundred_thousand_variants_is_shown_in_a_real_browser(large
         page.goto(address + "/studies/1")
         expect(page.locator("#count")).to_have_text("100011 (0 failed)")
         page.locator("#scatter").scroll_into_view_if_needed()
-        expect(page.locator("#scatter .main-svg").first).to_be_attached()
+        expect(page.locator("#scatter")).to_have_attribute("data-drawn", "yes")
         expect(page.locator("#sample-note")).to_contain_text("of the 100011 variants that succeeded")
+        drawn = page.evaluate("document.getElementById('scatter').data[0].x.length")
+        assert 1_000 <= drawn <= 3_000  # by default an evenly spread part of the sample, in SVG
+        page.select_option("#scatter-points", "all")  # the whole sample, in WebGL
+        expect(page.locator("#scatter .gl-canvas").first).to_be_attached()
         drawn = page.evaluate("document.getElementById('scatter').data[0].x.length")
         assert 10_000 <= drawn <= 20_000
         page.locator("#history").scroll_into_view_if_needed()

@@ -603,7 +603,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
         st = study_of(request)
         if st is None:
             raise HTTPException(404)
-        return JSONResponse(studies.counts(st.id))
+        return JSONResponse(study_data(st).counts())  # from the kept values where they are current
 
     def _int(q: Any, name: str, default: int) -> int:
         try:
@@ -612,7 +612,8 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             return default
 
     def study_variants(request: Request) -> JSONResponse:
-        """A page of the study's table, sorted by any column in the database."""
+        """A page of the study's table, sorted by any column over the whole study (from the kept
+        sorted order once the study is read whole, else by the database)."""
         st = study_of(request)
         if st is None:
             raise HTTPException(404)
@@ -637,7 +638,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
                     }
                     for r in rows
                 ],
-                **studies.counts(st.id),
+                **data.counts(),  # the same state as the page's rows
             }
         )
 
