@@ -201,3 +201,43 @@ def test_the_sweep_with_backlash_goes_the_way_the_file_or_the_option_says(tmp_pa
     with pytest.raises(SystemExit):
         main(["speed-sweep", str(path), "--db", str(tmp_path / "r.db"), "--direction", "sideways"])
     assert "invalid choice: 'sideways'" in capsys.readouterr().err
+
+
+def test_a_design_study_varies_the_mesh_damping_and_reads_the_dynamic_factor(tmp_path):
+    """``speed-sweep`` in a study: each variant's stored output equals the analysis run on the
+    changed file by itself, and more mesh damping lowers the largest dynamic factor."""
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.storage import StudyStore
+
+    pair = PAIR.replace('damping = "800 N*s/m"', 'damping = "800 N*s/m"\ntransmission_error = "5 um"')
+    _write(tmp_path, pair + SWEEP)
+    (tmp_path / "study.toml").write_text(
+        """
+[study]
+name = "pair-damping"
+kind = "oat"
+model = "pair.toml"
+analysis = "speed-sweep"
+options = { no_stability = true }
+
+[[parameters]]
+path = "meshes.mesh.damping"
+levels = ["+200 %"]
+
+[[outputs]]
+output = "meshes.mesh.dynamic_factor_max_ratio"
+"""
+    )
+    db = str(tmp_path / "s.db")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert main(["study", str(tmp_path / "study.toml"), "--db", db, "--json"]) == 0
+        with ResultStore(db, read_only=True) as store:
+            variants = StudyStore(store).variants("pair-damping")
+        assert len(variants) == 2 and all(v.status == "ok" for v in variants)
+        damped = _write(tmp_path, pair.replace('"800 N*s/m"', '"2400 N*s/m"') + SWEEP, "damped.toml")
+        alone = get("speed-sweep").run(mechdyn.load(damped), no_stability=True).summary()
+    key = "meshes.mesh.dynamic_factor_max_ratio"
+    by = {v.given["meshes.mesh.damping"]: dict(v.outputs)[key] for v in variants}
+    assert by["2400 N*s/m"] == pytest.approx(alone["meshes"]["mesh"]["dynamic_factor_max_ratio"], rel=1e-9)
+    assert 1.0 <= by["2400 N*s/m"] < by["800 N*s/m"]
