@@ -177,6 +177,7 @@ def test_a_large_study_s_scatter_draws_a_part_of_its_sample_then_every_point_and
         expect(page.locator("#scatter")).to_have_attribute("data-drawn", "yes")
         expect(page.locator("#sample-note")).to_contain_text(f"of the {ok} variants that succeeded")
         # by default a part of it, evenly spread, in SVG (quick without a graphics card)
+        expect(page.locator("#scatter-points")).to_be_visible()
         drawn = page.evaluate("document.getElementById('scatter').data[0]")
         assert drawn["type"] == "scatter" and 1_000 <= len(drawn["x"]) <= 3_000
         expect(page.locator("#sample-note")).to_contain_text(f"Drawn: an evenly spread {len(drawn['x'])} of")
