@@ -12,34 +12,11 @@ import urllib.request
 import numpy as np
 import pytest
 
-from conftest import EXAMPLES, chromium, serving
+from conftest import chromium, serving
 from mechdyn.cli.main import main
+from test_dashboard_study_views import STUDY as SUPPORT_STUDY
 
-STUDY = f"""
-[study]
-name = "support-lhs"
-kind = "lhs"
-model = "{(EXAMPLES / "press_on_support.toml").as_posix()}"
-analysis = "support"
-samples = 4
-seed = 3
-
-[[parameters]]
-path = "support.stiffness"
-range = "±30 %"
-
-[[parameters]]
-path = "support.damping_ratio"
-range = "±30 %"
-
-[[outputs]]
-output = "displacement_max_m"
-unit = "mm"
-
-[[outputs]]
-output = "transmitted_force_range_N"
-unit = "tonf"
-"""
+STUDY = SUPPORT_STUDY.replace("samples = 250", "samples = 4")  # grown by _add below
 
 pytestmark = pytest.mark.usefixtures("patient_browser_checks")
 
