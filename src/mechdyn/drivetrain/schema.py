@@ -997,9 +997,9 @@ def settings(source: ModelSource, drivetrain: Drivetrain) -> DrivetrainSettings:
         resp = ResponseSettings(exc, r.frequency_range, r.points, tuple(r.outputs), damping)
     if f.speed_sweep is not None:
         check("[speed_sweep] → reference", f.speed_sweep.reference)
-    return DrivetrainSettings(
-        camp, resp, _dynamics(source, f, drivetrain, check), f.speed_sweep, _mesh_gear_pairs(source, f)
-    )
+    pairs = _mesh_gear_pairs(source, f)
+    dynamics = _dynamics(source, f, drivetrain, check, pairs)
+    return DrivetrainSettings(camp, resp, dynamics, f.speed_sweep, pairs)
 
 
 def _mesh_gear_pairs(source: ModelSource, f: _AnalysisTables) -> dict[str, Any]:
@@ -1026,9 +1026,10 @@ def _mesh_gear_pairs(source: ModelSource, f: _AnalysisTables) -> dict[str, Any]:
 
 
 def _dynamics(
-    source: ModelSource, f: _AnalysisTables, drivetrain: Drivetrain, check: Any
+    source: ModelSource, f: _AnalysisTables, drivetrain: Drivetrain, check: Any, pairs: dict[str, Any]
 ) -> DynamicsSettings | None:
-    """The time-simulation tables, their names checked against the drivetrain."""
+    """The time-simulation tables, their names checked against the drivetrain; ``pairs`` the gear pair
+    of each mesh given by one (:func:`_mesh_gear_pairs`)."""
     meshes: dict[str, MeshDynamics] = {}
     for i, m in enumerate(f.meshes):
         variation = m.stiffness_variation
@@ -1056,19 +1057,7 @@ def _dynamics(
                 "a transmission error or a stiffness varying over the mesh cycle needs the teeth (the mesh "
                 "phase counts them); give teeth = [z_a, z_b] instead of ratio",
             )
-        pair = None
-        if variation == "gears":
-            j, gp = next((j, g) for j, g in enumerate(f.gear_pairs) if g.name == m.gear_pair)
-            pair = pair_from_tables(
-                source,
-                _where("gear_pairs", j, gp.name),
-                gp.pinion,
-                gp.gear,
-                f.gear_material,
-                gp.center_distance,
-                gp.tooth_model,
-                gp.kind,
-            )
+        pair = pairs[m.name] if variation == "gears" else None  # the schema asks "gears" for a gear_pair
         shape = (
             variation
             if isinstance(variation, str)
