@@ -275,7 +275,9 @@ def test_the_command_draws_the_same_plots_whether_a_core_is_free_or_not(tmp_path
     assert drawn and drawn == sorted(p.name for p in (tmp_path / "one").iterdir())
     for name in drawn:
         assert (tmp_path / "plots" / name).read_bytes() == (tmp_path / "one" / name).read_bytes(), name
-    assert started[0] == ("mechdyn.support.analyses", "mechdyn.support.plots")
+    # the analysis' module, its plots and what the analysis imports where it runs (its result's class)
+    analysis = ("mechdyn.support.analyses", "mechdyn.support.plots")
+    assert started[0] == (*analysis, "mechdyn.errors", "mechdyn.support.result")
     assert bool(expected) == free
     if free:
         assert "mechdyn.support.model" in expected[0] and "mechdyn.support.schema" not in expected[0]
@@ -289,3 +291,21 @@ def test_a_core_is_free_only_where_fewer_processes_run_than_there_are_cores(monk
     assert core_free() is False
     monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(4096)))
     assert core_free() is True
+
+
+def test_this_process_is_counted_once_however_many_of_its_threads_run(monkeypatch):
+    import io
+
+    import mechdyn.figure_workers as fw
+
+    def loadavg(running):  # the kernel's count: every runnable thread of every process
+        return lambda *a, **k: io.StringIO(f"0.50 0.40 0.30 {running}/80 4242\n")
+
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1})
+    monkeypatch.setattr(fw, "_running_here", lambda: 2)  # this thread and NumPy's BLAS worker, say
+    monkeypatch.setattr(fw, "open", loadavg(2), raising=False)
+    assert fw.core_free() is True  # only this process runs: the other core is idle
+    monkeypatch.setattr(fw, "open", loadavg(3), raising=False)
+    assert fw.core_free() is False  # another process runs too
+    monkeypatch.undo()
+    assert fw._running_here() >= 1  # read from /proc: this thread at least, as it reads

@@ -143,14 +143,30 @@ def _import(modules: list[str]) -> None:
             pass
 
 
+def _running_here() -> int:
+    """How many of this process's threads are runnable now (their state ``R`` in ``/proc``): this one,
+    and any other, such as a linear-algebra library's worker that spins a while after its work."""
+    running = 0
+    for tid in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{tid}/stat") as f:
+                running += f.read().rpartition(")")[2].split()[0] == "R"
+        except (OSError, IndexError):  # a thread that ended meanwhile
+            continue
+    return max(running, 1)
+
+
 def core_free() -> bool:
     """Whether a core of those this process may use is idle now: fewer processes runnable at this
-    instant (this one included, the kernel's count in ``/proc/loadavg``) than cores, so that a process
-    started now works beside this one rather than taking turns with it. False where it cannot tell."""
+    instant than cores, counting this process once (the kernel's count in ``/proc/loadavg`` counts
+    every runnable thread, and NumPy's BLAS keeps a worker spinning beside the thread that imported
+    it), so that a process started now works beside this one rather than taking turns with it. False
+    where it cannot tell."""
     try:
         with open("/proc/loadavg") as f:
             running = int(f.read().split()[3].split("/")[0])
-        return running < len(os.sched_getaffinity(0))
+        others = running - _running_here()
+        return others + 1 < len(os.sched_getaffinity(0))
     except (OSError, ValueError, IndexError, AttributeError):
         return False
 

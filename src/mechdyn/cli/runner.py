@@ -175,6 +175,21 @@ def run(args: argparse.Namespace, analysis: Analysis) -> int:
         return _run(args, analysis, drawing)
 
 
+def _drawing_modules(analysis: Analysis) -> list[str]:
+    """The modules the processes that draw a result import before it comes: the analysis' own, its
+    capability's plots, and those the analysis imports where it runs (its ``import`` statements, read
+    from its bytecode: the result's classes)."""
+    import dis
+
+    module = analysis.function.__module__
+    runs = [
+        str(i.argval)
+        for i in dis.get_instructions(analysis.function)
+        if i.opname == "IMPORT_NAME" and str(i.argval).startswith("mechdyn.")
+    ]
+    return list(dict.fromkeys([module, module.rpartition(".")[0] + ".plots", *runs]))
+
+
 def _model_modules(analysis: Analysis) -> list[str]:
     """The modules of mechdyn that reading a model imported, less those of reading files: those its
     result may hold objects of (SciPy's where it was imported)."""
@@ -189,22 +204,24 @@ def _model_modules(analysis: Analysis) -> list[str]:
 
 
 def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
-    from mechdyn.errors import MechdynError, ModelFileError
     from mechdyn.figure_workers import core_free
+
+    drawn_by = _drawing_modules(analysis)  # imported by the drawing processes
+    early = bool(args.plots) and core_free()
+    if early:
+        # a core is idle: the process that will draw the plots starts now, before this one imports
+        # what reading the model and storing the run need, and imports matplotlib beside it while it
+        # reads the model (mostly imports too) and runs the analysis
+        drawing.start(*drawn_by)
+
+    from mechdyn.errors import MechdynError, ModelFileError
     from mechdyn.io.modelfile import load_model
     from mechdyn.store import ResultStore
     from mechdyn.store.store import StoreError, check_name, jsonable
 
     options = {o.name: getattr(args, o.name) for o in analysis.options}
-    module = analysis.function.__module__
-    drawn_by = (module, module.rpartition(".")[0] + ".plots")  # imported by the drawing processes
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        early = bool(args.plots) and core_free()
-        if early:
-            # a core is idle: the process that will draw the plots starts now and imports matplotlib
-            # beside this one while it reads the model (mostly imports too) and runs the analysis
-            drawing.start(*drawn_by)
         loaded = load_model(args.file)
         check_name("[model] name", loaded.name, args.file)
         if early:  # what the result will hold: the modules of the model just read
