@@ -309,3 +309,24 @@ def test_this_process_is_counted_once_however_many_of_its_threads_run(monkeypatc
     assert fw.core_free() is False  # another process runs too
     monkeypatch.undo()
     assert fw._running_here() >= 1  # read from /proc: this thread at least, as it reads
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="threads counted in /proc (Linux)")
+def test_with_plots_the_linear_algebra_keeps_to_one_thread_unless_the_user_says_otherwise():
+    import subprocess
+    import sys
+
+    code = (
+        "import os\n"
+        "from mechdyn.figure_workers import one_blas_thread\n"
+        "assert one_blas_thread()\n"
+        "import numpy\n"
+        "assert not one_blas_thread()  # NumPy imported: too late, nothing changed\n"
+        "print(len(os.listdir('/proc/self/task')), os.environ['OPENBLAS_NUM_THREADS'])\n"
+    )
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert done.stdout.split() == ["1", "1"]  # no BLAS worker thread beside this one
+    env["OPENBLAS_NUM_THREADS"] = "2"  # the user's own choice is kept
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert done.stdout.split()[1] == "2"

@@ -26,7 +26,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, cast
 
-__all__ = ["FigureWorkers", "core_free", "plot_workers"]
+__all__ = ["FigureWorkers", "core_free", "one_blas_thread", "plot_workers"]
 
 Makers = Mapping[str, Callable[[], Any]]
 
@@ -53,12 +53,16 @@ def _get_ready(modules: tuple[str, ...]) -> None:
 
     _import(list(modules))
     registry()  # the figures' display units (made already where this process was forked late: kept)
-    fig, ax = plt.subplots(figsize=(2, 1.5), layout="constrained")
-    ax.plot([0.0, 1.0], [0.0, 1.0], label="warm-up")
-    ax.set_title("warm-up")
-    ax.set_xlabel("x (mm)")
-    ax.legend()
-    fig.savefig(io.BytesIO(), format="png", dpi=72)
+    # the first of each kind of text is slow to lay out: fonts read, glyphs cached, and mathtext's
+    # parser (a logarithmic axis' labels) built; a small figure with one of each, drawn while waiting
+    fig, axes = plt.subplots(2, 1, figsize=(2, 3), sharex=True, layout="constrained")
+    axes[0].plot([1.0, 1000.0], [0.0, 1.0], label="warm-up")
+    axes[0].set_xscale("log")
+    axes[0].set_title("warm-up")
+    axes[0].annotate("TDC", (10.0, 0.5), bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1})
+    axes[1].set_xlabel("x (mm), ω (rad/s²), µm, °")
+    axes[0].legend()
+    fig.savefig(io.BytesIO(), format="png", dpi=130)
     plt.close(fig)
 
 
@@ -141,6 +145,22 @@ def _import(modules: list[str]) -> None:
             importlib.import_module(name)
         except ImportError:  # a module that may not exist (an analysis without plots of its own)
             pass
+
+
+def one_blas_thread() -> bool:
+    """Keep the linear algebra of this process (and of the processes it forks) to one thread, where
+    NumPy is not imported yet and the environment does not say otherwise: the other cores draw the
+    figures, and a BLAS worker thread spins for a while after each call, taking turns with them (the
+    matrices of a run are far too small to gain from more threads). Returns whether it was set.
+
+    Set through ``OPENBLAS_NUM_THREADS``, ``MKL_NUM_THREADS`` and ``OMP_NUM_THREADS``, which the
+    libraries read once, when NumPy is imported; a variable already set is left as it is.
+    """
+    if "numpy" in sys.modules:
+        return False
+    for name in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS"):
+        os.environ.setdefault(name, "1")
+    return True
 
 
 def _running_here() -> int:

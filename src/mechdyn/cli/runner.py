@@ -204,8 +204,10 @@ def _model_modules(analysis: Analysis) -> list[str]:
 
 
 def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
-    from mechdyn.figure_workers import core_free
+    from mechdyn.figure_workers import core_free, one_blas_thread
 
+    if args.plots:  # the other cores draw: this process's BLAS must not spin on them
+        one_blas_thread()
     drawn_by = _drawing_modules(analysis)  # imported by the drawing processes
     early = bool(args.plots) and core_free()
     if early:
