@@ -494,3 +494,18 @@ def test_fields_of_an_unknown_type_names_the_known_ones(capsys):
     assert main(["fields", "gearbox"]) == 2
     err = capsys.readouterr().err
     assert "no file type 'gearbox'; give one of drive, drivetrain" in err and "support" in err
+
+
+def test_the_command_exits_without_the_collector_walking_every_object_again(monkeypatch):
+    import gc
+    from importlib.metadata import entry_points
+
+    import mechdyn.cli.main as cli
+
+    frozen: list[bool] = []
+    monkeypatch.setattr(cli, "main", lambda: 3)
+    monkeypatch.setattr(gc, "freeze", lambda: frozen.append(True))
+    assert cli.console() == 3  # main's exit status, once main has returned
+    assert frozen == [True]
+    (script,) = [e for e in entry_points(group="console_scripts") if e.name == "mechdyn"]
+    assert script.value == "mechdyn.cli.main:console"  # the installed command, as `python -m mechdyn`

@@ -1,3 +1,3 @@
-from mechdyn.cli.main import main
+from mechdyn.cli.main import console
 
-raise SystemExit(main())
+raise SystemExit(console())
