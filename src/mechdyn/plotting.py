@@ -9,6 +9,7 @@ __all__ = [
     "dead_centre_marks",
     "display_unit",
     "fit_titles",
+    "keep_layout",
     "new_axes",
     "overlaid",
     "plain_text",
@@ -206,6 +207,23 @@ def new_axes(ax: Any = None, *, figsize: tuple[float, float] = (7.0, 4.5)) -> An
     return ax
 
 
+def keep_layout(fig: Any) -> None:
+    """Keep the axes where the figure's layout engine has put them, and remove the engine: with one
+    left (even matplotlib's ``"none"``, a placeholder), ``savefig`` draws the whole figure once more,
+    without rendering, before it draws it into the file (and a writer of animations saves each frame).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        A figure laid out already (its engine executed, or drawn once).
+    """
+    import matplotlib as mpl
+
+    # no engine, whatever the user's matplotlib settings would put in its place
+    with mpl.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+        fig.set_layout_engine(None)
+
+
 def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
     """Save the figure of ``ax`` to ``path`` (PNG/SVG by suffix), close it and return the path.
 
@@ -229,7 +247,7 @@ def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
     engine = fig.get_layout_engine()
     if engine is not None:  # once, here: savefig would first draw the whole figure only to run it
         engine.execute(fig)
-        fig.set_layout_engine("none")
+        keep_layout(fig)
     # zlib's fastest level: a tenth larger than its default and a fifth of the drawing time less
     png = {"pil_kwargs": {"compress_level": 1}} if p.suffix.lower() == ".png" else {}
     fig.savefig(p, dpi=dpi, **png)

@@ -125,7 +125,7 @@ def animate(
         linkage_tracks,
         linkage_view,
     )
-    from mechdyn.plotting import plain_text
+    from mechdyn.plotting import keep_layout, plain_text
 
     m, k = result.mechanism, result.kinematics
     order = _cycle_order(result)
@@ -176,7 +176,7 @@ def animate(
     # draws the same box
     for _ in range(2):
         fig.draw_without_rendering()
-    fig.set_layout_engine("none")
+    keep_layout(fig)
 
     digits = 0 if 360.0 / n >= 1.0 else 1  # frames less than a degree apart show tenths
 
