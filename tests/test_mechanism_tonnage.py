@@ -230,5 +230,7 @@ def test_the_tonnage_plot_and_table_are_written(rated, tmp_path):
     plt.close(ax.figure)
     assert out.stat().st_size > 0
     assert ax.get_xscale() == "log"
+    shown = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+    assert shown and set(shown) <= {"0.1", "1", "10", "100", "1000", "10000"}  # millimetres, not 10⁰…
     table = next(t for t in rated.tables() if "tonnage" in t.title)
     assert table.rows and "No process force" in table.note

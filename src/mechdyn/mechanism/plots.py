@@ -607,6 +607,9 @@ def plot_tonnage(result: DynamicsResult, ax: Any = None, length_unit: str = "mm"
         )
     ax.set_ylim(0.0, 2.5 * max(shown) * factor)
     ax.set_xscale("log")  # the curve's rise near BDC and the whole stroke on one axis
+    from matplotlib.ticker import FuncFormatter
+
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))  # 1, 10, 100 mm, not 10⁰…
     ax.set_xlabel(f"distance before BDC ({length_unit}, logarithmic)")
     ax.set_ylabel(f"slide force ({unit})")
     ax.set_title(f"{result.mechanism.name}: tonnage")
