@@ -17,6 +17,7 @@ drawn by then are on disk.
 
 from __future__ import annotations
 
+import gc
 import os
 import pickle
 import signal
@@ -339,6 +340,10 @@ class FigureWorkers:
                         child["job"] = None
             else:
                 makers, paths, dpi = self._inherit
+            # what the copy holds now (matplotlib, the result) is kept out of the collector's reach:
+            # its full collections, which came while a figure was drawn and walked all of it, cost as
+            # much as the figure (the copy ends with its figures: nothing frozen is missed)
+            gc.freeze()
             _drain(cast(int, self._queue[0]), makers, paths, dpi)
         except BaseException as exc:  # reported to the parent, which raises it
             error = exc
