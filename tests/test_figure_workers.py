@@ -330,3 +330,33 @@ def test_with_plots_the_linear_algebra_keeps_to_one_thread_unless_the_user_says_
     env["OPENBLAS_NUM_THREADS"] = "2"  # the user's own choice is kept
     done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert done.stdout.split()[1] == "2"
+
+
+def test_a_result_with_a_tabulated_process_force_goes_to_a_drawing_process_by_the_plain_pickle(tmp_path):
+    # a closure over the file's table needed cloudpickle, and unpickling it imported the file reader
+    # (pydantic and all) in the drawing process while the figures waited
+    import pickle
+    import subprocess
+    import sys
+
+    import numpy as np
+
+    from conftest import EXAMPLES
+    from mechdyn.io.modelfile import load_model
+    from mechdyn.registry import analyses
+
+    loaded = load_model(EXAMPLES / "press_tonnage.toml")
+    result = analyses()["mechanism"].run(loaded)
+    (force,) = result.mechanism.process_forces
+    (tmp_path / "result.pickle").write_bytes(pickle.dumps(result))  # would raise for a closure
+    code = (
+        "import pickle, sys\n"
+        f"result = pickle.loads(open({str(tmp_path / 'result.pickle')!r}, 'rb').read())\n"
+        "print(sorted(m for m in sys.modules if m.endswith('.schema') or m == 'pydantic'))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"
+    again = pickle.loads(pickle.dumps(force.force))
+    theta = np.linspace(0.0, 2 * np.pi, 50)
+    position = np.linspace(-0.2, 0.0, 50)
+    np.testing.assert_array_equal(again(theta, position), force.force(theta, position))

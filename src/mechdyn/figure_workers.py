@@ -9,10 +9,12 @@ result (importing matplotlib is as much work as drawing three figures: it is don
 this process when it has not done it already); copies started when the figures are asked for inherit
 them. A copy started even before the model is read (where a core is idle, :func:`core_free`) is told
 which modules the result will need once the model is read (:meth:`FigureWorkers.expect`), and imports
-them while the analysis runs. Each copy takes the next figure from a queue when it is free, so that
-one large figure does not hold up the rest, and ends without running this process's exit handlers. An
-error in any copy is raised in this process, as raised there, once every copy has ended; the figures
-drawn by then are on disk.
+them while the analysis runs (the command keeps its own linear algebra to one thread,
+:func:`one_blas_thread`, so that no BLAS worker spins on the core a copy draws on). Each copy freezes
+what it holds out of the garbage collector's reach before it draws, takes the next figure from a queue
+when it is free, so that one large figure does not hold up the rest, and ends without running this
+process's exit handlers. An error in any copy is raised in this process, as raised there, once every
+copy has ended; the figures drawn by then are on disk.
 """
 
 from __future__ import annotations

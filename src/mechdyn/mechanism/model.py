@@ -611,6 +611,37 @@ class ProcessForce:
         return Fx, Fy
 
 
+@dataclass(frozen=True, eq=False)
+class TabulatedForce:
+    """A process force read from a table (a mechanism file's ``[[process_forces]]``): its magnitude
+    linear between the rows and zero outside them, against the crank angle or the output's position,
+    along a fixed direction. Called as a :class:`ProcessForce`'s ``force``.
+
+    Parameters
+    ----------
+    versus : {"angle", "position"}
+        What the rows are read against.
+    x : ndarray
+        The rows' crank angles (rad, from the datum) or positions along the output axis (m),
+        increasing.
+    magnitude : ndarray
+        The force at each row, N.
+    direction : float
+        The force's direction from +x, rad.
+    """
+
+    versus: str
+    x: np.ndarray
+    magnitude: np.ndarray
+    direction: float
+
+    def __call__(self, angle: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(Fx, Fy), N, at crank angles ``angle`` (rad) and output positions ``position`` (m)."""
+        x = angle if self.versus == "angle" else position
+        f = np.interp(x, self.x, self.magnitude, left=0.0, right=0.0)
+        return f * math.cos(self.direction), f * math.sin(self.direction)
+
+
 @dataclass(frozen=True)
 class Mechanism:
     """A planar mechanism in one assembled pose.

@@ -27,7 +27,7 @@ import numpy as np
 from mechdyn.errors import MechdynError
 from mechdyn.io.save import model_header, written_by
 from mechdyn.io.writing import TomlDocument, quantity_text
-from mechdyn.mechanism.model import Counterweight, GearJoint, Mechanism, ProcessForce
+from mechdyn.mechanism.model import Counterweight, GearJoint, Mechanism, ProcessForce, TabulatedForce
 
 __all__ = ["to_toml"]
 
@@ -236,8 +236,8 @@ def _driver(model: Mechanism) -> dict[str, Any]:
 
 
 def _process_force(pf: ProcessForce) -> dict[str, Any]:
-    held = _made_by(pf.force, "mechdyn.mechanism.schema", "_tabulated.<locals>.force")
-    if held is None:
+    table = pf.force
+    if not isinstance(table, TabulatedForce):
         raise MechdynError(
             f"mechdyn.save: the process force on body {pf.body!r} at point {pf.point!r} is a Python "
             f"function ({_named(pf.force)}); a mechanism file holds a process force only as a table "
@@ -245,9 +245,8 @@ def _process_force(pf: ProcessForce) -> dict[str, Any]:
             "the mechanism without it (dataclasses.replace(mechanism, process_forces=())) and add its "
             "table to the file by hand"
         )
-    table = held["pf"]  # the file's table, its rows converted to SI in xs_a and fs_a
     unit = "rad" if table.versus == "angle" else "m"
-    rows = [[_q(x, unit), _q(f, "N")] for x, f in zip(held["xs_a"], held["fs_a"], strict=True)]
+    rows = [[_q(x, unit), _q(f, "N")] for x, f in zip(table.x, table.magnitude, strict=True)]
     return {
         "body": pf.body,
         "point": pf.point,

@@ -47,6 +47,7 @@ from mechdyn.mechanism.model import (
     Prismatic,
     ProcessForce,
     Revolute,
+    TabulatedForce,
 )
 
 __all__ = ["MechanismFile", "MechanismSpec", "build"]
@@ -233,14 +234,7 @@ def _tabulated(pf: ProcessForceTable, where: str) -> ProcessForce:
     xs_a, fs_a = np.asarray(xs), np.asarray(fs)
     if np.any(np.diff(xs_a) <= 0):
         raise ValueError(f"table {pf.versus} values must increase row by row; got {xs}")
-    c, s = math.cos(pf.direction), math.sin(pf.direction)
-
-    def force(angle: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        x = angle if pf.versus == "angle" else position
-        f = np.interp(x, xs_a, fs_a, left=0.0, right=0.0)
-        return f * c, f * s
-
-    return ProcessForce(pf.body, pf.point, force)
+    return ProcessForce(pf.body, pf.point, TabulatedForce(pf.versus, xs_a, fs_a, pf.direction))
 
 
 def _profile(table: list[tuple[str, str]], speed: float):
