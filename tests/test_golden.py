@@ -45,6 +45,18 @@ CASES = {
 ATOL = 1e-9
 # the start-up is integrated with rtol 1e-9 (DOP853): its figures carry the integrator's error
 STARTUP_RTOL = 1e-7
+# the FE reference's error estimates and order are differences of successive meshes' stiffnesses,
+# which agree to a few 1e-3: the solves' rounding, which moves with the CPU's BLAS kernels (1e-11 of
+# the stiffness between two machines), shows in them some 300 times larger (1.3e-8 measured)
+FE_DIFFERENCE_RTOL = 1e-6
+FE_DIFFERENCES = ("fe_error_bound_relative", "fe_discretisation_error_relative", "fe_convergence_order")
+
+
+def _rtol(key: str, rtol: float) -> float:
+    """The tolerance of one key: the case's, or the start-up's or the FE differences' where wider."""
+    if key.startswith("startup_"):
+        return STARTUP_RTOL
+    return FE_DIFFERENCE_RTOL if key in FE_DIFFERENCES else rtol
 
 
 def _is_number(x) -> bool:
@@ -112,8 +124,7 @@ def regenerate() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for case, (analysis, example, options, rtol) in CASES.items():
             values = {
-                k: {"value": v, "rtol": STARTUP_RTOL if k.startswith("startup_") else rtol}
-                for k, v in _numbers(_compute(case, tmp)).items()
+                k: {"value": v, "rtol": _rtol(k, rtol)} for k, v in _numbers(_compute(case, tmp)).items()
             }
             doc = {
                 "regenerate": REGENERATE,
