@@ -156,12 +156,13 @@ def one_blas_thread() -> bool:
     figures, and a BLAS worker thread spins for a while after each call, taking turns with them (the
     matrices of a run are far too small to gain from more threads). Returns whether it was set.
 
-    Set through ``OPENBLAS_NUM_THREADS``, ``MKL_NUM_THREADS`` and ``OMP_NUM_THREADS``, which the
-    libraries read once, when NumPy is imported; a variable already set is left as it is.
+    Set through ``OPENBLAS_NUM_THREADS`` and ``MKL_NUM_THREADS``, which the libraries read once, when
+    NumPy is imported (not ``OMP_NUM_THREADS``, which would reach the compiled kernels' own threads);
+    a variable already set is left as it is.
     """
     if "numpy" in sys.modules:
         return False
-    for name in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS"):
+    for name in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(name, "1")
     return True
 
