@@ -127,6 +127,17 @@ def chromium() -> str:
     pytest.skip("no Chromium: run the tests through scripts/with-chromium")
 
 
+def open_in_chromium(playwright, url: str):
+    """A new headless Chromium (:func:`chromium`) with one 1280 × 900 page at ``url``; returns the
+    browser (to close), the page and the list the page's uncaught JavaScript errors are added to."""
+    browser = playwright.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
+    page = browser.new_page(viewport={"width": 1280, "height": 900})
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(url)
+    return browser, page, errors
+
+
 @pytest.fixture(scope="module")
 def patient_browser_checks():
     """Playwright's checks wait for the page to show what they expect; on a loaded two-core machine

@@ -13,7 +13,7 @@ import urllib.request
 import numpy as np
 import pytest
 
-from conftest import EXAMPLES, chromium, serving
+from conftest import EXAMPLES, open_in_chromium, serving
 from mechdyn.cli.main import main
 from mechdyn.dashboard.views import best_so_far, pareto_mask, thin
 
@@ -217,11 +217,7 @@ def test_every_view_of_a_study_is_drawn_in_a_real_browser(server):
     from playwright.sync_api import expect, sync_playwright
 
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
-        page = browser.new_page(viewport={"width": 1280, "height": 900})
-        errors: list[str] = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(server + "/studies/1")
+        browser, page, errors = open_in_chromium(p, server + "/studies/1")
         expect(page.locator("h1")).to_contain_text("support-lhs")
         expect(page.locator("#findings")).to_have_attribute("data-ready", "yes")
         expect(page.locator("#findings img").first).to_be_visible()
@@ -420,11 +416,7 @@ def test_a_study_of_a_hundred_thousand_variants_is_shown_in_a_real_browser(large
     from mechdyn.dashboard.app import create_app
 
     with serving(create_app(large)) as address, sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
-        page = browser.new_page(viewport={"width": 1280, "height": 900})
-        errors: list[str] = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(address + "/studies/1")
+        browser, page, errors = open_in_chromium(p, address + "/studies/1")
         expect(page.locator("#count")).to_have_text("100011 (0 failed)")
         page.locator("#scatter").scroll_into_view_if_needed()
         expect(page.locator("#scatter")).to_have_attribute("data-drawn", "yes")

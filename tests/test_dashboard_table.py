@@ -12,7 +12,7 @@ import urllib.request
 import numpy as np
 import pytest
 
-from conftest import chromium, serving
+from conftest import open_in_chromium, serving
 from mechdyn.cli.main import main
 from test_dashboard_study_views import STUDY as SUPPORT_STUDY
 
@@ -145,11 +145,7 @@ def test_a_large_study_s_scatter_draws_a_part_of_its_sample_then_every_point_and
     n, failed = _counts(db)
     ok = n - failed
     with serving(create_app(db)) as address, sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
-        page = browser.new_page(viewport={"width": 1280, "height": 900})
-        errors: list[str] = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(address + "/studies/1")
+        browser, page, errors = open_in_chromium(p, address + "/studies/1")
         page.locator("#scatter").scroll_into_view_if_needed()
         expect(page.locator("#scatter")).to_have_attribute("data-drawn", "yes")
         expect(page.locator("#sample-note")).to_contain_text(f"of the {ok} variants that succeeded")

@@ -10,7 +10,7 @@ import urllib.request
 
 import pytest
 
-from conftest import EXAMPLES, chromium, serving
+from conftest import EXAMPLES, open_in_chromium, serving
 from mechdyn.cli.main import main
 
 STUDY = f"""
@@ -125,11 +125,7 @@ def test_moving_a_slider_evaluates_the_design_and_animates_its_linkage_in_a_real
     from playwright.sync_api import expect, sync_playwright
 
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
-        page = browser.new_page(viewport={"width": 1280, "height": 900})
-        errors: list[str] = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(server + "/studies/1")
+        browser, page, errors = open_in_chromium(p, server + "/studies/1")
         expect(page.locator("#whatif-status")).to_contain_text("evaluated in")
         expect(page.locator("#whatif-outputs tbody tr")).to_have_count(2)
         expect(page.locator("#whatif-best-title")).to_contain_text("the study's best (variant")
