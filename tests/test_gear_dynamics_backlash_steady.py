@@ -92,7 +92,7 @@ def test_newton_through_contact_loss_is_the_orbit_simulate_settles_on():
     c, amp, b, eps, load = 8000.0, 0.5e-6, 2e-5, 0.1, 20.0
     speed = 0.9 * WN / ZA
     system = _system(c, amp, b, eps)
-    s = steady_state(system, speed, reference="pinion", load={"gear": load}, method="shooting")
+    s = steady_state(system, speed, reference="pinion", drive="speed", load={"gear": load}, method="shooting")
     assert s.converged
     assert s.mesh_force[:, 0].min() < 0.0 and (s.deflection[:, 0] < 0).any()  # the teeth part
     big = _system(c, amp, b, eps, J_pinion=1e4)
@@ -104,6 +104,7 @@ def test_newton_through_contact_loss_is_the_orbit_simulate_settles_on():
         inputs=[ConstantTorque("gear", load), ConstantTorque("pinion", load * ratio)],
         initial_speed=speed,
         reference="pinion",
+        drive="speed",
         method="DOP853",
         rtol=1e-10,
         atol=1e-13,
@@ -129,7 +130,9 @@ def test_up_and_down_sweeps_show_the_jump():
     agree (1e-6 of the force), inside they differ by more than 50 %; every orbit closes to 1e-7."""
     system = _system(8000.0, 0.5e-6, 2e-5, 0.0)
     speeds = np.array([0.6, 0.8, 0.95]) * WN / ZA
-    r = speed_sweep(system, speeds, reference="pinion", load={"gear": 20.0}, refine=0, direction="both")
+    r = speed_sweep(
+        system, speeds, reference="pinion", drive="speed", load={"gear": 20.0}, refine=0, direction="both"
+    )
     d = r.down
     assert d is not None and r.direction == "up" and d.direction == "down"
     for sweep in (r, d):
@@ -156,10 +159,10 @@ def test_sweep_direction_is_checked_and_harmonic_balance_ignores_it():
         _system(800.0, 1e-6, 1e-5, 0.1).drivetrain, errors={"m": {"amplitude": 1e-6, "samples": 8}}
     )
     with pytest.raises(ModelError) as err:
-        speed_sweep(tight, [50.0], reference="pinion", direction="sideways")
+        speed_sweep(tight, [50.0], reference="pinion", drive="speed", direction="sideways")
     assert err.value.field == "direction"
-    up = speed_sweep(tight, [50.0, 60.0], reference="pinion", refine=0)
-    both = speed_sweep(tight, [50.0, 60.0], reference="pinion", refine=0, direction="both")
+    up = speed_sweep(tight, [50.0, 60.0], reference="pinion", drive="speed", refine=0)
+    both = speed_sweep(tight, [50.0, 60.0], reference="pinion", drive="speed", refine=0, direction="both")
     np.testing.assert_array_equal(up.force_max, both.force_max)
     assert both.down is not None and both.hysteresis() == {"m": None}
     assert "Swept up and down, 'm' has one branch (no jump)." in both.tables()[0].note

@@ -72,7 +72,9 @@ def test_back_side_impacts_settle_on_the_orbit_of_newton_shooting():
     where its slope jumps (the simulated phase, read from the pinion's angle, is 2e-8 of a cycle
     behind the nominal one, so the damping force takes the slope of the segment before: c Δė ≈ 18 N,
     3e-3 of the swing)."""
-    s = steady_state(_system(0.05), SPEED, reference="pinion", load={"gear": LOAD}, method="shooting")
+    s = steady_state(
+        _system(0.05), SPEED, reference="pinion", drive="speed", load={"gear": LOAD}, method="shooting"
+    )
     assert s.converged
     assert s.deflection[:, 0].min() < -B  # back-side contact on the orbit
     sim = _run(_system(1e4), 41, method="DOP853", rtol=1e-10, atol=1e-13, output_step=T / s.time.size)

@@ -486,9 +486,17 @@ class SpeedSweepTable(FileModel):
     points: int = Field(default=60, ge=3, le=10_000)
     """Speeds evenly spaced over the range (more are added near each resonance peak)."""
     reference: str | None = None
-    """The disk held at each speed (default: the ``[motor]``'s disk, else the first disk)."""
-    harmonics: int = Field(default=16, ge=1, le=2000)
-    """Harmonics of each mesh frequency kept by harmonic balance."""
+    """The disk whose speed is swept (default: the ``[motor]``'s disk, else the first disk)."""
+    drive: Literal["motor", "torque", "speed"] | None = None
+    """How the train is driven at each speed: ``motor`` (no disk held; the ``[motor]`` drives, its
+    torque following its torque–speed curve moved to each speed, as ``mechdyn simulate`` integrates
+    it), ``torque`` (no disk held; a constant torque at the reference disk holds the load) or ``speed``
+    (the reference disk held at exactly each speed: a kinematic input, which moves the modes of a train
+    whose motor rotor it is). Default: ``motor`` where the file has a ``[motor]``, else ``torque``."""
+    harmonics: int | None = Field(default=None, ge=1, le=2000)
+    """Harmonics of each mesh frequency kept by harmonic balance (default: enough to reach twice the
+    highest natural frequency at the lowest speed, doubled until K_v changes by less than 1 %; the
+    result states the estimated error either way)."""
     backlash: bool = True
     """``false``: the teeth stay in contact, the meshes' backlash ignored (harmonic balance, fast; a
     note says where the mesh force would reverse); ``true``: shooting with Newton's method where a

@@ -193,6 +193,12 @@ def _running_load(loaded: Any, system: Any, reference: str) -> dict[str, float]:
     return out
 
 
+def _motor(dynamics: Any) -> Any:
+    """The file's motor as a :class:`~mechdyn.gear_dynamics.loads.MotorTorque` (a stop's drive)."""
+    first = dynamics.inputs()[0]
+    return getattr(first, "drive", first)
+
+
 def _speed_sweep(
     loaded: Any,
     speed_range: tuple[float, float] | None = None,
@@ -202,6 +208,7 @@ def _speed_sweep(
     no_backlash: bool = False,
     no_stability: bool = False,
     direction: str | None = None,
+    drive: str | None = None,
 ) -> Any:
     import dataclasses
 
@@ -232,15 +239,25 @@ def _speed_sweep(
     ref = reference or (table.reference if table is not None else None) or motor or loaded.model.disk_names[0]
     backlash = not no_backlash and (table.backlash if table is not None else True)
     system = _system(loaded, backlash=backlash)
+    drive = drive or (table.drive if table is not None else None) or ("motor" if motor else "torque")
+    if drive == "motor" and motor is None:
+        raise ModelFileError(
+            _where(loaded),
+            "[speed_sweep] → drive" if table is not None and table.drive == "motor" else "--drive",
+            "drive 'motor' needs a [motor] table (the motor's disk and curve); add one, or give drive "
+            "'torque' (a constant torque at the reference disk) or 'speed' (the reference disk held)",
+        )
     result = speed_sweep(
         system,
         np.linspace(low, high, n),
         reference=ref,
         load=_running_load(loaded, system, ref),
-        harmonics=harmonics if harmonics is not None else (table.harmonics if table is not None else 16),
+        harmonics=harmonics or (table.harmonics if table is not None else None) or "auto",
         gear_pairs=settings.gear_pairs if settings is not None else None,
         stability=not no_stability,
         direction=direction or (table.direction if table is not None else "up"),  # type: ignore[arg-type]
+        drive=drive,  # type: ignore[arg-type]
+        motor=_motor(dynamics) if drive == "motor" else None,
     )
     gaps = dynamics.system_options()["backlash"] if dynamics is not None else {}
     if not backlash and gaps:
@@ -283,10 +300,16 @@ register(
             Option(
                 "reference",
                 "text",
-                "the disk held at each speed (default: the [motor]'s disk, else the first)",
+                "the disk whose speed is swept (default: the [motor]'s disk, else the first)",
                 metavar="DISK",
             ),
-            Option("harmonics", "int", "harmonics of each mesh frequency (default 16)", minimum=1),
+            Option(
+                "harmonics",
+                "int",
+                "harmonics of each mesh frequency (default: to twice the highest natural frequency at the "
+                "lowest speed, doubled until K_v is converged to 1 %)",
+                minimum=1,
+            ),
             Option("no_backlash", "flag", "hold the teeth in contact: ignore the backlash (faster)"),
             Option(
                 "direction",
@@ -295,9 +318,18 @@ register(
                 choices=("up", "down", "both"),
             ),
             Option("no_stability", "flag", "skip the Floquet stability of each periodic solution (faster)"),
+            Option(
+                "drive",
+                "choice",
+                "motor: the [motor] drives, free on its torque-speed curve (as simulate; the default with "
+                "a [motor]); torque: a constant torque at the reference disk; speed: the reference disk "
+                "held at each speed (a kinematic input)",
+                choices=("motor", "torque", "speed"),
+            ),
         ),
         outputs=(
-            Output("reference", "the disk held at each speed", ""),
+            Output("reference", "the disk whose speed is swept", ""),
+            Output("drive", "how the train is driven at each speed", ""),
             Output(
                 "method",
                 "harmonic balance, or shooting (Newton, continued over speed through contact loss) where "
@@ -307,6 +339,12 @@ register(
             Output("speed_min_rad_s", "the lowest speed swept"),
             Output("speed_max_rad_s", "the highest speed swept"),
             Output("points", "speeds computed (those given and those added near the peaks)", ""),
+            Output("harmonics", "harmonics of each mesh frequency in harmonic balance (0: shooting)", ""),
+            Output(
+                "harmonics_error_ratio",
+                "estimated largest relative error of K_v from the harmonics' truncation (doubling them)",
+                "",
+            ),
             Output("unstable_points", "speeds where the periodic solution is unstable (Floquet ρ > 1)", ""),
             Output(
                 "meshes",

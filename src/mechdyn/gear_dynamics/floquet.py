@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 
 __all__ = ["FloquetResult", "StabilityChart", "floquet", "monodromy", "stability_chart"]
 
-Boundary = Literal["prescribed", "free"]
+Boundary = Literal["prescribed", "free", "motor"]
 Integrator = Literal["magnus", "ivp"]
 
 #: The largest order of a mesh frequency over the common fundamental accepted before the common
@@ -89,7 +89,17 @@ class LinearPeriodic:
     reference : str
         The disk whose speed is Ω.
     boundary : str
-        ``"prescribed"`` or ``"free"``.
+        ``"prescribed"``, ``"free"`` or ``"motor"``.
+    idle : int or None
+        The coordinate of x that is the rigid-body angle where it is kept in the state (a free train
+        whose rigid rotation is damped: by a motor's torque–speed slope or a grounded damper); no
+        force depends on it (K, G and the forces have no entry there), so its Floquet multiplier is
+        exactly 1 and is set aside (:meth:`deflate`), and its mean is fixed at 0. None otherwise.
+    motor : MotorSlope or None
+        The motor whose torque–speed slope damps the rigid rotation (``"motor"``), added to
+        :attr:`C` at each speed by :meth:`at_speed`.
+    drive : str
+        The drive in words (for results).
     """
 
     basis: np.ndarray
@@ -109,6 +119,9 @@ class LinearPeriodic:
     names: tuple[str, ...]
     reference: str
     boundary: str
+    idle: int | None = None
+    motor: Any = None
+    drive: str = ""
 
     @property
     def m(self) -> int:
@@ -124,6 +137,57 @@ class LinearPeriodic:
             Reference speed Ω, rad/s.
         """
         return self.load + speed * self.drag
+
+    def at_speed(self, speed: float) -> LinearPeriodic:
+        """The model at reference speed ``speed`` (rad/s): with a motor, its torque–speed slope at the
+        torque that holds that speed added to :attr:`C` as a damper on the motor's disk (N·m·s/rad);
+        the model itself otherwise.
+
+        Parameters
+        ----------
+        speed : float
+            Reference speed Ω, rad/s.
+        """
+        if self.motor is None:
+            return self
+        c = self.motor.damping(speed)
+        return replace(self, C=self.C + c * np.outer(self.motor.row, self.motor.row), motor=None)
+
+    @property
+    def held_stiffness(self) -> np.ndarray:
+        """(m, m) the stiffness with every mesh at its mean, N·m/rad."""
+        return self.K + (self.G.T * self.mean_stiffness) @ self.G
+
+    def static(self, force: np.ndarray) -> np.ndarray:
+        """(m,) the deflection under a constant generalised force ``force`` (N·m) at mean mesh
+        stiffness, rad; the rigid-body angle (:attr:`idle`) at 0.
+
+        Parameters
+        ----------
+        force : ndarray
+            (m,) generalised force, N·m.
+        """
+        K = self.held_stiffness
+        if self.idle is None:
+            return np.linalg.solve(K, force)
+        keep = np.delete(np.arange(self.m), self.idle)
+        x = np.zeros(self.m)
+        x[keep] = np.linalg.solve(K[np.ix_(keep, keep)], np.asarray(force)[keep])
+        return x
+
+    def deflate(self, Phi: np.ndarray) -> np.ndarray:
+        """A state-transition matrix over (x, ẋ) without the rigid-body angle's row and column (its
+        multiplier is exactly 1: nothing depends on it); ``Phi`` itself where there is none.
+
+        Parameters
+        ----------
+        Phi : ndarray
+            (2m, 2m) state-transition matrix, dimensionless.
+        """
+        if self.idle is None:
+            return Phi
+        keep = np.delete(np.arange(Phi.shape[0]), self.idle)
+        return Phi[np.ix_(keep, keep)]
 
     def with_profiles(self, profiles: tuple[np.ndarray, ...]) -> LinearPeriodic:
         """The same model with other stiffness profiles (k/k̄ samples per mesh).
@@ -263,6 +327,8 @@ def linear_periodic(
     reference: str,
     boundary: Boundary = "prescribed",
     load: Any = None,
+    drive_disk: str | None = None,
+    motor: Any = None,
 ) -> LinearPeriodic:
     """The linear time-periodic model of a :class:`~mechdyn.gear_dynamics.system.GearSystem`.
 
@@ -271,25 +337,41 @@ def linear_periodic(
     system : GearSystem
         The time-varying system of a drivetrain.
     reference : str
-        The disk turning at the reference speed Ω (a motor disk).
-    boundary : {"prescribed", "free"}
-        ``"prescribed"``: the reference disk turns at exactly Ω (a kinematic input, the usual choice
-        of a speed sweep; the motor torque follows); ``"free"``: no disk is held and the rigid-body
-        motion is projected out (M-orthogonal complement of the rigid-body vectors).
+        The disk whose speed is the reference speed Ω.
+    boundary : {"prescribed", "free", "motor"}
+        ``"prescribed"``: the reference disk turns at exactly Ω (a kinematic input; the motor torque
+        follows whatever the vibration asks); ``"free"``: no disk is held, a constant torque at
+        ``drive_disk`` balances the load and the drag, and the rigid-body motion is projected out
+        (M-orthogonal complement of the rigid-body vector; where a grounded damper acts on the rigid
+        rotation it stays in the state as :attr:`LinearPeriodic.idle`); ``"motor"``: no disk is held
+        and ``motor`` drives, its torque following its torque–speed curve about the torque that holds
+        the speed (the slope damps the rigid rotation, kept in the state).
     load : mapping of str to float, optional
         Torque drawn at each named disk, N·m (or quantities), resisting that disk's rotation.
+    drive_disk : str, optional
+        With ``"free"``: the disk that takes the balancing torque (default: ``reference``).
+    motor : MotorTorque, optional
+        With ``"motor"``: the motor (:class:`mechdyn.gear_dynamics.loads.MotorTorque`, its disk, curve,
+        ratio and sense).
 
     Returns
     -------
     LinearPeriodic
     """
+    from mechdyn.gear_dynamics._operating import MotorSlope, balancing
     from mechdyn.units import si_field
 
-    if boundary not in ("prescribed", "free"):
+    if boundary not in ("prescribed", "free", "motor"):
         raise ModelError(
-            f"boundary {boundary!r}: give 'prescribed' (reference disk held at its speed) or 'free'",
+            f"boundary {boundary!r}: give 'prescribed' (reference disk held at its speed), 'free' or 'motor'",
             element="gear dynamics",
             field="boundary",
+        )
+    if boundary == "motor" and motor is None:
+        raise ModelError(
+            "boundary 'motor' needs the motor (a MotorTorque); give motor=... or boundary='free'",
+            element="gear dynamics",
+            field="motor",
         )
     j_ref, t_ref = _reference_column(system, reference)
     M = np.asarray(system.M, float)
@@ -315,13 +397,6 @@ def linear_periodic(
     kbar = np.array([float(mesh.mean_stiffness) for mesh in meshes])
     cm = np.array([float(mesh.damping) for mesh in meshes])
     C_full = C + (G.T * cm) @ G
-    if boundary == "prescribed":
-        basis = np.delete(np.eye(n), j_ref, axis=1)
-    else:
-        # M-orthogonal complement of the rigid-body vector: the rigid coordinate decouples
-        Mr = M @ r
-        q, _ = np.linalg.qr(np.column_stack([Mr, np.eye(n)]))
-        basis = q[:, 1:n]
     torques = np.zeros(n)
     dt = system.drivetrain
     T = np.asarray(system.T, float)
@@ -335,14 +410,47 @@ def linear_periodic(
         torque = si_field("gear dynamics", f"load[{disk!r}]", value, "N*m", what="load torque")
         turning_sense = float(np.sign(T[dt.disk_index[disk]] @ r))
         torques -= torque * (turning_sense or 1.0) * T[dt.disk_index[disk]]
+    drag = _cleaned(-(C_full @ r), np.abs(C_full).max() * np.abs(r).max())
+    idle: int | None = None
+    slope = None
+    drive = f"disk {reference!r} held at each speed (a kinematic input)"
+    if boundary == "prescribed":
+        basis = np.delete(np.eye(n), j_ref, axis=1)
+    else:
+        # M-orthogonal complement of the rigid-body vector: the rigid coordinate decouples where
+        # nothing damps the rigid rotation (C r = 0); else it stays, last, as the idle coordinate
+        Mr = M @ r
+        q, _ = np.linalg.qr(np.column_stack([Mr, np.eye(n)]))
+        basis = q[:, 1:n]
+        disk = motor.disk if boundary == "motor" else (drive_disk or reference)
+        row, need, torques, drag = balancing(system, r, disk, torques, drag)
+        if boundary == "motor" or np.any(_cleaned(C_full @ r, np.abs(C_full).max() * np.abs(r).max())):
+            basis = np.column_stack([basis, r])
+            idle = n - 1
+        if boundary == "motor":
+            slope = MotorSlope(motor, basis.T @ row, need, float(row @ r))
+            drive = slope.describe(reference)
+        else:
+            drive = (
+                f"no disk held: a constant torque at disk {disk!r} balances the load (a stiff speed "
+                "control or a large inertia upstream)"
+            )
+    Mb, Kb, Cb, Gb = basis.T @ M @ basis, basis.T @ K @ basis, basis.T @ C_full @ basis, G @ basis
+    load_b, drag_b = basis.T @ torques, _cleaned(basis.T @ drag, np.abs(C_full).max() * np.abs(r).max())
+    if idle is not None:  # what vanishes exactly (K r = 0, G r = 0, rᵀ M B = 0, balanced forces)
+        Mb[idle, :idle] = Mb[:idle, idle] = 0.0
+        Kb[idle, :] = Kb[:, idle] = 0.0
+        Gb[:, idle] = 0.0
+        load_b[idle] = drag_b[idle] = 0.0
+        Cb = np.where(np.abs(Cb) > 1e-12 * max(np.abs(Cb).max(), 1e-300), Cb, 0.0)
     cycles = np.array([mesh.teeth * float(np.asarray(mesh.phase_row, float) @ r) for mesh in meshes])
     cycles = cycles / (2 * np.pi)
     return LinearPeriodic(
         basis=basis,
-        M=basis.T @ M @ basis,
-        K=basis.T @ K @ basis,
-        C=basis.T @ C_full @ basis,
-        G=G @ basis,
+        M=Mb,
+        K=Kb,
+        C=Cb,
+        G=Gb,
         mean_stiffness=kbar,
         mesh_damping=cm,
         profiles=tuple(np.asarray(mesh.profile, float) for mesh in meshes),
@@ -350,11 +458,14 @@ def linear_periodic(
         backlash=tuple(mesh.backlash for mesh in meshes),
         cycles=cycles,
         rigid=r,
-        load=basis.T @ torques,
-        drag=_cleaned(-(basis.T @ C_full @ r), np.abs(C_full).max() * np.abs(r).max()),
+        load=load_b,
+        drag=drag_b,
         names=tuple(mesh.name for mesh in meshes),
         reference=reference,
         boundary=boundary,
+        idle=idle,
+        motor=slope,
+        drive=drive,
     )
 
 
@@ -794,8 +905,10 @@ def monodromy(
     return _monodromy(lin, period_plan(lin), speed, method, substeps)
 
 
-def _spectral(Phi: np.ndarray) -> tuple[np.ndarray, float]:
-    mu = np.linalg.eigvals(Phi)
+def _spectral(Phi: np.ndarray, lin: LinearPeriodic | None = None) -> tuple[np.ndarray, float]:
+    """Floquet multipliers (largest first) and spectral radius of ``Phi``, without the rigid-body
+    angle's multiplier of ``lin`` where it is in the state."""
+    mu = np.linalg.eigvals(lin.deflate(Phi) if lin is not None else Phi)
     mu = mu[np.argsort(-np.abs(mu), kind="stable")]
     return mu, float(np.abs(mu[0])) if mu.size else 0.0
 
@@ -927,8 +1040,8 @@ class FloquetResult(Result):
 def _natural_frequencies(lin: LinearPeriodic) -> np.ndarray:
     from scipy.linalg import eigh
 
-    K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
-    w2 = eigh(K, lin.M, eigvals_only=True)
+    keep = np.delete(np.arange(lin.m), [] if lin.idle is None else [lin.idle])
+    w2 = eigh(lin.held_stiffness[np.ix_(keep, keep)], lin.M[np.ix_(keep, keep)], eigvals_only=True)
     return np.sqrt(np.clip(w2, 0.0, None)) / (2 * np.pi)
 
 
@@ -987,7 +1100,7 @@ def floquet(
     plan = period_plan(lin)
     mus, periods = [], []
     for speed in s:
-        mu, _ = _spectral(_monodromy(lin, plan, float(speed), method, substeps))
+        mu, _ = _spectral(_monodromy(lin, plan, float(speed), method, substeps), lin)
         mus.append(mu)
         periods.append(plan.period(float(speed)))
     return FloquetResult(
@@ -1156,7 +1269,7 @@ def stability_chart(
         lin_e = lin.with_profiles(tuple(profiles))
         plan = period_plan(lin_e)
         for b, speed in enumerate(s):
-            rho[a, b] = _spectral(_monodromy(lin_e, plan, float(speed), "magnus", substeps))[1]
+            rho[a, b] = _spectral(_monodromy(lin_e, plan, float(speed), "magnus", substeps), lin_e)[1]
     return StabilityChart(
         speeds=s,
         amplitudes=eps,

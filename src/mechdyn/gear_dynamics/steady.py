@@ -40,6 +40,7 @@ import numpy as np
 
 from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
+from mechdyn.gear_dynamics._harmonics import HARMONICS_RTOL, MAX_AUTO, estimated_error, harmonics_for
 from mechdyn.gear_dynamics._nonsmooth import FlowError, NonsmoothFlow
 from mechdyn.gear_dynamics.floquet import (
     UNSTABLE_MARGIN,
@@ -156,6 +157,8 @@ def _hb_solve(lin: LinearPeriodic, plan: PeriodPlan, bal: _Balance, speed: float
         - (p * w0)[:, None, None] ** 2 * lin.M[None, :, :]
         + 1j * (p * w0)[:, None, None] * lin.C[None, :, :]
     )
+    if lin.idle is not None:  # the rigid angle's mean: nothing depends on it, fix it at 0
+        Z[H, lin.idle, lin.idle] = max(float(np.abs(bal.K_held).max()), 1.0)
     F = np.zeros((n_p, m), complex)
     F[H] += lin.force(speed)
     for j in range(len(lin.names)):
@@ -250,7 +253,9 @@ def _shoot_linear(
         E = propagators(lin, plan, speed, n_seg, forced=True)
     t = np.arange(n_seg) / n_seg
     Phi = ordered_product(E)
-    y0 = np.linalg.solve(np.eye(d) - Phi[:d, :d], Phi[:d, d])
+    keep = np.delete(np.arange(d), [] if lin.idle is None else [lin.idle])  # the rigid angle: 0
+    y0 = np.zeros(d)
+    y0[keep] = np.linalg.solve(np.eye(keep.size) - Phi[np.ix_(keep, keep)], Phi[keep, d])
     z = np.empty((n_seg, d + 1))
     z[0] = np.append(y0, 1.0)
     for k in range(n_seg - 1):
@@ -281,11 +286,13 @@ def _flow(
 def _settle_periods(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> int:
     """Periods in which the slowest mode of the mean system decays by e⁻⁶ (at most 100)."""
     m = lin.m
-    K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
     A = np.block(
-        [[np.zeros((m, m)), np.eye(m)], [-np.linalg.solve(lin.M, K), -np.linalg.solve(lin.M, lin.C)]]
+        [
+            [np.zeros((m, m)), np.eye(m)],
+            [-np.linalg.solve(lin.M, lin.held_stiffness), -np.linalg.solve(lin.M, lin.C)],
+        ]
     )
-    decay = -np.linalg.eigvals(A).real.max()
+    decay = -np.linalg.eigvals(lin.deflate(A)).real.max()
     T = plan.period(speed)
     return int(min(100, max(1, np.ceil(6.0 / max(decay * T, 1e-12)))))
 
@@ -300,9 +307,7 @@ def _settle(lin: LinearPeriodic, plan: PeriodPlan, speed: float, y: np.ndarray) 
 def _warm_start(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> np.ndarray:
     """A start for Newton near the attracting orbit: the static deflection run for the periods in which
     the slowest mode of the mean system decays by e⁻⁶ (at most 100)."""
-    m = lin.m
-    K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
-    y = np.concatenate([np.linalg.solve(K, lin.force(speed)), np.zeros(m)])
+    y = np.concatenate([lin.static(lin.force(speed)), np.zeros(lin.m)])
     return _settle(lin, plan, speed, y)
 
 
@@ -364,9 +369,7 @@ def _closure(y0: np.ndarray, end: np.ndarray) -> float:
 
 # -- results ------------------------------------------------------------------------------------------
 def _static_forces(lin: LinearPeriodic, speed: float) -> np.ndarray:
-    K = lin.K + (lin.G.T * lin.mean_stiffness) @ lin.G
-    x = np.linalg.solve(K, lin.force(speed))
-    return lin.mean_stiffness * (lin.G @ x)
+    return lin.mean_stiffness * (lin.G @ lin.static(lin.force(speed)))
 
 
 def _dynamic_factor(force: np.ndarray, static: np.ndarray) -> np.ndarray:
@@ -403,6 +406,14 @@ class SteadyState(Result):
     converged : bool
         False where Newton's method (backlash) did not reach the periodic solution.
     notes : tuple of str
+    drive : str
+        How the train was driven, in words.
+    harmonics : int
+        Harmonics of each mesh frequency kept by harmonic balance (0 for shooting), count.
+    harmonics_error : float
+        The estimated largest relative error of K_v from the truncation (the change when the
+        harmonics are doubled, :func:`mechdyn.gear_dynamics._harmonics.estimated_error`),
+        dimensionless; NaN for shooting.
     """
 
     speed: float
@@ -416,6 +427,9 @@ class SteadyState(Result):
     method: str
     converged: bool = True
     notes: tuple[str, ...] = field(default=())
+    drive: str = ""
+    harmonics: int = 0
+    harmonics_error: float = float("nan")
 
     @property
     def dynamic_factor(self) -> np.ndarray:
@@ -459,8 +473,21 @@ class SteadyState(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """Notes on the period and on convergence."""
-        return self.notes + (() if self.converged else ("Newton's method did not converge",))
+        """Notes on the period and on convergence (Newton's, and the harmonics')."""
+        return (
+            self.notes
+            + (() if self.converged else ("Newton's method did not converge",))
+            + _truncation_warning(self.harmonics, self.harmonics_error)
+        )
+
+
+def _truncation_warning(H: int, error: float) -> tuple[str, ...]:
+    if not error > HARMONICS_RTOL:
+        return ()
+    return (
+        f"K_v may be off by {100 * error:.2g} % with {H} harmonics per mesh (the change when they are "
+        f"doubled): give more (harmonics = {min(4 * H, 2000)}) or leave the count to be chosen",
+    )
 
 
 def _check_method(method: str) -> None:
@@ -491,6 +518,72 @@ def _choose(lin: LinearPeriodic, method: str) -> str:
             field="method",
         )
     return method
+
+
+Drive = Literal["motor", "torque", "speed"]
+_DRIVES = ("motor", "torque", "speed")
+
+
+def _model(
+    system: Any, reference: str, load: Mapping[str, Any] | None, drive: str | None, motor: Any
+) -> LinearPeriodic:
+    """The linear periodic model for a drive: ``"motor"`` (the motor free, on its curve),
+    ``"torque"`` (free, a constant torque at the reference disk) or ``"speed"`` (the reference disk
+    held); None: the motor where one is given, else the constant torque."""
+    if drive is None:
+        drive = "motor" if motor is not None else "torque"
+    if drive not in _DRIVES:
+        raise ModelError(
+            f"drive {drive!r}: give 'motor' (the motor free on its torque-speed curve), 'torque' (free, a "
+            "constant torque at the reference disk) or 'speed' (the reference disk held at each speed)",
+            element="gear dynamics",
+            field="drive",
+        )
+    if drive == "motor" and motor is None:
+        raise ModelError(
+            "drive 'motor' needs the motor: give motor=MotorTorque(...) (or a [motor] table in the file), "
+            "or drive='torque'",
+            element="gear dynamics",
+            field="motor",
+        )
+    boundary = {"motor": "motor", "torque": "free", "speed": "prescribed"}[drive]
+    return linear_periodic(
+        system, reference=reference, boundary=boundary, load=load, motor=motor if drive == "motor" else None
+    )
+
+
+def _harmonics_given(harmonics: Any) -> int | None:
+    """The count given, checked; None for ``"auto"`` (or None): chosen by
+    :func:`._harmonics.harmonics_for`."""
+    if harmonics is None or (isinstance(harmonics, str) and harmonics == "auto"):
+        return None
+    return check_count("gear dynamics", "harmonics", harmonics, low=1, high=2000, what="harmonics")
+
+
+def _truncation_error(lin: LinearPeriodic, plan: PeriodPlan, H: int, speeds: list[float]) -> float:
+    """The estimated largest relative error of K_v with H harmonics at ``speeds`` (rad/s), from the
+    same with 2H (:func:`._harmonics.estimated_error`), dimensionless."""
+    kv = []
+    for h in (H, 2 * H):
+        solver = _Solver(lin, plan, "harmonic_balance", h, 4, "magnus")
+        row = []
+        for speed in speeds:
+            t, x, v, _ = solver.solve(speed)
+            force, _ = _mesh_forces(lin, plan, speed, t, x, v)
+            row.append(_dynamic_factor(force, _static_forces(lin, speed)))
+        kv.append(np.array(row))
+    return estimated_error(kv[0], kv[1])
+
+
+def _harmonics_words(H: int, auto: bool, error: float) -> str:
+    how = "chosen to reach twice the highest natural frequency at the lowest speed" if auto else "as given"
+    size = f"{100 * error:.2g} %" if error >= 1e-4 else "0.01 %"
+    est = (
+        f"; K_v within an estimated {size} of the converged answer (against {2 * H})"
+        if np.isfinite(error)
+        else ""
+    )
+    return f"harmonic balance ({H} harmonics per mesh, {how}{est})"
 
 
 class _Solver:
@@ -527,7 +620,7 @@ class _Solver:
         static deflection); with ``settle``, where it fails or lands on an unstable orbit, it starts
         again from a run of :func:`_settle_periods` periods from that start at this speed (the orbit a
         slow sweep reaches: after a jump, the other branch), up to four runs in a row."""
-        lin, plan = self.lin, self.plan
+        lin, plan = self.lin.at_speed(speed), self.plan
         self.rho = float("nan")
         self.closure = float("nan")
         if self.method == "harmonic_balance":
@@ -536,11 +629,11 @@ class _Solver:
             N = _grid(lin, plan, self.bal.H) if self.points is None else self.points
             x, v = _series(X, 2 * np.pi * plan.fundamental * speed, N)
             if self.stability:
-                self.rho = _spectral(_monodromy(lin, plan, speed, "magnus", self.substeps))[1]
+                self.rho = _spectral(_monodromy(lin, plan, speed, "magnus", self.substeps), lin)[1]
             return np.arange(N) / N, x, v, True
         if not self.nonlinear:
             t, x, v, Phi = _shoot_linear(lin, plan, speed, self.integrator, self.substeps)
-            self.rho = _spectral(Phi)[1]
+            self.rho = _spectral(Phi, lin)[1]
             return t, x, v, True
         assert self.bal is not None
         if start is None:
@@ -549,7 +642,7 @@ class _Solver:
             start = self.start
         N = _grid(lin, plan, self.bal.H)
         t, x, v, ok, Phi, closure = _shoot_nonlinear(lin, plan, speed, start, N)
-        rho = _spectral(Phi)[1] if ok else float("inf")
+        rho = _spectral(Phi, lin)[1] if ok else float("inf")
         settled = start
         for _round in range(_SETTLE_ROUNDS if settle else 0):
             if rho <= 1.0 + UNSTABLE_MARGIN:
@@ -559,7 +652,7 @@ class _Solver:
             except FlowError:
                 break
             again = _shoot_nonlinear(lin, plan, speed, settled, N)
-            rho_again = _spectral(again[4])[1] if again[3] else float("inf")
+            rho_again = _spectral(again[4], lin)[1] if again[3] else float("inf")
             if again[3] and rho_again < rho:
                 t, x, v, ok, Phi, closure = again
                 rho = rho_again
@@ -577,10 +670,12 @@ def steady_state(
     reference: str,
     load: Mapping[str, Any] | None = None,
     method: Method = "auto",
-    harmonics: int = 16,
+    harmonics: int | Literal["auto"] = "auto",
     integrator: Literal["magnus", "ivp"] = "magnus",
     substeps: int = 4,
     points: int | None = None,
+    drive: Drive | None = None,
+    motor: Any = None,
 ) -> SteadyState:
     """The periodic steady state of a drivetrain at one constant speed.
 
@@ -589,15 +684,18 @@ def steady_state(
     system : GearSystem
         The time-varying system of a drivetrain.
     speed : float
-        Speed Ω of the reference disk, rad/s, positive, held exactly (kinematic input).
+        Speed Ω of the reference disk, rad/s, positive.
     reference : str
-        The disk turning at Ω (a motor disk).
+        The disk whose speed is Ω (a motor disk).
     load : mapping of str to float, optional
         Torque drawn at each named disk, N·m (or quantities), resisting its rotation.
     method : {"auto", "harmonic_balance", "shooting"}
         ``"auto"``: harmonic balance, or shooting with Newton where a mesh has backlash.
-    harmonics : int
-        Harmonics of each mesh frequency kept by harmonic balance, a count from 1 to 2000.
+    harmonics : int or "auto"
+        Harmonics of each mesh frequency kept by harmonic balance, a count from 1 to 2000, or
+        ``"auto"``: enough to reach twice the highest natural frequency
+        (:func:`mechdyn.gear_dynamics._harmonics.harmonics_for`), checked by doubling them
+        (:attr:`SteadyState.harmonics_error`).
     integrator : {"magnus", "ivp"}
         The propagator of linear shooting (:func:`mechdyn.gear_dynamics.floquet.monodromy`).
     substeps : int
@@ -605,6 +703,15 @@ def steady_state(
     points : int, optional
         Time samples per period of the harmonic-balance response, a count from 8 (default: 4 per
         profile sample interval, at least 256 and 2H + 2). Shooting samples at its segment ends.
+    drive : {"motor", "torque", "speed"}, optional
+        How the train is driven. ``"motor"``: no disk held, ``motor`` drives, its torque following its
+        torque–speed curve about the torque that holds the load (its slope damps the rigid rotation,
+        :mod:`mechdyn.gear_dynamics._operating`): what :func:`simulate` integrates; ``"torque"``: no disk
+        held, a constant torque at the reference disk balances the load; ``"speed"``: the reference
+        disk held at exactly Ω (a kinematic input, which moves the train's modes: a held motor rotor
+        becomes a node). Default: ``"motor"`` where ``motor`` is given, else ``"torque"``.
+    motor : MotorTorque, optional
+        The motor (:class:`mechdyn.gear_dynamics.loads.MotorTorque`) of ``drive="motor"``.
 
     Returns
     -------
@@ -617,15 +724,17 @@ def steady_state(
     """
     _check_method(method)
     _check_integrator(integrator)
-    harmonics = check_count("gear dynamics", "harmonics", harmonics, low=1, high=2000, what="harmonics")
+    given = _harmonics_given(harmonics)
     substeps = check_count("gear dynamics", "substeps", substeps, low=1, high=1000, what="substeps")
     speed = _check_speed("speed", speed)
-    lin = linear_periodic(system, reference=reference, load=load)
+    lin = _model(system, reference, load, drive, motor)
     chosen = _choose(lin, method)
     plan = period_plan(lin)
     if points is not None:
         points = check_count("gear dynamics", "points", points, low=8, high=10**7, what="time samples")
-    t, x, v, ok = _Solver(lin, plan, chosen, harmonics, substeps, integrator, points).solve(speed)
+    H = given if given is not None else harmonics_for(lin, plan, speed)
+    t, x, v, ok = _Solver(lin, plan, chosen, H, substeps, integrator, points).solve(speed)
+    error = _truncation_error(lin, plan, H, [speed]) if chosen == "harmonic_balance" else float("nan")
     force, delta = _mesh_forces(lin, plan, speed, t, x, v)
     T = plan.period(speed)
     return SteadyState(
@@ -637,9 +746,16 @@ def steady_state(
         deflection=delta,
         static_force=_static_forces(lin, speed),
         coordinates=x @ lin.basis.T,
-        method=chosen if chosen == "harmonic_balance" else f"shooting ({integrator})",
+        method=(
+            _harmonics_words(H, given is None, error)
+            if chosen == "harmonic_balance"
+            else f"shooting ({integrator})"
+        ),
         converged=ok,
         notes=(plan.note,) if plan.note else (),
+        drive=lin.drive,
+        harmonics=H if chosen == "harmonic_balance" else 0,
+        harmonics_error=error,
     )
 
 
@@ -653,7 +769,7 @@ class SpeedSweepResult(Result):
     speeds : ndarray
         (n_s,) reference speeds Ω, rad/s, ascending (the given ones and those added near peaks).
     reference : str
-        The disk held at Ω.
+        The disk whose speed is Ω.
     mesh_names : tuple of str
     mesh_cycles : ndarray
         (J,) mesh cycles per radian of the reference disk (f_mesh = cycles · Ω), dimensionless.
@@ -674,7 +790,10 @@ class SpeedSweepResult(Result):
         where not computed.
     method : str
     harmonics : int
-        Harmonics of each mesh frequency (harmonic balance), count.
+        Harmonics of each mesh frequency (harmonic balance; 0 for shooting), count.
+    harmonics_error : float
+        The estimated largest relative error of K_v from the truncation, from doubling the harmonics
+        at the lowest speed and at the speed of the largest K_v, dimensionless; NaN for shooting.
     notes : tuple of str
         What the user should know (the period chosen, a missing load): the result's warnings.
     assumptions : tuple of str
@@ -688,6 +807,9 @@ class SpeedSweepResult(Result):
         ``"up"`` or ``"down"``: the order in which the speeds were visited (continuation).
     down : SpeedSweepResult or None
         With ``direction="both"``: the down sweep over the same speeds (None otherwise).
+    drive : str
+        How the train was driven at each speed, in words (the motor free on its curve, a constant
+        torque, or the reference disk held).
     """
 
     speeds: np.ndarray
@@ -706,9 +828,11 @@ class SpeedSweepResult(Result):
     harmonics: int
     notes: tuple[str, ...] = field(default=())
     assumptions: tuple[str, ...] = field(default=())
+    harmonics_error: float = float("nan")
     closure: np.ndarray | None = None
     direction: str = "up"
     down: SpeedSweepResult | None = None
+    drive: str = ""
 
     @property
     def stable(self) -> np.ndarray:
@@ -815,7 +939,10 @@ class SpeedSweepResult(Result):
                 meshes[name]["iso_dynamic_factor_max_ratio"] = float(np.nanmax(self.iso_dynamic_factor[:, j]))
         return {
             "reference": self.reference,
+            "drive": self.drive,
             "method": self.method,
+            "harmonics": int(self.harmonics),
+            "harmonics_error_ratio": float(self.harmonics_error),
             "speed_min_rad_s": float(self.speeds.min()),
             "speed_max_rad_s": float(self.speeds.max()),
             "points": int(self.speeds.size),
@@ -888,6 +1015,7 @@ class SpeedSweepResult(Result):
                 note=" ".join(
                     (
                         f"Computed by {self.method}.",
+                        *((f"Drive: {self.drive}.",) if self.drive else ()),
                         *self._hysteresis_notes(),
                         *(n.rstrip(".") + "." for n in self.notes + self.assumptions),
                     )
@@ -915,6 +1043,7 @@ class SpeedSweepResult(Result):
                     f"Newton's method did not converge at {bad.size} speeds (from {bad.min():.4g} rad/s)"
                     + (" sweeping down" if sweep is self.down else "")
                 )
+        out.extend(_truncation_warning(self.harmonics, self.harmonics_error))
         if not self.stable.all():
             bad = self.speeds[~self.stable]
             out.append(
@@ -925,18 +1054,18 @@ class SpeedSweepResult(Result):
         return tuple(out)
 
 
+def _stack_kv(stack: list[np.ndarray]) -> np.ndarray:
+    """(n_s, J) K_v of the stacked rows (force max, min, …, static force)."""
+    force_max, force_min, static = stack[0], stack[1], stack[3]
+    extreme = np.where(np.sign(static) >= 0, force_max, -force_min)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return extreme / np.abs(static)
+
+
 def _sweep_kv(stack: list[np.ndarray]) -> np.ndarray:
     force_max, force_min, static = stack[0], stack[1], stack[3]
     loaded = np.abs(static) > 1e-9 * np.maximum(np.abs(force_max), np.abs(force_min))
     return np.where(loaded, 1.0, np.nan)
-
-
-def _local_maxima(y: np.ndarray) -> np.ndarray:
-    if y.size < 3:
-        return np.zeros(0, int)
-    inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
-    scale = np.abs(y).max()
-    return inner[y[inner] > 1e-9 * scale] if scale > 0 else inner[:0]
 
 
 def _peaks(y: np.ndarray) -> np.ndarray:
@@ -1005,13 +1134,15 @@ def speed_sweep(
     reference: str,
     load: Mapping[str, Any] | None = None,
     method: Method = "auto",
-    harmonics: int = 16,
+    harmonics: int | Literal["auto"] = "auto",
     refine: int = 3,
     gear_pairs: Mapping[str, Any] | None = None,
     integrator: Literal["magnus", "ivp"] = "magnus",
     substeps: int = 4,
     stability: bool = True,
     direction: Direction = "up",
+    drive: Drive | None = None,
+    motor: Any = None,
 ) -> SpeedSweepResult:
     """Dynamic mesh forces, dynamic factors and DTE of a drivetrain over its running speed.
 
@@ -1029,8 +1160,12 @@ def speed_sweep(
     method : {"auto", "harmonic_balance", "shooting"}
         ``"auto"``: harmonic balance, or shooting with Newton continued over speed where a mesh has
         backlash.
-    harmonics : int
-        Harmonics of each mesh frequency kept by harmonic balance, a count from 1 to 2000.
+    harmonics : int or "auto"
+        Harmonics of each mesh frequency kept by harmonic balance, a count from 1 to 2000, or
+        ``"auto"``: enough to reach twice the highest natural frequency at the lowest speed
+        (:func:`mechdyn.gear_dynamics._harmonics.harmonics_for`), doubled until K_v changes by less
+        than 1 % (estimated) at the lowest speed and at the speed of the largest K_v. Either way the
+        result states the estimated error (:attr:`SpeedSweepResult.harmonics_error`) and warns above 1 %.
     refine : int
         Rounds of adding speeds either side of every local maximum of a mesh's force amplitude (so
         that the peaks are resolved), a count from 0 to 20.
@@ -1050,6 +1185,12 @@ def speed_sweep(
         until it ends and then jumps, as a slowly run-up or run-down machine does): ``"up"``
         (ascending), ``"down"`` (descending) or ``"both"`` (up, then down from the top; the result is
         the up sweep with the down sweep as its :attr:`SpeedSweepResult.down`).
+    drive : {"motor", "torque", "speed"}, optional
+        How the train is driven at each speed (see :func:`steady_state`); default ``"motor"`` where
+        ``motor`` is given, else ``"torque"``. ``"speed"`` holds the reference disk (a kinematic input):
+        where that disk is a motor rotor, the train's first mode and resonances move.
+    motor : MotorTorque, optional
+        The motor of ``drive="motor"`` (:class:`mechdyn.gear_dynamics.loads.MotorTorque`).
 
     Returns
     -------
@@ -1070,7 +1211,7 @@ def speed_sweep(
     """
     _check_method(method)
     _check_integrator(integrator)
-    harmonics = check_count("gear dynamics", "harmonics", harmonics, low=1, high=2000, what="harmonics")
+    given = _harmonics_given(harmonics)
     refine = check_count("gear dynamics", "refine", refine, low=0, high=20, what="refinement rounds")
     substeps = check_count("gear dynamics", "substeps", substeps, low=1, high=1000, what="substeps")
     if direction not in _DIRECTIONS:
@@ -1080,7 +1221,7 @@ def speed_sweep(
             field="direction",
         )
     s = np.unique(_speeds(speeds))
-    lin = linear_periodic(system, reference=reference, load=load)
+    lin = _model(system, reference, load, drive, motor)
     if not lin.names:
         raise ModelError(
             "the drivetrain has no flexible gear mesh; give a mesh a stiffness",
@@ -1089,11 +1230,19 @@ def speed_sweep(
         )
     chosen = _choose(lin, method)
     plan = period_plan(lin)
-    solver = _Solver(lin, plan, chosen, harmonics, substeps, integrator, stability=stability)
+    balance = chosen == "harmonic_balance"
+    H = given if given is not None else (harmonics_for(lin, plan, float(s.min())) if balance else 16)
     iso_cache: dict[bytes, tuple[np.ndarray, list[str]]] = {}
 
     def result(sweep: str) -> SpeedSweepResult:
         grid, stack = _sweep(solver, s, sweep, refine)
+        error = float("nan")
+        if balance:  # the truncation checked where it matters most: lowest speed, largest K_v
+            kv = _sweep_kv(stack) * _stack_kv(stack)
+            worst = [float(grid[0])]
+            if np.isfinite(kv).any():
+                worst.append(float(grid[int(np.nanargmax(np.nanmax(kv, axis=1)))]))
+            error = _truncation_error(lin, plan, H, sorted(set(worst)))
         key = grid.tobytes()
         if key not in iso_cache:
             iso_cache[key] = _iso_factors(system, lin, grid, stack[3], dict(gear_pairs or {}))
@@ -1116,25 +1265,33 @@ def speed_sweep(
             spectral_radius=stack[5][:, 1],
             closure=stack[5][:, 2],
             method=(
-                f"harmonic balance ({harmonics} harmonics per mesh)"
-                if chosen == "harmonic_balance"
+                _harmonics_words(H, given is None, error)
+                if balance
                 else (
                     f"shooting with Newton's method on the backlash flow, continued over speed ({sweep})"
                     if solver.nonlinear
                     else f"shooting ({integrator})"
                 )
             ),
-            harmonics=harmonics,
+            harmonics=H if balance else 0,
+            harmonics_error=error,
             notes=tuple(notes),
             assumptions=tuple(iso_notes),
             direction=sweep,
+            drive=lin.drive,
         )
 
+    while True:  # chosen harmonics: doubled until K_v is converged to HARMONICS_RTOL
+        solver = _Solver(lin, plan, chosen, H, substeps, integrator, stability=stability)
+        first = result("up" if direction == "both" else direction)
+        if given is None and first.harmonics_error > HARMONICS_RTOL and 2 * H <= MAX_AUTO:
+            H *= 2
+            continue
+        break
     if direction == "both":
-        up = result("up")
-        down = result("down") if solver.nonlinear else replace(up, direction="down")
-        return replace(up, down=down)
-    return result(direction)
+        down = result("down") if solver.nonlinear else replace(first, direction="down")
+        return replace(first, down=down)
+    return first
 
 
 def _sweep(
@@ -1191,7 +1348,7 @@ def _sweep(
         amp = np.array([0.5 * (rows[g][0] - rows[g][1]) for g in grid]).reshape(grid.size, J)
         new: set[float] = set()
         for j in range(J):
-            for i in _local_maxima(amp[:, j]):
+            for i in _peaks(amp[:, j]):
                 new.update({0.5 * (grid[i - 1] + grid[i]), 0.5 * (grid[i] + grid[i + 1])})
         new -= set(rows)
         if not new:
