@@ -77,6 +77,14 @@ register(
             Output("iso_c_gamma_N_per_mm_um", "ISO 6336-1 mesh stiffness c_γα (gear pairs)"),
             Output("iso_c_gamma_beta_N_per_mm_um", "ISO 6336-1 mesh stiffness c_γβ = 0.85 c_γα (gear pairs)"),
             Output("iso_factors", "ISO factors q′, C_M, C_R, C_B", "1"),
+            Output("mesh_stiffness_iso_ratio", "mean mesh stiffness over ISO's c_γα b (gear pairs)", "1"),
+            Output(
+                "ring_rim_compliance_mean_m_per_N",
+                "a ring gear's rim (curved beam between supports): compliance along the line of action, "
+                "mean over a span",
+            ),
+            Output("ring_rim_compliance_max_m_per_N", "the ring rim's largest compliance over a span"),
+            Output("mesh_stiffness_mean_rigid_rim_N_per_m", "mean mesh stiffness with the ring's rim rigid"),
             Output("base_radii_m", "base radii of pinion and gear"),
             Output("teeth", "tooth numbers of pinion and gear", ""),
             Output("pair_stiffness_N_per_m", "tooth pair, Hertz counted once (tooth pairs)"),

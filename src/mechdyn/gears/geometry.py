@@ -47,11 +47,20 @@ import numpy as np
 from mechdyn.checks import check_number, check_poisson_ratio, magnitude_limit
 from mechdyn.errors import ModelError
 from mechdyn.gears.profile import ProfileTooth
+from mechdyn.gears.ring import RingRim, ring_rim_supports
 from mechdyn.gears.tooth import TruncatedTooth
 from mechdyn.units import show
 from mechdyn.units import si_field as _q
 
-__all__ = ["MAX_HELIX_DEG", "MAX_RACK_FACTOR", "MAX_TEETH", "SpurGear", "inverse_involute", "involute"]
+__all__ = [
+    "MAX_HELIX_DEG",
+    "MAX_RACK_FACTOR",
+    "MAX_TEETH",
+    "VALIDATED_HELIX_DEG",
+    "SpurGear",
+    "inverse_involute",
+    "involute",
+]
 
 MAX_TEETH = 10_000
 """The most teeth a gear may have (as a drivetrain mesh's :data:`mechdyn.drivetrain.elements.MAX_TEETH`)."""
@@ -60,6 +69,11 @@ MAX_RACK_FACTOR = 3.0
 basic racks have 1, 1.25 to 1.4, 0.38 and shifts within about ±1."""
 MAX_HELIX_DEG = 45.0
 """The largest helix angle accepted, degrees (industrial helical gears stay below about 35°)."""
+VALIDATED_HELIX_DEG = 30.0
+"""The largest helix angle at which the sliced helical mesh has been compared with ISO 6336-1, degrees:
+from 0° to 30° its mean stays 1.11–1.15 × c_γα (generated tooth, 20/40; 1.11 for the spur pair).
+Above it (to :data:`MAX_HELIX_DEG`) a pair is computed and its result states its ratio to ISO
+(docs/capabilities/gears.md, "Helical and internal gears")."""
 
 
 def involute(alpha: float) -> float:
@@ -108,18 +122,27 @@ class SpurGear:
         takes a bore of half the root diameter (a hub on its shaft), and :attr:`guesses` says so.
     rim_thickness, web_width : float or quantity, optional
         s_R and b_s of a rim-and-web gear blank, m (ISO 6336-1 gear blank factor C_R); None for a
-        solid blank.
+        solid blank. An internal gear may take ``rim_thickness`` alone: s_R, its rim's radial
+        thickness outside the root circle, m (from 1e-9 to 1e3 m), with ``rim_supports``: the rim then
+        yields as a curved beam between its supports (:meth:`ring_rim`; Chen & Shao 2013), in series
+        with the teeth over the mesh cycle. Without it the ring's rim is rigid.
     name : str
     fillet_radius : float
         ρ_fP* of the basic rack's tip rounding, in modules (0.38 by default, ISO 53 profile A): the
         cutter's rounded tip generates the tooth's root fillet (:meth:`generated_thickness_array`);
         from 0 to the full rounding of the rack's tip.
     helix_angle : float or quantity
-        β at the reference circle, rad (e.g. ``"15 deg"``), from 0 to 45° (0: a spur gear). The hand
+        β at the reference circle, rad (e.g. ``"15 deg"``), from 0 to 45° (0: a spur gear); above
+        :data:`VALIDATED_HELIX_DEG` (30°) a pair's result states its ratio to ISO 6336-1. The hand
         of the helix is not modelled: a pair takes equal β on both gears.
     internal : bool
         An internal gear (a ring gear, teeth pointing inward; see the module's notes): no bore (its
-        teeth stand on a rigid ring here), no fillet generated (the involute runs to the root circle).
+        teeth stand on its rim: rigid, or a curved beam with ``rim_thickness`` and ``rim_supports``),
+        no fillet generated (the involute runs to the root circle).
+    rim_supports : int, optional
+        N_s, the number of evenly spaced supports (bolts, pins, spline teeth) that hold an internal
+        gear's rim in its housing, a whole number from 1 to the gear's number of teeth; given with
+        ``rim_thickness``, and only for an internal gear.
 
     Raises
     ------
@@ -143,6 +166,7 @@ class SpurGear:
     fillet_radius: float = 0.38
     helix_angle: float = 0.0
     internal: bool = False
+    rim_supports: int | None = None
 
     def __post_init__(self) -> None:
         n = self.name
@@ -249,7 +273,20 @@ class SpurGear:
                 element=n,
                 field="addendum",
             )
-        if (self.rim_thickness is None) != (self.web_width is None):
+        if self.internal:
+            supports = ring_rim_supports(n, self.teeth, self.rim_thickness, self.rim_supports)
+            object.__setattr__(self, "rim_supports", supports)
+        elif self.rim_supports is not None:
+            raise ModelError(
+                f"rim_supports = {self.rim_supports!r} is for an internal gear (a ring held at its "
+                "supports); an external gear's rim-and-web blank takes rim_thickness and web_width: remove "
+                "rim_supports",
+                element=n,
+                field="rim_supports",
+            )
+        if (self.rim_thickness is None) != (self.web_width is None) and not (
+            self.internal and self.web_width is None
+        ):
             raise ModelError(
                 "give both rim_thickness and web_width of a rim-and-web blank, or neither (solid)",
                 element=n,
@@ -271,6 +308,18 @@ class SpurGear:
                 element=n,
                 field="profile_shift",
             )
+
+    def ring_rim(self) -> RingRim | None:
+        """The rim of an internal gear as a curved beam between its supports, or None.
+
+        None for a rigid rim (no ``rim_thickness``) or an external gear. The model is Chen & Shao's,
+        *Mech. Mach. Theory* 69 (2013) 1–12 (:class:`~mechdyn.gears.ring.RingRim`).
+
+        Returns
+        -------
+        RingRim or None
+        """
+        return RingRim.from_gear(self) if self.internal and self.rim_supports is not None else None
 
     # -- transverse section ---------------------------------------------------------------------
     @property
@@ -552,9 +601,10 @@ class SpurGear:
 
         An internal gear's tooth: the involute from its root circle (outside) to its tip circle, its
         chord integrated the same way (the potential-energy method applied to the ring's tooth as in
-        Chen & Shao, *Mech. Mach. Theory* 69 (2013) 1–12), on a rigid foundation: the ring's rim
-        deflection, which they model separately, is not included, and the Sainsot fit holds for the
-        body of an external gear only.
+        Chen & Shao, *Mech. Mach. Theory* 69 (2013) 1–12), on a rigid foundation (the Sainsot fit holds
+        for the body of an external gear only). The rim's deflection, which they model separately, is
+        the ring's :meth:`ring_rim` with ``rim_thickness``, in series with the mesh
+        (:meth:`GearPair.mesh_cycle`), not a term of the tooth.
         """
         r_f = self.root_radius
         if self.internal:
@@ -615,8 +665,8 @@ class SpurGear:
         start of the involute (max(r_b, r_f)) to the tip, and below it, down to the root circle, a
         segment of the thickness there (the part of the tooth between the root and base circles),
         on the foundation of Sainsot et al. (2004) at the root circle. An internal gear's tooth tapers
-        from its root circle (outside) to its tip circle on a rigid foundation (see
-        :meth:`profile_tooth`)."""
+        from its root circle (outside) to its tip circle on a rigid foundation (its rim, with
+        ``rim_thickness``, is in series with the mesh: see :meth:`profile_tooth`)."""
         if self.internal:
             return TruncatedTooth(
                 tip_height=self.root_radius - self.tip_radius,

@@ -23,6 +23,8 @@ from mechdyn.units import convert
 from mechdyn.units import si_field as _q
 
 __all__ = [
+    "ISO_SHORT_CONTACT",
+    "ISO_SHORT_FACTOR",
     "MAX_BLANK_RATIO",
     "MAX_SPECIFIC_LOAD",
     "STEEL_DENSITY",
@@ -38,6 +40,12 @@ MAX_SPECIFIC_LOAD = 1e6
 MAX_BLANK_RATIO = 1e4
 """The largest rim-thickness and web-width ratios of a gear blank accepted (ISO 6336 clamps both far
 below)."""
+
+ISO_SHORT_CONTACT = 1.2
+"""Below this transverse contact ratio ε_α, c_γα is reduced by :data:`ISO_SHORT_FACTOR` (ISO 6336-1,
+clause 9, Method B)."""
+ISO_SHORT_FACTOR = 0.9
+"""The reduction of c_γα for ε_α below :data:`ISO_SHORT_CONTACT`."""
 
 # ISO 6336-1, clause 9 (Method B), the coefficients of q′ (its table of C1 … C9)
 _C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
@@ -215,7 +223,7 @@ def iso_stiffness(
     if pair.helix_angle:
         c_prime *= math.cos(pair.helix_angle)
     eps = pair.contact_ratio
-    c_gamma = c_prime * (0.75 * eps + 0.25) * (0.9 if eps < 1.2 else 1.0)
+    c_gamma = c_prime * (0.75 * eps + 0.25) * (ISO_SHORT_FACTOR if eps < ISO_SHORT_CONTACT else 1.0)
     return IsoStiffness(q, c_th, C_M, C_R, C_B, load, mat, c_prime, c_gamma, tuple(notes), 0.85 * c_gamma)
 
 

@@ -28,13 +28,21 @@ counterpart of ISO 6336-1's cos β on c′ (clause 9, Method B): the transverse 
 than the normal section's (s_t = s_n / cos β), and the normal force has the transverse component
 F_n cos β_b that the section's model takes. With ε_β whole, the contact length, and so k, is
 constant over the cycle.
+
+A ring gear with ``rim_thickness`` and ``rim_supports`` (:meth:`SpurGear.ring_rim`): its rim, a curved
+beam clamped between its supports (Chen & Shao, *Mech. Mach. Theory* 69 (2013) 1–12;
+:mod:`mechdyn.gears.ring`), is in series with the whole mesh, k(x) = (1/Φ) ∫₀^Φ dθ / (1/k_teeth(x) +
+c_rim(θ)): the teeth in contact, a base pitch apart, load the rim at one place, which travels evenly
+along each span between two supports as the carrier turns (the mean over the span; the slow change
+with the carrier's angle is not kept as a function of time). The rim's compliance c_rim is taken for
+the load at the ring's working pitch circle (its load angle and moment arm there).
 """
 
 from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -44,6 +52,7 @@ from mechdyn.checks import check_count, check_number
 from mechdyn.errors import ModelError
 from mechdyn.gears.geometry import SpurGear, inverse_involute, involute
 from mechdyn.gears.profile import ProfileTooth
+from mechdyn.gears.ring import RingRim
 from mechdyn.gears.tooth import TruncatedTooth, hertz_compliance
 from mechdyn.units import convert, show
 from mechdyn.units import si_field as _q
@@ -65,7 +74,8 @@ class GearPair:
     ----------
     pinion, gear : SpurGear
         Equal module, pressure angle and helix angle; the gear may be internal (a ring gear with more
-        teeth than the pinion), the pinion may not.
+        teeth than the pinion; with ``rim_thickness`` and ``rim_supports`` its rim yields, see
+        :attr:`ring_rim`), the pinion may not.
     center_distance : float or quantity, optional
         a, m; by default the zero-backlash distance for the profile shifts (r_w2 − r_w1 for an internal
         pair).
@@ -267,7 +277,9 @@ class GearPair:
             Distance of the contact from T₁ (the pinion's tangent point) along the line of action, m,
             within the path of contact (:attr:`path_start` to :attr:`path_end`).
 
-        Keys ``pinion_<term>``, ``gear_<term>`` for each tooth term, ``hertz`` and ``total``.
+        Keys ``pinion_<term>``, ``gear_<term>`` for each tooth term, ``hertz`` and ``total``: the
+        teeth's; a ring gear's flexible rim is in series with the whole mesh, not with one pair
+        (:meth:`mesh_cycle`).
 
         Raises
         ------
@@ -321,7 +333,9 @@ class GearPair:
         """Mesh stiffness over one mesh cycle (the pinion turning one transverse base pitch).
 
         Spur pairs sum the pairs in contact at each position; helical pairs integrate the transverse
-        section's cycle over the face (the slicing of the module's notes).
+        section's cycle over the face (the slicing of the module's notes); a ring gear's flexible rim
+        (:attr:`ring_rim`) is then put in series with the whole mesh, averaged over a span between
+        its supports (the module's notes).
 
         Parameters
         ----------
@@ -331,7 +345,31 @@ class GearPair:
         points = check_count(self.pinion.name, "points", points, low=4, high=MAX_POINTS, what="positions")
         return _mesh_cycle(self, points)
 
+    @property
+    def ring_rim(self) -> RingRim | None:
+        """The ring gear's flexible rim (:meth:`SpurGear.ring_rim`), None for a rigid rim or an external
+        pair."""
+        return self.gear.ring_rim()
+
+    def rim_load(self) -> tuple[float, float]:
+        """Load angle φ (rad) and base radius (m) of the ring at its working pitch circle, where the
+        rim's compliance along the line of action is taken (:meth:`RingRim.compliance`)."""
+        g = self.gear
+        return g.load_angle(self.gear_contact_radius(self.pitch_point)), g.base_radius
+
+    def rigid_rim(self) -> GearPair:
+        """The same pair with the ring's rim rigid (and no blank data): its teeth alone."""
+        if self.ring_rim is None:
+            return self
+        rigid = replace(self.gear, rim_thickness=None, web_width=None, rim_supports=None)
+        return replace(self, gear=rigid)
+
     def _mesh_cycle(self, points: int) -> MeshCycle:
+        rim = self.ring_rim
+        if rim is not None:  # the teeth's cycle (worked out once), then the rim in series with it
+            teeth = _mesh_cycle(self.rigid_rim(), points)
+            k = rim.series_stiffness(teeth.stiffness, *self.rim_load())
+            return MeshCycle(self, teeth.position, k, teeth.pairs_in_contact)
         pb = self.pinion.base_pitch
         x = np.linspace(0.0, pb, points, endpoint=False)
         k = np.zeros(points)

@@ -7,17 +7,19 @@ over a mesh cycle (in both tooth models) and ISO 6336-1 Method B's c′ and c_γ
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from mechdyn.checks import check_count
-from mechdyn.gears.iso6336 import IsoStiffness, iso_stiffness
+from mechdyn.gears.geometry import VALIDATED_HELIX_DEG, SpurGear
+from mechdyn.gears.iso6336 import ISO_SHORT_CONTACT, ISO_SHORT_FACTOR, IsoStiffness, iso_stiffness
 from mechdyn.gears.mesh import GearPair, MeshCycle
 from mechdyn.gears.tooth import TruncatedTooth, pair_compliance
 from mechdyn.results import Result, Table
-from mechdyn.units import convert, key_label
+from mechdyn.units import convert, key_label, show
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -45,6 +47,16 @@ def _terms_table(title: str, rows: dict[str, float]) -> Table:
         ["term", "compliance [m/N]", "share [%]"],
         [[key_label(k)[0], v, 100 * v / total] for k, v in rows.items()],
     )
+
+
+def _foundation_words(gear: SpurGear, elastic: bool) -> str:
+    """How the geometry table names a gear's foundation."""
+    rim = gear.ring_rim()
+    if rim is not None:
+        return f"rim {show(rim.thickness, 'm', 'mm', '.4g')} on {rim.supports} supports (curved beam)"
+    if gear.internal:
+        return "rigid rim"
+    return "elastic (Sainsot)" if elastic else "rigid"
 
 
 @dataclass(frozen=True, repr=False)  # the short repr of Result
@@ -89,8 +101,57 @@ class GearPairResult(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """Inputs taken by default (a bore) and ISO 6336-1 inputs outside its range of validity."""
-        return (*self.pair.pinion.guesses, *self.pair.gear.guesses, *self.iso.notes)
+        """Inputs taken by default (a bore), a ring gear's rim taken as rigid, a helix angle beyond
+        what has been compared with ISO (with the ratio to ISO), and ISO 6336-1 inputs outside its
+        range of validity."""
+        pair = self.pair
+        notes = [*pair.pinion.guesses, *pair.gear.guesses]
+        if pair.internal and pair.ring_rim is None:
+            notes.append(
+                f"{pair.gear.name}: no rim_thickness: the ring's rim is taken as rigid (its teeth stand on "
+                "a rigid foundation, stiffer than a thin rim between supports); give rim_thickness and "
+                "rim_supports"
+            )
+        beta = math.degrees(pair.helix_angle)
+        if beta > VALIDATED_HELIX_DEG * (1 + 1e-12):
+            ratio = self.iso_ratio
+            words = (
+                f"helix angle {beta:.4g}° is above {VALIDATED_HELIX_DEG:g}°, the largest at which the "
+                "sliced helical mesh has been compared with ISO 6336-1 (1.11–1.15 × c_γα, generated "
+                f"tooth): here the mean mesh stiffness is {ratio:.3f} × ISO's c_γα b"
+            )
+            if pair.contact_ratio < ISO_SHORT_CONTACT:
+                words += (
+                    f" ({ISO_SHORT_FACTOR * ratio:.3f} × without ISO's reduction of c_γα by "
+                    f"{ISO_SHORT_FACTOR:g} for ε_α = {pair.contact_ratio:.3f} < {ISO_SHORT_CONTACT:g})"
+                )
+            notes.append(words)
+        return (*notes, *self.iso.notes)
+
+    @property
+    def iso_ratio(self) -> float:
+        """Mean mesh stiffness over ISO 6336-1's c_γα b, dimensionless."""
+        return self.cycle.mean / self.iso.mesh_stiffness(self.face_width)
+
+    @property
+    def rigid_rim(self) -> MeshCycle | None:
+        """The mesh cycle of the same pair with the ring's rim rigid (None without a flexible rim)."""
+        if self.pair.ring_rim is None:
+            return None
+        return self.pair.rigid_rim().mesh_cycle(len(self.cycle.stiffness))
+
+    @property
+    def rim_compliance(self) -> tuple[float, float] | None:
+        """The ring rim's compliance along the line of action, m/N: its mean over a span between two
+        supports and its largest (None without a flexible rim)."""
+        rim = self.pair.ring_rim
+        if rim is None:
+            return None
+        load = self.pair.rim_load()
+        theta, weight = rim.positions()
+        mean = float(np.sum(weight * rim.compliance(theta, *load)))
+        largest = float(rim.compliance(np.linspace(0.0, rim.span, 201), *load).max())
+        return mean, largest
 
     @property
     def other_model(self) -> str:
@@ -98,9 +159,11 @@ class GearPairResult(Result):
 
     def summary(self) -> dict[str, Any]:
         """Contact ratios, mesh stiffness (mean, min, max, fluctuation, harmonics), pitch-point pair
-        stiffness and its compliance terms, ISO c′, c_γα and c_γβ with their factors."""
+        stiffness and its compliance terms, ISO c′, c_γα and c_γβ with their factors, the mean over
+        ISO's c_γα b, and a ring gear's rim (its compliance, the mesh with the rim rigid)."""
         p, g, iso, cycle = self.pair.pinion, self.pair.gear, self.iso, self.cycle
         amplitude, phase = cycle.harmonics(self.harmonic_orders)
+        rim, rigid = self.rim_compliance, self.rigid_rim
         return {
             "contact_ratio": self.pair.contact_ratio,
             "overlap_ratio": self.pair.overlap_ratio,
@@ -122,6 +185,10 @@ class GearPairResult(Result):
             "iso_c_gamma_N_per_mm_um": iso.c_gamma_alpha,
             "iso_c_gamma_beta_N_per_mm_um": iso.c_gamma_beta,
             "iso_factors": {"q_prime": iso.q_prime, "C_M": iso.C_M, "C_R": iso.C_R, "C_B": iso.C_B},
+            "mesh_stiffness_iso_ratio": self.iso_ratio,
+            "ring_rim_compliance_mean_m_per_N": None if rim is None else rim[0],
+            "ring_rim_compliance_max_m_per_N": None if rim is None else rim[1],
+            "mesh_stiffness_mean_rigid_rim_N_per_m": None if rigid is None else rigid.mean,
             "base_radii_m": [p.base_radius, g.base_radius],
             "teeth": [p.teeth, g.teeth],
         }
@@ -179,7 +246,7 @@ class GearPairResult(Result):
                     L(t.root_height),
                     L(t.tip_thickness),
                     L(t.root_thickness),
-                    "elastic (Sainsot)" if t.root_radius is not None else "rigid",
+                    _foundation_words(gear, t.root_radius is not None),
                 ]
                 # the truncated-triangle dimensions, whichever tooth model computes the stiffness
                 for gear, t in ((g, g.tooth()) for g in (pair.pinion, pair.gear))
@@ -194,6 +261,14 @@ class GearPairResult(Result):
                 ["total contact ratio ε_γ", pair.total_contact_ratio, "", None],
             ]
         kind = "internal pair, " if pair.internal else ""
+        rim, rigid = self.rim_compliance, self.rigid_rim
+        rim_rows: list[list[Any]] = []
+        if rim is not None and rigid is not None:
+            rim_rows = [
+                ["ring rim: compliance, mean over a span between supports", rim[0], "m/N", None],
+                ["ring rim: compliance, largest", rim[1], "m/N", None],
+                ["mesh stiffness, mean, ring rim rigid", rigid.mean, "N/m", _per_width(rigid.mean, b)],
+            ]
         stiffness = Table(
             f"stiffness along the {'transverse ' if pair.helix_angle else ''}line of action "
             f"({kind}{_MODEL_WORDS[pair.tooth_model]})",
@@ -202,6 +277,7 @@ class GearPairResult(Result):
                 *ratios,
                 ["one tooth pair at the pitch point", k_pitch, "N/m", _per_width(k_pitch, b)],
                 ["mesh stiffness, mean over a cycle", cycle.mean, "N/m", _per_width(cycle.mean, b)],
+                *rim_rows,
                 ["mesh stiffness, min", kmin, "N/m", _per_width(kmin, b)],
                 ["mesh stiffness, max", kmax, "N/m", _per_width(kmax, b)],
                 ["fluctuation (max − min)/mean", cycle.fluctuation, "", None],
@@ -218,6 +294,7 @@ class GearPairResult(Result):
                     iso.c_prime,
                 ],
                 ["ISO 6336-1 mesh stiffness c_γα", iso.mesh_stiffness(b), "N/m", iso.c_gamma_alpha],
+                ["mean mesh stiffness / ISO c_γα b", self.iso_ratio, "", None],
                 [
                     "ISO 6336-1 mesh stiffness c_γβ (face load)",
                     float(convert(iso.c_gamma_beta, _PER_WIDTH, "N/m^2")) * b,

@@ -30,6 +30,7 @@ def _gear(g: SpurGear) -> dict[str, Any]:
         "bore_diameter": length(g.bore_diameter),
         "rim_thickness": length(g.rim_thickness),
         "web_width": length(g.web_width),
+        "rim_supports": g.rim_supports,
         "youngs_modulus": quantity_text(g.youngs_modulus, "Pa"),
         "poisson_ratio": float(g.poisson_ratio),
     }

@@ -66,8 +66,16 @@ class GearTable(FileModel):
     bore_diameter: Length | None = None
     """Diameter of the gear's bore, for the foundation of the teeth. Without it the gear is taken as solid to
     half its root diameter, and the result says so."""
-    rim_thickness: Length | None = Field(default=None, description="s_R of a rim-and-web blank")
+    rim_thickness: Length | None = Field(
+        default=None,
+        description="s_R of a rim-and-web blank (ISO's C_R, with web_width); of an internal gear, the "
+        "rim's radial thickness outside the root circle, which with rim_supports makes its rim a curved "
+        "beam between them (without it the ring's rim is rigid, and the result says so)",
+    )
     web_width: Length | None = Field(default=None, description="b_s of a rim-and-web blank")
+    rim_supports: int | None = Field(default=None, ge=1)
+    """Number of evenly spaced supports (bolts, pins, spline teeth) holding an internal gear's rim, given
+    with its rim_thickness: the rim between two of them is a curved beam clamped at both."""
     youngs_modulus: Pressure | None = None
     """Young's modulus of this gear (default: ``[material]``)."""
     poisson_ratio: float | None = Field(default=None, gt=-1.0, lt=0.5)
@@ -94,6 +102,7 @@ class GearTable(FileModel):
             fillet_radius=self.fillet_radius,
             helix_angle=self.helix_angle,
             internal=internal,
+            rim_supports=self.rim_supports,
         )
 
 

@@ -62,6 +62,7 @@ _GEAR_EXTRAS = {
     "bore_diameter": "30 mm",
     "rim_thickness": "6 mm",
     "web_width": "6 mm",
+    "rim_supports": 6,
     "youngs_modulus": "206 GPa",
     "poisson_ratio": 0.3,
 }
@@ -406,6 +407,7 @@ _GEAR_PAIR = TemplateExample(
         "pinion": {
             "rim_thickness": "8 mm",
             "web_width": "8 mm",
+            "rim_supports": 6,
             "youngs_modulus": "206 GPa",
             "poisson_ratio": 0.3,
             "helix_angle": "0 deg",
@@ -413,6 +415,7 @@ _GEAR_PAIR = TemplateExample(
         "gear": {
             "rim_thickness": "8 mm",
             "web_width": "8 mm",
+            "rim_supports": 6,
             "youngs_modulus": "206 GPa",
             "poisson_ratio": 0.3,
             "helix_angle": "0 deg",
