@@ -146,6 +146,7 @@ def _mesh_dynamics(m: Any) -> dict[str, Any]:
             if isinstance(variation, tuple)
             else None
         ),
+        "phase": float(m.phase) if m.phase else None,
     }
 
 

@@ -245,6 +245,11 @@ class MeshTable(FileModel):
     """How the mesh stiffness varies over the mesh cycle in ``mechdyn simulate``: ``"constant"`` (the
     mean), ``"gears"`` (the cycle of the ``gear_pair``'s teeth), or a rectangular wave
     ``{ fluctuation = 0.3, contact_ratio = 1.6 }`` (needs the teeth). Modal analyses use the mean."""
+    phase: Dimensionless = Field(default=0.0, ge=-1.0, le=1.0)
+    """The mesh's clocking against the others, in mesh cycles: how far its stiffness cycle and
+    transmission error stand ahead when the first disk's angle is 0 (0.25: a quarter of a base pitch;
+    an angle α of the first gear is z_a · α / 360°). Rounded to the cycle's samples (1/360 cycle for a
+    rectangular wave); it matters with a stiffness_variation or a transmission_error."""
 
     @model_validator(mode="after")
     def _one_source(self) -> MeshTable:
@@ -632,6 +637,7 @@ class _MeshDynamicsRow(FileModel):
     backlash: Length | None = None
     transmission_error: Length = 0.0
     stiffness_variation: StiffnessVariation = "constant"
+    phase: Dimensionless = 0.0
 
 
 class _AnalysisTables(FileModel):
@@ -856,12 +862,15 @@ class MeshDynamics:
         rectangular wave, dimensionless.
     gear_pair : GearPair or None
         The gear data whose mesh cycle ``"gears"`` takes.
+    phase : float
+        The mesh's clocking, mesh cycles.
     """
 
     backlash: float | None = None
     transmission_error: float = 0.0
     stiffness_variation: str | tuple[float, float] = "constant"
     gear_pair: Any = None
+    phase: float = 0.0
 
     def profile(self) -> Any:
         """The stiffness profile :meth:`GearSystem.from_drivetrain` takes (a MeshCycle, a mapping, or
@@ -897,13 +906,15 @@ class DynamicsSettings:
     simulation: SimulationTable | None = None
 
     def system_options(self) -> dict[str, dict[str, Any]]:
-        """``mesh_profiles``, ``errors`` and ``backlash`` for :meth:`GearSystem.from_drivetrain`."""
+        """``mesh_profiles``, ``errors``, ``backlash`` and ``phases`` for
+        :meth:`GearSystem.from_drivetrain`."""
         profiles = {n: m.profile() for n, m in self.meshes.items() if m.stiffness_variation != "constant"}
         errors = {
             n: {"amplitude": m.transmission_error} for n, m in self.meshes.items() if m.transmission_error
         }
         gaps = {n: m.backlash for n, m in self.meshes.items() if m.backlash is not None}
-        return {"mesh_profiles": profiles, "errors": errors, "backlash": gaps}
+        phases = {n: m.phase for n, m in self.meshes.items() if m.phase}
+        return {"mesh_profiles": profiles, "errors": errors, "backlash": gaps, "phases": phases}
 
     def inputs(self) -> list[Any]:
         """The torque inputs of :mod:`mechdyn.gear_dynamics.loads`: the motor, then the loads in file order
@@ -1041,9 +1052,18 @@ def _dynamics(
     meshes: dict[str, MeshDynamics] = {}
     for i, m in enumerate(f.meshes):
         variation = m.stiffness_variation
-        if m.backlash is None and not m.transmission_error and variation == "constant":
-            continue
         where = _where("meshes", i, m.name)
+        if m.backlash is None and not m.transmission_error and variation == "constant":
+            if m.phase:
+                raise ModelFileError(
+                    source.path,
+                    f"{where} → phase",
+                    "a clocking phase shifts the mesh's stiffness cycle and transmission error, and this "
+                    "mesh has neither; give stiffness_variation (e.g. \"gears\") or a transmission_error, "
+                    "or remove phase",
+                    m.phase,
+                )
+            continue
         element = drivetrain.element(m.name)
         if getattr(element, "rigid", False):
             given = (
@@ -1071,7 +1091,7 @@ def _dynamics(
             if isinstance(variation, str)
             else (float(variation.fluctuation), float(variation.contact_ratio))
         )
-        meshes[m.name] = MeshDynamics(m.backlash, m.transmission_error, shape, pair)
+        meshes[m.name] = MeshDynamics(m.backlash, m.transmission_error, shape, pair, m.phase)
     if f.motor is not None:
         check("[motor] → disk", f.motor.disk)
     for i, load in enumerate(f.loads):

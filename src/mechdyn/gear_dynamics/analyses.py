@@ -307,7 +307,7 @@ register(
                 "harmonics",
                 "int",
                 "harmonics of each mesh frequency (default: to twice the highest natural frequency at the "
-                "lowest speed, doubled until K_v is converged to 1 %)",
+                "lowest speed, doubled until K_v changes by under one per cent)",
                 minimum=1,
             ),
             Option("no_backlash", "flag", "hold the teeth in contact: ignore the backlash (faster)"),

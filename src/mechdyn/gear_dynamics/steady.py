@@ -44,6 +44,7 @@ from mechdyn.gear_dynamics._harmonics import HARMONICS_RTOL, MAX_AUTO, estimated
 from mechdyn.gear_dynamics._nonsmooth import FlowError, NonsmoothFlow
 from mechdyn.gear_dynamics.floquet import (
     UNSTABLE_MARGIN,
+    Boundary,
     LinearPeriodic,
     PeriodPlan,
     _check_speed,
@@ -546,7 +547,7 @@ def _model(
             element="gear dynamics",
             field="motor",
         )
-    boundary = {"motor": "motor", "torque": "free", "speed": "prescribed"}[drive]
+    boundary: Boundary = {"motor": "motor", "torque": "free", "speed": "prescribed"}[drive]  # type: ignore[assignment]
     return linear_periodic(
         system, reference=reference, boundary=boundary, load=load, motor=motor if drive == "motor" else None
     )

@@ -129,6 +129,10 @@ class MeshLink:
         (P,) static transmission error e(τ) at the same phases, m; zeros = none.
     backlash : float or None
         Total backlash b along the line of action, m; None = the teeth never separate.
+    phase : float
+        The mesh's clocking φ, mesh cycles in [0, 1): :attr:`profile` and :attr:`error` are the
+        unclocked cycle's read at τ + φ (a whole number of samples: φ is the given phase rounded to
+        1/P), so that the cycle starts (a pair entering contact) at τ = −φ.
     """
 
     name: str
@@ -140,6 +144,7 @@ class MeshLink:
     profile: np.ndarray
     error: np.ndarray
     backlash: float | None
+    phase: float = 0.0
 
     @property
     def samples(self) -> int:
@@ -293,6 +298,26 @@ def _error_from(name: str, value: Any, samples: int) -> np.ndarray:
     return arr
 
 
+def _phase_from(name: str, value: Any, teeth: int) -> float:
+    """A mesh's clocking in mesh cycles from a number of cycles or an angle of gear a (a quantity:
+    z_a · angle / 2π cycles), in [0, 1)."""
+    from mechdyn.units import si_field
+
+    if isinstance(value, str) or hasattr(value, "units"):  # a quantity: an angle of gear a
+        angle = si_field(name, "phases", value, "rad", what="clocking angle of gear a")
+        cycles = teeth * angle / (2.0 * math.pi)
+    else:
+        cycles = si_field(name, "phases", value, "", what="clocking in mesh cycles")
+    return float(np.mod(cycles, 1.0))
+
+
+def _clocked(values: np.ndarray, phase: float) -> tuple[np.ndarray, float]:
+    """Samples over one cycle read at τ + φ: rolled by the whole number of samples nearest φ P, and
+    the phase that applies (φ rounded to 1/P)."""
+    shift = round(phase * values.size) % values.size
+    return np.roll(values, -shift), shift / values.size
+
+
 def _resample(values: np.ndarray, samples: int) -> np.ndarray:
     if values.size == samples:
         return values
@@ -366,6 +391,7 @@ class GearSystem:
         mesh_profiles: Mapping[str, Any] | None = None,
         errors: Mapping[str, Any] | None = None,
         backlash: Mapping[str, Any] | None = None,
+        phases: Mapping[str, Any] | None = None,
     ) -> GearSystem:
         """The time-domain system of a drivetrain, its flexible meshes varying over the mesh cycle.
 
@@ -384,6 +410,12 @@ class GearSystem:
             ``{"amplitude": m}`` (a sine at the mesh frequency; a quantity such as ``"5 um"``).
         backlash : mapping of str, optional
             Mesh name → total backlash along the line of action, m (or a quantity). Default: none.
+        phases : mapping of str, optional
+            Mesh name → its clocking: how far its mesh cycle stands ahead when gear a's angle is 0, in
+            mesh cycles (a number; 0.25 = a quarter of a base pitch), or an angle of gear a (a quantity
+            such as ``"4.7 deg"``: z_a · angle / 360° cycles). It shifts the mesh's stiffness cycle and
+            transmission error against the other meshes' (by a whole number of the profile's samples:
+            the phase is rounded to 1/P cycle). Default: 0, every mesh's cycle starting together.
 
         Returns
         -------
@@ -401,7 +433,12 @@ class GearSystem:
         idx = _dof_index(drivetrain)
         flexible = [e for e in drivetrain.elements if isinstance(e, GearMesh) and not e.rigid]
         names = {m.name for m in flexible}
-        for given, field in ((mesh_profiles, "mesh_profiles"), (errors, "errors"), (backlash, "backlash")):
+        for given, field in (
+            (mesh_profiles, "mesh_profiles"),
+            (errors, "errors"),
+            (backlash, "backlash"),
+            (phases, "phases"),
+        ):
             _check_names(drivetrain, names, given, field)
         # structure without the flexible meshes, assembled like the drivetrain's own matrices
         n_disks = T.shape[0]
@@ -436,6 +473,18 @@ class GearSystem:
                     element=mesh.name,
                     field="teeth",
                 )
+            phase = 0.0
+            if (phases or {}).get(mesh.name) is not None:
+                given_phase = _phase_from(mesh.name, phases[mesh.name], int(teeth))  # type: ignore[index]
+                if given_phase and teeth == 0:
+                    raise ModelError(
+                        "a clocking phase shifts the mesh cycle, which the teeth count; give teeth = "
+                        "(z_a, z_b)",
+                        element=mesh.name,
+                        field="phases",
+                    )
+                profile, phase = _clocked(profile, given_phase)
+                error, _ = _clocked(error, given_phase)
             gap = (backlash or {}).get(mesh.name)
             b_si = None if gap is None else si_field(mesh.name, "backlash", gap, "m", positive=True)
             links.append(
@@ -449,6 +498,7 @@ class GearSystem:
                     profile=profile,
                     error=error,
                     backlash=b_si,
+                    phase=phase,
                 )
             )
         first = [idx[c] for c in asm.coordinate_names]
