@@ -156,3 +156,36 @@ def test_the_turret_s_sweep_at_the_running_speed_gives_simulate_s_dynamic_factor
     s = steady_state(system, w, reference="1", load={"7": load}, motor=motor, harmonics=120)
     assert s.dynamic_factor == pytest.approx(kv_sim, rel=0.03)
     assert "motor on disk '1'" in s.drive
+
+
+def test_the_sweep_says_what_iso_s_curve_describes_beside_the_train_s_resonances(turret):
+    """The train's resonances are the crossings of the mesh orders with the free train's modes (the
+    file's 1640, 3280 and 4003 rpm); ISO's pair resonates at its own n_E1 over the pinion's ratio; the
+    table and the plot say that the two describe different systems."""
+    from mechdyn.gears import iso_dynamic_factor
+
+    rpm = 2 * np.pi / 60
+    result = get("speed-sweep").run(turret, points=12, no_stability=True)
+    f = modal(turret.model).omega / (2 * np.pi)
+    found = result.train_resonances()["mesh 1"]
+    expected = sorted(
+        (fk / (k * 19 / (2 * np.pi)))
+        for fk in f
+        for k in (1, 2)
+        if 1200 * rpm <= fk / (k * 19 / (2 * np.pi)) <= 4500 * rpm
+    )
+    assert [c[3] for c in found] == pytest.approx(expected, rel=1e-6)
+    assert [round(c[3] / rpm) for c in found] == [1640, 3280, 4003]
+    pair = turret.settings.gear_pairs["mesh 1"]
+    torque = float(np.mean(np.abs(result.static_force[:, 0]))) * pair.pinion.base_radius  # its line load
+    n_e1 = iso_dynamic_factor(pair, 300.0, torque, inertias=(4.325686e-05, 5.293671e-05)).resonance_speed
+    assert result.iso_resonance_speed[0] == pytest.approx(n_e1, rel=1e-9)  # the pinion turns with disk 1
+    table = result.tables()[1]
+    assert "not expected to agree" in table.note and "pair alone" in table.note
+    doc = result.summary()["meshes"]["mesh 1"]
+    assert doc["train_resonance_speeds_rad_s"] == pytest.approx(expected)
+    assert doc["iso_resonance_speed_rad_s"] == pytest.approx(n_e1)
+    ax = result.plots()["speed_sweep.png"]()
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any("ISO 6336-1 K_v, the pair alone, resonant at 24265 rpm" in t for t in labels)
+    assert {t.get_text() for t in ax.texts} >= {"mode 1 × 2", "mode 1 × 1", "mode 2 × 2"}

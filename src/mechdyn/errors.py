@@ -100,3 +100,7 @@ class ModelFileError(MechdynError, ValueError):
 
 class ModelWarning(UserWarning):
     """A model is valid but contains something the user should know (e.g. inconsistent gear data)."""
+
+
+class LongRunWarning(ModelWarning):
+    """A run will take long (its cost estimated before the work): the command line says so at once."""

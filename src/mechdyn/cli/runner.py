@@ -216,14 +216,26 @@ def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
         # reads the model (mostly imports too) and runs the analysis
         drawing.start(*drawn_by)
 
-    from mechdyn.errors import MechdynError, ModelFileError
+    from mechdyn.errors import LongRunWarning, MechdynError, ModelFileError
     from mechdyn.io.modelfile import load_model
     from mechdyn.store import ResultStore
     from mechdyn.store.store import StoreError, check_name, jsonable
 
     options = {o.name: getattr(args, o.name) for o in analysis.options}
-    with warnings.catch_warnings(record=True) as caught:
+    caught: list[warnings.WarningMessage] = []
+    told: set[str] = set()
+
+    def keep(
+        message: Any, category: Any, filename: str, lineno: int, file: Any = None, line: Any = None
+    ) -> None:
+        caught.append(warnings.WarningMessage(message, category, filename, lineno, file, line))
+        if issubclass(category, LongRunWarning):  # said before the work, not after it
+            told.add(str(message))
+            print(f"warning: {message}", file=sys.stderr, flush=True)
+
+    with warnings.catch_warnings():
         warnings.simplefilter("always")
+        warnings.showwarning = keep
         loaded = load_model(args.file)
         check_name("[model] name", loaded.name, args.file)
         if early:  # what the result will hold: the modules of the model just read
@@ -247,7 +259,9 @@ def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
     planned: list[Path] = []
     if args.plots:  # the other processes draw while this one stores the run and prints its tables
         planned = drawing.begin(result, args.plots)
-    notes = list(dict.fromkeys([str(w.message) for w in caught] + list(result.warnings)))
+    notes = [
+        n for n in dict.fromkeys([str(w.message) for w in caught] + list(result.warnings)) if n not in told
+    ]
     for n in notes:
         print(f"warning: {n}", file=sys.stderr)
     source = loaded.source

@@ -24,7 +24,14 @@ import numpy as np
 
 from mechdyn.gear_dynamics.floquet import LinearPeriodic, PeriodPlan, _highest_frequency
 
-__all__ = ["AUTO_FACTOR", "HARMONICS_RTOL", "MAX_AUTO", "estimated_error", "harmonics_for"]
+__all__ = [
+    "AUTO_FACTOR",
+    "HARMONICS_RTOL",
+    "MAX_AUTO",
+    "estimated_error",
+    "harmonics_for",
+    "needed_harmonics",
+]
 
 #: The harmonics reach this multiple of the highest natural frequency at the lowest speed.
 AUTO_FACTOR = 2.0
@@ -34,6 +41,23 @@ MAX_AUTO = 1000
 HARMONICS_RTOL = 0.01
 #: Fewest harmonics the rule gives.
 MIN_AUTO = 8
+
+
+def needed_harmonics(lin: LinearPeriodic, plan: PeriodPlan, lowest_speed: float) -> int:
+    """Harmonics of the highest mesh frequency that reach :data:`AUTO_FACTOR` times the highest
+    natural frequency at ``lowest_speed`` (rad/s), a count (at least :data:`MIN_AUTO`, not capped).
+
+    Parameters
+    ----------
+    lin : LinearPeriodic
+    plan : PeriodPlan
+    lowest_speed : float
+        The lowest reference speed, rad/s.
+    """
+    top_mesh = plan.fundamental * max(int(plan.orders.max()) if plan.orders.size else 1, 1) * lowest_speed
+    f_top = _highest_frequency(lin.at_speed(lowest_speed)) / (2 * math.pi)
+    need = math.ceil(AUTO_FACTOR * f_top / top_mesh) if top_mesh > 0 else MIN_AUTO
+    return int(max(need, MIN_AUTO))
 
 
 def harmonics_for(lin: LinearPeriodic, plan: PeriodPlan, lowest_speed: float) -> int:
@@ -47,10 +71,7 @@ def harmonics_for(lin: LinearPeriodic, plan: PeriodPlan, lowest_speed: float) ->
     lowest_speed : float
         The lowest reference speed, rad/s.
     """
-    top_mesh = plan.fundamental * max(int(plan.orders.max()) if plan.orders.size else 1, 1) * lowest_speed
-    f_top = _highest_frequency(lin.at_speed(lowest_speed)) / (2 * math.pi)
-    need = math.ceil(AUTO_FACTOR * f_top / top_mesh) if top_mesh > 0 else MIN_AUTO
-    return int(min(max(need, MIN_AUTO), MAX_AUTO))
+    return min(needed_harmonics(lin, plan, lowest_speed), MAX_AUTO)
 
 
 def estimated_error(kv_h: np.ndarray, kv_2h: np.ndarray) -> float:

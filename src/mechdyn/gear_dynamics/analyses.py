@@ -65,6 +65,7 @@ def _simulate(
             f'{where}: no duration; add a [simulation] table with duration (e.g. duration = "2 s"), '
             "or pass --duration '2 s'"
         )
+    _check_times(loaded, duration, output_step, table)
     inputs = dynamics.inputs() if dynamics is not None else []
     speed = initial_speed if initial_speed is not None else (table.initial_speed if table else 0.0)
     if not inputs and speed == 0.0:
@@ -90,6 +91,36 @@ def _simulate(
         output_step=pick(output_step, "output_step", None),
         cycle_steps=pick(cycle_steps, "cycle_steps", 8),
     )
+
+
+def _check_times(loaded: Any, duration: float | None, output_step: float | None, table: Any) -> None:
+    """The duration and the output step checked before the model is built, each named where it was
+    given (the option or the ``[simulation]`` field)."""
+    where = _where(loaded)
+    given = {
+        "duration": ("--duration", duration) if duration is not None else ("[simulation] → duration", None),
+        "output_step": ("--output-step", output_step)
+        if output_step is not None
+        else ("[simulation] → output_step", None),
+    }
+    values = {
+        k: v if v is not None else (getattr(table, k) if table is not None else None)
+        for k, (_, v) in given.items()
+    }
+    for key, value in values.items():
+        if value is not None and not value > 0:
+            raise ModelFileError(
+                where, given[key][0], f"{value:g} s: give a positive time, e.g. '0.5 s'", value
+            )
+    T, step = values["duration"], values["output_step"]
+    if T is not None and step is not None and step > T:
+        raise ModelFileError(
+            where,
+            given["output_step"][0],
+            f"{step:g} s is longer than the duration ({T:g} s): no sample would fall inside the run; give "
+            f"a step of at most {T / 100:g} s (100 samples) or leave it out (every integration step)",
+            step,
+        )
 
 
 register(

@@ -154,6 +154,40 @@ def _packed(system: GearSystem) -> dict[str, Any]:
     }
 
 
+def _check_simulation_cost(
+    system: GearSystem,
+    inputs: tuple[Any, ...],
+    ref: str,
+    w0: float,
+    duration: float,
+    cycle_steps: int,
+    out_step: float | None,
+) -> None:
+    """Refuse or warn on a run that its duration, speed and output step make too long or too large
+    (:mod:`._cost`): the fastest mesh frequency at the highest speed the inputs reach (a motor's
+    no-load speed over its ratio, or the initial speed)."""
+    from mechdyn.gear_dynamics._cost import check, simulation_cost
+
+    try:
+        ratios = system.speed_ratios(ref)
+    except ModelError:  # a grounded branch: no rigid rotation to reach a speed by
+        ratios = np.zeros(system.n)
+    top = abs(w0)
+    for item in inputs:
+        motor = getattr(item, "drive", item)  # a stop's motor
+        curve = getattr(motor, "motor", None)
+        if curve is not None and hasattr(curve, "no_load_speed"):
+            share = abs(float(system.T[system.disk(motor.disk)] @ ratios)) or 1.0
+            top = max(top, float(curve.no_load_speed) / float(motor.ratio) / share)
+    fastest = max(
+        (m.teeth * abs(float(m.phase_row @ ratios)) * top / (2 * math.pi) for m in system.meshes), default=0.0
+    )
+    samples = duration / out_step if out_step is not None else None
+    cost = simulation_cost(duration, fastest, cycle_steps, system.n, len(system.meshes), samples)
+    field = "output_step" if cost.bytes > 2**30 and samples is not None else "duration"
+    check(cost, system.drivetrain.name, field, "give a shorter duration or a longer output_step")
+
+
 def simulate(
     system: GearSystem,
     duration: Any,
@@ -263,6 +297,14 @@ def simulate(
     ref = reference if reference is not None else system.drivetrain.disk_names[0]
     system.disk(ref)
     w0 = si_field(name, "initial_speed", initial_speed, "rad/s")
+    if out_step is not None and out_step > t_total:
+        raise ModelError(
+            f"output_step {out_step:g} s is longer than the duration {t_total:g} s; give at most "
+            f"{t_total / 100:g} s (100 samples)",
+            element=name,
+            field="output_step",
+        )
+    _check_simulation_cost(system, inputs, ref, w0, t_total, cycle_steps, out_step)
 
     kern = _kernels()
     n = system.n

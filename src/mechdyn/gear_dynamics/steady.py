@@ -40,8 +40,17 @@ import numpy as np
 
 from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
-from mechdyn.gear_dynamics._harmonics import HARMONICS_RTOL, MAX_AUTO, estimated_error, harmonics_for
+from mechdyn.gear_dynamics._cost import check as check_cost
+from mechdyn.gear_dynamics._cost import sweep_cost
+from mechdyn.gear_dynamics._harmonics import (
+    HARMONICS_RTOL,
+    MAX_AUTO,
+    estimated_error,
+    harmonics_for,
+    needed_harmonics,
+)
 from mechdyn.gear_dynamics._nonsmooth import FlowError, NonsmoothFlow
+from mechdyn.gear_dynamics._resonance import crossings, iso_note
 from mechdyn.gear_dynamics.floquet import (
     UNSTABLE_MARGIN,
     Boundary,
@@ -49,6 +58,7 @@ from mechdyn.gear_dynamics.floquet import (
     PeriodPlan,
     _check_speed,
     _monodromy,
+    _natural_frequencies,
     _spectral,
     _speeds,
     interpolant_harmonics,
@@ -482,6 +492,52 @@ class SteadyState(Result):
         )
 
 
+def _check_sweep_cost(
+    lin: LinearPeriodic,
+    plan: PeriodPlan,
+    s: np.ndarray,
+    H: int,
+    given: int | None,
+    balance: bool,
+    stability: bool,
+    *,
+    solver_substeps: int,
+    refine: int,
+) -> None:
+    """Refuse (or warn on) a sweep that its counts make too large (:mod:`._cost`), naming the field."""
+    low = float(s.min())
+    if balance and given is None:
+        need = needed_harmonics(lin, plan, low)
+        if need > MAX_AUTO:
+            from mechdyn.units import convert
+
+            ok = low * need / MAX_AUTO
+            low_rpm, ok_rpm = (float(convert(v, "rad/s", "rpm")) for v in (low, ok))
+            raise ModelError(
+                f"at the lowest speed, {low_rpm:.4g} rpm, the mesh frequency is so far below the train's "
+                f"highest natural frequency that {need} harmonics would be needed (at most {MAX_AUTO} are "
+                f"chosen); start the range at {ok_rpm:.4g} "
+                "rpm or above, or give harmonics (and read the estimated error it states)",
+                element="gear dynamics",
+                field="speed_range",
+            )
+    nonlinear = any(b is not None for b in lin.backlash)
+    top = int(plan.orders.max()) if plan.orders.size else 1
+    seg = segments(lin, plan, solver_substeps, low) if (stability or nonlinear) else 0
+    n_speeds = int(s.size * (1.3 if refine else 1.0)) + 2
+    cost = sweep_cost(
+        n_speeds, int(np.count_nonzero(plan.orders)), H, top, 2 * lin.m, seg, stability, nonlinear
+    )
+    memory_bound = 16.0 * (np.count_nonzero(plan.orders) * (2 * H * max(top, 1) + 1)) ** 2 >= cost.bytes
+    field = ("harmonics" if given is not None else "speed_range") if memory_bound else "points"
+    check_cost(
+        cost,
+        "gear dynamics",
+        field,
+        "give fewer speeds (points), a higher lowest speed or fewer harmonics, or no stability check",
+    )
+
+
 def _truncation_warning(H: int, error: float) -> tuple[str, ...]:
     if not error > HARMONICS_RTOL:
         return ()
@@ -811,6 +867,13 @@ class SpeedSweepResult(Result):
     drive : str
         How the train was driven at each speed, in words (the motor free on its curve, a constant
         torque, or the reference disk held).
+    iso_resonance_speed : ndarray or None
+        (J,) the reference speed at which ISO 6336-1's pair alone resonates (its n_E1 over the
+        pinion's speed ratio), rad/s; NaN for meshes without gear data.
+    natural_frequencies_hz : ndarray or None
+        The train's natural frequencies with the meshes at mean stiffness and the sweep's drive
+        (no rigid-body mode), Hz: where the mesh orders meet them the computed K_v peaks
+        (:meth:`train_resonances`).
     """
 
     speeds: np.ndarray
@@ -834,6 +897,8 @@ class SpeedSweepResult(Result):
     direction: str = "up"
     down: SpeedSweepResult | None = None
     drive: str = ""
+    iso_resonance_speed: np.ndarray | None = None
+    natural_frequencies_hz: np.ndarray | None = None
 
     @property
     def stable(self) -> np.ndarray:
@@ -880,6 +945,18 @@ class SpeedSweepResult(Result):
                 peaks.append(float(-b / (2 * a)) if a < 0 and x0 < -b / (2 * a) < x2 else float(x1))
             out[name] = peaks
         return out
+
+    def train_resonances(self) -> dict[str, list[tuple[int, int, float, float]]]:
+        """Per mesh, where an order (1, 2) of its frequency meets a natural frequency of the train
+        within the swept range: (mode number, order, frequency in Hz, reference speed in rad/s)
+        (:func:`mechdyn.gear_dynamics._resonance.crossings`); empty without natural frequencies."""
+        if self.natural_frequencies_hz is None:
+            return {n: [] for n in self.mesh_names}
+        low, high = float(self.speeds.min()), float(self.speeds.max())
+        return {
+            n: crossings(self.natural_frequencies_hz, self.mesh_cycles[j], low, high)
+            for j, n in enumerate(self.mesh_names)
+        }
 
     def hysteresis(self) -> dict[str, tuple[float, float] | None]:
         """With a down sweep (``direction="both"``): per mesh, the lowest and highest speed (rad/s) at
@@ -936,8 +1013,11 @@ class SpeedSweepResult(Result):
             if self.down is not None:
                 band = self.hysteresis()[name]
                 meshes[name]["hysteresis_speeds_rad_s"] = list(band) if band else []
+            meshes[name]["train_resonance_speeds_rad_s"] = [c[3] for c in self.train_resonances()[name]]
             if np.isfinite(self.iso_dynamic_factor[:, j]).any():
                 meshes[name]["iso_dynamic_factor_max_ratio"] = float(np.nanmax(self.iso_dynamic_factor[:, j]))
+                if self.iso_resonance_speed is not None:
+                    meshes[name]["iso_resonance_speed_rad_s"] = float(self.iso_resonance_speed[j])
         return {
             "reference": self.reference,
             "drive": self.drive,
@@ -978,7 +1058,8 @@ class SpeedSweepResult(Result):
         return pd.DataFrame(cols)
 
     def tables(self, **display_units: str) -> list[Table]:
-        """Per mesh: largest K_v and where (rpm), static force, largest DTE amplitude, resonances (rpm)."""
+        """Per mesh: largest K_v and where (rpm), static force, largest DTE amplitude, resonances (rpm);
+        then where the train's modes meet the mesh orders, beside ISO's pair resonance."""
         from mechdyn.units import convert, readable
 
         force_unit = display_units.get("force_unit")
@@ -1007,7 +1088,7 @@ class SpeedSweepResult(Result):
                     "mesh",
                     "K_v max",
                     "at [rpm]",
-                    "ISO K_v max",
+                    "ISO K_v max (pair alone)",
                     "static force",
                     "DTE amplitude max",
                     "resonances [rpm]",
@@ -1021,6 +1102,47 @@ class SpeedSweepResult(Result):
                         *(n.rstrip(".") + "." for n in self.notes + self.assumptions),
                     )
                 ),
+            ),
+            *self._resonance_table(),
+        ]
+
+    def _resonance_table(self) -> list[Table]:
+        """The train's resonances within the range per mesh, beside ISO's pair resonance."""
+        from mechdyn.units import convert
+
+        rows: list[list[Any]] = []
+        with_iso = []
+        for j, (name, found) in enumerate(self.train_resonances().items()):
+            iso = self.iso_resonance_speed[j] if self.iso_resonance_speed is not None else np.nan
+            iso_rpm = float(convert(iso, "rad/s", "rpm")) if np.isfinite(iso) else None
+            if iso_rpm is not None:
+                with_iso.append(name)
+            for mode, order, f, speed in found or [(0, 0, np.nan, np.nan)]:
+                rows.append(
+                    [
+                        name,
+                        f"{mode}" if mode else "none in range",
+                        f if mode else None,
+                        f"{order} × mesh" if mode else None,
+                        float(convert(speed, "rad/s", "rpm")) if mode else None,
+                        iso_rpm,
+                    ]
+                )
+        if not rows:
+            return []
+        return [
+            Table(
+                "where the train's modes meet the mesh frequency, and ISO 6336-1's pair alone",
+                [
+                    "mesh",
+                    "train mode",
+                    "frequency [Hz]",
+                    "excited by",
+                    "at [rpm]",
+                    "ISO pair resonance [rpm]",
+                ],
+                rows,
+                note=iso_note(with_iso),
             )
         ]
 
@@ -1087,9 +1209,11 @@ def _peaks(y: np.ndarray) -> np.ndarray:
 
 def _iso_factors(
     system: Any, lin: LinearPeriodic, speeds: np.ndarray, static: np.ndarray, gear_pairs: Mapping[str, Any]
-) -> tuple[np.ndarray, list[str]]:
-    """ISO 6336-1 K_v per speed for the meshes whose gear pair is given (NaN elsewhere)."""
+) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """ISO 6336-1 K_v per speed for the meshes whose gear pair is given (NaN elsewhere), the reference
+    speed of each pair's own resonance n_E1 (rad/s, NaN elsewhere), and notes."""
     out = np.full((speeds.size, len(lin.names)), np.nan)
+    resonance = np.full(len(lin.names), np.nan)
     notes: list[str] = []
     for name in gear_pairs:
         if name not in lin.names:
@@ -1099,24 +1223,22 @@ def _iso_factors(
                 field="gear_pairs",
             )
     if not gear_pairs:
-        return out, notes
-    from mechdyn.gears import iso6336
+        return out, resonance, notes
+    from mechdyn.gears.iso6336 import iso_dynamic_factor as iso
 
-    iso = getattr(iso6336, "iso_dynamic_factor", None)
-    if iso is None:  # pragma: no cover - the gears package has it since this module was written
-        notes.append("ISO 6336-1 K_v is not available in this version (mechdyn.gears.iso_dynamic_factor)")
-        return out, notes
     dt = system.drivetrain
     meshes = {m.name: m for m in system.meshes}
     for name, pair in gear_pairs.items():
         j = lin.names.index(name)
-        pinion_speed = np.abs(np.asarray(meshes[name].phase_row, float) @ lin.rigid) * speeds
+        pinion_ratio = float(np.abs(np.asarray(meshes[name].phase_row, float) @ lin.rigid))
+        pinion_speed = pinion_ratio * speeds
         force = float(np.mean(np.abs(static[:, j])))
         if force == 0.0:
             notes.append(f"mesh {name!r}: no load, so no ISO 6336-1 K_v")
             continue
         element = dt.element(name)
-        inertias = tuple(float(dt.disks[dt.disk_index[d]].inertia) for d in element.disks)
+        inertia_a, inertia_b = (float(dt.disks[dt.disk_index[d]].inertia) for d in element.disks)
+        inertias = (inertia_a, inertia_b)
         factor = iso(
             pair,
             pinion_speed,
@@ -1124,8 +1246,9 @@ def _iso_factors(
             inertias=inertias,  # T₁ = F_bn r_b1
         )
         out[:, j] = np.asarray(factor.K_v, float)
+        resonance[j] = float(factor.resonance_speed) / pinion_ratio
         notes.extend(f"ISO 6336-1 K_v of {name!r}: {n}" for n in factor.notes)
-    return out, notes
+    return out, resonance, notes
 
 
 def speed_sweep(
@@ -1233,7 +1356,9 @@ def speed_sweep(
     plan = period_plan(lin)
     balance = chosen == "harmonic_balance"
     H = given if given is not None else (harmonics_for(lin, plan, float(s.min())) if balance else 16)
-    iso_cache: dict[bytes, tuple[np.ndarray, list[str]]] = {}
+    _check_sweep_cost(lin, plan, s, H, given, balance, stability, solver_substeps=substeps, refine=refine)
+    iso_cache: dict[bytes, tuple[np.ndarray, np.ndarray, list[str]]] = {}
+    natural = _natural_frequencies(lin)
 
     def result(sweep: str) -> SpeedSweepResult:
         grid, stack = _sweep(solver, s, sweep, refine)
@@ -1247,7 +1372,7 @@ def speed_sweep(
         key = grid.tobytes()
         if key not in iso_cache:
             iso_cache[key] = _iso_factors(system, lin, grid, stack[3], dict(gear_pairs or {}))
-        iso, iso_notes = iso_cache[key]
+        iso, iso_resonance, iso_notes = iso_cache[key]
         notes = [plan.note] if plan.note else []
         if not np.isfinite(_sweep_kv(stack)).any():
             notes.append("no load given: the dynamic factor K_v needs a static mesh force (give load=...)")
@@ -1262,6 +1387,8 @@ def speed_sweep(
             static_force=stack[3],
             dte_amplitude=stack[4],
             iso_dynamic_factor=iso,
+            iso_resonance_speed=iso_resonance,
+            natural_frequencies_hz=natural,
             converged=stack[5][:, 0].astype(bool),
             spectral_radius=stack[5][:, 1],
             closure=stack[5][:, 2],

@@ -21,7 +21,8 @@ def _rpm(speeds: np.ndarray) -> np.ndarray:
 
 def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: Any) -> Any:
     """Dynamic factor K_v of every mesh over the reference speed (rpm), ISO 6336-1 K_v dashed where
-    given, resonance speeds marked.
+    given (labelled as the pair alone, with its own resonance speed), the peaks marked, and the speeds
+    where a mesh order meets a train mode drawn as grey lines labelled with the mode and the order.
 
     Parameters
     ----------
@@ -51,11 +52,32 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
             ax.plot(rpm, result.force_amplitude[:, j], label=f"{name}: force amplitude (N), no load")
         iso = result.iso_dynamic_factor[:, j]
         if np.isfinite(iso).any():
-            ax.plot(rpm, iso, ls="--", label=f"{name}: K_v of ISO 6336-1")
+            at = result.iso_resonance_speed[j] if result.iso_resonance_speed is not None else np.nan
+            where = f", resonant at {float(_rpm(np.array([at]))[0]):.0f} rpm" if np.isfinite(at) else ""
+            ax.plot(rpm, iso, ls="--", label=f"{name}: ISO 6336-1 K_v, the pair alone{where}")
+    drawn: set[float] = set()
+    for found in result.train_resonances().values():
+        for mode, order, _f, speed in found:
+            x = round(float(_rpm(np.array([speed]))[0]), 1)
+            if x in drawn:
+                continue
+            drawn.add(x)
+            ax.axvline(x, color="0.6", lw=0.8, ls="--", zorder=0)
+            ax.annotate(
+                f"mode {mode} × {order}",
+                (x, 0.0),
+                xycoords=("data", "axes fraction"),
+                xytext=(2, 3),
+                textcoords="offset points",
+                rotation=90,
+                va="bottom",
+                fontsize="x-small",
+                color="0.4",
+            )
     ax.set_xlabel(f"speed of disk {result.reference!r} (rpm)")
     ax.set_ylabel("dynamic factor K_v (max / static mesh force)")
     ax.set_title("dynamic mesh force over speed")
-    ax.legend(fontsize="small")
+    ax.legend(fontsize="small", loc="upper left")
     return ax
 
 
