@@ -189,3 +189,33 @@ def test_the_sweep_says_what_iso_s_curve_describes_beside_the_train_s_resonances
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any("ISO 6336-1 K_v, the pair alone, resonant at 24265 rpm" in t for t in labels)
     assert {t.get_text() for t in ax.texts} >= {"mode 1 × 2", "mode 1 × 1", "mode 2 × 2"}
+
+
+def test_an_unstable_orbit_is_drawn_dashed_and_never_counted_in_the_jump_band():
+    """Inside a parametric instability tongue (mesh frequency near twice the free pair's mode, the
+    stiffness varying by 60 %) the teeth-in-contact orbit is unstable: its K_v is drawn dashed and
+    labelled so. A down sweep that differs from the up sweep only where one of them is unstable has no
+    jump band."""
+    import dataclasses
+
+    system = _pair(
+        mesh_profiles={"m": {"fluctuation": 0.6, "contact_ratio": 1.5}}, errors={"m": {"amplitude": 1e-6}}
+    )
+    wn = np.sqrt(K_MESH * (RA**2 / J1 + RB**2 / J2))
+    speeds = np.linspace(1.6, 2.4, 9) * wn / ZA
+    r = speed_sweep(system, speeds, reference="pinion", load={"gear": 30.0}, harmonics=32, refine=0)
+    assert (~r.stable).any() and r.stable.any()
+    ax = r.plots()["speed_sweep.png"]()
+    dashed = [
+        line for line in ax.get_lines() if line.get_linestyle() == "--" and line.get_label().startswith("_")
+    ]
+    assert dashed and np.isfinite(dashed[0].get_ydata()).sum() >= (~r.stable).sum()
+    assert "dashed: unstable, not reached" in ax.get_legend().get_texts()[0].get_text()
+    i = int(np.flatnonzero(~r.stable)[0])
+    other = r.force_max.copy()
+    other[i] *= 3.0  # the other sweep differs only at the unstable speed
+    down = dataclasses.replace(r, force_max=other, direction="down")
+    assert dataclasses.replace(r, down=down).hysteresis() == {"m": None}
+    stable_down = dataclasses.replace(down, spectral_radius=np.zeros_like(r.spectral_radius))
+    both_stable = dataclasses.replace(r, spectral_radius=np.zeros_like(r.spectral_radius), down=stable_down)
+    assert both_stable.hysteresis()["m"] == (r.speeds[i], r.speeds[i])

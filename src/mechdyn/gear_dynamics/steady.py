@@ -960,13 +960,14 @@ class SpeedSweepResult(Result):
 
     def hysteresis(self) -> dict[str, tuple[float, float] | None]:
         """With a down sweep (``direction="both"``): per mesh, the lowest and highest speed (rad/s) at
-        which the up and the down sweep, both converged, differ in force amplitude by more than
+        which the up and the down sweep, both converged and stable, differ in force amplitude by more than
         :data:`HYSTERESIS_RTOL` of the larger (the band of the jump phenomenon), or None where they
         agree; empty without a down sweep."""
         if self.down is None:
             return {}
         common, iu, idn = np.intersect1d(self.speeds, self.down.speeds, return_indices=True)
-        ok = self.converged[iu] & self.down.converged[idn]
+        # an unstable orbit is no branch a machine runs on: it never counts in the band
+        ok = self.converged[iu] & self.down.converged[idn] & self.stable[iu] & self.down.stable[idn]
         out: dict[str, tuple[float, float] | None] = {}
         for j, name in enumerate(self.mesh_names):
             a, b = self.force_amplitude[iu, j], self.down.force_amplitude[idn, j]

@@ -45,9 +45,30 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
     res = result.resonances()
     for j, name in enumerate(result.mesh_names):
         if loaded[j]:
-            (line,) = ax.plot(rpm, kv[:, j], label=f"{name}: K_v (periodic steady state)")
+            line = _branch(
+                ax,
+                rpm,
+                kv[:, j],
+                result.stable,
+                label=f"{name}: K_v (periodic steady state)",
+            )
             for s in res[name]:
                 ax.axvline(float(_rpm(np.array([s]))[0]), color=line.get_color(), lw=0.6, ls=":")
+            down = result.down
+            if (
+                down is not None
+                and down is not result
+                and not np.array_equal(down.force_max, result.force_max)
+            ):
+                _branch(
+                    ax,
+                    _rpm(down.speeds),
+                    down.dynamic_factor[:, j],
+                    down.stable,
+                    color=line.get_color(),
+                    alpha=0.5,
+                    label=f"{name}: K_v swept down",
+                )
         else:
             ax.plot(rpm, result.force_amplitude[:, j], label=f"{name}: force amplitude (N), no load")
         iso = result.iso_dynamic_factor[:, j]
@@ -79,6 +100,23 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
     ax.set_title("dynamic mesh force over speed")
     ax.legend(fontsize="small", loc="upper left")
     return ax
+
+
+def _branch(ax: Any, x: np.ndarray, y: np.ndarray, stable: np.ndarray, **kw: Any) -> Any:
+    """A curve solid where its periodic solution is stable and dashed where it is not (a steady
+    state a machine does not reach), in one colour; the solid line (for the legend) is returned."""
+    stable = np.asarray(stable, bool)
+    (line,) = ax.plot(x, np.where(stable, y, np.nan), **kw)
+    if not stable.all():
+        near = stable.copy()  # the unstable stretches with their stable ends, so that the curve joins
+        near[1:] &= ~stable[:-1]
+        near[:-1] &= ~stable[1:]
+        shown = ~stable | near
+        kw = {k: v for k, v in kw.items() if k != "label"}
+        kw["color"] = line.get_color()
+        ax.plot(x, np.where(shown, y, np.nan), ls="--", **kw)
+        line.set_label(f"{line.get_label()} (dashed: unstable, not reached)")
+    return line
 
 
 def plot_sweep_dte(result: SpeedSweepResult, ax: Any = None, **display_units: Any) -> Any:
