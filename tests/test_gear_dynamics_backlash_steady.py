@@ -104,7 +104,6 @@ def test_newton_through_contact_loss_is_the_orbit_simulate_settles_on():
         inputs=[ConstantTorque("gear", load), ConstantTorque("pinion", load * ratio)],
         initial_speed=speed,
         reference="pinion",
-        drive="speed",
         method="DOP853",
         rtol=1e-10,
         atol=1e-13,
@@ -179,3 +178,52 @@ def test_resonances_leave_out_ripples():
     assert inner.size > 10
     assert _peaks(np.array([1.0, np.nan, 2.0, 1.0])).tolist() == [2]
     assert _peaks(np.zeros(5)).size == 0
+
+
+def test_past_a_flip_the_period_doubled_orbit_is_the_one_simulate_settles_on():
+    """A stiffness varying by 30 % with the mesh frequency at twice the gear's mode: the orbit of one
+    mesh period is unstable (a Floquet multiplier below −1, the principal parametric resonance), and
+    the backlash bounds the growth on an orbit of two mesh periods with contact loss. Newton over two
+    periods finds it, stable; ``simulate`` from the static deflection (pinion 3·10⁵ times the gear's
+    inertia, driven by the load over the ratio) settles on it after 160 mesh periods: its last two
+    periods' largest force within 1e-3 of the swing, its RMS within 2e-3. Below the tongue the orbit
+    of one period stays."""
+    from mechdyn.gear_dynamics.loads import ConstantTorque
+    from mechdyn.gear_dynamics.simulate import simulate
+
+    c, amp, b, eps, load = 4000.0, 1e-6, 1e-4, 0.3, 100.0
+    system = _system(c, amp, b, eps)
+    kw = {"reference": "pinion", "drive": "speed", "load": {"gear": load}, "method": "shooting"}
+    below = steady_state(system, 1.8 * WN / ZA, **kw)
+    assert below.converged and below.periods == 1
+    speed = 2.0 * WN / ZA
+    s = steady_state(system, speed, **kw)
+    assert s.converged and s.periods == 2 and s.time[-1] > s.period
+    f = s.mesh_force[:, 0]
+    half = f.size // 2
+    assert np.abs(f[:half] - f[half:]).max() > 0.5 * np.ptp(f)  # the two periods differ
+    assert f.min() <= 0.0  # the teeth part
+    big = _system(c, amp, b, eps, J_pinion=1e4)
+    ratio = abs(big.speed_ratios("pinion")[1])
+    T = s.period
+    sim = simulate(
+        big,
+        160 * T,
+        inputs=[ConstantTorque("gear", load), ConstantTorque("pinion", load * ratio)],
+        initial_speed=speed,
+        reference="pinion",
+        method="DOP853",
+        rtol=1e-9,
+        output_step=T / 200,
+    )
+    last = sim.mesh_forces[0][sim.time > sim.time[-1] - 2 * T]
+    assert abs(last.max() - f.max()) <= 1e-3 * np.ptp(f)
+    # the RMS, not the least force: that is the damping's spike where the teeth part, between samples
+    assert np.sqrt(np.mean(last**2)) == pytest.approx(np.sqrt(np.mean(f**2)), rel=2e-3)
+    sweep = speed_sweep(
+        system, np.array([1.8, 2.0]) * WN / ZA, refine=0, **{k: v for k, v in kw.items() if k != "method"}
+    )
+    # (continued from 1.8: the halved steps where the orbit of one period is still stable are kept)
+    assert sweep.period_multiple[0] == 1 and sweep.period_multiple[-1] == 2 and sweep.stable.all()
+    assert sweep.summary()["period_doubled_points"] == 1
+    assert "the period-doubled orbit, of two mesh periods, is shown" in sweep.tables()[0].note

@@ -378,6 +378,11 @@ register(
             ),
             Output("unstable_points", "speeds where the periodic solution is unstable (Floquet ρ > 1)", ""),
             Output(
+                "period_doubled_points",
+                "with backlash: speeds where the period-doubled orbit born at a flip is shown",
+                "",
+            ),
+            Output(
                 "meshes",
                 "per flexible mesh: dynamic_factor_max_ratio and dynamic_factor_max_at_rad_s, "
                 "static_force_N, force_max_N, dte_amplitude_max_m, resonance_speeds_rad_s and, with gear "

@@ -323,19 +323,26 @@ def _warm_start(lin: LinearPeriodic, plan: PeriodPlan, speed: float) -> np.ndarr
 
 
 def _shoot_nonlinear(
-    lin: LinearPeriodic, plan: PeriodPlan, speed: float, y0: np.ndarray, N: int, tol: float = 1e-7
+    lin: LinearPeriodic,
+    plan: PeriodPlan,
+    speed: float,
+    y0: np.ndarray,
+    N: int,
+    tol: float = 1e-7,
+    periods: int = 1,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool, np.ndarray, float]:
-    """Damped Newton on y(T; y₀) = y₀, the Jacobian Φ − I from the variational equations with the
-    saltation matrices of the contact changes (the mesh damping in ``lin.C`` is switched by the
-    contact). Converged where the residual is below ``tol`` relative to the largest deflection and
-    speed of the state."""
+    """Damped Newton on y(kT; y₀) = y₀ (k = ``periods``: 2 for a period-doubled orbit), the Jacobian
+    Φ − I from the variational equations with the saltation matrices of the contact changes (the
+    mesh damping in ``lin.C`` is switched by the contact). Converged where the residual is below
+    ``tol`` relative to the largest deflection and speed of the state. The times returned are in
+    periods T of the mesh plan (0 … k), N samples a period."""
     m = lin.m
     d = 2 * m
     flow = NonsmoothFlow(lin, plan, speed)
 
     def residual(y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         try:
-            end = flow.run(y)[1]
+            end = flow.run(y, None, periods)[1]
         except (FlowError, ValueError):  # ValueError: solve_ivp refuses a state that is not finite
             return np.full(d, np.inf), np.eye(d), float("inf")
         r = end[:d] - y
@@ -362,11 +369,52 @@ def _shoot_nonlinear(
         y0, r, Phi, size = trial, r_t, Phi_t, size_t
     t = np.arange(N) / N
     try:
-        states, end = flow.run(y0, t, variational=False)[:2]
+        parts, y = [], y0
+        for _ in range(periods):  # each period sampled in turn
+            states, end = flow.run(y, t, variational=False)[:2]
+            parts.append(states)
+            y = end[:d]
+        states = np.concatenate(parts, axis=1)
         closure = _closure(y0, end)
     except FlowError:
-        states, closure = np.full((d, N), np.nan), float("nan")
-    return t, states[:m].T, states[m:d].T, converged, Phi, closure
+        states, closure = np.full((d, N * periods), np.nan), float("nan")
+    times = (np.arange(periods)[:, None] + t[None, :]).ravel()
+    return times, states[:m].T, states[m:d].T, converged, Phi, closure
+
+
+def _period_doubled(
+    lin: LinearPeriodic, plan: PeriodPlan, speed: float, Phi: np.ndarray | None, y0: np.ndarray, N: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool, np.ndarray, float] | None:
+    """The stable orbit of two periods where the orbit of one period is unstable or not found: past a
+    flip (the leading Floquet multiplier real and below −1, a period-doubling bifurcation: Nayfeh &
+    Balachandran, *Applied Nonlinear Dynamics*, 1995, §5.4.3) the period-2T orbit born there attracts.
+    Newton over two periods starts from the state a run of the flow reaches (from the unstable orbit
+    nudged along the flip's eigenvector where ``Phi`` gives it, else from ``y0``). None where ``Phi``
+    shows no flip, Newton fails, the orbit found is unstable or is the period-T orbit again."""
+    start = y0
+    if Phi is not None:
+        mu, vectors = np.linalg.eig(lin.deflate(Phi))
+        lead = int(np.argmax(np.abs(mu)))
+        if not (mu[lead].real < -1.0 - UNSTABLE_MARGIN and abs(mu[lead].imag) <= 1e-9 * abs(mu[lead])):
+            return None
+        keep = np.delete(np.arange(y0.size), [] if lin.idle is None else [lin.idle])
+        direction = np.zeros(y0.size)
+        direction[keep] = vectors[:, lead].real
+        m = lin.m
+        size = max(np.abs(y0[:m]).max(), 1e-300) / max(np.abs(direction[:m]).max(), 1e-300)
+        start = y0 + 1e-2 * size * direction
+    try:
+        start = _settle(lin, plan, speed, start)
+    except FlowError:
+        return None
+    found = _shoot_nonlinear(lin, plan, speed, start, N, periods=2)
+    if not found[3] or _spectral(found[4], lin)[1] > 1.0 + UNSTABLE_MARGIN:
+        return None
+    first = np.concatenate([found[1][0], found[2][0]])
+    after_one = np.concatenate([found[1][N], found[2][N]])
+    if _closure(first, after_one) < 1e-5:
+        return None  # the period-T orbit again
+    return found
 
 
 def _closure(y0: np.ndarray, end: np.ndarray) -> float:
@@ -425,6 +473,9 @@ class SteadyState(Result):
         The estimated largest relative error of K_v from the truncation (the change when the
         harmonics are doubled, :func:`mechdyn.gear_dynamics._harmonics.estimated_error`),
         dimensionless; NaN for shooting.
+    periods : int
+        Mesh periods T the orbit spans: 1, or 2 for a period-doubled orbit (backlash, past a flip);
+        :attr:`time` then covers both.
     """
 
     speed: float
@@ -441,6 +492,7 @@ class SteadyState(Result):
     drive: str = ""
     harmonics: int = 0
     harmonics_error: float = float("nan")
+    periods: int = 1
 
     @property
     def dynamic_factor(self) -> np.ndarray:
@@ -661,6 +713,7 @@ class _Solver:
         self.stability = stability
         self.rho = float("nan")
         self.closure = float("nan")  # the last orbit's closure after one period (backlash)
+        self.multiple = 1  # periods T of the last orbit (2: period-doubled)
         self.harmonics, self.substeps, self.integrator = harmonics, substeps, integrator
         self.nonlinear = any(b is not None for b in lin.backlash)
         self.bal = (
@@ -680,6 +733,7 @@ class _Solver:
         lin, plan = self.lin.at_speed(speed), self.plan
         self.rho = float("nan")
         self.closure = float("nan")
+        self.multiple = 1
         if self.method == "harmonic_balance":
             assert self.bal is not None
             X = _hb_solve(lin, plan, self.bal, speed)
@@ -713,6 +767,13 @@ class _Solver:
             if again[3] and rho_again < rho:
                 t, x, v, ok, Phi, closure = again
                 rho = rho_again
+        if settle and (not ok or rho > 1.0 + UNSTABLE_MARGIN):
+            orbit = np.concatenate([x[0], v[0]]) if ok else settled
+            doubled = _period_doubled(lin, plan, speed, Phi if ok else None, orbit, N)
+            if doubled is not None:
+                t, x, v, ok, Phi, closure = doubled
+                rho = _spectral(Phi, lin)[1]
+                self.multiple = 2
         self.closure = closure
         if ok:
             self.start = np.concatenate([x[0], v[0]])
@@ -790,7 +851,8 @@ def steady_state(
     if points is not None:
         points = check_count("gear dynamics", "points", points, low=8, high=10**7, what="time samples")
     H = given if given is not None else harmonics_for(lin, plan, speed)
-    t, x, v, ok = _Solver(lin, plan, chosen, H, substeps, integrator, points).solve(speed)
+    solver = _Solver(lin, plan, chosen, H, substeps, integrator, points)
+    t, x, v, ok = solver.solve(speed)
     error = _truncation_error(lin, plan, H, [speed]) if chosen == "harmonic_balance" else float("nan")
     force, delta = _mesh_forces(lin, plan, speed, t, x, v)
     T = plan.period(speed)
@@ -813,6 +875,7 @@ def steady_state(
         drive=lin.drive,
         harmonics=H if chosen == "harmonic_balance" else 0,
         harmonics_error=error,
+        periods=solver.multiple,
     )
 
 
@@ -874,6 +937,9 @@ class SpeedSweepResult(Result):
         The train's natural frequencies with the meshes at mean stiffness and the sweep's drive
         (no rigid-body mode), Hz: where the mesh orders meet them the computed K_v peaks
         (:meth:`train_resonances`).
+    period_multiple : ndarray or None
+        (n_s,) the periods T of each speed's orbit: 1, or 2 where the orbit of one period is unstable
+        (past a flip) and the period-doubled orbit is the one shown (backlash).
     """
 
     speeds: np.ndarray
@@ -899,6 +965,7 @@ class SpeedSweepResult(Result):
     drive: str = ""
     iso_resonance_speed: np.ndarray | None = None
     natural_frequencies_hz: np.ndarray | None = None
+    period_multiple: np.ndarray | None = None
 
     @property
     def stable(self) -> np.ndarray:
@@ -975,6 +1042,23 @@ class SpeedSweepResult(Result):
             out[name] = (float(common[differ].min()), float(common[differ].max())) if differ.any() else None
         return out
 
+    def _doubling_notes(self) -> list[str]:
+        """The speeds where a period-doubled orbit is shown, in words (rpm)."""
+        from mechdyn.units import convert
+
+        out = []
+        for sweep in (self, self.down):
+            if sweep is None or sweep.period_multiple is None or not (sweep.period_multiple == 2).any():
+                continue
+            doubled = sweep.speeds[sweep.period_multiple == 2]
+            low, high = (float(convert(v, "rad/s", "rpm")) for v in (doubled.min(), doubled.max()))
+            out.append(
+                f"Swept {sweep.direction}, the orbit of one mesh period is unstable at {doubled.size} speeds "
+                f"from {low:.4g} to {high:.4g} rpm (a flip: a Floquet multiplier below −1): there the "
+                "period-doubled orbit, of two mesh periods, is shown."
+            )
+        return out
+
     def _hysteresis_notes(self) -> list[str]:
         """The jump in words, where a down sweep was made (rpm)."""
         if self.down is None:
@@ -1029,6 +1113,9 @@ class SpeedSweepResult(Result):
             "speed_max_rad_s": float(self.speeds.max()),
             "points": int(self.speeds.size),
             "unstable_points": int((~self.stable).sum()),
+            "period_doubled_points": (
+                int((self.period_multiple == 2).sum()) if self.period_multiple is not None else 0
+            ),
             "meshes": meshes,
         }
 
@@ -1100,6 +1187,7 @@ class SpeedSweepResult(Result):
                         f"Computed by {self.method}.",
                         *((f"Drive: {self.drive}.",) if self.drive else ()),
                         *self._hysteresis_notes(),
+                        *self._doubling_notes(),
                         *(n.rstrip(".") + "." for n in self.notes + self.assumptions),
                     )
                 ),
@@ -1393,6 +1481,7 @@ def speed_sweep(
             converged=stack[5][:, 0].astype(bool),
             spectral_radius=stack[5][:, 1],
             closure=stack[5][:, 2],
+            period_multiple=stack[5][:, 3].astype(int),
             method=(
                 _harmonics_words(H, given is None, error)
                 if balance
@@ -1448,7 +1537,7 @@ def _sweep(
             np.sqrt(np.mean(force**2, axis=0)),
             _static_forces(lin, speed),
             0.5 * np.ptp(delta, axis=0),
-            np.array([ok, solver.rho, solver.closure]),
+            np.array([ok, solver.rho, solver.closure, solver.multiple]),
         )
         if ok and solver.nonlinear:
             states[speed] = np.concatenate([x[0], v[0]])

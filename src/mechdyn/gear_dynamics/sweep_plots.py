@@ -51,6 +51,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
                 kv[:, j],
                 result.stable,
                 label=f"{name}: K_v (periodic steady state)",
+                doubled=_doubled(result),
             )
             for s in res[name]:
                 ax.axvline(float(_rpm(np.array([s]))[0]), color=line.get_color(), lw=0.6, ls=":")
@@ -65,6 +66,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
                     _rpm(down.speeds),
                     down.dynamic_factor[:, j],
                     down.stable,
+                    doubled=_doubled(down),
                     color=line.get_color(),
                     alpha=0.5,
                     label=f"{name}: K_v swept down",
@@ -102,11 +104,20 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
     return ax
 
 
+def _doubled(result: SpeedSweepResult) -> np.ndarray | None:
+    return None if result.period_multiple is None else np.asarray(result.period_multiple) == 2
+
+
 def _branch(ax: Any, x: np.ndarray, y: np.ndarray, stable: np.ndarray, **kw: Any) -> Any:
     """A curve solid where its periodic solution is stable and dashed where it is not (a steady
     state a machine does not reach), in one colour; the solid line (for the legend) is returned."""
     stable = np.asarray(stable, bool)
+    doubled = kw.pop("doubled", None)
     (line,) = ax.plot(x, np.where(stable, y, np.nan), **kw)
+    if doubled is not None and np.any(doubled):
+        mark = {k: v for k, v in kw.items() if k not in ("label", "color")}
+        ax.plot(x[doubled], y[doubled], "o", ms=3, color=line.get_color(), **mark)
+        line.set_label(f"{line.get_label()} (dots: period doubled)")
     if not stable.all():
         near = stable.copy()  # the unstable stretches with their stable ends, so that the curve joins
         near[1:] &= ~stable[:-1]
