@@ -227,3 +227,27 @@ def test_past_a_flip_the_period_doubled_orbit_is_the_one_simulate_settles_on():
     assert sweep.period_multiple[0] == 1 and sweep.period_multiple[-1] == 2 and sweep.stable.all()
     assert sweep.summary()["period_doubled_points"] == 1
     assert "the period-doubled orbit, of two mesh periods, is shown" in sweep.tables()[0].note
+
+
+def test_the_jump_band_s_edges_are_located_where_a_fine_sweep_jumps():
+    """Swept up and down over five speeds, the band's edges come from the ends of the branches,
+    located by bisection (to 1e-3 of the speed), not from the grid: each lies between the two speeds
+    of a fine grid (steps of 0.25 % of ω_n) across which a fine sweep's force amplitude jumps."""
+    from mechdyn.gear_dynamics.steady import EDGE_RTOL
+
+    system = _system(8000.0, 0.5e-6, 2e-5, 0.0)
+    kw = {"reference": "pinion", "drive": "speed", "load": {"gear": 20.0}, "refine": 0}
+    coarse = speed_sweep(system, np.array([0.6, 0.7, 0.8, 0.9, 1.0]) * WN / ZA, direction="both", **kw)
+    low, high = coarse.hysteresis()["m"]
+    assert coarse.jump_speeds == (high,) and coarse.down.jump_speeds == (low,)
+    for edge, fine_range, direction, lead in (
+        (high, (0.86, 0.885), "up", [0.8]),  # from the contact branch below the band
+        (low, (0.725, 0.75), "down", [0.8, 0.9]),  # from the separating branch above the band's top
+    ):
+        grid = np.arange(*fine_range, 0.0025) * WN / ZA
+        fine = speed_sweep(system, np.append(grid, np.array(lead) * WN / ZA), direction=direction, **kw)
+        # the fine grid's own speeds (those its bisection added left out): where the amplitude jumps
+        amp = np.interp(grid, fine.speeds, fine.force_amplitude[:, 0])
+        k = int(np.argmax(np.abs(np.diff(amp))))
+        assert abs(amp[k + 1] - amp[k]) > 0.3 * amp.max()
+        assert grid[k] - EDGE_RTOL * edge <= edge <= grid[k + 1] + EDGE_RTOL * edge

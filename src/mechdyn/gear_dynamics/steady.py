@@ -90,6 +90,8 @@ PEAK_PROMINENCE = 0.02
 #: The up and down sweeps differ (a jump, hysteresis) where their force amplitudes differ by more than
 #: this fraction of the larger.
 HYSTERESIS_RTOL = 0.01
+#: The relative width in speed to which the end of a branch (a jump) is located by bisection.
+EDGE_RTOL = 1e-3
 #: Runs of :func:`_settle_periods` periods, each followed by Newton, before a speed is given up.
 _SETTLE_ROUNDS = 4
 
@@ -940,6 +942,9 @@ class SpeedSweepResult(Result):
     period_multiple : ndarray or None
         (n_s,) the periods T of each speed's orbit: 1, or 2 where the orbit of one period is unstable
         (past a flip) and the period-doubled orbit is the one shown (backlash).
+    jump_speeds : tuple of float
+        With backlash: where the branch the sweep followed ends and it jumps to another, each located
+        by bisection to within :data:`EDGE_RTOL` of the speed, rad/s.
     """
 
     speeds: np.ndarray
@@ -966,6 +971,7 @@ class SpeedSweepResult(Result):
     iso_resonance_speed: np.ndarray | None = None
     natural_frequencies_hz: np.ndarray | None = None
     period_multiple: np.ndarray | None = None
+    jump_speeds: tuple[float, ...] = ()
 
     @property
     def stable(self) -> np.ndarray:
@@ -1039,7 +1045,14 @@ class SpeedSweepResult(Result):
         for j, name in enumerate(self.mesh_names):
             a, b = self.force_amplitude[iu, j], self.down.force_amplitude[idn, j]
             differ = ok & (np.abs(a - b) > HYSTERESIS_RTOL * np.maximum(np.abs(a), np.abs(b)))
-            out[name] = (float(common[differ].min()), float(common[differ].max())) if differ.any() else None
+            if not differ.any():
+                out[name] = None
+                continue
+            low, high = float(common[differ].min()), float(common[differ].max())
+            # the edges where the branches end, located by bisection, where the sweeps jumped there
+            down_jumps = [v for v in self.down.jump_speeds if v <= low]
+            up_jumps = [v for v in self.jump_speeds if v >= high]
+            out[name] = (max(down_jumps) if down_jumps else low, min(up_jumps) if up_jumps else high)
         return out
 
     def _doubling_notes(self) -> list[str]:
@@ -1450,7 +1463,7 @@ def speed_sweep(
     natural = _natural_frequencies(lin)
 
     def result(sweep: str) -> SpeedSweepResult:
-        grid, stack = _sweep(solver, s, sweep, refine)
+        grid, stack, jumps = _sweep(solver, s, sweep, refine)
         error = float("nan")
         if balance:  # the truncation checked where it matters most: lowest speed, largest K_v
             kv = _sweep_kv(stack) * _stack_kv(stack)
@@ -1482,6 +1495,7 @@ def speed_sweep(
             spectral_radius=stack[5][:, 1],
             closure=stack[5][:, 2],
             period_multiple=stack[5][:, 3].astype(int),
+            jump_speeds=tuple(jumps),
             method=(
                 _harmonics_words(H, given is None, error)
                 if balance
@@ -1514,16 +1528,19 @@ def speed_sweep(
 
 def _sweep(
     solver: _Solver, s: np.ndarray, direction: str, refine: int
-) -> tuple[np.ndarray, list[np.ndarray]]:
-    """The speeds computed (ascending) and the stacked rows (force max, min, RMS, static force, DTE
-    amplitude, [converged, ρ]) of one sweep over the ascending speeds ``s``, visited upwards or
-    downwards. With backlash each speed starts Newton from the periodic state of the speed before;
-    where that fails (or the orbit found is unstable) the step is halved up to three times, and then
-    the state of the last good speed is run for a while at the new speed before Newton (a jump)."""
+) -> tuple[np.ndarray, list[np.ndarray], list[float]]:
+    """The speeds computed (ascending), the stacked rows (force max, min, RMS, static force, DTE
+    amplitude, [converged, ρ, closure, periods]) of one sweep over the ascending speeds ``s``, visited
+    upwards or downwards, and the speeds where the sweep jumped (rad/s). With backlash each speed
+    starts Newton from the periodic state of the speed before; where that fails (or the orbit found is
+    unstable) the branch is followed by bisection from the last good orbit to within
+    :data:`EDGE_RTOL` of the speed of its end, and where it ends short of the speed (a fold or a
+    grazing) the last state is run for a while at the new speed before Newton (the jump)."""
     lin, plan = solver.lin, solver.plan
     J = len(lin.names)
     rows: dict[float, tuple[np.ndarray, ...]] = {}
     states: dict[float, np.ndarray] = {}
+    jumps: list[float] = []
 
     def run(speed: float, *, start: np.ndarray | None = None, settle: bool = True, keep: bool = True) -> bool:
         t, x, v, ok = solver.solve(speed, start=start, settle=settle)
@@ -1550,15 +1567,20 @@ def _sweep(
             run(speed)
             continue
         ok = run(speed, settle=previous is None)
-        if not ok and previous is not None:  # smaller steps from the last good solution
-            for k in (1, 2, 3):
-                last_good = solver.start
-                for step in np.linspace(previous, speed, 2**k + 1)[1:-1]:
-                    run(float(step), settle=False, keep=False)
-                if run(speed, settle=False):
-                    break
-                solver.start = last_good
-            else:  # a fold: run the last good state at this speed, then Newton (the jump)
+        if not ok and previous is not None and previous in states:
+            # the branch followed to its end by bisection from the last good orbit; where it ends short
+            # of this speed (a fold or a grazing: the jump), the end is located and the last state run
+            # at this speed for a while before Newton (the branch a slow sweep lands on)
+            lo, hi = previous, speed
+            while abs(hi - lo) > EDGE_RTOL * speed:
+                mid = 0.5 * (lo + hi)
+                if run(mid, start=states[lo], settle=False, keep=False):
+                    lo = mid
+                else:
+                    hi = mid
+            if not run(speed, start=states[lo], settle=False, keep=False):
+                jumps.append(0.5 * (lo + hi))
+                solver.start = states[lo]
                 run(speed, settle=True)
         previous = speed
     for _ in range(refine):
@@ -1579,4 +1601,4 @@ def _sweep(
                     start = states[max(before) if direction == "up" else min(before)]
             run(float(speed), start=start)
     grid = np.array(sorted(rows))
-    return grid, [np.array([rows[g][k] for g in grid]).reshape(grid.size, -1) for k in range(6)]
+    return grid, [np.array([rows[g][k] for g in grid]).reshape(grid.size, -1) for k in range(6)], jumps
