@@ -45,6 +45,20 @@ def turret_c():
     return load_quiet(EXAMPLES / "turret_milling.toml")
 
 
+@pytest.fixture(scope="session")
+def turret_startup():
+    """Reference machine C in time (``examples/turret_milling_startup.toml``): the loaded file, its
+    gear system with the teeth held in contact (the file's sweep), and its motor on disk 1."""
+    from mechdyn.gear_dynamics import GearSystem
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        loaded = mechdyn.load(EXAMPLES / "turret_milling_startup.toml")
+    dynamics = loaded.settings.dynamics
+    system = GearSystem.from_drivetrain(loaded.model, **{**dynamics.system_options(), "backlash": {}})
+    return loaded, system, dynamics.inputs()[0]
+
+
 def _postgres_url() -> str:
     url = os.environ.get("MECHDYN_TEST_POSTGRES_URL")
     if url:

@@ -91,6 +91,24 @@ def test_frf_speed_quick_run():
     assert doc["study_block"]["variants"] == 1000
 
 
+def test_gear_dynamics_quick_run_holds_both_sides_to_the_same_accuracy():
+    # both K_v within the target of a reference that mechdyn's Magnus shooting confirms far below it
+    out = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "gear_dynamics.py"), "--quick", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=600,  # a hang guard: the quick run takes about 25 s on an idle machine
+    )
+    doc = json.loads(out.stdout)
+    assert doc["benchmark"] == "gear_dynamics" and doc["quick"] is True and doc["speeds"] == 2
+    target = doc["target_rel_error"]
+    assert doc["reference"]["max_rel_diff_vs_magnus_shooting"] < target / 100
+    assert 0 < doc["speed_sweep"]["max_rel_error"] <= target
+    assert 0 < doc["solve_ivp_to_steady_state"]["max_rel_error"] <= target
+    assert doc["within_target"] and doc["ratio"] > 0
+
+
 @pytest.mark.parametrize("name", ["model_loading", "frf_memory"])
 def test_spine_benchmarks_run_quick_and_print_json(name):
     out = subprocess.run(

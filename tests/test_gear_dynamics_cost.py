@@ -5,16 +5,14 @@ is built."""
 from __future__ import annotations
 
 import math
-import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import mechdyn
 from mechdyn.cli.main import main
-from mechdyn.errors import LongRunWarning, ModelError, ModelWarning
-from mechdyn.gear_dynamics import GearSystem, _cost
+from mechdyn.errors import LongRunWarning, ModelError
+from mechdyn.gear_dynamics import _cost
 from mechdyn.gear_dynamics._cost import simulation_cost, sweep_cost
 from mechdyn.gear_dynamics.floquet import period_plan
 from mechdyn.gear_dynamics.simulate import simulate
@@ -24,14 +22,10 @@ TURRET = Path(__file__).resolve().parents[1] / "examples" / "turret_milling_star
 RPM = 2 * math.pi / 60
 
 
-@pytest.fixture(scope="module")
-def turret():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ModelWarning)
-        loaded = mechdyn.load(TURRET)
-    dynamics = loaded.settings.dynamics
-    system = GearSystem.from_drivetrain(loaded.model, **{**dynamics.system_options(), "backlash": {}})
-    return system, dynamics.inputs()[0]
+@pytest.fixture
+def turret(turret_startup):
+    _, system, motor = turret_startup
+    return system, motor
 
 
 def test_a_sweep_from_a_crawl_is_refused_with_the_speed_where_the_harmonics_suffice(turret):

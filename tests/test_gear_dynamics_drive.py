@@ -6,16 +6,14 @@ speed."""
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import mechdyn
 from mechdyn.drive import InductionMotor
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, modal
-from mechdyn.errors import ModelError, ModelWarning
+from mechdyn.errors import ModelError
 from mechdyn.gear_dynamics import GearSystem
 from mechdyn.gear_dynamics.floquet import linear_periodic
 from mechdyn.gear_dynamics.loads import ConstantTorque, MotorTorque
@@ -112,11 +110,9 @@ def test_with_the_motor_the_linear_shooting_harmonic_balance_and_floquet_agree()
     assert 0.0 < sweep.spectral_radius[0] < 1.0
 
 
-@pytest.fixture(scope="module")
-def turret():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ModelWarning)
-        return mechdyn.load(TURRET)
+@pytest.fixture
+def turret(turret_startup):
+    return turret_startup[0]
 
 
 def test_the_turret_s_sweep_resonates_where_the_free_train_s_first_mode_meets_the_mesh_frequency(turret):

@@ -5,15 +5,11 @@ lowest mesh frequency, checked by doubling them, the estimated error of K_v stat
 from __future__ import annotations
 
 import math
-import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import mechdyn
-from mechdyn.errors import ModelWarning
-from mechdyn.gear_dynamics import GearSystem
 from mechdyn.gear_dynamics._harmonics import estimated_error, harmonics_for
 from mechdyn.gear_dynamics.floquet import _highest_frequency, period_plan
 from mechdyn.gear_dynamics.steady import _model, speed_sweep
@@ -23,15 +19,10 @@ TURRET = Path(__file__).resolve().parents[1] / "examples" / "turret_milling_star
 RPM = 2 * math.pi / 60
 
 
-@pytest.fixture(scope="module")
-def turret():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ModelWarning)
-        loaded = mechdyn.load(TURRET)
-    dynamics = loaded.settings.dynamics
-    system = GearSystem.from_drivetrain(loaded.model, **{**dynamics.system_options(), "backlash": {}})
-    kw = {"reference": "1", "load": {"7": 6.2}, "motor": dynamics.inputs()[0]}
-    return loaded, system, kw
+@pytest.fixture
+def turret(turret_startup):
+    loaded, system, motor = turret_startup
+    return loaded, system, {"reference": "1", "load": {"7": 6.2}, "motor": motor}
 
 
 def test_the_rule_reaches_twice_the_highest_natural_frequency_at_the_lowest_speed(turret):
