@@ -33,14 +33,25 @@ __all__ = ["Cost", "check", "simulation_cost", "sweep_cost"]
 FLOPS = 1e10
 #: The most memory one array of a run may take, bytes.
 MEMORY_LIMIT = 4 * 2**30
-#: Runs estimated to take longer than this are refused, s.
-TIME_LIMIT = 10 * 3600.0
+#: Runs estimated to take longer than this are refused, s (ten hours).
+TIME_LIMIT = 36_000.0
 #: Runs estimated to take longer than this go on with a warning, s.
 TIME_WARN = 600.0
 #: CPU of one speed of the Newton shooting through contact loss, s (an upper figure).
 BACKLASH_SECONDS = 8.0
 #: CPU of one mesh cycle of ``simulate`` for a 10-disk train, s.
 SECONDS_PER_CYCLE = 5e-3
+
+
+def _duration(seconds: float) -> str:
+    """A duration in seconds, minutes or hours, whichever reads best."""
+    from mechdyn.units import convert
+
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{float(convert(seconds, 's', 'min')):.0f} min"
+    return f"{float(convert(seconds, 's', 'h')):.1f} h"
 
 
 @dataclass(frozen=True)
@@ -63,8 +74,7 @@ class Cost:
 
     def words(self) -> str:
         """The estimate in words (minutes or hours, MB or GB)."""
-        t = self.seconds
-        time = f"{t:.0f} s" if t < 120 else (f"{t / 60:.0f} min" if t < 7200 else f"{t / 3600:.1f} h")
+        time = _duration(self.seconds)
         size = self.bytes
         memory = f"{size / 2**20:.0f} MB" if size < 2**30 else f"{size / 2**30:.1f} GB"
         return f"about {time} of CPU and {memory} for its largest array ({self.what})"
@@ -167,7 +177,7 @@ def check(cost: Cost, element: str, field: str, fix: str) -> None:
         limit = "memory" if cost.bytes > MEMORY_LIMIT else "time"
         raise ModelError(
             f"this run would take {cost.words()}, beyond the {limit} this machine gives a run "
-            f"({MEMORY_LIMIT / 2**30:.0f} GB, {TIME_LIMIT / 3600:.0f} h); {fix}",
+            f"({MEMORY_LIMIT / 2**30:.0f} GB, {_duration(TIME_LIMIT)}); {fix}",
             element=element,
             field=field,
         )

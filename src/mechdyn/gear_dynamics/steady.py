@@ -90,6 +90,8 @@ PEAK_PROMINENCE = 0.02
 #: The up and down sweeps differ (a jump, hysteresis) where their force amplitudes differ by more than
 #: this fraction of the larger.
 HYSTERESIS_RTOL = 0.01
+#: A Floquet multiplier is real where its imaginary part is below this fraction of its modulus.
+_REAL_RTOL = 1e-9
 #: The relative width in speed to which the end of a branch (a jump) is located by bisection.
 EDGE_RTOL = 1e-3
 #: Runs of :func:`_settle_periods` periods, each followed by Newton, before a speed is given up.
@@ -397,7 +399,7 @@ def _period_doubled(
     if Phi is not None:
         mu, vectors = np.linalg.eig(lin.deflate(Phi))
         lead = int(np.argmax(np.abs(mu)))
-        if not (mu[lead].real < -1.0 - UNSTABLE_MARGIN and abs(mu[lead].imag) <= 1e-9 * abs(mu[lead])):
+        if not (mu[lead].real < -1.0 - UNSTABLE_MARGIN and abs(mu[lead].imag) <= _REAL_RTOL * abs(mu[lead])):
             return None
         keep = np.delete(np.arange(y0.size), [] if lin.idle is None else [lin.idle])
         direction = np.zeros(y0.size)
