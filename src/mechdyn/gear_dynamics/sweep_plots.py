@@ -43,6 +43,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
     kv = result.dynamic_factor
     loaded = np.isfinite(kv).any(axis=0)
     res = result.resonances()
+    swept_down = result.down is not None and not np.array_equal(result.down.force_max, result.force_max)
     for j, name in enumerate(result.mesh_names):
         if loaded[j]:
             line = _branch(
@@ -50,7 +51,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
                 rpm,
                 kv[:, j],
                 result.stable,
-                label=f"{name}: K_v (periodic steady state)",
+                label=f"{name}: K_v (periodic steady state{', swept up' if swept_down else ''})",
                 doubled=_doubled(result),
             )
             for s in res[name]:
