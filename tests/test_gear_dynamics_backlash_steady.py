@@ -36,6 +36,19 @@ def _system(c: float, amp: float, b: float, eps: float, J_pinion: float = 0.05) 
     )
 
 
+def _at_nearly_constant_speed(big: GearSystem, load: float, speed: float, duration: float, **kw):
+    """``simulate`` of a pair whose pinion is so heavy that it keeps its speed (the mesh phase the
+    nominal one), driven by the load's torque over the ratio, from the static deflection (DOP853)."""
+    from mechdyn.gear_dynamics.loads import ConstantTorque
+    from mechdyn.gear_dynamics.simulate import simulate
+
+    ratio = abs(big.speed_ratios("pinion")[1])
+    inputs = [ConstantTorque("gear", load), ConstantTorque("pinion", load * ratio)]
+    return simulate(
+        big, duration, inputs=inputs, initial_speed=speed, reference="pinion", method="DOP853", **kw
+    )
+
+
 # contact loss each mesh cycle (light load, near the resonance); back-side impacts (small backlash)
 LOSS = {"c": 3000.0, "amp": 1e-6, "b": 2e-5, "eps": 0.1, "load": 10.0, "f": 0.95}
 IMPACT = {"c": 8000.0, "amp": 2e-6, "b": 2e-6, "eps": 0.0, "load": 20.0, "f": 0.9}
@@ -86,8 +99,6 @@ def test_newton_through_contact_loss_is_the_orbit_simulate_settles_on():
     driven by the load's torque over the ratio, the same stiffness, error and backlash; the last
     period, sampled on the same instants, agrees to 2e-5 of the force and DTE swings (measured
     2.3e-6 and 2.9e-6)."""
-    from mechdyn.gear_dynamics.loads import ConstantTorque
-    from mechdyn.gear_dynamics.simulate import simulate
 
     c, amp, b, eps, load = 8000.0, 0.5e-6, 2e-5, 0.1, 20.0
     speed = 0.9 * WN / ZA
@@ -96,19 +107,8 @@ def test_newton_through_contact_loss_is_the_orbit_simulate_settles_on():
     assert s.converged
     assert s.mesh_force[:, 0].min() < 0.0 and (s.deflection[:, 0] < 0).any()  # the teeth part
     big = _system(c, amp, b, eps, J_pinion=1e4)
-    ratio = abs(big.speed_ratios("pinion")[1])
     N, T = s.time.size, s.period
-    sim = simulate(
-        big,
-        68 * T,
-        inputs=[ConstantTorque("gear", load), ConstantTorque("pinion", load * ratio)],
-        initial_speed=speed,
-        reference="pinion",
-        method="DOP853",
-        rtol=1e-10,
-        atol=1e-13,
-        output_step=T / N,
-    )
+    sim = _at_nearly_constant_speed(big, load, speed, 68 * T, rtol=1e-10, atol=1e-13, output_step=T / N)
     last = sim.time > sim.time[-1] - T * (1 - 0.5 / N)
     t = sim.time[last]
     k = np.round((t % T) / T * N).astype(int) % N
@@ -188,8 +188,6 @@ def test_past_a_flip_the_period_doubled_orbit_is_the_one_simulate_settles_on():
     inertia, driven by the load over the ratio) settles on it after 160 mesh periods: its last two
     periods' largest force within 1e-3 of the swing, its RMS within 2e-3. Below the tongue the orbit
     of one period stays."""
-    from mechdyn.gear_dynamics.loads import ConstantTorque
-    from mechdyn.gear_dynamics.simulate import simulate
 
     c, amp, b, eps, load = 4000.0, 1e-6, 1e-4, 0.3, 100.0
     system = _system(c, amp, b, eps)
@@ -203,19 +201,9 @@ def test_past_a_flip_the_period_doubled_orbit_is_the_one_simulate_settles_on():
     half = f.size // 2
     assert np.abs(f[:half] - f[half:]).max() > 0.5 * np.ptp(f)  # the two periods differ
     assert f.min() <= 0.0  # the teeth part
-    big = _system(c, amp, b, eps, J_pinion=1e4)
-    ratio = abs(big.speed_ratios("pinion")[1])
     T = s.period
-    sim = simulate(
-        big,
-        160 * T,
-        inputs=[ConstantTorque("gear", load), ConstantTorque("pinion", load * ratio)],
-        initial_speed=speed,
-        reference="pinion",
-        method="DOP853",
-        rtol=1e-9,
-        output_step=T / 200,
-    )
+    big = _system(c, amp, b, eps, J_pinion=1e4)
+    sim = _at_nearly_constant_speed(big, load, speed, 160 * T, rtol=1e-9, output_step=T / 200)
     last = sim.mesh_forces[0][sim.time > sim.time[-1] - 2 * T]
     assert abs(last.max() - f.max()) <= 1e-3 * np.ptp(f)
     # the RMS, not the least force: that is the damping's spike where the teeth part, between samples
