@@ -1584,6 +1584,8 @@ def _sweep(
                 jumps.append(0.5 * (lo + hi))
                 solver.start = states[lo]
                 run(speed, settle=True)
+        elif not ok and previous is not None:  # no orbit at the speed before: start afresh by a run
+            run(speed, settle=True)
         previous = speed
     for _ in range(refine):
         grid = np.array(sorted(rows))
