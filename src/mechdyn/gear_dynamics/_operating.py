@@ -13,7 +13,10 @@ to that speed, as a frequency converter at constant V/f moves an induction motor
 depends on the slip speed, the rotor frequency; e.g. Boldea & Nasar, *The Induction Machine
 Handbook*, CRC Press, 2002, ch. on variable-frequency operation): the slope is the curve's slope at
 the torque T₀. At the speed where the curve itself gives T₀ (a motor on the mains) this is exactly the
-linearisation of what :func:`mechdyn.gear_dynamics.simulate` integrates.
+linearisation of what :func:`mechdyn.gear_dynamics.simulate` integrates. The curve is read
+quasi-statically (no flux dynamics: a real induction motor's torque lags its slip at the mesh
+frequencies), and the motor's sense (``direction``) does not enter: the train turning the other way
+is the mirror image.
 """
 
 from __future__ import annotations
@@ -57,14 +60,7 @@ def balancing(
     torques, drag : ndarray
         The load and drag with that torque added: their rigid-body components vanish.
     """
-    dt = system.drivetrain
-    if disk not in dt.disk_index:
-        raise ModelError(
-            f"drive disk {disk!r} is not defined; give one of {', '.join(dt.disk_names)}",
-            element="gear dynamics",
-            field="drive_disk",
-        )
-    row = np.asarray(system.T, float)[dt.disk_index[disk]]
+    row = np.asarray(system.T, float)[system.disk(disk)]  # names the disks where it is not one
     share = float(row @ r)
     if abs(share) <= 1e-12 * np.abs(r).max():
         raise ModelError(
@@ -161,16 +157,11 @@ class MotorSlope:
         slope = (float(curve.torque(w + h)) - float(curve.torque(w - h))) / (2 * h)
         return float(self.motor.ratio) ** 2 * max(-slope, 0.0)
 
-    def describe(self, reference: str) -> str:
-        """The drive in words, for a result's notes.
-
-        Parameters
-        ----------
-        reference : str
-            The reference disk.
-        """
+    def describe(self) -> str:
+        """The drive in words, for a result's notes."""
         return (
             f"no disk held: the motor on disk {self.motor.disk!r} drives, its torque following its "
             "torque–speed curve about the torque that holds the load (the curve moved to each speed, as "
-            "a frequency converter at constant V/f moves it; its slope damps the train's rigid rotation)"
+            "a frequency converter at constant V/f moves it, and read quasi-statically, as simulate reads "
+            "it; its slope damps the train's rigid rotation)"
         )

@@ -429,7 +429,7 @@ def linear_periodic(
             idle = n - 1
         if boundary == "motor":
             slope = MotorSlope(motor, basis.T @ row, need, float(row @ r))
-            drive = slope.describe(reference)
+            drive = slope.describe()
         else:
             drive = (
                 f"no disk held: a constant torque at disk {disk!r} balances the load (a stiff speed "
