@@ -74,40 +74,40 @@ def test_a_huge_flywheel_gives_the_constant_speed_floor_force(driven):
 def test_the_fluctuating_speed_changes_the_floor_force_a_little(driven):
     e = driven.settings.excitation
     steady = e.result.steady
-    assert 0.015 < steady.fluctuation < 0.025  # 1.9 %: the flywheel sized for 2 %
+    assert 0.015 < steady.fluctuation < 0.025  # 1.92 %: 650 kg m² behind lossy gears
     machine, load = driven.model, driven.settings.load
     real = periodic_response(machine, load)
     constant = periodic_response(machine, at_constant_speed(e, steady.mean_speed))
     s_real, s_const = real.summary(), constant.summary()
-    # at the same mean speed (15.04 rpm) the fluctuation lowers the floor force range by 0.33 %
-    # (845.3 kN against 848.2 kN), and shifts it in time by up to 3.9 % of its range
+    # at the same mean speed (15.02 rpm) the fluctuation lowers the floor force range by 0.39 %
+    # (842.6 kN against 846.0 kN), and shifts it in time by up to 3.7 % of its range
     ratio = s_real["transmitted_force_range_N"] / s_const["transmitted_force_range_N"]
-    assert ratio == pytest.approx(0.99665, abs=5e-4)
+    assert ratio == pytest.approx(0.99605, abs=5e-4)
     shift = np.abs(real.floor_force - constant.floor_force).max() / s_const["transmitted_force_range_N"]
     assert 0.01 < shift < 0.06
     # the machine's force balance still holds at every instant (round-off, N)
     assert np.abs(real.force_balance_residual).max() < 1e-3
-    # still quasi-static: the mounts pass the exciting force on, 3 % amplified (2.6 % at constant speed)
+    # still quasi-static: the mounts pass the exciting force on, 3.1 % amplified (2.6 % at constant speed)
     assert 1.0 < s_real["transmitted_to_inertia_force_range"] < 1.05
 
 
 def test_against_the_press_at_its_nominal_fifteen_strokes_a_minute(driven):
     # examples/press_on_mounts.toml turns the crank at exactly 15 rpm (period 4 s); the motor's slip
-    # under this load gives 15.04 rpm, so the driven press's floor force range is 0.25 % higher
-    # (845.3 kN against 843.2 kN): the faster mean speed outweighs the fluctuation
+    # under this load gives 15.02 rpm, and the driven press's floor force range is 0.07 % lower
+    # (842.6 kN against 843.2 kN): the fluctuation outweighs the faster mean speed
     nominal = mechdyn.load(EXAMPLES / "press_on_mounts.toml")
     a = periodic_response(driven.model, driven.settings.load).summary()
     b = periodic_response(nominal.model, nominal.settings.load).summary()
     assert nominal.settings.load.period == pytest.approx(4.0, rel=1e-12)
-    assert driven.settings.load.period == pytest.approx(3.98858, rel=1e-5)
-    assert a["transmitted_force_range_N"] / b["transmitted_force_range_N"] == pytest.approx(1.00254, abs=5e-4)
+    assert driven.settings.load.period == pytest.approx(3.99361, rel=1e-5)
+    assert a["transmitted_force_range_N"] / b["transmitted_force_range_N"] == pytest.approx(0.99934, abs=5e-4)
 
 
 # -- (c) the load is periodic in time, with the drive's period -------------------------------------
 def test_the_load_is_sampled_uniformly_in_time_over_the_drives_period(driven):
     e = driven.settings.excitation
     r, load = e.result, driven.settings.load
-    assert load.period == r.steady.period  # 3.98858 s, not the 4 s of 15 rpm
+    assert load.period == r.steady.period  # 3.99361 s, not the 4 s of 15 rpm
     assert load.frequency == pytest.approx(1 / r.steady.period, rel=1e-15)
     assert load.n_samples == e.angles
     assert load.angle is not None and load.angle[0] == pytest.approx(0.0, abs=1e-12)  # t = 0 at the datum
@@ -127,7 +127,7 @@ def test_the_load_is_sampled_uniformly_in_time_over_the_drives_period(driven):
 
 def test_the_support_run_reports_the_drive(driven):
     out = driven.settings.excitation_summary()
-    assert out["speed_fluctuation_ratio"] == pytest.approx(0.01909, abs=1e-4)
+    assert out["speed_fluctuation_ratio"] == pytest.approx(0.01918, abs=1e-4)
     assert out["period_s"] == driven.settings.load.period
     assert {"stroke_m", "shaking_force_max_N", "shaking_force_max_constant_speed_N"} <= set(out)
 

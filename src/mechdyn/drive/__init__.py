@@ -3,7 +3,8 @@ freedom, the speed fluctuation, the flywheel that holds it, the motor's torque a
 
 Reduce a mechanism to its crank (:func:`reduce_to_crank`: I(φ), I′(φ), Q(φ) from the assembled
 model), drive it (:class:`Drive` of an :class:`InductionMotor` or a :class:`TorqueSpeedCurve`, a gear
-ratio, a flywheel, a :class:`FormingForce`), and solve it: :func:`steady_state`, :func:`start_up`,
+ratio or a train of :class:`Stage` (belts, meshes, each with its efficiency and shaft inertia), a
+flywheel where it sits, a :class:`FormingForce`), and solve it: :func:`steady_state`, :func:`start_up`,
 :func:`size_flywheel`, or all together with the loads at the real speed, :func:`drive_analysis`. A
 ``type = "drive"`` model file runs as ``mechdyn drive FILE``.
 """
@@ -19,6 +20,7 @@ __all__ = attach(
         "InductionMotor": "motor",
         "ReducedMechanism": "inertia",
         "StallError": "forward",
+        "Stage": "train",
         "StartUp": "forward",
         "SteadyState": "forward",
         "TorqueSpeedCurve": "motor",

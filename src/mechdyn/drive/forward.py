@@ -2,21 +2,23 @@
 flywheel that holds the speed.
 
 The machine has one degree of freedom, the crank angle φ turned in the direction of rotation. With
-J(φ) = I(φ) + J_a (the mechanism's reduced inertia and the flywheel's and rotor's, reduced to the
-crank), Lagrange's equation is J φ̈ + ½ I′ φ̇² = T_c(φ̇) + Q(φ), T_c = η n T_m(n φ̇). Its energy form
-over the crank angle,
+J(φ) = I(φ) + J_a (the mechanism's reduced inertia and the train's, flywheel's and rotor's, reduced
+to the crank), the machine's kinetic energy K = ½ J φ̇² changes by the motor's power less the
+train's losses and the applied forces' power; over the crank angle,
 
-    dK/dφ = T_c(√(2K/J)) + Q(φ),   K = ½ J φ̇²,
+    dK/dφ = n T_m(n φ̇) − T_loss(φ, φ̇) + Q(φ),
 
-(Uicker, Pennock and Shigley, *Theory of Machines and Mechanisms*, 5th ed., §16 on flywheels; the
-equation of motion of a machine in its energy form, Harrison and Nettleton, *Advanced Engineering
-Dynamics*, ch. 7) is integrated by the classical fourth-order Runge–Kutta rule over the crank angles
-of the mechanism's kinematics (the midpoints of each step are samples too, so nothing is
-interpolated). The periodic steady state is the fixed point K(2π) = K(0) of one revolution, found by
-the secant method on K(0) (shooting). Runge–Kutta rules keep linear invariants, so the work of the
-motor, the work of the applied forces and the change of kinetic energy balance to round-off, step by
-step. The start-up from rest is integrated in time (``scipy.integrate.solve_ivp``, LSODA by default,
-which switches to a stiff method where needed).
+with T_loss the power the stages lose over φ̇, found with the crank acceleration at every sample
+from the torque each stage carries in the direction it carries it (:mod:`mechdyn.drive.train`; zero
+for a lossless train). This energy form (Uicker, Pennock and Shigley, *Theory of Machines and
+Mechanisms*, 5th ed., §16 on flywheels; the equation of motion of a machine in its energy form,
+Harrison and Nettleton, *Advanced Engineering Dynamics*, ch. 7) is integrated by the classical
+fourth-order Runge–Kutta rule over the crank angles of the mechanism's kinematics (the midpoints of
+each step are samples too, so nothing is interpolated). The periodic steady state is the fixed point
+K(2π) = K(0) of one revolution, found by the secant method on K(0) (shooting). Runge–Kutta rules
+keep linear invariants, so the work of the motor, the work of the applied forces and the change of
+kinetic energy balance to round-off, step by step. The start-up from rest is integrated in time
+(``scipy.integrate.solve_ivp``, LSODA by default, which switches to a stiff method where needed).
 """
 
 from __future__ import annotations
@@ -59,9 +61,13 @@ class SteadyState:
     period : float
         Time of one revolution, s.
     crank_torque : ndarray
-        (N,) the motor's torque at the crank, η n T_m, N·m.
+        (N,) the motor's torque reduced to the crank, n T_m, N·m (before the train's losses).
+    loss_torque : ndarray
+        (N,) the power the train's stages lose, over the crank speed, N·m (≥ 0).
     motor_work : float
         Work of the motor's shaft over the revolution, J.
+    loss_work : float
+        Work lost in the train's stages over the revolution, J.
     applied_work : float
         Work of the applied forces Q over the revolution (gravity and process), J (negative when they
         absorb energy).
@@ -70,7 +76,7 @@ class SteadyState:
     energy_change : float
         K(2π) − K(0), J (zero to the shooting tolerance).
     energy_residual : float
-        η W_motor + W_applied − ΔK, J: zero to round-off (the integrator's balance).
+        W_motor − W_losses + W_applied − ΔK, J: zero to round-off (the integrator's balance).
     shots : int
         Revolutions integrated by the shooting, a count.
     """
@@ -81,7 +87,9 @@ class SteadyState:
     time: np.ndarray
     period: float
     crank_torque: np.ndarray
+    loss_torque: np.ndarray
     motor_work: float
+    loss_work: float
     applied_work: float
     process_work: float
     energy_change: float
@@ -140,48 +148,77 @@ def _tables(drive: Any, reduced: Any) -> tuple[list[float], list[float], list[fl
     return J, reduced.inertia_slope.tolist(), reduced.force.tolist(), reduced.process_force.tolist()
 
 
-def _revolution(
-    torque: Callable[[float], float], J: list[float], Q: list[float], Qp: list[float], K0: float
-) -> tuple[list[float], list[float], float, float, float]:
-    """One revolution of dK/dφ = T(ω) + Q by RK4, steps over two samples (the midpoint is a sample).
+def _rate(drive: Any, reduced: Any) -> Callable[[int, float], tuple[float, float]]:
+    """The motor's torque reduced to the crank, N_0 T_m, and the train's loss torque at the crank, at
+    sample i with the kinetic energy K (both N·m): dK/dφ = N_0 T_m − loss + Q."""
+    J, Jp, Q, _ = _tables(drive, reduced)
+    Im = reduced.inertia.tolist()
+    motor, train = drive.motor, drive.train
+    N0 = drive.gear_ratio
+    if train.lossless:
 
-    Returns K and T at the step nodes, the crank work of the motor, the work of Q and of the process
-    forces, each weighted as the rule weighs them.
+        def lossless(i: int, K: float) -> tuple[float, float]:
+            return N0 * float(motor.torque(N0 * math.sqrt(2 * K / J[i]))), 0.0
+
+        return lossless
+
+    def lossy(i: int, K: float) -> tuple[float, float]:
+        u = 2 * K / J[i]
+        Tm = float(motor.torque(N0 * math.sqrt(u)))
+        return N0 * Tm, train.accelerate(Tm, Im[i], Q[i] - 0.5 * Jp[i] * u)[1]
+
+    return lossy
+
+
+def _revolution(
+    rate: Callable[[int, float], tuple[float, float]],
+    J: list[float],
+    Q: list[float],
+    Qp: list[float],
+    K0: float,
+) -> tuple[list[float], list[float], list[float], tuple[float, float, float, float]]:
+    """One revolution of dK/dφ = N_0 T_m − loss + Q by RK4, steps over two samples (the midpoint is a
+    sample).
+
+    Returns K, N_0 T_m and the loss torque at the step nodes, and the crank work of the motor, of the
+    train's losses, of Q and of the process forces, each weighted as the rule weighs them.
     """
     n2 = len(J)
     H = 4 * math.pi / n2
     K = K0
-    Ks, Ts = [], []
-    wT = wQ = wP = 0.0
+    Ks, Ts, Ls = [], [], []
+    wT = wL = wQ = wP = 0.0
     for i in range(0, n2, 2):
         j1, j2 = i + 1, (i + 2) % n2
         if K <= 0.0:
             raise StallError(f"the crank stops at {math.degrees(i * H / 2):.4g}° turned")
-        T1 = torque(math.sqrt(2 * K / J[i]))
-        k1 = T1 + Q[i]
+        T1, L1 = rate(i, K)
+        k1 = T1 - L1 + Q[i]
         Ka = K + 0.5 * H * k1
         if Ka <= 0.0:
             raise StallError(f"the crank stops at {math.degrees(i * H / 2):.4g}° turned")
-        T2 = torque(math.sqrt(2 * Ka / J[j1]))
-        k2 = T2 + Q[j1]
+        T2, L2 = rate(j1, Ka)
+        k2 = T2 - L2 + Q[j1]
         Kb = K + 0.5 * H * k2
         if Kb <= 0.0:
             raise StallError(f"the crank stops at {math.degrees(i * H / 2):.4g}° turned")
-        T3 = torque(math.sqrt(2 * Kb / J[j1]))
-        k3 = T3 + Q[j1]
+        T3, L3 = rate(j1, Kb)
+        k3 = T3 - L3 + Q[j1]
         Kc = K + H * k3
         if Kc <= 0.0:
             raise StallError(f"the crank stops at {math.degrees(i * H / 2):.4g}° turned")
-        T4 = torque(math.sqrt(2 * Kc / J[j2]))
-        k4 = T4 + Q[j2]
+        T4, L4 = rate(j2, Kc)
+        k4 = T4 - L4 + Q[j2]
         Ks.append(K)
         Ts.append(T1)
+        Ls.append(L1)
         K = K + H / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
         wT += H / 6 * (T1 + 2 * T2 + 2 * T3 + T4)
+        wL += H / 6 * (L1 + 2 * L2 + 2 * L3 + L4)
         wQ += H / 6 * (Q[i] + 4 * Q[j1] + Q[j2])
         wP += H / 6 * (Qp[i] + 4 * Qp[j1] + Qp[j2])
     Ks.append(K)
-    return Ks, Ts, wT, wQ, wP
+    return Ks, Ts, Ls, (wT, wL, wQ, wP)
 
 
 def operating_speed(drive: Any, reduced: Any) -> float:
@@ -243,9 +280,7 @@ def steady_state(drive: Any, reduced: Any) -> SteadyState:
     if len(J) % 2:
         raise ModelError("the reduced mechanism needs an even number of crank angles", element="drive")
 
-    def torque(w: float) -> float:
-        return float(drive.crank_torque(w))
-
+    torque = _rate(drive, reduced)
     w0 = operating_speed(drive, reduced)
     Ka = 0.5 * J[0] * w0 * w0
     ga = _revolution(torque, J, Q, Qp, Ka)[0][-1] - Ka
@@ -279,17 +314,16 @@ def steady_state(drive: Any, reduced: Any) -> SteadyState:
         shots += 1
         Ka, ga, Kb, run = Kb, gb, Kc, trial
         gb = run[0][-1] - Kb
-    Ks, Ts, wT, wQ, wP = run
+    Ks, Ts, Ls, (wT, wL, wQ, wP) = run
     K = np.array(Ks[:-1])
     Jn = np.array(J[::2])
     w = np.sqrt(2 * K / Jn)
-    T = np.array(Ts)
-    acc = (T + np.array(Q[::2]) - 0.5 * np.array(Jp[::2]) * w * w) / Jn
+    T, L = np.array(Ts), np.array(Ls)
+    acc = (T - L + np.array(Q[::2]) - 0.5 * np.array(Jp[::2]) * w * w) / Jn
     h = 4 * math.pi / len(J)
     inv = 1 / np.append(w, w[0])
     dt = 0.5 * h * (inv[1:] + inv[:-1])
     t = np.concatenate([[0.0], np.cumsum(dt)[:-1]])
-    eta = drive.efficiency
     dK = Ks[-1] - Ks[0]
     return SteadyState(
         turned=reduced.turned[::2],
@@ -298,11 +332,13 @@ def steady_state(drive: Any, reduced: Any) -> SteadyState:
         time=t,
         period=float(np.sum(dt)),
         crank_torque=T,
-        motor_work=wT / eta,
+        loss_torque=L,
+        motor_work=wT,
+        loss_work=wL,
         applied_work=wQ,
         process_work=wP,
         energy_change=dK,
-        energy_residual=wT + wQ - dK,
+        energy_residual=wT - wL + wQ - dK,
         shots=shots,
     )
 
@@ -394,12 +430,18 @@ def start_up(
     Qp_at = _periodic(reduced.process_force, h)
     ws_at = _periodic(steady.speed, 2 * math.pi / len(steady.speed))
     target = steady.mean_speed
+    train, N0, Ja = drive.train, drive.gear_ratio, drive.added_inertia
+    lossless = train.lossless
 
     def rhs(engaged: bool) -> Callable[[float, np.ndarray], list[float]]:
         def f(t: float, y: np.ndarray) -> list[float]:
             phi, w = float(y[0]), float(y[1])
             Q = Q_at(phi) if engaged else Q_at(phi) - Qp_at(phi)
-            return [w, (float(drive.crank_torque(w)) + Q - 0.5 * Jp_at(phi) * w * w) / J_at(phi)]
+            rest = Q - 0.5 * Jp_at(phi) * w * w
+            Tm = float(drive.motor.torque(N0 * w))
+            if lossless:
+                return [w, (N0 * Tm + rest) / J_at(phi)]
+            return [w, train.accelerate(Tm, J_at(phi) - Ja, rest)[0]]
 
         return f
 
@@ -512,7 +554,7 @@ def size_flywheel(drive: Any, reduced: Any, fluctuation: float, *, rtol: float =
     if delta(0.0) <= fluctuation:
         return 0.0
     # the energy estimate J ≈ ΔE / (δ ω²) on the flywheel's shaft, for the bracket
-    n = drive.gear_ratio if drive.flywheel_shaft == "motor" else 1.0
+    n = drive.flywheel_speed_ratio
     w = operating_speed(drive, reduced) * n
     swing = np.cumsum(reduced.constant_speed_torque(0.0) - np.mean(reduced.constant_speed_torque(0.0)))
     energy = float(np.ptp(swing)) * reduced.step + float(reduced.inertia.max()) * (w / n) ** 2

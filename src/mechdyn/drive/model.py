@@ -1,16 +1,19 @@
-"""The drive: a motor turning the mechanism's crank through a gear ratio, with a flywheel.
+"""The drive: a motor turning the mechanism's crank through a train of stages, with a flywheel.
 
-The motor shaft turns n times as fast as the crank (n the gear ratio, motor to crank); the gearing
-passes the motor's torque on with efficiency η (the crank gets η n T_m: losses proportional to the
-motor's torque, a constant-efficiency drive; the flywheel's own inertia torque passes without loss).
-The flywheel sits on the motor shaft (its inertia counts n² times at the crank) or on the crank
-shaft; the motor's rotor always counts n² times.
+The motor shaft turns n times as fast as the crank (n the overall ratio, motor to crank). The train is
+one stage of ratio n and efficiency η, or stages of their own (:class:`~mechdyn.drive.train.Stage`:
+belts and meshes, each with the inertia of the shaft it drives). Every stage passes the power that
+crosses it with its efficiency in the direction the power flows, the flywheel's included: a flywheel
+on the motor shaft gives its energy to the press through the same gears as the motor
+(:mod:`mechdyn.drive.train`). The flywheel sits on the motor shaft, on the shaft a stage drives, or on
+the crank shaft; its inertia counts N² times at the crank, N the speed of its shaft over the crank's.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -120,7 +123,7 @@ class FormingForce:
 
 @dataclass(frozen=True)
 class Drive:
-    """A mechanism driven by a motor through a gear ratio, with a flywheel.
+    """A mechanism driven by a motor through a train of stages, with a flywheel.
 
     Parameters
     ----------
@@ -130,33 +133,72 @@ class Drive:
     motor : TorqueSpeedCurve or InductionMotor
         Any object with ``torque(speed)`` (N·m at rad/s), ``rotor_inertia`` (kg·m²) and
         ``no_load_speed`` (rad/s).
-    gear_ratio : float
-        n, motor speed over crank speed, dimensionless, > 0.
+    gear_ratio : float, optional
+        n, motor speed over crank speed, dimensionless, > 0: one stage of efficiency ``efficiency``
+        (give it or ``stages``; with both, it must be the stages' product).
     flywheel_inertia : float or quantity
         kg·m², on the shaft ``flywheel_shaft`` names.
-    flywheel_shaft : {"motor", "crank"}
-        Where the flywheel sits.
-    efficiency : float
-        η of the gearing, dimensionless, in (0, 1].
+    flywheel_shaft : str
+        Where the flywheel sits: ``"motor"``, ``"crank"``, or the name of the stage that drives its
+        shaft.
+    efficiency : float, optional
+        η of a one-stage train, dimensionless, in (0, 1] (default 1; with ``stages``, their product).
     name : str
         The drive's name.
+    stages : tuple of Stage, optional
+        The train from the motor to the crank, in order, each with its ratio, efficiency and the
+        inertia of the shaft it drives.
     """
 
     mechanism: Any
     motor: Any
-    gear_ratio: float
+    gear_ratio: Any = None
     flywheel_inertia: Any = 0.0
     flywheel_shaft: str = "motor"
-    efficiency: float = 1.0
+    efficiency: Any = None
     name: str = "drive"
+    stages: tuple[Any, ...] = ()
 
     def __post_init__(self) -> None:
-        n = si_field(self.name, "gear_ratio", self.gear_ratio, "", positive=True)
-        eta = si_field(self.name, "efficiency", self.efficiency, "", low=0.0, high=1.0, low_open=True)
+        from mechdyn.drive.train import Stage
+
+        stages = tuple(self.stages)
+        if not stages:
+            if self.gear_ratio is None:
+                raise ModelError(
+                    "give the gear ratio (motor speed over crank speed) or the stages of the train",
+                    element=self.name,
+                    field="gear_ratio",
+                )
+            eta = 1.0 if self.efficiency is None else self.efficiency
+            stages = (Stage(self.gear_ratio, eta, 0.0, f"{self.name} gearing"),)
+        for k, s in enumerate(stages):
+            if not isinstance(s, Stage):
+                raise ModelError(
+                    f"stage {k + 1} is {s!r}; give mechdyn.drive.Stage(ratio, efficiency, inertia, name)",
+                    element=self.name,
+                    field="stages",
+                )
+        n = math.prod(s.ratio for s in stages)
+        eta = math.prod(s.efficiency for s in stages)
+        for field, given, product in (
+            ("gear_ratio", self.gear_ratio, n),
+            ("efficiency", self.efficiency, eta),
+        ):
+            if self.stages and given is not None:
+                value = si_field(self.name, field, given, "")
+                if not math.isclose(value, product, rel_tol=1e-12):
+                    raise ModelError(
+                        f"{value:.6g} differs from the stages' product {product:.6g}; leave it out",
+                        element=self.name,
+                        field=field,
+                    )
         J = si_field(self.name, "flywheel_inertia", self.flywheel_inertia, "kg*m^2", nonnegative=True)
-        if self.flywheel_shaft not in ("motor", "crank"):
+        names = [s.name for s in stages]
+        if self.flywheel_shaft not in ("motor", "crank", *names[:-1]):
+            choices = ", ".join(repr(x) for x in ("motor", *names[:-1], "crank"))
             raise ModelError(
-                f"{self.flywheel_shaft!r} must be 'motor' or 'crank'",
+                f"{self.flywheel_shaft!r} names no shaft of the train; give one of {choices}",
                 element=self.name,
                 field="flywheel_shaft",
             )
@@ -170,17 +212,41 @@ class Drive:
         object.__setattr__(self, "gear_ratio", n)
         object.__setattr__(self, "efficiency", eta)
         object.__setattr__(self, "flywheel_inertia", J)
+        object.__setattr__(self, "stages", stages)
+
+    @property
+    def flywheel_shaft_index(self) -> int:
+        """The flywheel's shaft: 0 the motor's, k the one stage k drives, len(stages) the crank's."""
+        if self.flywheel_shaft == "motor":
+            return 0
+        if self.flywheel_shaft == "crank":
+            return len(self.stages)
+        return [s.name for s in self.stages].index(self.flywheel_shaft) + 1
+
+    @property
+    def flywheel_speed_ratio(self) -> float:
+        """N, the flywheel shaft's speed over the crank's, dimensionless."""
+        return math.prod(s.ratio for s in self.stages[self.flywheel_shaft_index :])
+
+    @cached_property
+    def train(self) -> Any:
+        """The train's shafts with the rotor, the stages' inertias and the flywheel where they sit
+        (:class:`~mechdyn.drive.train.Train`)."""
+        from mechdyn.drive.train import build_train
+
+        return build_train(
+            self.motor.rotor_inertia, self.stages, self.flywheel_inertia, self.flywheel_shaft_index
+        )
 
     @property
     def added_inertia(self) -> float:
-        """Inertia of the flywheel and the motor's rotor reduced to the crank, kg·m² (n² on the motor
-        shaft, 1 on the crank)."""
-        n2 = self.gear_ratio**2
-        fly = self.flywheel_inertia * (n2 if self.flywheel_shaft == "motor" else 1.0)
-        return fly + self.motor.rotor_inertia * n2
+        """Inertia of the flywheel, the motor's rotor and the train reduced to the crank, Σ N_k² J_k,
+        kg·m² (their kinetic energy is ½ J φ̇²)."""
+        return self.train.reduced_inertia
 
     def crank_torque(self, speed: Any) -> Any:
-        """The motor's torque at the crank, η n T_m(n φ̇), N·m (in the direction of rotation).
+        """The motor's torque at the crank at a steady speed, η n T_m(n φ̇), N·m (in the direction of
+        rotation; η the train's overall efficiency with the power flowing to the crank).
 
         Parameters
         ----------
@@ -200,4 +266,4 @@ class Drive:
         inertia : float or quantity
             kg·m², on the same shaft.
         """
-        return replace(self, flywheel_inertia=inertia)
+        return replace(self, flywheel_inertia=inertia, gear_ratio=None, efficiency=None)

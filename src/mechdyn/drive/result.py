@@ -133,8 +133,10 @@ class DriveResult(Result):
     @property
     def mechanism_torque(self) -> np.ndarray:
         """(N,) torque the drive puts into the mechanism's crank, N·m in the direction of rotation:
-        the motor's at the crank less the flywheel's and rotor's inertia torque, η n T_m − J_a φ̈."""
-        return self.steady.crank_torque - self.drive.added_inertia * self.steady.acceleration
+        the motor's at the crank less the train's losses and the flywheel's, rotor's and train's
+        inertia torque, n T_m − T_loss − J_a φ̈."""
+        st = self.steady
+        return st.crank_torque - st.loss_torque - self.drive.added_inertia * st.acceleration
 
     @property
     def loads_torque(self) -> np.ndarray:
@@ -187,7 +189,7 @@ class DriveResult(Result):
         out |= {
             "process_energy_per_stroke_J": -st.process_work,
             "motor_energy_per_stroke_J": W,
-            "gear_losses_per_stroke_J": (1 - d.efficiency) * W,
+            "gear_losses_per_stroke_J": st.loss_work,
             "energy_balance_residual_relative": abs(st.energy_residual) / max(abs(W), 1e-300),
             "periodicity_residual_relative": abs(st.energy_change) / max(abs(W), 1e-300),
             "gear_ratio": d.gear_ratio,
@@ -390,4 +392,30 @@ def drive_analysis(
         )
     )
     run_up = start_up(drive, reduced, steady, method=startup_method) if startup else None
-    return DriveResult(drive, reduced, steady, run_up, loads, constant, order, target_fluctuation, sized)
+    result = DriveResult(drive, reduced, steady, run_up, loads, constant, order, target_fluctuation, sized)
+    _warn_duty(result.summary())
+    return result
+
+
+def _warn_duty(summary: dict[str, Any]) -> None:
+    """Warn where the motor runs above its continuous rating (S1 duty, IEC 60034-1: the RMS torque
+    over the cycle is what heats it) or reaches its pull-out torque at the peak."""
+    import warnings
+
+    from mechdyn.errors import ModelWarning
+
+    rms = summary.get("motor_torque_rms_to_rated_ratio")
+    if rms is not None and rms > 1.0:
+        warnings.warn(
+            f"the motor's RMS torque is {rms:.4g} times its rated torque: above its continuous (S1) "
+            "rating it overheats; choose a larger motor, a larger flywheel, or check the train's losses",
+            ModelWarning,
+            stacklevel=3,
+        )
+    peak = summary.get("motor_torque_peak_to_pullout_ratio")
+    if peak is not None and peak > 0.9:
+        warnings.warn(
+            f"the motor's peak torque is {peak:.3g} of its pull-out torque: a little more load stalls it",
+            ModelWarning,
+            stacklevel=3,
+        )

@@ -1,11 +1,13 @@
 """The drive model file: ``[model] type = "drive"``.
 
 ``[mechanism]`` names a mechanism model file (relative to this one); ``[motor]`` is an induction
-motor from its rating (``type = "induction"``: power, synchronous and rated speed, pull-out ratio) or
-a torque–speed curve (``type = "curve"``); ``[transmission]`` the gear ratio motor to crank and its
-efficiency; ``[flywheel]`` its inertia and shaft (and, optionally, the speed fluctuation to size it
-for); ``[process]`` a forming force over the last part of the stroke before bottom dead centre;
-``[analysis]`` the crank angles and the start-up. See ``examples/press_driven.toml``.
+motor from its rating (``type = "induction"``: power, synchronous and rated speed, pull-out ratio)
+or a torque–speed curve (``type = "curve"``); ``[transmission]`` the gear ratio motor to crank and
+its efficiency, or its ``[[transmission.stages]]`` (belts and meshes, each with its ratio,
+efficiency and the inertia of the shaft it drives); ``[flywheel]`` its inertia and shaft (and,
+optionally, the speed fluctuation to size it for); ``[process]`` a forming force over the last part
+of the stroke before bottom dead centre; ``[analysis]`` the crank angles and the start-up. See
+``examples/press_driven.toml``.
 """
 
 from __future__ import annotations
@@ -95,18 +97,54 @@ class MotorTable(FileModel):
         return self
 
 
-class TransmissionTable(FileModel):
+class StageTable(FileModel):
+    name: str
+    """The stage's name (e.g. "belt", "first mesh"); a flywheel on the shaft it drives says
+    ``shaft = "belt"``."""
     ratio: Dimensionless = Field(gt=0.0)
-    """Gear ratio n, motor speed over crank speed (e.g. 98)."""
+    """Its input speed over its output speed (e.g. 4.5 for a belt from the motor)."""
     efficiency: Dimensionless = Field(default=1.0, gt=0.0, le=1.0)
-    """Efficiency η of the gearing, in (0, 1]: the crank gets η n T_motor."""
+    """Efficiency η of the power crossing it, in (0, 1], in whichever direction it flows."""
+    inertia: Inertia = Field(default=0.0, ge=0.0)
+    """Moment of inertia on the shaft it drives (its wheel or pulley and the shaft)."""
+
+
+class TransmissionTable(FileModel):
+    ratio: Dimensionless | None = Field(default=None, gt=0.0)
+    """Gear ratio n, motor speed over crank speed (e.g. 98): one stage (or give ``stages``)."""
+    efficiency: Dimensionless | None = Field(default=None, gt=0.0, le=1.0)
+    """Efficiency η of that one stage, in (0, 1] (default 1): it passes the power crossing it, the
+    flywheel's included, with η in the direction the power flows."""
+    stages: list[StageTable] | None = None
+    """The train from the motor to the crank in order, each ``{name, ratio, efficiency, inertia}``
+    (``[[transmission.stages]]``), instead of ``ratio`` and ``efficiency``."""
+
+    @model_validator(mode="after")
+    def _one_form(self) -> TransmissionTable:
+        if self.stages is not None:
+            given = [k for k in ("ratio", "efficiency") if getattr(self, k) is not None]
+            if given:
+                raise ValueError(
+                    f"give {' and '.join(given)} of each stage in [[transmission.stages]], or one ratio "
+                    "and efficiency without stages, not both"
+                )
+            if not self.stages:
+                raise ValueError("stages is empty; give one [[transmission.stages]] or more")
+            names = [s.name for s in self.stages]
+            twice = sorted({n for n in names if names.count(n) > 1})
+            if twice:
+                raise ValueError(f"stage names must differ; {', '.join(map(repr, twice))} given twice")
+        elif self.ratio is None:
+            raise ValueError("give the gear ratio (e.g. ratio = 99) or the [[transmission.stages]]")
+        return self
 
 
 class FlywheelTable(FileModel):
     inertia: Inertia = Field(default=0.0, ge=0.0)
     """The flywheel's moment of inertia."""
-    shaft: Literal["motor", "crank"] = "motor"
-    """Where it sits: on the motor shaft (it counts n² times at the crank) or on the crank."""
+    shaft: str = "motor"
+    """Where it sits: ``"motor"`` (it counts n² times at the crank), ``"crank"``, or the name of the
+    stage whose driven shaft carries it."""
     target_fluctuation: Dimensionless | None = Field(default=None, gt=0.0, lt=1.0)
     """Also size the flywheel for this coefficient of speed fluctuation δ = (ω_max − ω_min)/ω_mean,
     reported beside the results of the flywheel given."""
@@ -178,6 +216,7 @@ def build(source: ModelSource) -> DriveSpec:
     """
     from mechdyn.drive.model import Drive, FormingForce
     from mechdyn.drive.motor import InductionMotor, TorqueSpeedCurve
+    from mechdyn.drive.train import Stage
     from mechdyn.mechanism.schema import MechanismSpec
 
     f = validate(DriveFile, source)
@@ -213,14 +252,27 @@ def build(source: ModelSource) -> DriveSpec:
         p = f.process
         with field_context(source, "[process]"):
             mechanism = FormingForce(p.force, p.before_bdc, p.rise).on(mechanism, 2 * f.analysis.n_angles)
+    t = f.transmission
+    stages = tuple(Stage(s.ratio, s.efficiency, s.inertia, s.name) for s in t.stages or ())
+    shafts = ("motor", *(s.name for s in stages[:-1]), "crank")
+    if f.flywheel.shaft not in shafts:
+        raise ModelFileError(
+            source.path,
+            "[flywheel] → shaft",
+            f"{f.flywheel.shaft!r} names no shaft of the train; give one of "
+            + ", ".join(repr(x) for x in shafts)
+            + " (a stage's name is the shaft it drives; the last stage drives the crank)",
+            f.flywheel.shaft,
+        )
     with field_context(source, "[transmission]"):
         drive = Drive(
             mechanism,
             motor,
-            f.transmission.ratio,
+            t.ratio,
             f.flywheel.inertia,
             f.flywheel.shaft,
-            f.transmission.efficiency,
+            t.efficiency,
             f.model.name,
+            stages,
         )
     return DriveSpec(drive, f.analysis, f.flywheel.target_fluctuation, str(msource.path))

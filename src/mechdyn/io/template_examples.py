@@ -518,6 +518,8 @@ _DRIVE = TemplateExample(
         "model": {"source": "the motor's catalogue"},
         "motor": {"curve": [["0 rpm", "2.5 N*m"], ["1380 rpm", "1.25 N*m"], ["1500 rpm", "0 N*m"]]},
         "flywheel": {"target_fluctuation": 0.05},
+        "transmission": {"efficiency": 0.9},
+        "transmission.stages": {"name": "belt", "ratio": 3.0, "efficiency": 0.96, "inertia": "0.5 kg*m^2"},
         "process": {"force": "200 N", "before_bdc": "20 mm", "rise": "2 mm"},
     },
     notes={
