@@ -151,7 +151,7 @@ def test_commented_out_fields_show_their_default_in_units_a_reader_knows():
     text = template("drivetrain")
     assert '# pressure_angle = "20 deg"' in text  # the schema holds 0.349… rad
     assert '# youngs_modulus = "206 GPa"' in text
-    assert "(quantity in kg·m²; optional, no default)" in text
+    assert "(quantity in kg·m², > 0; optional, no default)" in text  # a disk's inertia, with its bound
     assert "(array of 2 × quantity in rad/s; required)" in text
 
 

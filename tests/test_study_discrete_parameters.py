@@ -355,14 +355,15 @@ def test_the_batch_groups_variants_by_their_whole_numbers_and_equals_one_by_one(
             'path = "mounts.right.mount.pad.material"\nlevels = ["rubber shore 90"]',
             "oat",
             r"study\.toml: \[\[parameters\]\] #1 \(path = 'mounts\.right\.mount\.pad\.material'\): level "
-            r"'rubber shore 90' of .* is not a material the model accepts \(did you mean .*\); the choices: "
+            r"'rubber shore 90' of .* is not a rubber the model accepts \(did you mean .*\); the choices: "
             r'.*"rubber shore 75"',
         ),
         (
             'path = "mounts.right.mount.pad.material"\nrange = "±10 %"',
             "oat",
-            r"#1 .*is a material \(\"rubber shore 60\" in the model\), not a quantity: it takes levels, "
-            r'not a range; give levels = \["steel", "steel S235"\] \(studies of kind .*oat.*factorial',
+            r"#1 .*is a rubber \(\"rubber shore 60\" in the model\), not a quantity: it takes levels, "
+            r'not a range; give levels = \["rubber shore 30", "rubber shore 35"\] '
+            r"\(studies of kind .*oat.*factorial",
         ),
         (
             'path = "mounts.right.mount.pad.material"\nlevels = ["rubber shore 40"]',
@@ -483,7 +484,9 @@ def test_paths_list_whole_numbers_and_choices_with_their_values_and_choices(tmp_
     assert "analysis.start_up_cycles = 1  # a whole number" in lines
     assert 'analysis.dofs = "planar"  # one of "planar", "spatial"' in lines
     (material,) = [x for x in lines if x.startswith("mounts.right.mount.pad.material = ")]
-    assert re.match(r'.* = "rubber shore 60"  # a material: "steel", .*"rubber shore 75"$', material)
+    # a pad's material is an elastomer: its choices are the rubbers, not the steels and concretes
+    assert re.match(r'.* = "rubber shore 60"  # a rubber: "rubber shore 30", .*"rubber shore 75"$', material)
+    assert "steel" not in material
     (star,) = [x for x in lines if x.startswith("mounts.*.mount = ")]
     assert star.startswith("mounts.*.mount = (differs by row)  # a mount model file; beside it: ")
     assert '"pad_a.toml"' in star and '"pad_b.toml"' in star and "machine.toml" not in star

@@ -48,7 +48,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 bad input)."""
+    """Run the command line; returns the exit status (0 ok, 2 bad input, 1 a study none of whose
+    variants but the base design could be evaluated)."""
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args))

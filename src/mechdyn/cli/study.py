@@ -42,17 +42,25 @@ def _run(args: argparse.Namespace) -> int:
         progress = not args.json and sys.stderr.isatty()
         results = run_studies(studies, store, dask=args.dask, progress=progress)
         where, label = store.where, store.label
+    # a study none of whose variants (but the base design) could be evaluated shows nothing: no plots,
+    # no report, no kind's tables (an output's "range" would be the base design's value alone); its
+    # variants stay stored with their errors, and the command says why they failed and exits with 1
+    empty = [r for r in results if r.every_variant_failed]
     plot_files = []
     for result in results:
+        if result.every_variant_failed:
+            continue
         if args.plots:
             from mechdyn.plotting import save_figures
 
             prefix = "" if len(results) == 1 else _safe(result.study.name) + "_"
             plot_files += [str(p) for p in save_figures(result, args.plots, prefix=prefix)]
-    if args.report:
+    if args.report and len(empty) < len(results):
         from mechdyn.reports.html import study_report, write
 
         for result in results:
+            if result.every_variant_failed:
+                continue
             target = Path(args.report)
             if len(results) > 1:
                 target = target.with_name(f"{target.stem}_{_safe(result.study.name)}{target.suffix}")
@@ -81,13 +89,13 @@ def _run(args: argparse.Namespace) -> int:
                 "studies": [r.summary() for r in results],
             }
         print(json.dumps(jsonable({**doc, "plots": plot_files}), indent=2))
-        return 0
+        return _failed(args.file, empty)
     from mechdyn.cli.common import print_table
 
     for result in results:
         study = result.study
         print(f"study {study.name!r}: {study.kind} of {study.analysis} on {study.source.path}")
-        for t in result.tables():
+        for t in result.count_tables() if result.every_variant_failed else result.tables():
             print_table(t)
     if len(results) > 1:
         print_table(_boxes_table(results))
@@ -96,7 +104,19 @@ def _run(args: argparse.Namespace) -> int:
     shown = where.removeprefix("sqlite:///")
     names = ", ".join(repr(r.study.name) for r in results)
     print(f"stored in {shown}  (mechdyn results list --study NAME; {names})")
-    return 0
+    return _failed(args.file, empty)
+
+
+def _failed(path: str, empty: list) -> int:
+    """1, with the reasons on standard error, when a study's variants all failed (but the base
+    design): it found nothing; else 0."""
+    for r in empty:
+        print(
+            f"error: {path}: study {r.study.name!r}: {r.failure_line()}; nothing to show. Its variants are "
+            f"stored with their errors (mechdyn results list --study {r.study.name!r} shows each)",
+            file=sys.stderr,
+        )
+    return 1 if empty else 0
 
 
 def _boxes_table(results: list) -> Any:

@@ -37,6 +37,7 @@ from mechdyn.gears.schema import MaterialTable as GearMaterialTable
 from mechdyn.io.fields import (
     Angle,
     AngularSpeed,
+    Check,
     Density,
     Dimensionless,
     FileModel,
@@ -71,6 +72,8 @@ __all__ = [
 
 # an excitation order: cycles per revolution, a positive finite number
 Order = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+# a base-circle radius, positive as the mesh requires (checked with the file's other problems)
+BaseRadius = Annotated[Length, Check("m", positive=True, what="base radius")]
 
 
 class ModelTable(ModelTableBase):
@@ -81,24 +84,24 @@ class ModelTable(ModelTableBase):
 
 
 class MaterialTable(FileModel):
-    density: Density | None = None
+    density: Annotated[Density, Check("kg/m^3", positive=True)] | None = None
     """Density of the disks given by their geometry (a disk's own ``density`` overrides it)."""
-    shear_modulus: Pressure | None = None
+    shear_modulus: Annotated[Pressure, Check("Pa", positive=True)] | None = None
     """Shear modulus G of the shafts given by their geometry (a shaft's own overrides it)."""
 
 
 class DiskTable(FileModel):
     name: str
     """The disk's name, unique in the file; shafts, meshes and outputs refer to it."""
-    inertia: Inertia | None = None
+    inertia: Annotated[Inertia, Check("kg*m^2", positive=True)] | None = None
     """Polar moment of inertia J about the shaft axis. Give it, or ``thickness`` and ``outer_diameter``."""
-    thickness: Length | None = None
+    thickness: Annotated[Length, Check("m", positive=True)] | None = None
     """Axial thickness h of a disk given by its geometry: J = ρ h π (D_o⁴ − D_i⁴)/32."""
-    outer_diameter: Length | None = None
+    outer_diameter: Annotated[Length, Check("m", positive=True)] | None = None
     """Outer diameter D_o of a disk given by its geometry."""
-    inner_diameter: Length = 0.0
+    inner_diameter: Annotated[Length, Check("m", nonnegative=True)] = 0.0
     """Bore diameter D_i of a disk given by its geometry."""
-    density: Density | None = None
+    density: Annotated[Density, Check("kg/m^3", positive=True)] | None = None
     """Density ρ of this disk (default: ``[material] density``)."""
 
     @model_validator(mode="after")
@@ -118,22 +121,22 @@ class ShaftTable(FileModel):
     """The shaft's name, unique among the elements; used in tables, plots and messages."""
     disks: tuple[str, str]
     """The two disks the shaft connects, by name."""
-    stiffness: TorsionalStiffness | None = None
+    stiffness: Annotated[TorsionalStiffness, Check("N*m/rad", positive=True)] | None = None
     """Torsional stiffness k. Give it, or ``length`` and ``diameter`` (k = G π (d⁴ − d_i⁴)/(32 l))."""
-    length: Length | None = None
+    length: Annotated[Length, Check("m", positive=True)] | None = None
     """Length l of a shaft given by its geometry."""
-    diameter: Length | None = None
+    diameter: Annotated[Length, Check("m", positive=True)] | None = None
     """Outer diameter d of a shaft given by its geometry."""
-    inner_diameter: Length = 0.0
+    inner_diameter: Annotated[Length, Check("m", nonnegative=True)] = 0.0
     """Bore d_i of a hollow shaft given by its geometry."""
-    shear_modulus: Pressure | None = None
+    shear_modulus: Annotated[Pressure, Check("Pa", positive=True)] | None = None
     """Shear modulus G of this shaft (default: ``[material] shear_modulus``)."""
-    damping: TorsionalDamping = 0.0
+    damping: Annotated[TorsionalDamping, Check("N*m*s/rad", nonnegative=True)] = 0.0
     """Viscous torsional damping between the two disks."""
-    density: Density | None = None
+    density: Annotated[Density, Check("kg/m^3", positive=True)] | None = None
     """Density ρ of a shaft given by its geometry: the shaft then carries its own inertia ρ J_p l (only this
     field does; ``[material] density`` is for the disks). Leave both out for a massless shaft."""
-    inertia: Inertia | None = None
+    inertia: Annotated[Inertia, Check("kg*m^2", nonnegative=True)] | None = None
     """The whole shaft's own polar mass moment of inertia ρ J_p l, given directly (instead of ``density``)."""
     mass_model: Literal["consistent", "lumped"] = "consistent"
     """How the shaft's inertia enters the mass matrix: ``consistent`` (J/6 [[2, 1], [1, 2]]) or ``lumped``
@@ -225,12 +228,12 @@ class MeshTable(FileModel):
     """Tooth numbers [z_a, z_b]: they set the rigid ratio z_b/z_a and the Campbell diagram's mesh orders."""
     ratio: Dimensionless | None = None
     """Speed ratio n = |θ_a/θ_b| when the teeth are not known (instead of ``teeth``)."""
-    base_radii: tuple[Length, Length] | None = None
+    base_radii: tuple[BaseRadius, BaseRadius] | None = None
     """Base-circle radii [r_a, r_b]; the flexible mesh acts along the line of action at these radii. A warning
     says when they disagree with the teeth or ratio by more than 0.5 %."""
-    stiffness: LinearStiffness | None = None
+    stiffness: Annotated[LinearStiffness, Check("N/m", positive=True)] | None = None
     """Mesh stiffness k_c along the line of action; leave it out for a rigid mesh (a constraint)."""
-    damping: LinearDamping = 0.0
+    damping: Annotated[LinearDamping, Check("N*s/m", nonnegative=True)] = 0.0
     """Viscous mesh damping along the line of action."""
     gear_pair: str | None = None
     """The name of a ``[[gear_pairs]]`` row: the mesh then takes its teeth, base radii and mean mesh stiffness
@@ -543,7 +546,7 @@ class GroundSpringTable(FileModel):
     """The spring's name, unique among the elements."""
     disk: str
     """The disk it ties to the frame (a motor, a brake, a clamp)."""
-    stiffness: TorsionalStiffness
+    stiffness: Annotated[TorsionalStiffness, Check("N*m/rad", positive=True)]
     """Torsional stiffness between the disk and the frame."""
 
 
@@ -552,7 +555,7 @@ class GroundDamperTable(FileModel):
     """The damper's name, unique among the elements."""
     disk: str
     """The disk it ties to the frame."""
-    damping: TorsionalDamping
+    damping: Annotated[TorsionalDamping, Check("N*m*s/rad", positive=True)]
     """Viscous torsional damping between the disk and the frame."""
 
 
@@ -1059,7 +1062,7 @@ def _dynamics(
                     source.path,
                     f"{where} → phase",
                     "a clocking phase shifts the mesh's stiffness cycle and transmission error, and this "
-                    "mesh has neither; give stiffness_variation (e.g. \"gears\") or a transmission_error, "
+                    'mesh has neither; give stiffness_variation (e.g. "gears") or a transmission_error, '
                     "or remove phase",
                     m.phase,
                 )

@@ -17,6 +17,7 @@ __all__ = [
     "Angle",
     "AngularSpeed",
     "Area",
+    "Check",
     "Density",
     "Dimensionless",
     "FileModel",
@@ -96,6 +97,114 @@ def within_limits(value: Any, si: float, unit: str) -> float:
             "check the number and its unit"
         )
     return si
+
+
+@dataclass(frozen=True)
+class Check:
+    """A field's value check, made as the file is validated: the Python API's own check
+    (:func:`mechdyn.checks.check_number`, the same bounds and the same words), so that a value out of
+    range is listed with every other problem of the file (a negative inertia beside a wrong unit)
+    instead of being found by the builder once the others are fixed.
+
+    Metadata of a field's type, with the unit the field holds: ``Annotated[Inertia, Check("kg*m^2",
+    positive=True)]``. A study reads it to refuse a range that leaves what the file accepts
+    (:meth:`problem`), and the model-file reference shows its bounds (:attr:`gt`, :attr:`ge`,
+    :attr:`lt`, :attr:`le`).
+
+    Attributes
+    ----------
+    unit : str
+        The SI unit the field holds (``""``: a dimensionless number).
+    positive, nonnegative : bool
+        The value must be positive (and at least :data:`mechdyn.checks.SMALLEST_POSITIVE` of its
+        unit) / must not be negative.
+    low, high : float, optional
+        Bounds in ``unit``, closed unless ``low_open`` / ``high_open``.
+    low_open, high_open : bool
+    what : str, optional
+        The value in words, for the message (default: the field's name).
+    fix : str
+        A sentence added to the message: what else to give.
+    """
+
+    unit: str = ""
+    positive: bool = False
+    nonnegative: bool = False
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    what: str | None = None
+    fix: str = ""
+
+    @property
+    def gt(self) -> float | None:
+        """The open lower bound, as the model-file reference shows limits."""
+        if self.low is not None:
+            return self.low if self.low_open else None
+        return 0 if self.positive else None
+
+    @property
+    def ge(self) -> float | None:
+        """The closed lower bound."""
+        if self.low is not None:
+            return None if self.low_open else self.low
+        return 0 if self.nonnegative and not self.positive else None
+
+    @property
+    def lt(self) -> float | None:
+        """The open upper bound."""
+        return self.high if self.high is not None and self.high_open else None
+
+    @property
+    def le(self) -> float | None:
+        """The closed upper bound."""
+        return self.high if self.high is not None and not self.high_open else None
+
+    def problem(self, value: float, field: str) -> str | None:
+        """What is wrong with ``value`` (in :attr:`unit`) for ``field``, with what it accepts; None
+        when it passes.
+
+        Parameters
+        ----------
+        value : float
+            The value, SI.
+        field : str
+            The field's name, for the message.
+        """
+        from mechdyn.checks import check_number
+        from mechdyn.errors import ModelError
+
+        try:
+            check_number(
+                "",  # an element: the message shows the value alone, the location names the field
+                field,
+                value,
+                self.unit,
+                low=self.low,
+                high=self.high,
+                low_open=self.low_open,
+                high_open=self.high_open,
+                positive=self.positive,
+                nonnegative=self.nonnegative,
+                what=self.what,
+            )
+        except ModelError as exc:
+            return exc.detail + (f"; {self.fix}" if self.fix else "")
+        return None
+
+    def __get_pydantic_core_schema__(self, source: Any, handler: Any) -> Any:
+        from pydantic_core import PydanticCustomError, core_schema
+
+        def check(value: Any, info: Any) -> Any:
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                problem = self.problem(float(value), info.field_name or "value")
+                if problem is not None:
+                    # the type io.modelfile shows as it is: the message names the value itself
+                    raise PydanticCustomError("value_check", "{problem}", {"problem": problem})
+            return value
+
+        return core_schema.with_info_after_validator_function(check, handler(source))
 
 
 class FileModel(BaseModel):

@@ -382,6 +382,8 @@ def _error_message(err: Mapping[str, Any], model: type[BaseModel] | None) -> str
         return f"unknown field {field!r}{hint}"
     if kind == "missing":
         return "required field is missing"
+    if kind == "value_check":  # a field's value check (io.fields.Check): it names the value itself
+        return msg
     msg = msg.removeprefix("Value error, ")
     if value is None or isinstance(value, (dict, list)) or repr(value) in msg:
         return msg

@@ -21,6 +21,8 @@ from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 from pydantic_core import PydanticUndefined
 
+from mechdyn.io.fields import Check
+
 __all__ = [
     "MARKDOWN_FOLDER",
     "FieldRow",
@@ -150,7 +152,9 @@ def _type(annotation: Any, extra: list[Any] | None = None) -> str:
 def _limits(field: FieldInfo) -> str:
     words = {"ge": "≥", "gt": ">", "le": "≤", "lt": "<", "min_length": "at least", "max_length": "at most"}
     out = []
-    for m in field.metadata:
+    # the field's own metadata, and that of an optional value's type (``Annotated[...] | None``)
+    optional = [m for a in _union(field.annotation) or [] for m in _unwrap(a)[1] if isinstance(m, Check)]
+    for m in [*field.metadata, *optional]:
         for attr, word in words.items():
             value = getattr(m, attr, None)
             if value is not None:

@@ -42,7 +42,9 @@ class ElastomerPad:
     ----------
     name : str
     material : Material
-        A rubber (E, G, B and the compression coefficient k), e.g. ``default_materials().rubber(60)``.
+        A rubber (E, G, B and the compression coefficient k), e.g. ``default_materials().rubber(60)``:
+        a material of kind ``"rubber"`` (steel or concrete is refused: the shape-factor law is
+        rubber's).
     thickness : float or quantity
         h, m, from 1e-9 to 1e3 m.
     length, width : float or quantity, optional
@@ -62,6 +64,16 @@ class ElastomerPad:
     compression_coefficient: float | None = None
 
     def __post_init__(self) -> None:
+        kind = getattr(self.material, "kind", None)
+        if kind != "rubber":
+            shown = getattr(self.material, "name", self.material)
+            raise ModelError(
+                f"{shown!r} is of kind {kind!r}, not an elastomer: a bonded pad's stiffness follows rubber's "
+                "shape-factor law; give a rubber, e.g. default_materials().rubber(60) or a Material of "
+                "kind 'rubber' (default_materials().names('rubber') lists the shipped ones)",
+                element=self.name,
+                field="material",
+            )
         for f in ("thickness", "length", "width", "diameter"):
             v = getattr(self, f)
             if v is None:

@@ -19,9 +19,11 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, model_validator
 
+from mechdyn.errors import ModelError
 from mechdyn.io.fields import (
     Angle,
     Area,
+    Check,
     FileModel,
     Force,
     Frequency,
@@ -53,20 +55,37 @@ class MaterialsTable(FileModel):
     shipped ones."""
 
 
+# the hardnesses of Lindley's table (the shipped rubbers), between which a pad's rubber is interpolated
+SHORE_A_TABLE = (30.0, 75.0)
+ShoreA = Annotated[
+    float,
+    Check(
+        "",
+        low=SHORE_A_TABLE[0],
+        high=SHORE_A_TABLE[1],
+        what="Shore A hardness",
+        fix="the rubber's moduli are interpolated in Lindley's table, which spans no more; for another "
+        "rubber give material = its name (a [materials] file adds one)",
+    ),
+]
+PadLength = Annotated[Length, Check("m", positive=True)]
+
+
 class PadTable(FileModel):
     material: str | None = None
-    """The rubber by name from the materials database (instead of ``shore_a``)."""
-    shore_a: float | None = None
+    """The rubber by name from the materials database (instead of ``shore_a``): an elastomer (a material
+    of kind ``rubber``)."""
+    shore_a: ShoreA | None = None
     """The rubber by Shore A hardness (30–75), its E, G, k and B interpolated from Lindley's table."""
-    thickness: Length
+    thickness: PadLength
     """Pad thickness h between its bonded faces."""
-    length: Length | None = None
+    length: PadLength | None = None
     """Length l of a rectangular pad (with ``width``)."""
-    width: Length | None = None
+    width: PadLength | None = None
     """Width b of a rectangular pad (with ``length``)."""
-    diameter: Length | None = None
+    diameter: PadLength | None = None
     """Diameter D of a round pad (instead of ``length`` and ``width``)."""
-    compression_coefficient: float | None = None
+    compression_coefficient: Annotated[float, Check("", low=0.0, high=1.0, low_open=True)] | None = None
     """The rubber's factor k in E_c = E (1 + 2 k S²) (default: the table's for the hardness); the parameter a
     calibration fits."""
 
@@ -271,8 +290,29 @@ def _material(db: MaterialDatabase, name: str) -> Material:
 
 
 def _pad(name: str, t: PadTable, db: MaterialDatabase) -> ElastomerPad:
-    mat = db.rubber(t.shore_a) if t.shore_a is not None else _material(db, t.material or "")
+    mat = db.rubber(t.shore_a) if t.shore_a is not None else _elastomer(db, t.material or "")
     return ElastomerPad(name, mat, t.thickness, t.length, t.width, t.diameter, t.compression_coefficient)
+
+
+def _elastomer(db: MaterialDatabase, name: str) -> Material:
+    """A pad's material by name: an elastomer of the database (steel or concrete would give a pad a
+    plausible-looking stiffness from a formula made for rubber)."""
+    mat = _material(db, name)
+    if mat.kind != "rubber":
+        rubbers = ", ".join(repr(n) for n in db.names("rubber")) or "none"
+        raise ModelError(
+            f"{name!r} is {_kind_words(mat.kind)}, not an elastomer: a bonded pad's stiffness is that of "
+            f"rubber (its shape factor and bulk compressibility). Give an elastomer of the database: "
+            f'{rubbers} (or shore_a = 30 … 75; a material of your own needs kind = "rubber")',
+            field="material",
+        )
+    return mat
+
+
+def _kind_words(kind: str) -> str:
+    """A material's class in words, with its article: ``a steel``, ``a cast iron``, ``concrete``."""
+    words = {"concrete": "concrete", "other": 'of no known class (kind = "other")'}
+    return words.get(kind, f"a {kind.replace('_', ' ')}")
 
 
 def build(source: ModelSource) -> MountSpec:

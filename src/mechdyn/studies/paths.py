@@ -41,6 +41,8 @@ _NUMBER = re.compile(r"^\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?(?:\s|$)")
 # a table that a file of one type holds inline in the form of another type's file
 _INLINE = {("support", "estimate"): "mount"}
 _UNKNOWN: tuple[Any, ...] = ()
+# the mount tables whose material is an elastomer (a material of kind "rubber")
+_ELASTOMER_TABLES = ("pad", "damping_pad")
 
 
 class PathError(MechdynError):
@@ -234,6 +236,7 @@ class ModelTree:
         self._alternatives: dict[str, ModelSource] = {}
         self._leaves: dict[tuple[str, tuple[str | int, ...]], tuple[Any, ...] | None] = {}
         self._materials: dict[str, tuple[str, ...]] = {}
+        self._material_kinds: dict[str, tuple[str, ...]] = {}
         self._beside: dict[tuple[str, str], tuple[str, ...]] = {}
 
     # -- files --------------------------------------------------------------------------------
@@ -385,6 +388,8 @@ class ModelTree:
             kind = str(inner.data["model"].get("type", ""))
             return Nature("choice", self._model_files(parent, kind, value), f"{kind} model file", kind)
         if str(keys[-1]).endswith("material"):
+            if len(keys) > 1 and keys[-2] in _ELASTOMER_TABLES:  # a pad takes an elastomer, nothing else
+                return Nature("choice", self._material_names(files, "rubber"), "rubber")
             return Nature("choice", self._material_names(files), "material")
         return None
 
@@ -412,8 +417,24 @@ class ModelTree:
             raise PathError(f"{self.source.path}: {loc.path!r} names no value a study varies")
         return found
 
-    def _material_names(self, files: tuple[str, ...]) -> tuple[str, ...]:
-        """The materials a mount file may name: the shipped ones and those of its ``[materials] files``."""
+    def bounds(self, loc: Location) -> tuple[Any, ...]:
+        """The value checks the file's schema makes where ``loc`` points: each a
+        :class:`mechdyn.io.fields.Check` (with its ``problem``) or a pydantic bound (``ge``, ``gt``,
+        ``le``, ``lt``), on the value in SI; empty where it makes none.
+
+        Parameters
+        ----------
+        loc : Location
+            From :meth:`resolve`.
+        """
+        source = self.file(loc.files)
+        model = source.data.get("model")
+        file_type = model.get("type") if isinstance(model, Mapping) else None
+        return _bounds(file_type, loc.keys) if isinstance(file_type, str) else ()
+
+    def _material_names(self, files: tuple[str, ...], kind: str | None = None) -> tuple[str, ...]:
+        """The materials a mount file may name: the shipped ones and those of its ``[materials] files``
+        (of one ``kind`` only, e.g. ``"rubber"``, when given)."""
         source = self.file(files)
         if source.path not in self._materials:
             from mechdyn.mounts.materials import default_materials
@@ -428,7 +449,9 @@ class ModelTree:
                 except (MechdynError, OSError):
                     pass  # the model's own check says what is wrong with the file
             self._materials[source.path] = tuple(db.names())
-        return self._materials[source.path]
+            self._material_kinds[source.path] = tuple(db.materials[n].kind for n in db.names())
+        names, kinds = self._materials[source.path], self._material_kinds[source.path]
+        return names if kind is None else tuple(n for n, k in zip(names, kinds, strict=True) if k == kind)
 
     def _model_files(self, parent: ModelSource, model_type: str, current: str) -> tuple[str, ...]:
         """The model files of a type beside the file that refers to one (the current one first)."""
@@ -634,8 +657,8 @@ class ModelTree:
         return ModelSource(self.source.path, self.source.text, stamp, base, includes)
 
 
-def _leaves(file_type: str, keys: tuple[str | int, ...]) -> tuple[Any, ...] | None:
-    """The types the schema of a file type allows at ``keys`` (None: it does not say)."""
+def _annotations(file_type: str, keys: tuple[str | int, ...]) -> list[Any] | None:
+    """The annotations the schema of a file type has at ``keys`` (None: it does not say)."""
     from mechdyn.io.modelfile import schema_of
 
     try:
@@ -654,8 +677,51 @@ def _leaves(file_type: str, keys: tuple[str | int, ...]) -> tuple[Any, ...] | No
                 return None
             below.extend(step)
         annotations = below
+    return annotations
+
+
+def _leaves(file_type: str, keys: tuple[str | int, ...]) -> tuple[Any, ...] | None:
+    """The types the schema of a file type allows at ``keys`` (None: it does not say)."""
+    annotations = _annotations(file_type, keys)
+    if annotations is None:
+        return None
     leaves = tuple(t for a in annotations for t in _unwrap(a))
     return None if any(t is Any for t in leaves) else leaves
+
+
+def _metadata(annotation: Any) -> list[Any]:
+    """The metadata of an annotation: of ``Annotated``, and of each type of a union."""
+    origin = get_origin(annotation)
+    if origin is typing.Annotated:
+        args = get_args(annotation)
+        return [*_metadata(args[0]), *args[1:]]
+    if origin in (typing.Union, types.UnionType):
+        return [m for a in get_args(annotation) for m in _metadata(a)]
+    return []
+
+
+def _bounds(file_type: str, keys: tuple[str | int, ...]) -> tuple[Any, ...]:
+    """The value checks the schema of a file type makes at ``keys``: its fields' bounds
+    (:class:`mechdyn.io.fields.Check`, and pydantic's ``ge``, ``gt``, ``le``, ``lt``)."""
+    from pydantic import BaseModel
+
+    if not keys:
+        return ()
+    annotations = _annotations(file_type, keys[:-1])
+    if annotations is None:
+        return ()
+    key = keys[-1]
+    found: list[Any] = []
+    for a in annotations:
+        for t in _unwrap(a):
+            if isinstance(t, type) and issubclass(t, BaseModel) and isinstance(key, str):
+                info = t.model_fields.get(key)
+                if info is not None:  # pydantic keeps a field's own metadata apart from its type
+                    found += [*info.metadata, *_metadata(info.annotation)]
+            else:
+                found += [m for s in _step(t, key) or [] for m in _metadata(s)]
+    bounds = ("problem", "ge", "gt", "le", "lt")
+    return tuple(dict.fromkeys(m for m in found if any(hasattr(m, b) for b in bounds)))
 
 
 def _key(loc: Location) -> str:

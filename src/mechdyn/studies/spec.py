@@ -20,6 +20,7 @@ import math
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from mechdyn.errors import MechdynError
@@ -257,7 +258,9 @@ class Parameter:
                     f'{where}: range {range_!r} for {name!r}: give "±10 %" or two quantities '
                     f'["low {unit}", "high {unit}"]'
                 )
-        return cls(name, tuple(locs), base, unit, factor, low, high, lv, tuple(bases))
+        made = cls(name, tuple(locs), base, unit, factor, low, high, lv, tuple(bases))
+        made._refuse_outside_the_file(tree, where)
+        return made
 
     @classmethod
     def _discrete(
@@ -292,7 +295,9 @@ class Parameter:
         if integer:
             bases = tuple(float(v) for v in values)
             lv = tuple(_whole_level(q, name, bases, shown, example, where) for q in levels)
-            return cls(name, tuple(locs), bases[0], "", 1.0, None, None, lv, bases, integer=True)
+            made = cls(name, tuple(locs), bases[0], "", 1.0, None, None, lv, bases, integer=True)
+            made._refuse_outside_the_file(tree, where)
+            return made
         if any(v != values[0] for v in values):
             held = ", ".join(sorted({file_text(v) for v in values}))
             raise StudyError(
@@ -340,6 +345,43 @@ class Parameter:
             The parameter's SI unit, for display.
         """
         return cls(name, (), float(base), unit, 1.0, low, high, tuple(levels), (), apply)
+
+    def _refuse_outside_the_file(self, tree: ModelTree, where: str) -> None:
+        """Refuse, as the study is read, a range or a level that takes a value beyond what its model
+        file accepts (a Shore A hardness of 80 where the file takes 30 to 75, a negative thickness):
+        every variant there would fail, each only once it is evaluated.
+
+        Raises
+        ------
+        StudyError
+            Naming the study file and row, the parameter, the value and what the file accepts.
+        """
+        ends = (
+            [("the low end of its range", self.low), ("the high end of its range", self.high)]
+            if self.levels == ()
+            else [("a level", x) for x in self.levels]
+        )
+        for loc in self.locations:
+            bounds = tree.bounds(loc)
+            if not bounds:
+                continue
+            field = str(loc.keys[-1]) if isinstance(loc.keys[-1], str) else str(loc.keys[-2])
+            file = Path(tree.file(loc.files).path).name
+            for which, x in ends:
+                if x is None:
+                    continue
+                v = float(self.location_values(x)[loc])
+                problem = next((p for b in bounds if (p := _bound_problem(b, v, field)) is not None), None)
+                if problem is None:
+                    continue
+                there = ""
+                if v != x:  # a value tied to the parameter, moved by the same factor from its own base
+                    there = f", which sets {loc.path} to {v / self.factor:g} {self.unit}".rstrip()
+                raise StudyError(
+                    f"{where}: {self.name!r} at {which}, {self.shown(x)}{there}, takes a value {file} does "
+                    f"not accept: {problem}. Every variant there would fail: keep the "
+                    f"{'levels' if self.levels else 'range'} within what the model file accepts"
+                )
 
     # -- values -------------------------------------------------------------------------------
     def location_values(self, value: Any) -> dict[Location, Any]:
@@ -434,6 +476,24 @@ class Parameter:
     @property
     def bounded(self) -> bool:
         return self.low is not None and self.high is not None and math.isfinite(self.high - self.low)
+
+
+def _bound_problem(bound: Any, value: float, field: str) -> str | None:
+    """What a schema's bound (:class:`mechdyn.io.fields.Check`, or pydantic's ``ge``, ``gt``, ``le``,
+    ``lt``) says of ``value`` (SI); None when it holds."""
+    if hasattr(bound, "problem"):
+        return bound.problem(value, field)
+    tests = (
+        ("ge", lambda b: value >= b, "at least"),
+        ("gt", lambda b: value > b, "above"),
+        ("le", lambda b: value <= b, "at most"),
+        ("lt", lambda b: value < b, "below"),
+    )
+    for attr, holds, words in tests:
+        b = getattr(bound, attr, None)
+        if b is not None and not holds(b):
+            return f"{value:g} is out of range; {field} must be {words} {b:g}"
+    return None
 
 
 def level_kinds() -> tuple[str, ...]:
