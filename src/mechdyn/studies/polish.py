@@ -22,6 +22,12 @@ Karush–Kuhn–Tucker conditions ∇F = Σ λⱼ ∇gⱼ (λ ≥ 0) by non-nega
 Wright, *Numerical Optimization*, 2nd ed., 2006, §12.3) and reports the residual as the first-order
 optimality measure and each multiplier in the user's units: how much the objective improves per
 unit that a limit is relaxed ("1 mm more stroke tolerance is worth 0.8 tonf").
+
+Every answer carries a verdict on that measure (:func:`verdict`): ``"converged"`` where the residual
+is at most :data:`FIRST_ORDER` at a design that keeps every constraint, ``"stopped at an iteration
+limit"`` where SLSQP ran out of iterations short of it, ``"not converged"`` otherwise. A converged
+start is a local optimum only: starts that converge to different values show that the objective has
+several, which only the global stage before the polish can tell apart.
 """
 
 from __future__ import annotations
@@ -34,10 +40,43 @@ import numpy as np
 
 from mechdyn.studies.storage import StoredVariant, variant_key
 
-__all__ = ["STEP", "fit", "optimality", "polish", "stencil", "target_cost"]
+__all__ = [
+    "CONVERGED",
+    "FIRST_ORDER",
+    "ITERATION_LIMIT",
+    "MAX_ITERATIONS",
+    "NOT_CONVERGED",
+    "STEP",
+    "fit",
+    "optimality",
+    "polish",
+    "stencil",
+    "target_cost",
+    "verdict",
+]
 
 STEP = 1e-6
 """Finite-difference step, as a fraction of each parameter's range."""
+
+FIRST_ORDER = 1e-4
+"""The tolerance on the first-order optimality measure (the relative KKT residual of
+:func:`optimality`; the conditions: Nocedal & Wright, 2006, §12.3): at or below it a feasible design
+is a first-order point and the search has converged there: what the active limits leave of the
+objective's gradient would change it by at most 0.01 % across a whole parameter range. The
+gradients are exact to about 1e-9 of F at the finite-difference step (see above), a polish that
+converges gets far below (the shipped relocation study: ~1e-16), and a sampler's best design is of
+order 0.01 to 1: the tolerance sits well between."""
+
+MAX_ITERATIONS = 100
+"""SLSQP iterations per polish start."""
+
+CONVERGED = "converged"
+"""The verdict on a design whose first-order measure is at most :data:`FIRST_ORDER`."""
+ITERATION_LIMIT = "stopped at an iteration limit"
+"""The verdict on a polish start that ran out of iterations short of a first-order point."""
+NOT_CONVERGED = "not converged"
+"""The verdict on any other design: the measure above :data:`FIRST_ORDER`, not shown (no gradient
+stored there), or a design that breaks a constraint."""
 
 _ACTIVE = 1e-6  # a constraint within this fraction of its scale, or a bound within it of the range, is active
 _MAX_STARTS = 3
@@ -150,12 +189,35 @@ def _range(study: Any) -> tuple[np.ndarray, np.ndarray]:
     )
 
 
+def verdict(measure: float | None, *, feasible: bool = True, iteration_limit: bool = False) -> str:
+    """The verdict on a design's first-order optimality.
+
+    Parameters
+    ----------
+    measure : float or None
+        Its first-order measure (:func:`optimality`'s ``measure``); None where it cannot be shown.
+    feasible : bool
+        Whether it keeps every constraint (a KKT point must: the residual alone does not say so).
+    iteration_limit : bool
+        Whether the search that ended there ran out of iterations.
+
+    Returns
+    -------
+    str
+        :data:`CONVERGED` (``measure`` ≤ :data:`FIRST_ORDER` and feasible), :data:`ITERATION_LIMIT`
+        or :data:`NOT_CONVERGED`.
+    """
+    if measure is not None and measure <= FIRST_ORDER and feasible:
+        return CONVERGED
+    return ITERATION_LIMIT if iteration_limit else NOT_CONVERGED
+
+
 def polish(
     runner: Any,
     starts: Sequence[np.ndarray],
     *,
     objective: Callable[[dict[str, Any]], float] | None = None,
-    max_iterations: int = 100,
+    max_iterations: int | None = None,
 ) -> dict[str, Any]:
     """SLSQP from each start (at most three), with the study's constraints and ranges; it minimises
     the study's objective, or a synthesis' target cost (:func:`target_cost`).
@@ -168,15 +230,20 @@ def polish(
         (n,) parameter rows, SI, best first.
     objective : callable, optional
         What each stored variant keeps as its objective value (as the study's sampler stores it).
-    max_iterations : int
-        SLSQP iterations per start.
+    max_iterations : int, optional
+        SLSQP iterations per start (default :data:`MAX_ITERATIONS`).
 
     Returns
     -------
     dict
-        ``method``, ``starts``, ``iterations`` (summed), ``evaluations`` (variants asked for,
-        stored ones included), ``messages`` (SLSQP's, one per start) and ``converged`` (whether any
-        start ended with SLSQP's success).
+        ``method``, ``starts`` (how many), ``iterations`` (summed), ``evaluations`` (variants asked
+        for, stored ones included), ``messages`` (SLSQP's, one per start) and ``per_start``: where
+        each start ended, as ``start`` (the parameters, SI), ``variant`` (the stored id of the end
+        point; None where a design on the way failed), ``value`` (the objective there, or a
+        synthesis' target cost, SI), ``feasible``, ``measure`` (the first-order measure there,
+        :func:`optimality`), ``iterations``, ``message`` and ``verdict`` (:func:`verdict`). Which
+        design is the optimum, and whether it converged, the kind's findings say: the best start's
+        success says nothing of the others, nor of a better design found elsewhere.
     """
     from scipy.optimize import minimize
 
@@ -210,10 +277,21 @@ def polish(
             cache[key] = g
         return cache[key]
 
+    def ended(u: np.ndarray) -> tuple[StoredVariant, float | None, bool]:
+        """The stored end point, its first-order measure and whether it keeps every constraint
+        (its stencil is stored by then: looking it up asks for nothing new)."""
+        x = at(u)
+        end = runner.evaluate(x[None, :], objective=objective)[0]
+        proof = _kkt(st, x, lambda rows: runner.evaluate(rows, objective=objective))
+        _, g = _values(st, end)
+        return end, (proof["measure"] if proof is not None else None), bool(np.all(g >= 0.0))
+
     messages: list[str] = []
+    per_start: list[dict[str, Any]] = []
     iterations = 0
-    converged = False
+    limit = MAX_ITERATIONS if max_iterations is None else max_iterations
     for x0 in list(starts)[:_MAX_STARTS]:
+        given = {p.name: float(x) for p, x in zip(st.parameters, np.asarray(x0, dtype=float), strict=True)}
         u0 = np.clip((np.asarray(x0, dtype=float) - low) / np.where(span > 0, span, 1.0), 0.0, 1.0)
         f0, _ = point(u0)
         fscale = abs(f0) if math.isfinite(f0) and f0 != 0 else 1.0
@@ -241,22 +319,52 @@ def polish(
                 bounds=[(0.0, 1.0)] * len(u0),
                 constraints=cons,
                 method="SLSQP",
-                options={"maxiter": max_iterations, "ftol": 1e-12},
+                options={"maxiter": limit, "ftol": 1e-12},
             )
         except FloatingPointError as exc:  # a design on the way failed: keep what was found
             messages.append(str(exc))
+            per_start.append(
+                {
+                    "start": given,
+                    "variant": None,
+                    "value": None,
+                    "feasible": False,
+                    "measure": None,
+                    "iterations": None,
+                    "message": str(exc),
+                    "verdict": NOT_CONVERGED,
+                }
+            )
             continue
         iterations += int(res.nit)
         messages.append(str(res.message))
-        converged |= bool(res.success)
-        grads(res.x)  # the end point's stencil, for optimality() (stored, usually already)
+        try:
+            grads(res.x)  # the end point's stencil, for optimality() (stored, usually already)
+        except FloatingPointError:
+            pass  # its measure is then not shown, and the start not converged
+        end, measure, keeps = ended(res.x)
+        y = end.objective
+        per_start.append(
+            {
+                "start": given,
+                "variant": end.id,
+                "value": y if y is not None and math.isfinite(y) else None,
+                "feasible": keeps,
+                "measure": measure,
+                "iterations": int(res.nit),
+                "message": str(res.message),
+                # SciPy's SLSQP: status 9 is "Iteration limit reached"; its own success is not the
+                # verdict (it stops when F changes by less than ftol, which says nothing of ∇F)
+                "verdict": verdict(measure, feasible=keeps, iteration_limit=int(res.status) == 9),
+            }
+        )
     return {
         "method": "SLSQP",
         "starts": min(len(starts), _MAX_STARTS),
         "iterations": iterations,
         "evaluations": asked,
         "messages": messages,
-        "converged": converged,
+        "per_start": per_start,
     }
 
 
@@ -285,15 +393,16 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
     -------
     dict or None
         None when the stencil is not stored (no polish ran there). Otherwise ``measure``: the
-        Karush–Kuhn–Tucker residual ‖∇F − Σ λ ∇g‖∞ over ‖∇F‖∞ with gradients per parameter range
-        (0 at an exact first-order point; a sampler's best design is of order 1); ``active``: one
+        Karush–Kuhn–Tucker residual ‖∇F − Σ λ ∇g‖∞, gradients per parameter range, over the
+        largest of |F|, ‖∇F‖∞ and (a synthesis' cost, in tolerances squared) 1: the first-order
+        change of F across a whole range that no active limit explains, relative to F (0 at an
+        exact first-order point, interior or held by limits; a sampler's best design is of order
+        0.01 to 1); ``active``: one
         entry per active constraint side or bound with ``name``, ``kind`` (``"constraint"`` or
         ``"bound"``), ``worth`` (the objective's improvement, in its display unit, per ``per``) and
         ``per`` (one display unit of the limit, e.g. ``"1 mm"``); ``unit`` (the objective's display
-        unit).
+        unit); ``tolerance`` (:data:`FIRST_ORDER`, what :func:`verdict` holds ``measure`` to).
     """
-    from scipy.optimize import nnls
-
     if not (study.objectives or study.targets):
         return None
     x = np.array([best.parameters[p.name] for p in study.parameters], dtype=float)
@@ -302,10 +411,19 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
         out = [stored.get(variant_key(r.tolist())) for r in rows]
         return None if any(v is None for v in out) else out  # type: ignore[return-value]
 
+    return _kkt(study, x, lookup)
+
+
+def _kkt(
+    study: Any, x: np.ndarray, lookup: Callable[[np.ndarray], Sequence[StoredVariant] | None]
+) -> dict[str, Any] | None:
+    """:func:`optimality` at ``x`` (SI), its stencil's variants from ``lookup``."""
+    from scipy.optimize import nnls
+
     found = _gradients(study, x, lookup)
     if found is None:
         return None
-    _, g, dF, dG = found
+    F, g, dF, dG = found
     low, high = _range(study)
     span = np.where(high > low, high - low, 1.0)
     limits = _limits(study)
@@ -348,7 +466,10 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
         residual = gF - A @ lam
     else:
         lam, residual = np.zeros(0), gF
-    norm = float(np.abs(gF).max())
+    # the scale of the residual: F itself, not ‖∇F‖ alone, which vanishes with the residual at an
+    # interior optimum (the ratio is then 1 at any point short of it and at it alike); ‖∇F‖ where F
+    # is near zero, and 1 for a synthesis' cost (in tolerances squared: below 1 the targets are met)
+    norm = max(abs(F), float(np.abs(gF).max()), 0.0 if study.objectives else 1.0)
     o = study.objectives[0].output if study.objectives else None
     active = []
     for k, entry in enumerate(entries):
@@ -365,6 +486,7 @@ def optimality(study: Any, best: StoredVariant, stored: Mapping[str, StoredVaria
         )
     return {
         "measure": float(np.abs(residual).max() / norm) if norm > 0 else 0.0,
+        "tolerance": FIRST_ORDER,
         "active": active,
         "unit": (o.display or o.unit) if o is not None else "",
     }

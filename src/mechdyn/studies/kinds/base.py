@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from mechdyn.studies.spec import Parameter
     from mechdyn.studies.study import Study
 
-__all__ = ["KINDS", "Found", "Kind", "Ran", "kind", "register"]
+__all__ = ["KINDS", "Found", "Kind", "Ran", "kind", "least_violation", "register"]
 
 
 @dataclass(frozen=True)
@@ -227,6 +227,74 @@ def best(study: Study, variants: Sequence[StoredVariant]) -> StoredVariant | Non
     o = study.objectives[0]
     cands = [v for v in variants if feasible(study, v) and math.isfinite(value(v, o.output.key))]
     return min(cands, key=lambda v: o.sign * value(v, o.output.key)) if cands else None
+
+
+def least_violation(study: Study, variants: Sequence[StoredVariant]) -> dict[str, Any] | None:
+    """How near a search came to keeping every constraint, when no variant keeps them all: the
+    evaluated variant whose worst violation is least, each violation relative to its constraint's
+    scale (the tolerance of an ``equals``, else the size of the limit) so that limits in different
+    units compare.
+
+    Parameters
+    ----------
+    study : Study
+        Its constraints.
+    variants : sequence of StoredVariant
+        The study's variants.
+
+    Returns
+    -------
+    dict or None
+        None when a variant keeps every constraint, or none was evaluated. Otherwise ``variant``
+        (its id), ``relative`` (its worst violation over that constraint's scale) and
+        ``constraints``: per constraint ``constraint`` (in words), ``value`` (SI), ``violation``
+        (how far outside its limits, in the output's SI unit; ≤ 0 where it holds) and ``holds``.
+    """
+    if not study.constraints or any(feasible(study, v) for v in variants):
+        return None
+
+    def scale(c: Any) -> float:
+        if c.equals is not None and c.tolerance:
+            return float(c.tolerance)
+        limit = next((x for x in (c.equals, c.max, c.min) if x is not None), None)
+        return abs(float(limit)) if limit else 1.0
+
+    def worst(v: StoredVariant) -> float:
+        return max(c.violation(v.outputs.get(c.output.key)) / scale(c) for c in study.constraints)
+
+    evaluated = [v for v in variants if v.status == "ok" and math.isfinite(worst(v))]
+    if not evaluated:
+        return None
+    nearest = min(evaluated, key=worst)
+    return {
+        "variant": nearest.id,
+        "relative": worst(nearest),
+        "constraints": [
+            {
+                "constraint": c.describe(),
+                "value": nearest.outputs.get(c.output.key),
+                "violation": c.violation(nearest.outputs.get(c.output.key)),
+                "holds": c.violation(nearest.outputs.get(c.output.key)) <= 0,
+            }
+            for c in study.constraints
+        ],
+    }
+
+
+def least_violation_table(result: StudyResult) -> Table:
+    """:func:`least_violation` of the findings as a table: the variant that came nearest, and how far
+    it breaks each constraint in the constraint's display unit."""
+    st, near = result.study, result.findings.get("least_violation")
+    rows: list[list[Any]] = [["nearest to keeping every constraint", "none: no variant could be evaluated"]]
+    if near:
+        rows = [["nearest to keeping every constraint", f"variant {near['variant']}"]]
+        for c, d in zip(st.constraints, near["constraints"], strict=True):
+            o = c.output
+            by = o.difference(d["violation"]) if math.isfinite(d["violation"]) else None
+            unit = o.shown_unit
+            shown = "no value" if by is None else f"broken by {by:.4g} {unit}".strip()
+            rows.append([d["constraint"], "holds" if d["holds"] else shown])
+    return Table(f"{st.name}: no variant keeps every constraint", ["", "value"], rows)
 
 
 def describe(study: Study, v: StoredVariant) -> dict[str, Any]:

@@ -20,12 +20,22 @@ from mechdyn.studies.kinds.base import (
     best,
     describe,
     feasible,
+    least_violation,
+    least_violation_table,
     parallel_plot,
     register,
     value,
     variant_table,
 )
-from mechdyn.studies.polish import optimality, polish
+from mechdyn.studies.polish import (
+    CONVERGED,
+    FIRST_ORDER,
+    ITERATION_LIMIT,
+    NOT_CONVERGED,
+    optimality,
+    polish,
+    verdict,
+)
 from mechdyn.studies.spec import StudyError
 from mechdyn.studies.storage import StoredVariant, variant_key
 
@@ -35,8 +45,8 @@ if TYPE_CHECKING:
 
 __all__ = ["FIRST_ORDER", "TIE", "Optimize", "objective_of", "pareto_front"]
 
-FIRST_ORDER = 1e-4
-"""A KKT residual below this (relative) is a first-order point."""
+# FIRST_ORDER (from mechdyn.studies.polish, where the verdicts are given): a KKT residual at or below
+# it (relative) is a first-order point; kept importable here, where the findings judge the optimum
 TIE = 1e-6
 """Relative: a polished design (with its proof) within this of the best is the optimum."""
 
@@ -125,10 +135,16 @@ class Optimize(Kind):
 
     # -- findings -----------------------------------------------------------------------------
     def findings(self, study: Study, variants: list[StoredVariant]) -> Found:
-        """One objective: ``best`` (preferring a polished design whose first-order optimality can be
-        shown), ``base``, ``improvement_percent`` (of the objective over the base, > 0 when better),
-        ``optimality`` (:func:`mechdyn.studies.polish.optimality`) and ``evaluations``. Several:
-        ``pareto_front`` with its ``knee`` and ``ends`` (:func:`pareto_front`) and ``base``."""
+        """One objective: ``best`` (among the designs as good, within :data:`TIE`, one whose
+        first-order optimality can be shown, a converged one first), ``base``,
+        ``improvement_percent`` (of the objective over the base, > 0 when better), ``optimality``
+        (:func:`mechdyn.studies.polish.optimality`), ``verdict`` on it
+        (:func:`mechdyn.studies.polish.verdict`: ``"converged"`` or ``"not converged"``; that a
+        polish start ran out of iterations only a run knows, in ``polish``), ``converged`` (true only
+        when that verdict is), ``least_violation`` (where no variant keeps every constraint: the one
+        that came nearest, :func:`~mechdyn.studies.kinds.base.least_violation`; else None) and
+        ``evaluations``. Several: ``pareto_front`` with its ``knee`` and ``ends``
+        (:func:`pareto_front`) and ``base``."""
         base = variants[0] if variants and variants[0].key == variant_key(base_row(study)) else None
         if len(study.objectives) > 1:
             front = pareto_front(study, [v for v in variants if base is None or v.id != base.id])
@@ -148,15 +164,23 @@ class Optimize(Kind):
             for v in ranked:
                 if o.sign * value(v, o.output.key) > limit:
                     break
-                proof = optimality(study, v, by_key)
-                if proof is not None:
-                    chosen = v
+                shown = optimality(study, v, by_key)
+                if shown is None:
+                    continue
+                if proof is None:  # the first as good whose measure can be shown...
+                    chosen, proof = v, shown
+                if verdict(shown["measure"]) == CONVERGED:  # ...unless one as good has converged
+                    chosen, proof = v, shown
                     break
+        judged = verdict(proof["measure"]) if chosen is not None and proof is not None else NOT_CONVERGED
         out: dict[str, Any] = {
             "best": describe(study, chosen) if chosen is not None else None,
             "base": describe(study, base) if base is not None else None,
             "improvement_percent": None,
             "optimality": proof,
+            "verdict": judged,
+            "converged": judged == CONVERGED,
+            "least_violation": least_violation(study, variants) if chosen is None else None,
             "evaluations": len(variants),
         }
         if chosen is not None and base is not None:
@@ -166,7 +190,7 @@ class Optimize(Kind):
 
     # -- showing ------------------------------------------------------------------------------
     def tables(self, result: StudyResult) -> list[Table]:
-        st, f = result.study, result.findings
+        f = result.findings
         out: list[Table] = []
         if "pareto_front" in f:
             out.append(_front_table(result))
@@ -174,13 +198,12 @@ class Optimize(Kind):
                 out.append(variant_table(result, f["base"], "base design"))
             return out
         if f.get("best") is None:
-            out.append(Table(f"{st.name}: optimum", ["note"], [["no variant keeps every constraint"]]))
+            out.append(least_violation_table(result))
         else:
             out.append(variant_table(result, f["best"], "optimum"))
         if f.get("base"):
             out.append(variant_table(result, f["base"], "base design"))
-        if f.get("best"):
-            out.append(_optimality_table(result))
+        out.append(_optimality_table(result))
         return out
 
     def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
@@ -260,28 +283,38 @@ def _front_table(result: StudyResult) -> Table:
 
 
 def _optimality_table(result: StudyResult) -> Table:
-    """How far the optimum can be trusted: the first-order measure, what holds it (the active
-    constraints and bounds, each with what relaxing it by one unit is worth), the evaluations,
-    and the optimum evaluated again through the analysis itself."""
+    """How far the optimum can be trusted: the verdict on its first-order measure, what holds it
+    (the active constraints and bounds, each with what relaxing it by one unit is worth; only at a
+    converged optimum, where the multipliers mean that), where each polish start ended and with what
+    verdict (a run), the evaluations, and the optimum evaluated again through the analysis itself."""
     f = result.findings
     proof = f.get("optimality")
     o = result.study.objectives[0]
     verb = "lowers" if o.sense == "minimize" else "raises"
+    polished = f.get("polish") or {}
     rows: list[list[Any]] = []
-    if proof is None:
-        rows.append(["first-order optimality", "not shown (no gradient stored at the optimum)"])
+    if f.get("best") is None:
+        rows.append(["verdict", f"{NOT_CONVERGED}: no variant keeps every constraint"])
     else:
-        rows.append(["first-order optimality (KKT residual, relative)", proof["measure"]])
-        if not proof["active"]:
-            rows.append(["held by", "nothing: an interior optimum"])
-        for a in proof["active"]:
-            rows.append(
-                [
-                    f"{a['per']} more on {a['name']}",
-                    f"{verb} the objective by {a['worth']:.4g} {proof['unit']}",
-                ]
-            )
-    polished = f.get("polish")
+        rows.append(["verdict", _verdict_words(f, polished)])
+        if proof is None:
+            rows.append(["first-order optimality", "not shown (no gradient stored at the optimum)"])
+        else:
+            rows.append(["first-order optimality (KKT residual, relative)", proof["measure"]])
+            names = ", ".join(a["name"] for a in proof["active"])
+            if f.get("verdict") != CONVERGED:
+                # the multipliers of a design short of a first-order point are no limit's worth
+                held = "not judged: not a first-order point" + (f" (at {names})" if names else "")
+                rows.append(["held by", held])
+            elif not proof["active"]:
+                rows.append(["held by", "nothing: an interior optimum"])
+            for a in proof["active"] if f.get("verdict") == CONVERGED else ():
+                rows.append(
+                    [
+                        f"{a['per']} more on {a['name']}",
+                        f"{verb} the objective by {a['worth']:.4g} {proof['unit']}",
+                    ]
+                )
     if polished:
         rows.append(
             [
@@ -290,6 +323,19 @@ def _optimality_table(result: StudyResult) -> Table:
                 f"{polished['iterations']} iterations",
             ]
         )
+        ends = polished.get("per_start") or []
+        for k, end in enumerate(ends, start=1):
+            rows.append([f"polish start {k}", _start_words(o, end)])
+        optima = _local_optima(ends)
+        if len(optima) > 1:
+            rows.append(
+                [
+                    "local optima",
+                    f"the polish starts converged to {len(optima)} different values of the objective: "
+                    "it has several local optima here, and only the global stage finds the basin of "
+                    "the best",
+                ]
+            )
     rows.append(["variants evaluated in all", f.get("evaluations")])
     check = f.get("single_design_check")
     if check:
@@ -300,7 +346,49 @@ def _optimality_table(result: StudyResult) -> Table:
                 "failed: " + str(check.get("status")) if diff is None else f"agrees to {diff:.1e} (relative)",
             ]
         )
-    return Table(f"{result.study.name}: how good the optimum is", ["", "value"], rows)
+    title = "how good the optimum is" if f.get("best") is not None else "how near the search came"
+    return Table(f"{result.study.name}: {title}", ["", "value"], rows)
+
+
+def _verdict_words(f: dict[str, Any], polished: dict[str, Any]) -> str:
+    """The optimum's verdict in words, with the measure against its tolerance; a run that knows the
+    polish start which ended at the optimum ran out of iterations says so."""
+    proof = f.get("optimality")
+    if proof is None:
+        return f"{NOT_CONVERGED}: its first-order measure cannot be shown (no gradient stored there)"
+    measure = f"first-order measure {proof['measure']:.2g}"
+    if f.get("verdict") == CONVERGED:
+        return f"{CONVERGED}: {measure} ≤ {FIRST_ORDER:g}"
+    ended_here = [e for e in polished.get("per_start") or [] if e.get("variant") == f["best"]["variant"]]
+    if any(e.get("verdict") == ITERATION_LIMIT for e in ended_here):
+        return f"{ITERATION_LIMIT}: {measure} > {FIRST_ORDER:g}"
+    return f"{NOT_CONVERGED}: {measure} > {FIRST_ORDER:g}"
+
+
+def _start_words(o: Any, end: dict[str, Any]) -> str:
+    """Where one polish start ended: its verdict, the objective there and its measure."""
+    if end.get("variant") is None:
+        return f"{end['verdict']}: {end.get('message')}"
+    y = o.output.show(end.get("value"))
+    unit = o.output.shown_unit
+    at = f"{y:.6g} {unit}".strip() if y is not None else "no value"
+    m = end.get("measure")
+    shown = f"{m:.2g}" if m is not None else "not shown"
+    broken = "" if end.get("feasible") else ", a constraint broken"
+    return (
+        f"{end['verdict']}: {at} at variant {end['variant']}{broken} "
+        f"(first-order measure {shown}, {end.get('iterations')} iterations)"
+    )
+
+
+def _local_optima(ends: list[dict[str, Any]]) -> list[float]:
+    """The distinct objective values (SI) at which polish starts converged, each within
+    :data:`TIE` of one of them counted once: more than one is a multi-modal objective."""
+    optima: list[float] = []
+    for y in sorted(e["value"] for e in ends if e.get("verdict") == CONVERGED and e.get("value") is not None):
+        if not optima or abs(y - optima[-1]) > TIE * max(abs(y), abs(optima[-1])):
+            optima.append(y)
+    return optima
 
 
 def _sampler(st: Study) -> Any:

@@ -16,12 +16,24 @@ from mechdyn.studies.kinds.base import (
     base_row,
     describe,
     feasible,
+    least_violation,
+    least_violation_table,
     parallel_plot,
     register,
     variant_table,
 )
-from mechdyn.studies.kinds.optimize import FIRST_ORDER, TIE
-from mechdyn.studies.polish import fit, optimality, polish, stencil, target_cost
+from mechdyn.studies.kinds.optimize import TIE
+from mechdyn.studies.polish import (
+    CONVERGED,
+    FIRST_ORDER,
+    NOT_CONVERGED,
+    fit,
+    optimality,
+    polish,
+    stencil,
+    target_cost,
+    verdict,
+)
 from mechdyn.studies.spec import StudyError
 from mechdyn.studies.storage import StoredVariant, variant_key
 
@@ -162,7 +174,10 @@ class Synthesis(Kind):
         """The fit (the variant nearest the targets among those that keep every constraint, preferring
         one as good whose first-order optimality can be shown), a verdict and margin per target
         (``targets``), and, for a missed target, what stops the fit (``missed_because``): the
-        constraints and bounds that hold it at a first-order point, or a search that stopped short."""
+        constraints and bounds that hold it at a first-order point, or a search that stopped short),
+        the ``verdict`` on the fit's first-order measure (:func:`mechdyn.studies.polish.verdict`) and
+        ``converged`` (true only when it is ``"converged"``), and where no variant keeps every
+        constraint, the one that came nearest (``least_violation``)."""
         base = variants[0] if variants and variants[0].key == variant_key(base_row(study)) else None
         fits = sorted(
             (v for v in variants if feasible(study, v) and v.objective is not None),
@@ -196,11 +211,12 @@ class Synthesis(Kind):
                 }
             )
         missed = [t for t in targets if not t["holds"]]
+        judged = verdict(proof["measure"]) if best_v is not None and proof is not None else NOT_CONVERGED
         if not missed:
             why = None
         elif proof is None:
             why = "the search stopped short: no gradient could be formed near the fit"
-        elif proof["measure"] > FIRST_ORDER:
+        elif judged != CONVERGED:
             why = f"the search stopped short (first-order residual {proof['measure']:.2g})"
         elif proof["active"]:
             why = (
@@ -219,6 +235,9 @@ class Synthesis(Kind):
             "base": describe(study, base) if base is not None else None,
             "targets": targets,
             "optimality": proof,
+            "verdict": judged,
+            "converged": judged == CONVERGED,
+            "least_violation": least_violation(study, variants) if best_v is None else None,
             "missed_because": why,
         }
         keep = {v.id for v in (best_v, base) if v is not None}
@@ -231,6 +250,8 @@ class Synthesis(Kind):
             for k, t in (("best", "optimum"), ("base", "base design"))
             if f.get(k)
         ]
+        if f.get("best") is None and st.constraints:
+            out.insert(0, least_violation_table(result))
         rows = []
         for t in f["targets"]:
             w = next(w for w in st.watched if w.key == t["output"])
@@ -293,10 +314,13 @@ def _search_table(result: StudyResult) -> Table:
             [
                 f"stage {k} (seed {stage['seed']})",
                 f"{stage['generations']} generations, best fit Σ((y − target)/tolerance)² = {best:.4g}: "
-                + ("every target holds" if stage["targets_met"] else "a target missed"),
+                + ("every target holds" if stage["targets_met"] else "a target missed")
+                + "; polish "
+                + ", ".join(e["verdict"] for e in stage["polish"].get("per_start", [])),
             ]
         )
     proof = f.get("optimality")
+    rows.append(["verdict", _verdict_words(f)])
     rows.append(
         [
             "first-order optimality (KKT residual, relative)",
@@ -305,3 +329,17 @@ def _search_table(result: StudyResult) -> Table:
     )
     rows.append(["variants evaluated in all", f"{f.get('evaluations')}"])
     return Table(f"{result.study.name}: search", ["", "value"], rows)
+
+
+def _verdict_words(f: dict[str, Any]) -> str:
+    """The fit's verdict in words, with its first-order measure against the tolerance."""
+    proof = f.get("optimality")
+    if f.get("best") is None:
+        return f"{NOT_CONVERGED}: no variant keeps every constraint"
+    if proof is None:
+        return f"{NOT_CONVERGED}: its first-order measure cannot be shown (no gradient stored there)"
+    sign = "≤" if f.get("verdict") == CONVERGED else ">"
+    words = f"{f.get('verdict')}: first-order measure {proof['measure']:.2g} {sign} {FIRST_ORDER:g}"
+    if f.get("verdict") != CONVERGED and all(t.get("holds") for t in f.get("targets", [])):
+        words += " (every target holds: the fit need not be the least-squares optimum)"
+    return words
