@@ -6,9 +6,10 @@
 
 mechdyn: :func:`mechdyn.balance.balance` on press A (``examples/press_link_drive.toml``, on its mounts
 ``examples/press_on_mounts.toml`` for the floor force) with counterweights on the crank and the
-rocker, each up to 100 t at up to 1.5 m from its pivot: the exact least-squares solve (RMS) or the
-linear programme polished by SLSQP (range). Timed: the optimisation alone (``solve_time_s``); the
-linear maps it shares with the sampler (one inverse dynamics, the support's responses) are built
+rocker, each up to 100 t at up to 1.5 m from its pivot: the exact least-squares solve (RMS), or the
+cone programme by cutting planes (the floor force, the rocking rocker's inertia included). Timed:
+the optimisation alone (``solve_time_s``); the linear maps it shares with the sampler (one inverse
+dynamics, the support's responses) are built
 once, before either, and their time is reported apart.
 
 Baseline, in the same run: a plain random sampler over the same bounds, scipy's Latin hypercube

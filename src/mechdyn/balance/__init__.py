@@ -15,6 +15,7 @@ __all__ = attach(
     __name__,
     {
         "BalanceResult": "result",
+        "Budget": "exact",
         "CounterweightSlot": "solve",
         "Evaluator": "solve",
         "FloorMap": "floor",

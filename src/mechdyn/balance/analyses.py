@@ -54,6 +54,9 @@ def _balance(
     radius_max: float | None = None,
     support: str | None = None,
     angles: int | None = None,
+    max_added_mass: float | None = None,
+    max_added_inertia: float | None = None,
+    slack: float | None = None,
 ) -> Any:
     from mechdyn.balance.solve import CounterweightSlot, balance
     from mechdyn.errors import MechdynError
@@ -98,6 +101,9 @@ def _balance(
         support=machine,
         placement=placement,
         n_angles=n,
+        max_added_mass=max_added_mass,
+        max_added_inertia=max_added_inertia,
+        slack=0.0 if slack is None else slack,
     )
 
 
@@ -140,11 +146,50 @@ register(
                 metavar="FILE",
             ),
             Option("angles", "int", "crank angles per revolution (default: the file's, else 360)", minimum=8),
+            Option(
+                "max_added_mass",
+                "quantity",
+                "largest total mass of all the counterweights together (default: each link's limit alone)",
+                unit="kg",
+            ),
+            Option(
+                "max_added_inertia",
+                "quantity",
+                "largest total rotary inertia Σ m r² of the counterweights, each about its link's pivot",
+                unit="kg*m^2",
+            ),
+            Option(
+                "slack",
+                "float",
+                "the lightest design within this fraction of the best objective (default 0: of equal ones)",
+                minimum=0.0,
+            ),
         ),
         outputs=(
             Output("counterweight_mass_total_kg", "mass of all the counterweights found"),
+            Output(
+                "counterweight_inertia_total_kg_m2",
+                "their rotary inertia Σ m r², each about its link's reference point",
+            ),
+            Output("max_added_mass_kg", "the total mass allowed (when limited)"),
+            Output("max_added_inertia_kg_m2", "the total rotary inertia allowed (when limited)"),
+            Output(
+                "active_bounds",
+                "the bounds and budgets the design sits on (a link's mass or radius, the totals), or none",
+                "",
+            ),
             Output("objective", "what was minimised (a metric, or a weighted sum of metrics)", ""),
             Output("objective_ratio", "the objective with the counterweights over without", "1"),
+            Output(
+                "optimality_gap_ratio",
+                "an exact design's metric less its certified lower bound, over that bound (slack included)",
+                "1",
+            ),
+            Output("slack_ratio", "the fraction of the best objective given up for less mass", "1"),
+            Output(
+                "mass_for_90_percent_of_gain_kg",
+                "the total mass that buys 90 % of the reduction, from the mass front (linear between rows)",
+            ),
             *(
                 Output(
                     f"{q}_{s}_{tag}_{u}", f"{s} of the {q.replace('_', ' ')}'s fluctuation {tag} balancing"
@@ -174,6 +219,9 @@ register(
             "--links crank rocker --mass-max '60 t' --radius-max '1.5 m'",
             "mechdyn balance examples/fourbar.toml --links crank rocker --objective shaking_force_rms=1,"
             "driving_torque_rms=0.5",
+            "mechdyn balance examples/press_link_drive.toml --support examples/press_on_mounts.toml "
+            "--links crank rocker --mass-max '60 t' --radius-max '1.5 m' --objective floor_force_peak "
+            "--max-added-mass '40 t'",
         ),
     )
 )

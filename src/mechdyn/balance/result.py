@@ -1,15 +1,17 @@
-"""The result of :func:`mechdyn.balance.balance`: the counterweights found, what they buy, and the
-trade-off front."""
+"""The result of :func:`mechdyn.balance.balance`: the counterweights found, what they buy and cost,
+the trade-off front and the mass front."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mechdyn.balance.exact import GAP, Budget
+from mechdyn.balance.fronts import gain_mass
 from mechdyn.balance.influence import Influence
 from mechdyn.balance.objectives import split
 from mechdyn.results import Result, Table, summary_table
@@ -47,6 +49,22 @@ def _front_column(key: str, values: list[Any]) -> tuple[str, list[Any]]:
     return f"{label} [{shown}]", [v * factor if isinstance(v, float) else v for v in values]
 
 
+def _mass_words(kg: float) -> str:
+    """A mass as a designer says it: "40.8 t", "350 kg"."""
+    from mechdyn.units import convert
+
+    return f"{float(convert(kg, 'kg', 't')):.3g} t" if kg >= 1e3 else f"{kg:.3g} kg"
+
+
+def _same(a: dict[str, float], b: dict[str, float]) -> bool:
+    """Whether two front rows hold the same design and values, to 0.1 % (weights aside)."""
+    return all(
+        math.isclose(a[k], b[k], rel_tol=1e-3, abs_tol=1e-9 * max(abs(a[k]), abs(b[k]), 1.0))
+        for k in a
+        if not k.startswith("weight")
+    )
+
+
 def _unit(name: str) -> str:
     return "N" if split(name)[0] in ("shaking_force", "floor_force") else "Nm"
 
@@ -76,6 +94,13 @@ class BalanceResult(Result):
         The trade-off front: one row per weighting.
     setup_seconds, solve_seconds : float
         Time to build the linear maps (one inverse dynamics, the support responses) and to optimise, s.
+    budget : Budget
+        Total added mass (kg) and rotary inertia (kg·m²) allowed, and the slack (dimensionless)
+        traded for less mass.
+    bound : float
+        Certified lower bound of the objective's metric when ``exact`` (N), else NaN.
+    mass_front : tuple of dict
+        The objective against the total added mass allowed (:func:`mechdyn.balance.fronts.mass_front`).
     """
 
     influence: Influence
@@ -88,6 +113,9 @@ class BalanceResult(Result):
     front: tuple[dict[str, float], ...] = ()
     setup_seconds: float = 0.0
     solve_seconds: float = 0.0
+    budget: Budget = field(default_factory=Budget)
+    bound: float = math.nan
+    mass_front: tuple[dict[str, float], ...] = ()
 
     @property
     def counterweights(self) -> tuple[Any, ...]:
@@ -128,15 +156,64 @@ class BalanceResult(Result):
         """Every metric with them, SI (N, N·m)."""
         return self._metrics(self._x)
 
+    @property
+    def added_inertia(self) -> float:
+        """Σ m r² of the counterweights found, each about its link's reference point, kg·m²."""
+        return float(np.sum(self.design[:, 0] * self.design[:, 1] ** 2))
+
+    @property
+    def active_bounds(self) -> tuple[str, ...]:
+        """The bounds and budgets the design found sits on (within 1e-4), in words."""
+        from mechdyn.units import readable
+
+        mass = _mass_words
+
+        def length(m: float) -> str:
+            v, u = readable(m, "m")
+            return f"{v:.4g} {u}"
+
+        tol = 1e-4
+        out = []
+        for s, (m, r, _) in zip(self.slots, self.design, strict=True):
+            (m_lo, m_hi), (r_lo, r_hi) = s.mass, s.radius
+            if m >= m_hi * (1 - tol):
+                out.append(f"{s.link} mass ≤ {mass(m_hi)}")
+            elif m_lo > 0 and m <= m_lo * (1 + tol):
+                out.append(f"{s.link} mass ≥ {mass(m_lo)}")
+            if m > 0 and r >= r_hi * (1 - tol):
+                out.append(f"{s.link} radius ≤ {length(r_hi)}")
+            elif m > 0 and r_lo > 0 and r <= r_lo * (1 + tol):
+                out.append(f"{s.link} radius ≥ {length(r_lo)}")
+        b = self.budget
+        if math.isfinite(b.mass) and self.design[:, 0].sum() >= b.mass * (1 - tol):
+            out.append(f"total mass ≤ {mass(b.mass)}")
+        if math.isfinite(b.inertia) and self.added_inertia >= b.inertia * (1 - tol):
+            out.append(f"total inertia ≤ {b.inertia:.4g} kg·m²")
+        return tuple(out)
+
     def summary(self) -> dict[str, Any]:
-        """Counterweight mass, each metric before and after, the objective's ratio, timings (SI)."""
+        """Counterweight mass and inertia, the bounds they sit on, each metric before and after, the
+        objective's ratio, what the added mass buys, timings (SI)."""
         out: dict[str, Any] = {
             "counterweight_mass_total_kg": float(self.design[:, 0].sum()),
-            "objective": " + ".join(
-                n if w == 1 and len(self.objective) == 1 else f"{w:g}·{n}" for n, w in self.objective.items()
-            ),
-            "objective_ratio": self._objective_ratio(),
+            "counterweight_inertia_total_kg_m2": self.added_inertia,
         }
+        if math.isfinite(self.budget.mass):
+            out["max_added_mass_kg"] = float(self.budget.mass)
+        if math.isfinite(self.budget.inertia):
+            out["max_added_inertia_kg_m2"] = float(self.budget.inertia)
+        out["active_bounds"] = "; ".join(self.active_bounds) or "none"
+        out["objective"] = " + ".join(
+            n if w == 1 and len(self.objective) == 1 else f"{w:g}·{n}" for n, w in self.objective.items()
+        )
+        out["objective_ratio"] = self._objective_ratio()
+        if self.exact and math.isfinite(self.bound):
+            name = next(iter(self.objective))  # over the bound; a complete balance's is round-off
+            floor = max(self.bound, GAP * self.before[name], 1e-300)
+            out["optimality_gap_ratio"] = (self.after[name] - self.bound) / floor
+        out["slack_ratio"] = float(self.budget.slack)
+        if self.mass_front:
+            out["mass_for_90_percent_of_gain_kg"] = gain_mass(self.mass_front, 0.9)
         for n in self.before:
             u = _unit(n)
             out[f"{n}_before_{u}"] = self.before[n]
@@ -206,7 +283,7 @@ class BalanceResult(Result):
         return out
 
     def tables(self, **display_units: str) -> list[Table]:
-        """The summary, the counterweights and the trade-off front."""
+        """The summary, the counterweights, the trade-off front and the mass front."""
         s = self.summary()
         cw = s.pop("counterweights")
         objective, method = s.pop("objective", None), s.pop("method", None)
@@ -237,39 +314,74 @@ class BalanceResult(Result):
             )
         )
         if self.front:
-            keys = list(self.front[0])
-            outcomes = {
-                tuple(round(float(v), 9) for k, v in row.items() if not k.startswith("weight"))
-                for row in self.front
-            }
-            front = self.front if len(outcomes) > 1 else self.front[:1]
-            columns = [_front_column(k, [row[k] for row in front]) for k in keys]
-            tables.append(
-                Table(
-                    "trade-off front (weights of force, shaking moment, driving torque RMS)",
-                    [header for header, _ in columns],
-                    [list(row) for row in zip(*(values for _, values in columns), strict=True)],
-                    note="Each row: the counterweights minimising the weighted sum of the three RMS values, "
-                    "each relative to its value without counterweights."
-                    + (
-                        ""
-                        if len(front) > 1
-                        else f" Every one of the {len(self.front)} weightings finds this same design: the "
-                        "shaking moment and the driving torque do not change with these counterweights "
-                        "here, so there is no trade-off to make."
-                    ),
-                )
-            )
+            tables.append(self._front_table())
+        if self.mass_front:
+            tables.append(self._mass_table())
         return tables
 
+    def _front_table(self) -> Table:
+        keys = list(self.front[0])
+        moved = [k for k in keys if k.startswith(("shaking_moment", "driving_torque"))]
+        still = all(
+            math.isclose(row[k], self.front[0][k], rel_tol=1e-9, abs_tol=1e-9)
+            for row in self.front
+            for k in moved
+        )
+        front: tuple[dict[str, float], ...] = self.front
+        if still:  # one row per distinct design (to 0.1 %) that the force asks for
+            distinct: list[dict[str, float]] = []
+            for row in self.front:
+                if row[keys[0]] > 0 and not any(_same(row, kept) for kept in distinct):
+                    distinct.append(row)
+            front = tuple(distinct) or self.front[:1]
+        columns = [_front_column(k, [row[k] for row in front]) for k in keys]
+        note = (
+            "Each row: the lightest counterweights minimising the weighted sum of the three RMS values, "
+            "each relative to its value without counterweights."
+        )
+        if still:
+            asked = sum(1 for row in self.front if row[keys[0]] > 0)
+            note += (
+                f" Every one of the {asked} weightings with a weight on the force finds "
+                + ("this same design" if len(front) == 1 else f"one of these {len(front)} designs")
+                + ", and those without one add no counterweight: the shaking moment and the driving torque "
+                "do not change with these counterweights here, so there is no trade-off to make."
+            )
+        return Table(
+            "trade-off front (weights of force, shaking moment, driving torque RMS)",
+            [header for header, _ in columns],
+            [list(row) for row in zip(*(values for _, values in columns), strict=True)],
+            note=note,
+        )
+
+    def _mass_table(self) -> Table:
+        rows = self.mass_front
+        keys = list(rows[0])
+        columns = [_front_column(k, [row[k] for row in rows]) for k in keys]
+        need = gain_mass(rows, 0.9)
+        total = rows[-1]["counterweight_mass_kg"]
+        return Table(
+            "mass front (the objective's optimum for each total added mass allowed)",
+            [header for header, _ in columns],
+            [list(row) for row in zip(*(values for _, values in columns), strict=True)],
+            note=f"Each row: the lightest counterweights minimising the objective with at most that total "
+            f"mass; the objective relative to its value without counterweights; the share of the design's "
+            f"reduction it buys. 90 % of the reduction takes {_mass_words(need)} of the design's "
+            f"{_mass_words(total)} ({need / max(total, 1e-300):.0%}; linear between rows: an upper bound "
+            "for a force objective).",
+        )
+
     def plots(self, **display_units: str) -> dict[str, Any]:
-        """Shaking force (polar) and driving torque before and after, and the trade-off front."""
+        """Shaking force (polar) and driving torque before and after, the trade-off front and the mass
+        front."""
         out = {
             "balance_shaking_force.png": self._plot_force,
             "balance_torque_moment.png": self._plot_torque,
         }
         if self.front:
             out["balance_front.png"] = self._plot_front
+        if self.mass_front:
+            out["balance_mass_front.png"] = self._plot_mass_front
         return out
 
     def _plot_force(self) -> Any:
@@ -311,6 +423,24 @@ class BalanceResult(Result):
         fig.colorbar(sc, ax=ax, label="driving torque range [N·m]")
         ax.set_xlabel(force.replace("_", " ").removesuffix(" N") + " [N]")
         ax.set_ylabel("shaking moment rms [N·m]")
+        return ax
+
+    def _plot_mass_front(self) -> Any:
+        import matplotlib.pyplot as plt
+
+        from mechdyn.units import convert, readable_unit
+
+        rows = self.mass_front
+        names = [k for k in rows[0] if k.endswith("_N")]
+        mass_label, mass = _front_column("counterweight_mass_kg", [r["counterweight_mass_kg"] for r in rows])
+        display, shown = readable_unit(max(abs(r[n]) for r in rows for n in names), "N")
+        factor = float(convert(1.0, "N", display))
+        _fig, ax = plt.subplots(figsize=(6, 4.5))
+        for n in names:
+            ax.plot(mass, [r[n] * factor for r in rows], "o-", label=n.removesuffix("_N").replace("_", " "))
+        ax.set_xlabel(mass_label.replace("counterweight mass", "total counterweight mass"))
+        ax.set_ylabel(f"after balancing [{shown}]")
+        ax.legend()
         return ax
 
 

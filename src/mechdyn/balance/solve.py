@@ -2,19 +2,22 @@
 
 Per link, a point mass m at radius r and angle β from the link's reference point
 (:func:`~mechdyn.balance.influence.reference_point`, its pivot on the frame when it has one), within
-the bounds of a :class:`CounterweightSlot`. The force part of the problem is linear in the mass
-moments (m u, m v) and, for a link without a pivot on the frame, the mass m
-(:mod:`~mechdyn.balance.influence`), so it is solved exactly: least squares
-(:func:`numpy.linalg.lstsq`) for an RMS, a linear programme (:func:`scipy.optimize.linprog`,
-HiGHS) for a peak or a range (a peak by the largest projection on 32 directions in the plane, or 26
-in space: within 0.5 % (plane) of the Euclidean peak). The mass moment of a link on a pivot is then
-carried by the largest allowed radius (the lightest counterweight). The rest — the shaking moment,
-the driving torque, a weighted sum, or a force solution the bounds cut — is polished by
-:func:`scipy.optimize.minimize` (SLSQP, bounds on m, r) started from the exact force solution.
+the bounds of a :class:`CounterweightSlot`, and all of them within a total mass and a total rotary
+inertia (:class:`~mechdyn.balance.exact.Budget`). The force part of the problem is linear in the
+mass moments (m u, m v) and, for a link without a pivot on the frame, the mass m
+(:mod:`~mechdyn.balance.influence`), and its bounds are convex, so it is solved to its optimum
+(:mod:`~mechdyn.balance.exact`: least squares for an RMS, a cone programme by cutting planes on
+HiGHS linear programmes for a peak or a range, within 1e-6 of a certified lower bound), the
+lightest design among those within ``slack`` of it. The rest — the shaking moment, the driving
+torque, a weighted sum, a floor force that a rocking link's inertia moves, or a force solution the
+smallest radius cuts — is polished by :func:`scipy.optimize.minimize` (SLSQP, bounds on m and r, the
+budgets as constraints) started from the exact force solution, then lightened the same way: SLSQP
+minimises the total mass with the objective held within the slack of the polished value.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -22,12 +25,13 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.balance.exact import TIE, Budget, ForceSolution, force_optimum, within_bounds
 from mechdyn.balance.influence import PER_LINK, Influence, influence
 from mechdyn.balance.objectives import metric, parse_objective, split
 from mechdyn.errors import ModelError
 from mechdyn.units import si_field
 
-__all__ = ["CounterweightSlot", "Evaluator", "balance"]
+__all__ = ["CounterweightSlot", "Evaluator", "Found", "balance", "lead", "optimise"]
 
 
 @dataclass(frozen=True)
@@ -141,135 +145,121 @@ class Evaluator:
         return out
 
 
-def _force_rows(ev: Evaluator, quantity: str, free: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(N, c, F) the force columns of the free coefficients and (N, c) the base."""
-    if quantity == "floor_force":
-        return ev.floor.columns[:, :, free], ev.floor.base
-    return ev.infl.columns[:, :2, free], ev.infl.base[:, :2]
-
-
-def _directions(c: int) -> np.ndarray:
-    if c == 2:
-        a = 2 * np.pi * np.arange(32) / 32
-        return np.column_stack([np.cos(a), np.sin(a)])
-    g = np.array(
-        [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1) if (i, j, k) != (0, 0, 0)]
-    )
-    return g / np.linalg.norm(g, axis=1, keepdims=True)
-
-
-def _exact_force(
-    ev: Evaluator, quantity: str, statistic: str, free: np.ndarray, box: np.ndarray
-) -> np.ndarray:
-    """The free coefficients minimising a force metric: least squares (RMS) or a linear programme."""
-    from scipy.optimize import linprog
-
-    cols, base = _force_rows(ev, quantity, free)
-    A = cols - cols.mean(axis=0)
-    b = base - base.mean(axis=0)
-    N, c, F = A.shape
-    if statistic == "rms":
-        sol, *_ = np.linalg.lstsq(A.reshape(N * c, F), -b.reshape(N * c), rcond=None)
-        return np.asarray(sol)
-    bounds = [(-float(v), float(v)) for v in box] + [(None, None)]
-    if statistic == "peak":
-        D = _directions(c)  # (d, c)
-        G = np.einsum("dc,ncf->ndf", D, A).reshape(-1, F)
-        h = np.einsum("dc,nc->nd", D, b).reshape(-1)
-        A_ub = np.hstack([G, -np.ones((G.shape[0], 1))])
-        res = linprog(np.r_[np.zeros(F), 1.0], A_ub=A_ub, b_ub=-h, bounds=bounds, method="highs")
-        return np.asarray(res.x[:F]) if res.success else np.zeros(F)
-    # range: hi_c ≥ f_nc, lo_c ≤ f_nc, t ≥ hi_c − lo_c
-    nv = F + 2 * c + 1
-    rows, rhs = [], []
-    for j in range(c):
-        up = np.zeros((N, nv))
-        up[:, :F] = cols[:, j, :]
-        up[:, F + j] = -1.0
-        rows.append(up)
-        rhs.append(-base[:, j])
-        lo = np.zeros((N, nv))
-        lo[:, :F] = -cols[:, j, :]
-        lo[:, F + c + j] = 1.0
-        rows.append(lo)
-        rhs.append(base[:, j])
-        t = np.zeros((1, nv))
-        t[0, F + j], t[0, F + c + j], t[0, -1] = 1.0, -1.0, -1.0
-        rows.append(t)
-        rhs.append(np.zeros(1))
-    cost = np.zeros(nv)
-    cost[-1] = 1.0
-    bounds = bounds[:F] + [(None, None)] * (2 * c + 1)
-    res = linprog(cost, A_ub=np.vstack(rows), b_ub=np.concatenate(rhs), bounds=bounds, method="highs")
-    return np.asarray(res.x[:F]) if res.success else np.zeros(F)
-
-
-def _design_from(
-    x_free: np.ndarray, free: np.ndarray, slots: tuple[CounterweightSlot, ...], pivoted: list[bool]
-) -> tuple[np.ndarray, bool]:
-    """(L, 3) mass, radius, angle carrying the solved coefficients, and whether the bounds kept them."""
-    L = len(slots)
-    x = np.zeros(PER_LINK * L)
-    x[free] = x_free
-    design = np.zeros((L, 3))
-    kept = True
-    for k, s in enumerate(slots):
-        m, mu, mv = x[PER_LINK * k : PER_LINK * k + 3]
-        rho = float(np.hypot(mu, mv))
-        beta = float(np.arctan2(mv, mu))
-        (m_lo, m_hi), (r_lo, r_hi) = s.mass, s.radius
-        if pivoted[k]:  # the mass moment alone counts: carry it at the largest radius
-            r = r_hi
-            m = rho / r
-            if m > m_hi:
-                m, kept = m_hi, False
-            elif m < m_lo:
-                m = m_lo
-                r = rho / m if m > 0 else r_hi
-                if r < r_lo:
-                    r, kept = r_lo, False
-        else:
-            clipped = float(np.clip(m, m_lo, m_hi))
-            kept = kept and clipped == m
-            m = clipped
-            r = rho / m if m > 0 else r_lo
-            kept = kept and (m > 0 or rho == 0)
-            if r > r_hi or r < r_lo:
-                r, kept = float(np.clip(r, r_lo, r_hi)), False
-        design[k] = (m, r, beta)
-    return design, kept
-
-
 @dataclass(frozen=True)
 class _Problem:
     ev: Evaluator
     slots: tuple[CounterweightSlot, ...]
     weights: dict[str, float]
     scale: dict[str, float]
+    budget: Budget
 
     def value(self, design: np.ndarray) -> float:
         vals = self.ev.metrics(self.ev.coefficients(design), list(self.weights))
         return float(sum(w * float(vals[n]) / self.scale[n] for n, w in self.weights.items()))
 
-    def polish(self, start: np.ndarray) -> np.ndarray:
-        from scipy.optimize import minimize
-
-        L = len(self.slots)
+    def _space(self) -> tuple[np.ndarray, np.ndarray]:
         bounds = []
         for s in self.slots:
             bounds += [s.mass, s.radius, (-4 * np.pi, 4 * np.pi)]
-        span = np.array([max(hi - lo, 1e-12) for lo, hi in bounds])
         lo = np.array([b[0] for b in bounds])
+        return lo, np.array([max(hi - lo, 1e-12) for lo, hi in bounds])
+
+    def _budgets(self, design: Any) -> list[dict[str, Any]]:
+        """SLSQP constraints (≥ 0) of the total mass and inertia budgets, on ``design(z)``, each scaled
+        by the largest total the slots allow."""
+        out = []
+        b = self.budget
+        if math.isfinite(b.mass):
+            most = max(b.mass, sum(s.mass[1] for s in self.slots), 1e-300)
+            out.append({"type": "ineq", "fun": lambda z: (b.mass - design(z)[:, 0].sum()) / most})
+        if math.isfinite(b.inertia):
+            top = max(b.inertia, sum(s.mass[1] * s.radius[1] ** 2 for s in self.slots), 1e-300)
+
+            def spare(z: np.ndarray) -> float:
+                d = design(z)
+                return float(b.inertia - np.sum(d[:, 0] * d[:, 1] ** 2)) / top
+
+            out.append({"type": "ineq", "fun": spare})
+        return out
+
+    def polish(self, start: np.ndarray) -> np.ndarray:
+        """SLSQP from ``start`` (within the bounds and budgets), the better of the two."""
+        from scipy.optimize import minimize
+
+        L = len(self.slots)
+        lo, span = self._space()
+
+        def design(z: np.ndarray) -> np.ndarray:
+            return (lo + z * span).reshape(L, 3)
 
         def f(z: np.ndarray) -> float:
-            return self.value((lo + z * span).reshape(L, 3))
+            return self.value(design(z))
 
         z0 = np.clip((start.ravel() - lo) / span, 0.0, 1.0)
         res = minimize(
-            f, z0, method="SLSQP", bounds=[(0.0, 1.0)] * z0.size, options={"maxiter": 300, "ftol": 1e-12}
+            f,
+            z0,
+            method="SLSQP",
+            bounds=[(0.0, 1.0)] * z0.size,
+            constraints=self._budgets(design),
+            options={"maxiter": 300, "ftol": 1e-12},
         )
-        best = res.x if res.fun <= f(z0) else z0
-        return (lo + best * span).reshape(L, 3)
+        x, kept = within_bounds(design(_snap(res.x)), self.slots, self.budget)
+        return x if kept and self.value(x) < self.value(start) else start
+
+    def lighten(self, design0: np.ndarray) -> np.ndarray:
+        """The lightest design within the slack of ``design0``'s value (SLSQP, from it): mass that buys
+        nothing for the objective is taken off."""
+        from scipy.optimize import minimize
+
+        L = len(self.slots)
+        lo, span = self._space()
+        heaviest = max(sum(s.mass[1] for s in self.slots), 1e-300)
+        value0 = self.value(design0)
+        target = value0 * (1 + self.budget.slack + TIE)
+        inner = value0 * (1 + self.budget.slack + TIE / 2)  # SLSQP may overstep its constraint a little
+
+        def design(z: np.ndarray) -> np.ndarray:
+            return (lo + z * span).reshape(L, 3)
+
+        z0 = np.clip((design0.ravel() - lo) / span, 0.0, 1.0)
+        res = minimize(
+            lambda z: design(z)[:, 0].sum() / heaviest,
+            z0,
+            method="SLSQP",
+            bounds=[(0.0, 1.0)] * z0.size,
+            constraints=[
+                {"type": "ineq", "fun": lambda z: inner - self.value(design(z))},
+                *self._budgets(design),
+            ],
+            options={"maxiter": 300, "ftol": 1e-12},
+        )
+        x, kept = within_bounds(design(_snap(res.x)), self.slots, self.budget)
+        lighter = x[:, 0].sum() < design0[:, 0].sum()
+        return x if lighter and kept and self.value(x) <= target else design0
+
+
+def _snap(z: np.ndarray) -> np.ndarray:
+    """Scaled variables within [0, 1], those within 1e-9 of a bound on it (no 1e-10 kg masses)."""
+    z = np.clip(z, 0.0, 1.0)
+    return np.where(z < 1e-9, 0.0, np.where(z > 1 - 1e-9, 1.0, z))
+
+
+def _budget(max_added_mass: Any, max_added_inertia: Any, slack: float) -> Budget:
+    el = "balance"
+    mass = (
+        math.inf
+        if max_added_mass is None
+        else si_field(el, "max_added_mass", max_added_mass, "kg", nonnegative=True)
+    )
+    inertia = (
+        math.inf
+        if max_added_inertia is None
+        else si_field(el, "max_added_inertia", max_added_inertia, "kg*m^2", nonnegative=True)
+    )
+    if not (np.isfinite(slack) and 0 <= slack < 1):
+        raise ModelError(f"slack {slack!r} must be a fraction, 0 ≤ slack < 1", element=el, field="slack")
+    return Budget(mass, inertia, float(slack))
 
 
 def balance(
@@ -281,6 +271,9 @@ def balance(
     placement: Any = None,
     n_angles: int = 360,
     front: bool = True,
+    max_added_mass: Any = None,
+    max_added_inertia: Any = None,
+    slack: float = 0.0,
 ) -> Any:
     """Counterweights on the given links that minimise the objective (:class:`BalanceResult`).
 
@@ -304,7 +297,17 @@ def balance(
         Crank angles over one revolution.
     front : bool
         Also sweep the weights between the force (floor force with a support, else shaking force),
-        shaking moment and driving torque RMS: the trade-off front.
+        shaking moment and driving torque RMS (the trade-off front), and the objective against the
+        total added mass allowed (the mass front: what each tonne buys).
+    max_added_mass : float or quantity, optional
+        Largest total mass of all the counterweights, kg (plain numbers) or a quantity ("60 t").
+    max_added_inertia : float or quantity, optional
+        Largest total rotary inertia Σ m r² of the counterweights, each about its link's reference
+        point, kg·m² or a quantity.
+    slack : float
+        Dimensionless, 0 ≤ slack < 1: among designs whose objective is within this fraction of the
+        best, the lightest is taken (0: among equal ones, to 1e-9; 0.01 gives up 1 % of the
+        objective for less mass).
 
     Returns
     -------
@@ -313,11 +316,14 @@ def balance(
     Notes
     -----
     Linearity of shaking force, moment and torque in (m, m u, m v, J + m r²) per link (Berkof &
-    Lowen, J. Eng. Ind. 91 (1969) 21–26); exact least squares or linear programme for a force
-    objective, SLSQP from that solution otherwise (module docstring).
+    Lowen, J. Eng. Ind. 91 (1969) 21–26); the force objectives as exact least squares or cone
+    programmes (:mod:`mechdyn.balance.exact`), SLSQP from that solution otherwise (module
+    docstring); then the lightest design within the slack.
     """
+    from mechdyn.balance.fronts import mass_front, weight_front
     from mechdyn.balance.result import BalanceResult
 
+    budget = _budget(max_added_mass, max_added_inertia, slack)
     t0 = time.perf_counter()
     slots_ = _slots(slots)
     infl = influence(mechanism, [s.link for s in slots_], n_angles)
@@ -330,120 +336,110 @@ def balance(
     weights = parse_objective(objective, floor is not None)
     t_setup = time.perf_counter() - t0
     t1 = time.perf_counter()
-    design, method, exact = _optimise(ev, slots_, weights)
+    found = optimise(ev, slots_, weights, budget)
     t_solve = time.perf_counter() - t1
     rows: list[dict[str, float]] = []
+    masses: list[dict[str, float]] = []
     if front:
-        rows = _front(ev, slots_)
+        rows = weight_front(ev, slots_, budget)
+        masses = mass_front(ev, slots_, weights, budget, found.design)
     return BalanceResult(
         influence=infl,
         floor=floor,
         slots=slots_,
         objective=weights,
-        design=design,
-        method=method,
-        exact=exact,
+        design=found.design,
+        method=found.method,
+        exact=found.exact,
         front=tuple(rows),
         setup_seconds=t_setup,
         solve_seconds=t_solve,
+        budget=budget,
+        bound=found.bound,
+        mass_front=tuple(masses),
     )
 
 
-def _pivoted(infl: Influence) -> list[bool]:
-    from mechdyn.mechanism.model import GROUND
+@dataclass(frozen=True)
+class Found:
+    """A design and how it was found.
 
-    out = []
-    for body, point in zip(infl.links, infl.points, strict=True):
-        out.append(
-            any(
-                j.pins and GROUND in j.bodies and body in j.bodies and j.point == point
-                for j in infl.mechanism.joints
-            )
-        )
-    return out
+    Attributes
+    ----------
+    design : ndarray
+        (L, 3) mass (kg), radius (m), angle (rad) per link.
+    method : str
+        How.
+    exact : bool
+        Whether it is the force problem's optimum to the stated accuracy.
+    bound : float
+        Certified lower bound of the objective's metric (SI) when exact, else NaN.
+    """
 
-
-def _force_start(
-    ev: Evaluator, slots: tuple[CounterweightSlot, ...], quantity: str, statistic: str
-) -> tuple[np.ndarray, bool]:
-    """The exact solution of a force metric, as a design within the bounds, and whether it is exact."""
-    pivoted = _pivoted(ev.infl)
-    free = []
-    box = []
-    for k, s in enumerate(slots):
-        reach = s.mass[1] * s.radius[1]
-        if not pivoted[k]:
-            free.append(PER_LINK * k)
-            box.append(s.mass[1])
-        free += [PER_LINK * k + 1, PER_LINK * k + 2]
-        box += [reach, reach]
-    free_ = np.array(free)  # the J + m r² column, where it moves the floor, is left to the polish
-    x = _exact_force(ev, quantity, statistic, free_, np.array(box))
-    return _design_from(x, free_, slots, pivoted)
+    design: np.ndarray
+    method: str
+    exact: bool
+    bound: float
 
 
-def _optimise(
-    ev: Evaluator, slots: tuple[CounterweightSlot, ...], weights: dict[str, float]
-) -> tuple[np.ndarray, str, bool]:
+def lead(ev: Evaluator, weights: Mapping[str, float]) -> str:
+    """The force metric the design starts from: the objective's first force metric, else the force's
+    RMS (the floor force with a support, else the shaking force).
+
+    Parameters
+    ----------
+    ev : Evaluator
+        The linear maps.
+    weights : mapping
+        The objective (metric → weight).
+    """
+    force = [n for n in weights if split(n)[0] in ("shaking_force", "floor_force")]
+    return force[0] if force else ("floor_force_rms" if ev.floor is not None else "shaking_force_rms")
+
+
+def optimise(
+    ev: Evaluator,
+    slots: tuple[CounterweightSlot, ...],
+    weights: dict[str, float],
+    budget: Budget,
+    start: ForceSolution | None = None,
+) -> Found:
+    """The counterweights minimising a weighted objective within every bound and budget.
+
+    Parameters
+    ----------
+    ev : Evaluator
+        The linear maps.
+    slots : tuple of CounterweightSlot
+        The links and their bounds.
+    weights : dict
+        Metric → dimensionless weight (:func:`mechdyn.balance.objectives.parse_objective`).
+    budget : Budget
+        Total mass (kg), total inertia (kg·m²) and the slack traded for less mass.
+    start : ForceSolution, optional
+        The exact solution of the leading force metric (:func:`lead`) for this budget, when already
+        solved.
+
+    Returns
+    -------
+    Found
+    """
     names = list(weights)
     zero = np.zeros(PER_LINK * len(slots))
     before = ev.metrics(zero, names)
     scale = {n: max(float(before[n]), 1e-300) for n in names}
-    problem = _Problem(ev, slots, weights, scale)
-    force = [n for n in names if split(n)[0] in ("shaking_force", "floor_force")]
-    lead = force[0] if force else ("floor_force_rms" if ev.floor is not None else "shaking_force_rms")
-    q, s = split(lead)
-    start, kept = _force_start(ev, slots, q, s)
-    method_exact = (
-        "least squares (numpy.linalg.lstsq)" if s == "rms" else "linear programme (scipy linprog, HiGHS)"
+    problem = _Problem(ev, slots, weights, scale, budget)
+    first = lead(ev, weights)
+    if start is None:
+        start = force_optimum(ev, slots, *split(first), budget)
+    only_force = names == [first]
+    if only_force and start.kept:
+        return Found(start.design, f"exact: {start.method}", True, start.bound)
+    polished = problem.lighten(problem.polish(start.design))
+    return Found(
+        polished,
+        f"SLSQP (scipy.optimize.minimize) from the exact force solution by {start.method}, "
+        "then the lightest within the slack",
+        False,
+        math.nan,
     )
-    only_force = len(names) == 1 and names[0] in force
-    floor_rocks = q == "floor_force" and _rocking(ev)
-    if only_force and kept and not floor_rocks:
-        return start, f"exact: {method_exact}", True
-    polished = problem.polish(start)
-    if problem.value(polished) > problem.value(start):
-        polished = start
-    return polished, f"SLSQP (scipy.optimize.minimize) from the exact force solution by {method_exact}", False
-
-
-def _rocking(ev: Evaluator) -> bool:
-    """Whether a link's J + m r² column reaches the floor (it turns at a varying speed)."""
-    if ev.floor is None:
-        return False
-    cols = ev.floor.columns[:, :, PER_LINK - 1 :: PER_LINK]
-    return bool(np.any(np.abs(cols) > 1e-12 * max(float(np.abs(ev.floor.base).max()), 1.0)))
-
-
-FRONT_WEIGHTS = (
-    (1.0, 0.0, 0.0),
-    (0.75, 0.25, 0.0),
-    (0.5, 0.5, 0.0),
-    (0.25, 0.75, 0.0),
-    (0.0, 1.0, 0.0),
-    (0.75, 0.0, 0.25),
-    (0.5, 0.0, 0.5),
-    (0.25, 0.0, 0.75),
-    (0.0, 0.0, 1.0),
-    (1 / 3, 1 / 3, 1 / 3),
-)
-"""(force, shaking moment, driving torque) weights of the trade-off front."""
-
-
-def _front(ev: Evaluator, slots: tuple[CounterweightSlot, ...]) -> list[dict[str, float]]:
-    force = "floor_force_rms" if ev.floor is not None else "shaking_force_rms"
-    names = [force, "shaking_moment_rms", "driving_torque_rms"]
-    shown = [force, "shaking_force_rms", "shaking_moment_rms", "driving_torque_range"]
-    shown = list(dict.fromkeys(shown))
-    rows = []
-    for w in FRONT_WEIGHTS:
-        weights = {n: v for n, v in zip(names, w, strict=True) if v > 0}
-        design, _, _ = _optimise(ev, slots, weights)
-        vals = ev.metrics(ev.coefficients(design), shown)
-        row = {f"weight_{n}_ratio": float(v) for n, v in zip(names, w, strict=True)}
-        row["counterweight_mass_kg"] = float(design[:, 0].sum())
-        unit = {"shaking_force": "N", "floor_force": "N"}
-        for n in shown:
-            row[f"{n}_{unit.get(split(n)[0], 'Nm')}"] = float(vals[n])
-        rows.append(row)
-    return rows
