@@ -176,12 +176,16 @@ def _revolution(
     Q: list[float],
     Qp: list[float],
     K0: float,
+    Wp: list[float] | None = None,
 ) -> tuple[list[float], list[float], list[float], tuple[float, float, float, float]]:
     """One revolution of dK/dφ = N_0 T_m − loss + Q by RK4, steps over two samples (the midpoint is a
     sample).
 
-    Returns K, N_0 T_m and the loss torque at the step nodes, and the crank work of the motor, of the
-    train's losses, of Q and of the process forces, each weighted as the rule weighs them.
+    ``Wp`` is the process forces' work over each step, J, integrated between the samples where the
+    force has its kinks (:mod:`mechdyn.mechanism.process`): it replaces the rule's Simpson weights of
+    the process share of Q, which depends on the angle alone. Returns K, N_0 T_m and the loss torque
+    at the step nodes, and the crank work of the motor, of the train's losses, of Q and of the process
+    forces.
     """
     n2 = len(J)
     H = 4 * math.pi / n2
@@ -216,9 +220,28 @@ def _revolution(
         wT += H / 6 * (T1 + 2 * T2 + 2 * T3 + T4)
         wL += H / 6 * (L1 + 2 * L2 + 2 * L3 + L4)
         wQ += H / 6 * (Q[i] + 4 * Q[j1] + Q[j2])
-        wP += H / 6 * (Qp[i] + 4 * Qp[j1] + Qp[j2])
+        simpson = H / 6 * (Qp[i] + 4 * Qp[j1] + Qp[j2])
+        if Wp is None:
+            wP += simpson
+        else:  # the process's work between the samples, exactly where its force kinks
+            K += Wp[i // 2] - simpson
+            wQ += Wp[i // 2] - simpson
+            wP += Wp[i // 2]
     Ks.append(K)
     return Ks, Ts, Ls, (wT, wL, wQ, wP)
+
+
+def _process_work(reduced: Any) -> list[float] | None:
+    """The process forces' work on the crank over each Runge–Kutta step (two samples), J, integrated
+    between the samples where the force kinks; None without process forces."""
+    if not reduced.mechanism.process_forces:
+        return None
+    from mechdyn.mechanism.process import process_path
+
+    path = process_path(reduced.kinematics)
+    w = -path.interval_work()  # the work the forces do on the crank: −∫ T_p dφ
+    assert path.angle[0] == reduced.angle[0]  # both in the order turned, from the same first sample
+    return (w[0::2] + w[1::2]).tolist()
 
 
 def operating_speed(drive: Any, reduced: Any) -> float:
@@ -281,14 +304,15 @@ def steady_state(drive: Any, reduced: Any) -> SteadyState:
         raise ModelError("the reduced mechanism needs an even number of crank angles", element="drive")
 
     torque = _rate(drive, reduced)
+    Wp = _process_work(reduced)
     w0 = operating_speed(drive, reduced)
     Ka = 0.5 * J[0] * w0 * w0
-    ga = _revolution(torque, J, Q, Qp, Ka)[0][-1] - Ka
+    ga = _revolution(torque, J, Q, Qp, Ka, Wp)[0][-1] - Ka
     shots = 1
     Kb = Ka + ga  # one revolution on: the natural iteration
     while True:
         try:
-            run = _revolution(torque, J, Q, Qp, Kb)
+            run = _revolution(torque, J, Q, Qp, Kb, Wp)
             break
         except StallError:
             if shots > MAX_SHOTS:
@@ -307,10 +331,10 @@ def steady_state(drive: Any, reduced: Any) -> SteadyState:
         if Kc <= 0.0:
             Kc = 0.5 * Kb
         try:
-            trial = _revolution(torque, J, Q, Qp, Kc)
+            trial = _revolution(torque, J, Q, Qp, Kc, Wp)
         except StallError:
             Kc = 0.5 * (Kc + max(Ka, Kb))
-            trial = _revolution(torque, J, Q, Qp, Kc)
+            trial = _revolution(torque, J, Q, Qp, Kc, Wp)
         shots += 1
         Ka, ga, Kb, run = Kb, gb, Kc, trial
         gb = run[0][-1] - Kb

@@ -100,25 +100,78 @@ class FormingForce:
                 element="forming force",
                 field="before_bdc",
             )
-        a_bdc, a_tdc = float(k.angle[i_bdc]), float(k.angle[i_tdc])
+        # the dead centres between the samples: one Newton step on ds/dθ = 0 from the nearest sample
+        # (ds/dθ = v/θ̇ and d²s/dθ² = a/θ̇² at constant speed: the kinematics' own derivatives)
+        slide = joint.bodies[1] if joint.bodies[0] == GROUND else joint.bodies[0]
+        _, v, acc = k.point(slide, joint.point)
+        axis = np.array([math.cos(joint.axis), math.sin(joint.axis)])
+        w = float(steady.driver.speed)
+        d1, d2 = (v @ axis) / w, (acc @ axis) / (w * w)
+        a_bdc = float(k.angle[i_bdc] - d1[i_bdc] / d2[i_bdc])
+        s_bdc = s_bdc - 0.5 * d1[i_bdc] ** 2 / d2[i_bdc]
+        a_tdc = float(k.angle[i_tdc] - d1[i_tdc] / d2[i_tdc])
         direction = 1.0 if mechanism.driver.speed > 0 else -1.0
         # the working stroke: from TDC to BDC in the direction of rotation
         span = (direction * (a_bdc - a_tdc)) % (2 * math.pi)
-        ux, uy = math.cos(joint.axis), math.sin(joint.axis)  # up: against the slide's motion down
-        F, d, rise = self.force, self.before_bdc, self.rise
-        h = 2 * math.pi / n_angles
-
-        def force(angle: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            past_tdc = (direction * (np.asarray(angle) - a_tdc)) % (2 * math.pi)
-            working = (past_tdc > 0) & (past_tdc <= span + 0.5 * h)
-            depth = d - (np.asarray(position) - s_bdc)  # travel into the forming zone, m
-            share = np.clip(depth / rise, 0.0, 1.0) if rise > 0 else (depth >= 0).astype(float)
-            f = np.where(working & (depth >= 0), F * share, 0.0)
-            return f * ux, f * uy
-
-        slide = joint.bodies[1] if joint.bodies[0] == GROUND else joint.bodies[0]
+        force = _Forming(self, joint.axis, direction, a_tdc, span, s_bdc)
         pf = ProcessForce(slide, joint.point, force)
         return replace(mechanism, process_forces=(*mechanism.process_forces, pf))
+
+
+@dataclass(frozen=True, eq=False)
+class _Forming:
+    """A forming force placed on a mechanism's slide: called as a process force, ``(angle,
+    position) -> (Fx, Fy)``, it acts from TDC to BDC (the working stroke, BDC included) where the slide
+    is within ``before_bdc`` of BDC."""
+
+    load: FormingForce
+    axis: float
+    direction: float
+    tdc: float
+    span: float
+    bdc_position: float
+
+    def __call__(self, angle: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        F, d, rise = self.load.force, self.load.before_bdc, self.load.rise
+        past_tdc = (self.direction * (np.asarray(angle) - self.tdc)) % (2 * math.pi)
+        working = (past_tdc > 0) & (past_tdc <= self.span)
+        depth = d - (np.asarray(position) - self.bdc_position)  # travel into the forming zone, m
+        share = np.clip(depth / rise, 0.0, 1.0) if rise > 0 else (depth >= 0).astype(float)
+        f = np.where(working & (depth >= 0), F * share, 0.0)
+        return f * math.cos(self.axis), f * math.sin(self.axis)
+
+    def kinks(self) -> list[tuple[str, tuple[float, ...]]]:
+        """Where the force is not smooth: its start and its full load along the slide's axis (m), and
+        BDC, where it ends, in crank angle (rad)."""
+        start = self.bdc_position + self.load.before_bdc
+        return [
+            ("position", (start, start - self.load.rise)),
+            ("angle", (self.tdc + self.direction * self.span,)),
+        ]
+
+
+def placed_on_grid(mechanism: Any, n_angles: int) -> Any:
+    """The mechanism with each forming force placed again on the grid of ``n_angles`` crank angles.
+
+    A ``"bdc"`` angle datum is the lowest *sampled* position, so the crank angle of a physical
+    position moves by up to half a step with the grid; a forming force placed on another grid would
+    end up to half that grid's step before or after bottom dead centre.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        With process forces, some of them placed by :meth:`FormingForce.on`.
+    n_angles : int
+        Crank angles per revolution of the analysis, a whole number.
+    """
+    placed = [pf for pf in mechanism.process_forces if isinstance(pf.force, _Forming)]
+    if not placed:
+        return mechanism
+    others = tuple(pf for pf in mechanism.process_forces if not isinstance(pf.force, _Forming))
+    out = replace(mechanism, process_forces=others)
+    for pf in placed:
+        out = pf.force.load.on(out, n_angles)
+    return out
 
 
 @dataclass(frozen=True)

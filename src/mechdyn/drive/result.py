@@ -13,6 +13,7 @@ import numpy as np
 
 from mechdyn.drive.forward import StartUp, SteadyState, size_flywheel, start_up, steady_state
 from mechdyn.drive.inertia import ReducedMechanism, reduce_to_crank
+from mechdyn.drive.model import placed_on_grid
 from mechdyn.results import Result, Table, summary_table
 from mechdyn.units import convert
 
@@ -364,6 +365,7 @@ def drive_analysis(
     from mechdyn.mechanism.kinematics import check_angles
 
     n = check_angles(n_angles)
+    drive = replace(drive, mechanism=placed_on_grid(drive.mechanism, 2 * n), gear_ratio=None, efficiency=None)
     reduced = reduce_to_crank(drive.mechanism, 2 * n)
     sized = None
     if target_fluctuation is not None:

@@ -32,6 +32,9 @@ from mechdyn.units import si_field
 
 __all__ = ["Stage", "Train"]
 
+BALANCE_RTOL = 1e-9
+"""The crank's torque balance must close to this, relative to its terms, after the Newton steps."""
+
 
 @dataclass(frozen=True)
 class Stage:
@@ -152,7 +155,7 @@ class Train:
                 return acc, loss
             acc += step
         T, dT, loss = self._down(motor_torque, acc)
-        if abs(T + rest - Ic * acc) > 1e-9 * (abs(T) + abs(rest) + abs(Ic * acc)):
+        if abs(T + rest - Ic * acc) > BALANCE_RTOL * (abs(T) + abs(rest) + abs(Ic * acc)):
             raise ModelError("the drive train's torque balance did not close", element="drive")
         return acc, loss
 

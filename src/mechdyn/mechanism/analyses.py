@@ -21,7 +21,9 @@ def _mechanism(loaded: Any, angles: int | None = None) -> Any:
     if spec is not None and (spec.trace or spec.field_velocity is not None):
         result = replace(result, trace=tuple(spec.trace), field_velocity=spec.field_velocity)
     if getattr(spec, "rated_torque", None) is not None:  # a press's rating: its tonnage
-        result = replace(result, rated_torque=spec.rated_torque, rated_force=spec.rated_force)
+        result = replace(
+            result, rated_torque=spec.rated_torque, rated_force=spec.rated_force, frame=spec.frame
+        )
     return result
 
 
@@ -170,6 +172,17 @@ register(
                 "process_force_to_capacity_max_before_bdc_m",
                 "distance before BDC of the largest ratio of process force to available force",
             ),
+            Output("breakthrough_force_N", "process force that breaks off on the working stroke"),
+            Output("breakthrough_crank_angle_deg", "crank angle where it starts to break off"),
+            Output("breakthrough_before_bdc_m", "distance before BDC where it starts to break off"),
+            Output("breakthrough_release_time_s", "time over which it falls"),
+            Output("press_stiffness_N_per_m", "the press's stiffness between slide and bed (file settings)"),
+            Output("frame_period_s", "period of the slide on the press's stiffness, 2π√(m/k)"),
+            Output("frame_energy_released_J", "elastic energy the frame releases at break-through", "J"),
+            Output("reverse_load_peak_N", "reverse load when the frame springs back (one mode)"),
+            Output("reverse_load_to_capacity_ratio", "reverse load over the press's reverse capacity"),
+            Output("reverse_capacity_N", "the reverse load the press is rated for"),
+            Output("reverse_load_verdict", "the reverse load against the press's reverse capacity", ""),
             Output(
                 "tonnage_verdict", "whether the process force stays within the tonnage curve, and where", ""
             ),

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, cast
 
@@ -29,6 +29,19 @@ if TYPE_CHECKING:
     import pandas as pd
 
 __all__ = ["DynamicsResult", "inverse_dynamics"]
+
+
+# the summary's keys of a press's rating (tonnage, energy, reverse load): a table of their own
+_RATING = (
+    "rated_",
+    "tonnage_",
+    "process_",
+    "crank_angle_at_process",
+    "breakthrough_",
+    "press_stiffness",
+    "frame_",
+    "reverse_",
+)
 
 
 @dataclass(frozen=True, repr=False)  # the short repr of Result
@@ -56,6 +69,9 @@ class DynamicsResult(Result):
     rated_force : float, optional
         The press's rated force, N: the rated point (the distance before BDC from which it is
         available) is reported with it.
+    frame : Frame, optional
+        The press's stiffness (N/m), reverse capacity and damping ratio (dimensionless)
+        (:class:`mechdyn.mechanism.tonnage.Frame`): the reverse load at break-through is reported.
     """
 
     kinematics: KinematicsResult
@@ -66,8 +82,9 @@ class DynamicsResult(Result):
     field_velocity: tuple[float, float] | None = None
     rated_torque: float | None = None
     rated_force: float | None = None
+    frame: Any = None
 
-    def with_rating(self, rated_torque: Any, rated_force: Any = None) -> DynamicsResult:
+    def with_rating(self, rated_torque: Any, rated_force: Any = None, frame: Any = None) -> DynamicsResult:
         """The same cycle with a press's rating, for the tonnage curve and the capacity check.
 
         Parameters
@@ -76,6 +93,9 @@ class DynamicsResult(Result):
             The rated crank torque, N·m (e.g. ``"1600 kN*m"``), positive.
         rated_force : float or quantity, optional
             The rated press force, N (e.g. ``"10 MN"``), positive.
+        frame : mechdyn.mechanism.tonnage.Frame, optional
+            The press's stiffness and reverse-load capacity: the reverse load at break-through is
+            reported.
 
         Returns
         -------
@@ -86,7 +106,6 @@ class DynamicsResult(Result):
         MechdynError
             For a value that is not a positive torque or force.
         """
-        from dataclasses import replace
 
         from mechdyn.units import si_field
 
@@ -96,7 +115,7 @@ class DynamicsResult(Result):
             if rated_force is None
             else si_field("press rating", "rated_force", rated_force, "N", positive=True)
         )
-        return replace(self, rated_torque=T, rated_force=F)
+        return replace(self, rated_torque=T, rated_force=F, frame=frame)
 
     @property
     def mechanism(self) -> Mechanism:
@@ -252,12 +271,32 @@ class DynamicsResult(Result):
         s = self.output_position
         if self.rated_torque is None or s is None:
             return None
+        from mechdyn.mechanism.process import process_path
         from mechdyn.mechanism.tonnage import tonnage_figures
 
         v = self._slide_motion[0]
-        return tonnage_figures(
-            self.angle, s, v, self.crank_speed, self.process_torque, self.rated_torque, self.rated_force
+        path = process_path(self.kinematics) if self.mechanism.process_forces else None
+        figures, columns = tonnage_figures(
+            self.angle,
+            s,
+            v,
+            self.crank_speed,
+            self.process_torque,
+            self.rated_torque,
+            self.rated_force,
+            path=path,
         )
+        if self.frame is not None and path is not None:
+            from mechdyn.mechanism.tonnage import breakthrough
+
+            m = self.mechanism
+            j = m.output_joint()
+            assert j is not None  # a slide position comes from one
+            slide = j.bodies[1] if j.bodies[0] == GROUND else j.bodies[0]
+            mass = float(m.masses[m.body_index[slide]])
+            speed = float(np.mean(np.abs(self.crank_speed)))
+            figures.update(breakthrough(path, self.frame, mass, speed, self.rated_force))
+        return figures, columns
 
     @cached_property
     def _slide_motion(self) -> tuple[np.ndarray, np.ndarray]:
@@ -384,11 +423,18 @@ class DynamicsResult(Result):
 
         length = display_units.get("length_unit", "mm")
         summary = self.summary()
+        numbers = {k: v for k, v in summary.items() if not isinstance(v, str)}
+        rating = {k: v for k, v in numbers.items() if k.startswith(_RATING)}
         tables = [
             summary_table(
-                {k: v for k, v in summary.items() if not isinstance(v, str)},
+                {k: v for k, v in numbers.items() if k not in rating},
                 skip=("n_angles",),
                 display_units=display_units,
+            ),
+            *(
+                [replace(summary_table(rating, display_units=display_units), title="press rating")]
+                if rating
+                else []
             ),
             Table(
                 "joint forces (largest over the cycle)",

@@ -641,6 +641,10 @@ class TabulatedForce:
         f = np.interp(x, self.x, self.magnitude, left=0.0, right=0.0)
         return f * math.cos(self.direction), f * math.sin(self.direction)
 
+    def kinks(self) -> list[tuple[str, np.ndarray]]:
+        """Where the force is not smooth: its rows, against ``versus`` (rad or m)."""
+        return [(self.versus, self.x)]
+
 
 @dataclass(frozen=True)
 class Mechanism:

@@ -126,6 +126,18 @@ def _spec_settings(spec: Any) -> dict[str, Any]:
         "field_velocity": _pair(spec.field_velocity, "m/s") if spec.field_velocity is not None else None,
         "rated_torque": _q(spec.rated_torque, "N*m") if getattr(spec, "rated_torque", None) else None,
         "rated_force": _q(spec.rated_force, "N") if getattr(spec, "rated_force", None) else None,
+        **_frame_settings(getattr(spec, "frame", None)),
+    }
+
+
+def _frame_settings(frame: Any) -> dict[str, Any]:
+    """A press frame's ``[settings]`` (stiffness, reverse capacity, damping), none without one."""
+    if frame is None:
+        return {}
+    return {
+        "press_stiffness": _q(frame.stiffness, "N/m"),
+        "reverse_capacity": float(frame.reverse_capacity),
+        "press_damping": float(frame.damping_ratio),
     }
 
 

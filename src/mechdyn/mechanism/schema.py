@@ -18,19 +18,23 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import Field, field_validator
 
+from mechdyn.errors import ModelFileError
 from mechdyn.io.fields import (
     Acceleration,
     Angle,
     AngularSpeed,
+    Check,
+    Dimensionless,
     FileModel,
     Force,
     Inertia,
     Length,
+    LinearStiffness,
     Mass,
     ModelTableBase,
     Torque,
@@ -60,14 +64,19 @@ class ModelTable(ModelTableBase):
     """The model's name, shown in tables, plots, reports and the results database."""
 
 
+# a mass and an inertia are not negative (a massless link: 0), checked with the file's other problems
+BodyMass = Annotated[Mass, Check("kg", nonnegative=True)]
+BodyInertia = Annotated[Inertia, Check("kg*m^2", nonnegative=True)]
+
+
 class BodyTable(FileModel):
     name: str
     """The body's name, unique in the file; joints and the driver refer to it."""
     points: list[str] = Field(min_length=1)
     """The points of ``[points]`` that belong to this body (they move with it)."""
-    mass: Mass = 0.0
+    mass: BodyMass = 0.0
     """The body's mass."""
-    inertia: Inertia = 0.0
+    inertia: BodyInertia = 0.0
     """Moment of inertia about the centre of mass, perpendicular to the plane."""
     center_of_mass: tuple[Length, Length] | str | None = None
     """Centre of mass: [x, y] in the drawing, or a point's name (default: the mean of the body's points)."""
@@ -76,11 +85,11 @@ class BodyTable(FileModel):
 class CounterweightTable(FileModel):
     body: str
     """The link it sits on, by name."""
-    mass: Mass
+    mass: BodyMass
     """Its mass."""
     position: tuple[Length, Length] | str
     """Where it sits: [x, y] in the drawing, or a point's name; it moves with its link."""
-    inertia: Inertia = 0.0
+    inertia: BodyInertia = 0.0
     """Its own moment of inertia about its centre (default: a point mass)."""
     name: str = ""
     """Its name in tables and messages (default: "counterweight on <body>")."""
@@ -168,6 +177,14 @@ class SettingsTable(FileModel):
     rated_force: Force | None = Field(default=None, gt=0)
     """A press's rated force (with ``rated_torque``): the rated point, the distance before bottom dead centre
     from which the rated torque delivers it, is reported."""
+    press_stiffness: LinearStiffness | None = Field(default=None, gt=0)
+    """The press's stiffness between slide and bed (frame, drive and bearings), e.g. "5 MN/mm": with a
+    tabulated process force that breaks off on the working stroke, the reverse load at break-through
+    is reported against the reverse capacity."""
+    reverse_capacity: Dimensionless = Field(default=0.1, gt=0, le=1)
+    """The reverse load the press is rated for, as a fraction of ``rated_force`` (commonly 0.1)."""
+    press_damping: Dimensionless = Field(default=0.0, ge=0, lt=1)
+    """Damping ratio of the frame-and-slide mode at break-through (0: undamped, an upper bound)."""
 
     @field_validator("angle_datum", mode="before")
     @classmethod
@@ -214,6 +231,7 @@ class MechanismSpec:
     field_velocity: tuple[float, float] | None = None
     rated_torque: float | None = None  # N·m
     rated_force: float | None = None  # N
+    frame: Any = None  # mechdyn.mechanism.tonnage.Frame
 
     @property
     def name(self) -> str:
@@ -374,6 +392,18 @@ def build(source: ModelSource) -> MechanismSpec:
             raise ValueError('rated_force needs rated_torque (the rated crank torque, e.g. "1600 kN*m")')
         if st.rated_torque is not None and mech.output_joint() is None:
             raise ValueError("a rated torque gives a press's tonnage: the mechanism needs a slide output")
+    frame = None
+    if st.press_stiffness is not None:
+        from mechdyn.mechanism.tonnage import Frame
+
+        if st.rated_torque is None:
+            raise ModelFileError(
+                source.path,
+                "[settings] → press_stiffness",
+                "press_stiffness checks a press's reverse load: give its rated_torque and rated_force too",
+                st.press_stiffness,
+            )
+        frame = Frame(st.press_stiffness, st.reverse_capacity, st.press_damping)
     return MechanismSpec(
-        mech, st.n_angles, tuple(st.trace), st.field_velocity, st.rated_torque, st.rated_force
+        mech, st.n_angles, tuple(st.trace), st.field_velocity, st.rated_torque, st.rated_force, frame
     )

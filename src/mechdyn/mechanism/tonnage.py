@@ -11,19 +11,33 @@ torque, force and work capacity). The velocity ratio comes from the kinematics: 
 
 Positions are along the slide's guide axis, which points *up*: bottom dead centre (BDC) is the least
 position, the working stroke the part of the cycle where the slide moves down.
+
+At break-through (a punch through its blank) the process force falls within a short travel and the
+press frame, stretched by it, springs back: its stored energy F²/(2k) swings the slide and the frame
+past their unloaded position and loads the press in reverse. The frame and slide are taken as one
+mode, the slide's mass on the press's stiffness k (T_n = 2π√(m/k)); a release over the time t_d
+leaves a free vibration of amplitude ΔF |sin(π t_d/T_n)/(π t_d/T_n)| about the force left after it
+(the residual spectrum of a ramp, e.g. Harris and Piersol, *Shock and Vibration Handbook*, 5th ed.,
+ch. 8), damped by exp(−πζ/√(1 − ζ²)) over the half period to the first reverse peak. It is checked
+against the press's reverse-load capacity, a fraction of its rated force (commonly 10 %; press
+builders' ratings, e.g. Schuler, *Metal Forming Handbook*, §4.2 on blanking: reverse load limits;
+give the maker's figure).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from mechdyn.units import convert
+from mechdyn.units import convert, show, si_field
 
 __all__ = [
     "CURVE_CUTOFF_BEFORE_BDC",
+    "Frame",
+    "breakthrough",
     "rated_point",
     "slider_crank_velocity_ratio",
     "stroke_energy",
@@ -204,6 +218,7 @@ def tonnage_figures(
     rated_torque: float,
     rated_force: float | None = None,
     cutoff: float = CURVE_CUTOFF_BEFORE_BDC,
+    path: Any = None,
 ) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
     """The tonnage curve, the rated point, the energy per stroke and the capacity check of a press.
 
@@ -230,6 +245,11 @@ def tonnage_figures(
         F_r, N, positive: the rated point is reported with it.
     cutoff : float
         The curve stops this distance before BDC, m.
+    path : ProcessPath, optional
+        The process forces between the samples (:func:`mechdyn.mechanism.process.process_path`): the
+        energy per stroke is then integrated piece by piece between the forces' kinks and the largest
+        ratio to the available force is found between the samples too (else both come from the
+        samples alone).
 
     Returns
     -------
@@ -268,15 +288,25 @@ def tonnage_figures(
         slope = float(np.interp(a_r, a_w[::-1], np.abs(g_w[::-1])))
         out["tonnage_at_rated_point_N"] = float(rated_torque / slope) if slope > 0 else math.inf
         out["rated_energy_below_rated_point_J"] = float(rated_torque * a_r)
-    out["process_energy_per_stroke_J"] = stroke_energy(Tp)
+    out["process_energy_per_stroke_J"] = stroke_energy(Tp) if path is None else path.work()
     n_working = int(np.count_nonzero(Tp > 0))
     out["rated_torque_energy_over_process_J"] = float(rated_torque * n_working * 2 * math.pi / Tp.size)
     if np.any(Tp > 0):
         k = int(np.argmax(ratio))
-        out["process_force_to_capacity_max_ratio"] = float(ratio[k])
-        out["crank_angle_at_process_force_to_capacity_max_deg"] = math.degrees(float(theta[k]))
-        out["process_force_to_capacity_max_before_bdc_m"] = float(distance[k])
-        out["tonnage_verdict"] = _verdict(ratio, distance, working)
+        peak, angle_peak, distance_peak = float(ratio[k]), float(theta[k]), float(distance[k])
+        checked = ratio, distance, working
+        if path is not None:
+            top, i, u = path.peak(path.torque(np.arange(path.size), np.zeros(path.size)))
+            if top / rated_torque > peak:
+                peak, angle_peak = top / rated_torque, path.angle_at(i, u)
+                distance_peak = path.slide_position(i, u) - float(s[b])
+                # the verdict reads the peak between samples too
+                extra = (peak, distance_peak, True)
+                checked = tuple(np.append(x, y) for x, y in zip(checked, extra, strict=True))
+        out["process_force_to_capacity_max_ratio"] = peak
+        out["crank_angle_at_process_force_to_capacity_max_deg"] = math.degrees(angle_peak)
+        out["process_force_to_capacity_max_before_bdc_m"] = distance_peak
+        out["tonnage_verdict"] = _verdict(*checked)
     else:
         out["tonnage_verdict"] = "no process force resists the slide: nothing to check against the curve"
     columns = {
@@ -286,6 +316,145 @@ def tonnage_figures(
         "process_torque_Nm": Tp,
     }
     return out, columns
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What the press's frame takes: its stiffness under the slide's load and its reverse-load capacity.
+
+    Parameters
+    ----------
+    stiffness : float or quantity
+        k, the press's stiffness between the slide and the bed (frame, drive and bearings together),
+        N/m (e.g. ``"5 MN/mm"``), positive.
+    reverse_capacity : float
+        The reverse load it is rated for, as a fraction of the rated force, dimensionless, in (0, 1]
+        (default 0.1).
+    damping_ratio : float
+        ζ of the frame-and-slide mode, dimensionless, in [0, 1) (default 0: undamped, an upper bound).
+    """
+
+    stiffness: Any
+    reverse_capacity: Any = 0.1
+    damping_ratio: Any = 0.0
+
+    def __post_init__(self) -> None:
+        k = si_field("press frame", "stiffness", self.stiffness, "N/m", positive=True)
+        r = si_field(
+            "press frame", "reverse_capacity", self.reverse_capacity, "", low=0.0, high=1.0, low_open=True
+        )
+        z = si_field(
+            "press frame", "damping_ratio", self.damping_ratio, "", low=0.0, high=1.0, high_open=True
+        )
+        object.__setattr__(self, "stiffness", k)
+        object.__setattr__(self, "reverse_capacity", r)
+        object.__setattr__(self, "damping_ratio", z)
+
+
+def _falls(path: Any) -> list[tuple[float, float, float, float, str]]:
+    """The falls of the tabulated process forces on the working stroke, in the order the slide meets
+    them: (force before, force after along the slide's axis, N; the travel or crank angle over which
+    it falls, m or rad; its start as a crank angle, rad)."""
+    out = []
+    slide = path.slide
+    for a in path.acting:
+        force = a.force
+        rows, magnitude = getattr(force, "x", None), getattr(force, "magnitude", None)
+        versus, direction = getattr(force, "versus", None), getattr(force, "direction", None)
+        if rows is None or versus not in ("angle", "position") or slide is None:
+            continue
+        x = np.concatenate([[rows[0]], rows, [rows[-1]]])
+        f = np.concatenate([[0.0], magnitude, [0.0]])  # zero outside the rows: a fall at an end
+        along = math.cos(direction - path.axis)  # the share along the slide's axis (up: resisting)
+        if versus == "angle":
+            order = np.arange(x.size) if path.sense > 0 else np.arange(x.size)[::-1]
+        else:  # the working stroke runs down the positions
+            order = np.arange(x.size)[::-1]
+        x, f = x[order], f[order] * along
+        for k in range(x.size - 1):
+            if f[k] > f[k + 1] and f[k] > 0:
+                angle = float(x[k]) if versus == "angle" else path.angle_of_position(float(x[k]))
+                if angle is None or not path.moving_down(angle):
+                    continue
+                span = abs(float(x[k + 1] - x[k]))
+                out.append((float(f[k]), float(max(f[k + 1], 0.0)), span, angle, versus))
+    return out
+
+
+def breakthrough(
+    path: Any, frame: Frame, slide_mass: float, crank_speed: float, rated_force: float | None
+) -> dict[str, Any]:
+    """The reverse load when a tabulated process force breaks off on the working stroke.
+
+    Parameters
+    ----------
+    path : ProcessPath
+        The process forces along the motion (:func:`mechdyn.mechanism.process.process_path`).
+    frame : Frame
+        The press's stiffness, reverse capacity and damping.
+    slide_mass : float
+        m, the mass the frame swings (the slide with its upper die), kg.
+    crank_speed : float
+        |θ̇|, rad/s, to turn a fall over a crank angle into a time.
+    rated_force : float or None
+        F_r, N: the reverse capacity is a fraction of it.
+
+    Returns
+    -------
+    dict
+        Summary figures (keys with unit suffixes): the fall's force, where it happens, the energy the
+        frame releases, the reverse load and its verdict; only a verdict saying so when no force
+        breaks off.
+    """
+    falls = _falls(path)
+    if not falls:
+        return {"reverse_load_verdict": "no tabulated process force breaks off on the working stroke"}
+    k, zeta = frame.stiffness, frame.damping_ratio
+    Tn = 2 * math.pi * math.sqrt(slide_mass / k) if slide_mass > 0 else 0.0
+    decay = math.exp(-math.pi * zeta / math.sqrt(1 - zeta * zeta))
+    best = None
+    for before, after, span, angle, versus in falls:
+        if versus == "angle":
+            t_d = span / abs(crank_speed)
+        else:
+            t_d = span / max(abs(path.slide_speed(angle) * crank_speed), 1e-300)
+        shape = abs(float(np.sinc(t_d / Tn))) if Tn > 0 else 0.0
+        reverse = max(0.0, (before - after) * shape * decay - after)
+        if best is None or reverse > best[0]:
+            best = (reverse, before, after, t_d, angle, shape)
+    assert best is not None
+    reverse, before, after, t_d, angle, shape = best
+    s_bdc = float(path.slide[0].min()) if path.slide is not None else math.nan
+    out: dict[str, Any] = {
+        "breakthrough_force_N": before,
+        "breakthrough_crank_angle_deg": math.degrees(angle),
+        "breakthrough_before_bdc_m": path.slide_position_at(angle) - s_bdc,
+        "breakthrough_release_time_s": t_d,
+        "press_stiffness_N_per_m": k,
+        "frame_period_s": Tn,
+        "frame_energy_released_J": (before * before - after * after) / (2 * k),
+        "reverse_load_peak_N": reverse,
+    }
+    if rated_force is None:
+        out["reverse_load_verdict"] = (
+            "give rated_force to check the reverse load against the press's capacity"
+        )
+        return out
+    allowed = frame.reverse_capacity * rated_force
+    ratio = reverse / allowed
+    out["reverse_load_to_capacity_ratio"] = ratio
+    out["reverse_capacity_N"] = allowed
+    undamped = " (undamped: an upper bound)" if zeta == 0 else ""
+    what = "within" if ratio <= 1 else "exceeds"
+    where = float(convert(out["breakthrough_before_bdc_m"], "m", "mm"))
+    out["reverse_load_verdict"] = (
+        f"{what} reverse capacity: break-through at {where:.4g} mm before BDC releases "
+        f"{show(before, 'N', 'kN', '.4g')} in {show(t_d, 's', 'ms', '.3g')} (the frame's period "
+        f"{show(Tn, 's', 'ms', '.3g')}); the press springs back with {show(reverse, 'N', 'kN', '.4g')}"
+        f"{undamped}, {ratio:.3g} times its reverse capacity of {show(allowed, 'N', 'kN', '.4g')} "
+        f"({frame.reverse_capacity:.3g} of the rated force)"
+    )
+    return out
 
 
 #: Distances before BDC at which the tonnage table reads the curve, mm (the press chart's scale).
@@ -339,6 +508,9 @@ def tonnage_table(
         f"Quasi-static: F = T_r/|ds/dθ| with T_r = {torque:g} kN·m, friction and inertia neglected "
         f"(Schuler, Metal Forming Handbook, §3.2). {verdict[0].upper()}{verdict[1:]}."
     )
+    reverse = figures.get("reverse_load_verdict")
+    if reverse and "breakthrough_force_N" in figures:
+        note += f" Reverse load at break-through (one mode, the slide on the press's stiffness): {reverse}."
     return Table(
         f"{head}tonnage (force available on the working stroke)",
         [f"before BDC [{length_unit}]", "available force [kN]", "process force [kN]"],
