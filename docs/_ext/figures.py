@@ -30,6 +30,8 @@ from typing import Any
 
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
+DISPLAY = ("force_unit", "length_unit")
+"""Options that choose the unit a value is shown in (as the command's ``--force-unit``), not the run."""
 BLOCK = re.compile(
     r"(?P<head><!-- figures: (?P<spec>.*?)-->\n)(?P<body>.*?)(?P<tail><!-- end figures -->)", re.DOTALL
 )
@@ -45,11 +47,28 @@ def _value(text: str) -> Any:
 
 
 def parse(spec: str) -> tuple[str, str, dict[str, Any], list[str]]:
-    """(analysis, model file, options, keys) of a block's head."""
+    """(analysis, model file, options, keys) of a block's head: options as ``name=value``, read as
+    the analysis declares them (a quantity with its unit, ``"60 t"``; names separated by commas; a
+    path to another model file relative to the repository)."""
+    from mechdyn.registry import get
+    from mechdyn.units import to_si
+
     words, _, keys = spec.partition("keys:")
     analysis, model, *options = shlex.split(words)
-    opts = dict(o.split("=", 1) for o in options)
-    return analysis, model, {k: _value(v) for k, v in opts.items()}, keys.split()
+    declared = {o.name: o for o in get(analysis).options}
+    opts: dict[str, Any] = {}
+    for o in options:
+        name, text = o.split("=", 1)
+        kind = declared[name].kind if name in declared else None
+        if kind == "quantity":
+            opts[name] = to_si(text, declared[name].unit or "")
+        elif kind == "names":
+            opts[name] = text.split(",")
+        elif kind == "text" and text.endswith(".toml"):
+            opts[name] = str(ROOT / text)
+        else:
+            opts[name] = _value(text)
+    return analysis, model, opts, keys.split()
 
 
 def table(analysis: str, model: str, options: dict[str, Any], keys: list[str]) -> str:
@@ -59,17 +78,21 @@ def table(analysis: str, model: str, options: dict[str, Any], keys: list[str]) -
     from mechdyn.registry import get
     from mechdyn.results import summary_table
 
+    options = dict(options)
+    run_options = {k: v for k, v in options.items() if k not in DISPLAY}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        result = get(analysis).run(mechdyn.load(ROOT / model), **options)
+        result = get(analysis).run(mechdyn.load(ROOT / model), **run_options)
     summary = result.summary()
     missing = [k for k in keys if k not in summary]
     if missing:
         raise KeyError(f"{analysis} {model}: no summary key {', '.join(missing)}")
-    rows = summary_table({k: summary[k] for k in keys}).rows
+    shown = {k: options.pop(k) for k in DISPLAY if k in options}
+    rows = summary_table({k: summary[k] for k in keys}, display_units=shown).rows
     lines = ["| quantity | value | unit |", "| --- | --- | --- |"]
     for label, value, unit in rows:
         text = number_text(float(value)) if is_number(value) and not isinstance(value, int) else str(value)
+        unit = "" if unit in ("", "1") else unit
         lines.append(f"| {label} | {text} | {unit} |")
     return "\n".join(lines) + "\n"
 
@@ -103,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
                 page.write_text(new, encoding="utf-8")
     for page in stale:
         verb = "differs from a fresh run" if args.check else "written"
-        shown = page.relative_to(ROOT) if page.resolve().is_relative_to(ROOT) else page
+        shown = page.resolve().relative_to(ROOT) if page.resolve().is_relative_to(ROOT) else page
         print(f"{shown}: {verb}")
     return 1 if stale and args.check else 0
 
