@@ -100,7 +100,8 @@ COVERED = {
     },
     "PitchTable": {"kind", "radius", "eccentricity_ratio", "semi_major", "radii"},
     "DriverTable": {"body", "pivot", "tip", "speed", "speed_profile"},
-    # rated_torque and rated_force: tests/test_mechanism_tonnage.py reads them from a file
+    # rated_torque and rated_force: tests/test_mechanism_tonnage.py reads them from a file;
+    # press_stiffness, reverse_capacity, press_damping: tests/test_press_load_cycle.py (press_blanking)
     "SettingsTable": {
         "gravity",
         "angle_datum",
@@ -110,6 +111,9 @@ COVERED = {
         "field_velocity",
         "rated_torque",
         "rated_force",
+        "press_stiffness",
+        "reverse_capacity",
+        "press_damping",
     },
     "ProcessForceTable": {"body", "point", "direction", "versus", "table"},
     "CounterweightTable": {"body", "mass", "position", "inertia", "name"},

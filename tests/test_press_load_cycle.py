@@ -35,18 +35,18 @@ def _summary(loaded, n, **rating):
 
 def test_the_capacity_check_finds_the_peak_between_the_samples(tonnage):
     """The table's full load starts at 346.9°, between the 0.5° samples: the largest ratio of process to
-    available force is there (0.83613), 0.66 % above the largest sampled ratio (0.83058); a grid of
+    available force is there (0.83615), 0.66 % above the largest sampled ratio (0.83060); a grid of
     36 000 angles, which nearly lands on it, agrees to 2e-6."""
     s = _summary(tonnage, 720)
     fine = _summary(tonnage, 36000)
     assert s["crank_angle_at_process_force_to_capacity_max_deg"] == pytest.approx(346.9, abs=1e-6)
-    assert s["process_force_to_capacity_max_ratio"] == pytest.approx(0.836128, rel=2e-6)
+    assert s["process_force_to_capacity_max_ratio"] == pytest.approx(0.836150, rel=2e-6)
     assert fine["process_force_to_capacity_max_ratio"] == pytest.approx(
         s["process_force_to_capacity_max_ratio"], rel=2e-6
     )
     k = kinematics(tonnage.model, 720)
     sampled = process_path(k).torque(np.arange(720), np.zeros(720)).max() / tonnage.settings.rated_torque
-    assert sampled == pytest.approx(0.830578, rel=1e-5)  # what the samples alone saw
+    assert sampled == pytest.approx(0.8306, rel=1e-4)  # what the samples alone saw
 
 
 def test_a_verdict_within_one_percent_of_the_limit_does_not_flip_with_the_grid(tonnage):
@@ -54,19 +54,19 @@ def test_a_verdict_within_one_percent_of_the_limit_does_not_flip_with_the_grid(t
     (0.3 % under at 720 angles) called it within."""
     exact = _summary(tonnage, 720)["process_force_to_capacity_max_ratio"] * tonnage.settings.rated_torque
     torque = exact / 1.003
-    for n in (360, 720, 1440):  # grids with a sample at BDC (the "bdc" datum is the lowest sample)
+    for n in (360, 720, 1000):
         s = _summary(tonnage, n, torque=torque)
         assert s["tonnage_verdict"].startswith("exceeds capacity"), (n, s["tonnage_verdict"])
         assert s["process_force_to_capacity_max_ratio"] == pytest.approx(1.003, rel=1e-5)
 
 
 def test_the_forming_energy_converges_and_is_exact_for_a_table_against_position(tonnage):
-    """Against the crank angle the energy per stroke agrees to 5e-9 from 360 to 1440 angles (the
-    samples' rule swung by 0.4 %); against the slide's position it is the table's own area, to
+    """Against the crank angle the energy per stroke agrees to 5e-9 on grids of 720 to 1777 angles
+    (the samples' rule swung by 0.4 %); against the slide's position it is the table's own area, to
     round-off."""
-    # grids with a sample at BDC: the "bdc" datum is the lowest *sampled* position, so on other grids a
-    # table against the angle moves by up to half a step (a limit of the datum, not of the quadrature)
-    energies = [_summary(tonnage, n)["process_energy_per_stroke_J"] for n in (360, 720, 1440)]
+    # any grid: the "bdc" datum is BDC itself, located between the samples (it was the lowest sample,
+    # which moved a table against the angle by up to half a step from grid to grid)
+    energies = [_summary(tonnage, n)["process_energy_per_stroke_J"] for n in (720, 1000, 1440, 1777)]
     assert max(energies) - min(energies) < 5e-9 * energies[0]
     # the same press with a table against the slide's position: ∫ F ds is the table's area
     m = tonnage.model

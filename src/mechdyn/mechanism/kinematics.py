@@ -548,12 +548,15 @@ def output_position(mechanism: Mechanism, q: np.ndarray) -> np.ndarray | None:
 def crank_angles(
     mechanism: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | None, n: int
 ) -> np.ndarray:
-    """Crank angle from the datum at every step of each variant's cycle, rad, in [0, 2π).
+    """Crank angle from the datum at every step of each variant's cycle, rad, in [0, 2π) (with
+    ``"bdc"``, in [−h/2, 2π − h/2): BDC is located between the samples, and the sample nearest it
+    comes first).
 
     Parameters
     ----------
     mechanism : Mechanism
-        Its ``angle_datum``: a fixed crank angle, or ``"bdc"`` (the lowest sampled output position).
+        Its ``angle_datum``: a fixed crank angle, or ``"bdc"`` (the lowest output position, located
+        between the samples).
     theta_draw : ndarray
         (V,) each variant's drawing crank angle, rad.
     step : float
@@ -568,10 +571,36 @@ def crank_angles(
         if s is None:
             raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
         filled = np.where(np.isfinite(s), s, np.inf)
-        offset = -step * np.argmin(filled, axis=1)[:, None]  # BDC: lowest along the upward axis
-    else:
-        offset = (np.asarray(theta_draw, dtype=float) - float(mechanism.angle_datum))[:, None]
+        lowest = np.argmin(filled, axis=1)
+        # BDC itself, between the samples: the least of the quartic through the five samples about
+        # the lowest one (to h⁴), so that an angle from BDC means the same crank position on any grid
+        offset = -step * (lowest + _between(filled, lowest))[:, None]
+        half = 0.5 * abs(step)  # the sample nearest BDC keeps the first place, at about 0
+        return np.mod(step * k + offset + half, 2 * math.pi) - half
+    offset = (np.asarray(theta_draw, dtype=float) - float(mechanism.angle_datum))[:, None]
     return np.mod(step * k + offset + 1e-12, 2 * math.pi) - 1e-12
+
+
+def _between(s: np.ndarray, lowest: np.ndarray) -> np.ndarray:
+    """Where, in steps from the lowest sample of each row of ``s`` (V, n), a cycle's least value lies:
+    the minimum of the quartic through the five samples about it, within half a step (0 where the
+    samples do not allow it: fewer than five, or not finite)."""
+    V, n = s.shape
+    out = np.zeros(V)
+    if n < 5:
+        return out
+    x = np.arange(-2, 3)
+    for v in range(V):
+        y = s[v, (lowest[v] + x) % n]
+        if not np.isfinite(y).all():
+            continue
+        c = np.polynomial.polynomial.polyfit(x, y - y[2], 4)
+        d = np.polynomial.polynomial.polyder(c)
+        roots = np.polynomial.polynomial.polyroots(d)
+        real = [r.real for r in roots if abs(r.imag) < 1e-12 and abs(r.real) <= 0.5]
+        if real:
+            out[v] = min(real, key=lambda r: np.polynomial.polynomial.polyval(r, c))
+    return out
 
 
 MOTION_SOLVERS = {"dyads": dyad_motion, "newton": newton_motion}

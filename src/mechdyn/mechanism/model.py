@@ -637,8 +637,14 @@ class TabulatedForce:
 
     def __call__(self, angle: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(Fx, Fy), N, at crank angles ``angle`` (rad) and output positions ``position`` (m)."""
-        x = angle if self.versus == "angle" else position
-        f = np.interp(x, self.x, self.magnitude, left=0.0, right=0.0)
+        if self.versus == "angle":  # read on the circle: rows may start below 0 or end at 360°
+            x = np.mod(angle, 2 * math.pi)
+            f = sum(
+                np.interp(x + turn, self.x, self.magnitude, left=0.0, right=0.0)
+                for turn in (-2 * math.pi, 0.0)
+            )
+        else:
+            f = np.interp(position, self.x, self.magnitude, left=0.0, right=0.0)
         return f * math.cos(self.direction), f * math.sin(self.direction)
 
     def kinks(self) -> list[tuple[str, np.ndarray]]:

@@ -318,6 +318,11 @@ def tonnage_figures(
     return out, columns
 
 
+DEAD_CENTRE = 1e-4
+"""A fall where the slide moves slower than this fraction of its fastest (ds/dθ) is at a dead centre:
+the force there releases as the slide turns back, not by breaking through."""
+
+
 @dataclass(frozen=True)
 class Frame:
     """What the press's frame takes: its stiffness under the slide's load and its reverse-load capacity.
@@ -357,6 +362,7 @@ def _falls(path: Any) -> list[tuple[float, float, float, float, str]]:
     it falls, m or rad; its start as a crank angle, rad)."""
     out = []
     slide = path.slide
+    fastest = float(np.abs(slide[1]).max()) if slide is not None else 0.0
     for a in path.acting:
         force = a.force
         rows, magnitude = getattr(force, "x", None), getattr(force, "magnitude", None)
@@ -374,8 +380,8 @@ def _falls(path: Any) -> list[tuple[float, float, float, float, str]]:
         for k in range(x.size - 1):
             if f[k] > f[k + 1] and f[k] > 0:
                 angle = float(x[k]) if versus == "angle" else path.angle_of_position(float(x[k]))
-                if angle is None or not path.moving_down(angle):
-                    continue
+                if angle is None or path.slide_speed(angle) > -DEAD_CENTRE * fastest:
+                    continue  # on the return, or at a dead centre: the force releases with the slide
                 span = abs(float(x[k + 1] - x[k]))
                 out.append((float(f[k]), float(max(f[k + 1], 0.0)), span, angle, versus))
     return out
