@@ -135,6 +135,10 @@ def test_a_column_keeps_one_precision_and_negative_zero_prints_as_zero():
     assert _column_spec([1e-9, 500.0]) == ".1f"  # below a thousandth of the largest: shown near zero
     assert _column_spec([2.5e8, 7.1e8]) == ".4e"  # beyond seven digits: exponents for the column
     assert _column_spec(["no", 3.0]) is None  # rows of different quantities format on their own
+    # values that differ only in their fifth digit read apart: a stroke against its limit
+    assert _column_spec([1495.3, 1496.3]) == ".1f"
+    assert [_fmt(v, _column_spec([1495.3, 1496.3])) for v in (1495.3, 1496.3)] == ["1495.3", "1496.3"]
+    assert _column_spec([100.0, 101.0, 102.0]) == ".1f"  # no more digits than four already give
     t = Table("t", ["a", "b [mm]"], [["x", 1.5], ["y", -0.0]])
     out = io.StringIO()
     print_table(t, file=out)

@@ -80,8 +80,9 @@ def number_text(v: float, spec: str | None = None, *, digits: int = DIGITS) -> s
 def column_format(values: list[Any]) -> str | None:
     """One number format for a column of one quantity: fixed point with four significant digits for
     the smallest magnitude that matters (at least a thousandth of the largest; smaller ones show as
-    near zero), unless the largest would then need more than nine digits (then exponents for the whole
-    column). None when the column holds anything but numbers (each row is then another quantity,
+    near zero), and with two of the column's spread where its values differ only further on (a
+    stroke of 1495.3 mm beside its limit of 1496.3 ± 1 mm), unless the largest would then need more
+    than nine digits (then exponents for the whole column). None when the column holds anything but numbers (each row is then another quantity,
     written on its own).
 
     Parameters
@@ -97,6 +98,9 @@ def column_format(values: list[Any]) -> str | None:
         return ".0f"
     smallest = min(abs(x) for x in numbers if abs(x) >= _MATTERS * largest)
     decimals = max(0, 3 - math.floor(math.log10(smallest)))
+    spread = max(numbers) - min(numbers)
+    if 0 < spread:  # values that differ only beyond four digits still read apart (1495.3 and 1496.3)
+        decimals = max(decimals, min(6, 1 - math.floor(math.log10(spread))))
     width = math.floor(math.log10(largest)) + 1 + decimals
     if largest < 1e7 and width <= 9 and decimals <= 6:
         return f".{decimals}f"
