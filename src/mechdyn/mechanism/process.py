@@ -312,9 +312,9 @@ def process_path(kinematics: Any) -> ProcessPath:
     if j is not None:
         body = j.bodies[1] if j.bodies[0] == GROUND else j.bodies[0]
         _, v, _ = k.point(body, j.point)
-        axis = np.array([math.cos(j.axis), math.sin(j.axis)])
+        up = np.array([math.cos(j.axis), math.sin(j.axis)])
         s = output_position(m, k.q)
         assert s is not None  # an output joint gives a position
-        slide = (s[order], (v[order] @ axis) / speed[:, 0])
-    axis = j.axis if j is not None else math.pi / 2
+        slide = (s[order], (v[order] @ up) / speed[:, 0])
+    axis = float(j.axis) if j is not None else math.pi / 2
     return ProcessPath(np.asarray(k.angle)[order], sense, step, slide, tuple(acting), axis)

@@ -294,7 +294,7 @@ def tonnage_figures(
     if np.any(Tp > 0):
         k = int(np.argmax(ratio))
         peak, angle_peak, distance_peak = float(ratio[k]), float(theta[k]), float(distance[k])
-        checked = ratio, distance, working
+        checked: tuple[np.ndarray, ...] = (ratio, distance, working)
         if path is not None:
             top, i, u = path.peak(path.torque(np.arange(path.size), np.zeros(path.size)))
             if top / rated_torque > peak:
@@ -306,7 +306,7 @@ def tonnage_figures(
         out["process_force_to_capacity_max_ratio"] = peak
         out["crank_angle_at_process_force_to_capacity_max_deg"] = math.degrees(angle_peak)
         out["process_force_to_capacity_max_before_bdc_m"] = distance_peak
-        out["tonnage_verdict"] = _verdict(*checked)
+        out["tonnage_verdict"] = _verdict(checked[0], checked[1], checked[2])
     else:
         out["tonnage_verdict"] = "no process force resists the slide: nothing to check against the curve"
     columns = {
