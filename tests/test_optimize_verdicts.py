@@ -245,3 +245,60 @@ def test_a_synthesis_states_the_verdict_on_its_fit_and_each_polish_start(tmp_pat
     text = _text(result)
     assert "'verdict', 'converged: first-order measure" in text and "; polish converged" in text
     assert math.isfinite(f["cost"])
+
+
+def _variant2(i: int, a: float, b: float, y: float) -> StoredVariant:
+    from datetime import UTC, datetime
+
+    return StoredVariant(
+        i,
+        "s",
+        variant_key([a, b]),
+        i,
+        {"a": a, "b": b},
+        {},
+        {"y_N": y},
+        "ok",
+        None,
+        y,
+        "",
+        "",
+        datetime.now(UTC),
+    )
+
+
+@pytest.mark.parametrize(("ends", "unique"), [([(0.5, 0.6), (0.75, 0.4)], False), ([(0.5, 0.6)], True)])
+def test_an_optimum_along_a_valley_is_said_not_to_be_unique(ends, unique):
+    """y = 100 + 50 (a b − 0.3)² N is least all along the curve a b = 0.3 (as one floor force along a
+    curve of pad sizes): two first-order points on it, far apart, make the optimum not unique, and the
+    result says so with the span of each parameter; one alone does not."""
+    a = Parameter.function("a", lambda m, x: m, 0.9, low=0.2, high=1.0)
+    b = Parameter.function("b", lambda m, x: m, 0.9, low=0.2, high=1.0)
+    study = SimpleNamespace(
+        name="s",
+        path=None,
+        kind="optimize",
+        parameters=[a, b],
+        watched=[Y],
+        objectives=[Objective(Y, "minimize")],
+        constraints=[],
+        targets=[],
+    )
+
+    def y(p: float, q: float) -> float:
+        return 100 + 50 * (p * q - 0.3) ** 2
+
+    variants = [_variant2(0, 0.9, 0.9, y(0.9, 0.9))]
+    for end in ends:
+        rows, _ = stencil(np.array(end), np.array([0.2, 0.2]), np.array([1.0, 1.0]))
+        variants += [_variant2(len(variants), r[0], r[1], y(r[0], r[1])) for r in rows]
+    f = kind("optimize").findings(study, variants).findings
+    assert f["verdict"] == CONVERGED
+    text = "\n".join(str(t) for t in kind("optimize").tables(SimpleNamespace(study=study, findings=f)))
+    if unique:
+        assert f["non_unique"] is None and "unique" not in text
+    else:
+        assert f["non_unique"]["spans"]["a"] == pytest.approx([0.5, 0.75])
+        assert f["non_unique"]["spans"]["b"] == pytest.approx([0.4, 0.6])
+        assert "no: 2 first-order points as good as the optimum" in text
+        assert "a from 0.5 to 0.75" in text

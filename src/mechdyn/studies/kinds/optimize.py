@@ -173,6 +173,16 @@ class Optimize(Kind):
                     chosen, proof = v, shown
                     break
         judged = verdict(proof["measure"]) if chosen is not None and proof is not None else NOT_CONVERGED
+        twins: list[StoredVariant] = []
+        if chosen is not None and judged == CONVERGED:
+            twins = [
+                v
+                for v in ranked
+                if v.id != chosen.id
+                and o.sign * value(v, o.output.key) <= limit
+                and (shown := optimality(study, v, by_key)) is not None
+                and verdict(shown["measure"]) == CONVERGED
+            ]
         out: dict[str, Any] = {
             "best": describe(study, chosen) if chosen is not None else None,
             "base": describe(study, base) if base is not None else None,
@@ -181,6 +191,7 @@ class Optimize(Kind):
             "verdict": judged,
             "converged": judged == CONVERGED,
             "least_violation": least_violation(study, variants) if chosen is None else None,
+            "non_unique": _non_unique(study, chosen, twins) if chosen is not None else None,
             "evaluations": len(variants),
         }
         if chosen is not None and base is not None:
@@ -336,6 +347,23 @@ def _optimality_table(result: StudyResult) -> Table:
                     "the best",
                 ]
             )
+    twins = f.get("non_unique")
+    if twins:
+        params = {p.name: p for p in result.study.parameters}
+        spread = "; ".join(
+            f"{name} from {params[name].shown(lo)} to {params[name].shown(hi)}"
+            for name, (lo, hi) in twins["spans"].items()
+            if name in params and hi > lo
+        )
+        rows.append(
+            [
+                "unique",
+                f"no: {len(twins['designs'])} first-order points as good as the optimum (within {TIE:g}), "
+                f"at variants {', '.join(map(str, twins['designs']))}, spread over {spread}; the objective "
+                "is flat along them: choose among them by another criterion (a second objective or a "
+                "constraint)",
+            ]
+        )
     rows.append(["variants evaluated in all", f.get("evaluations")])
     check = f.get("single_design_check")
     if check:
@@ -379,6 +407,28 @@ def _start_words(o: Any, end: dict[str, Any]) -> str:
         f"{end['verdict']}: {at} at variant {end['variant']}{broken} "
         f"(first-order measure {shown}, {end.get('iterations')} iterations)"
     )
+
+
+NON_UNIQUE = 0.01
+"""First-order points as good as the optimum (within :data:`TIE`) that lie further apart than this
+share of a parameter's range make the optimum not unique: the objective is flat along a valley."""
+
+
+def _non_unique(study: Study, chosen: StoredVariant, twins: list[StoredVariant]) -> dict[str, Any] | None:
+    """Where other first-order points as good as the optimum lie apart from it: the designs, and each
+    parameter's span over them (SI); None when every one lies within :data:`NON_UNIQUE` of its range
+    (a unique optimum, as far as the stored points show)."""
+    designs = [chosen, *twins]
+    spans: dict[str, list[float]] = {}
+    apart = False
+    for p in study.parameters:
+        xs = [v.parameters[p.name] for v in designs]
+        width = (p.high - p.low) if p.low is not None and p.high is not None else abs(p.base) or 1.0
+        spans[p.name] = [min(xs), max(xs)]
+        apart |= (max(xs) - min(xs)) > NON_UNIQUE * width
+    if not apart:
+        return None
+    return {"designs": [v.id for v in designs], "spans": spans}
 
 
 def _local_optima(ends: list[dict[str, Any]]) -> list[float]:
