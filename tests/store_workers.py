@@ -16,7 +16,8 @@ def run_together(target: Callable[..., Any], n: int, *args: Any, timeout: float 
     """Start ``n`` spawned processes of ``target(barrier, *args)`` and return what each returned
     (``("error", traceback)`` for one that raised)."""
     ctx = mp.get_context("spawn")
-    barrier, queue = ctx.Barrier(n), ctx.Queue()
+    # a worker that died leaves the others at the barrier: they give up after the timeout, not never
+    barrier, queue = ctx.Barrier(n, timeout=timeout), ctx.Queue()
     procs = [ctx.Process(target=_worker, args=(target, queue, barrier, *args)) for _ in range(n)]
     for p in procs:
         p.start()

@@ -91,6 +91,7 @@ def test_frf_speed_quick_run():
     assert doc["study_block"]["variants"] == 1000
 
 
+@pytest.mark.slow  # 30 s of integration at equal accuracy: .ci/run's heavy step
 def test_gear_dynamics_quick_run_holds_both_sides_to_the_same_accuracy():
     # both K_v within the target of a reference that mechdyn's Magnus shooting confirms far below it
     out = subprocess.run(

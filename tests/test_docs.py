@@ -8,9 +8,12 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 from conftest import ROOT
 
 
+@pytest.mark.step
 def test_the_documentation_builds_without_a_warning(tmp_path):
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONWARNINGS="ignore")
     where = ["-d", str(tmp_path / "doctrees"), str(ROOT / "docs"), str(tmp_path / "html")]

@@ -229,3 +229,23 @@ def test_names_on_tick_labels_are_shown_as_written_however_the_axis_labels_them(
     assert named and not any(t.get_parse_math() for t in named)  # the hidden top labels too
     powers = [t for t in texts if "mathdefault" in t.get_text()]
     assert powers and all(t.get_parse_math() for t in powers)
+
+
+def test_a_legend_goes_to_the_corner_its_curves_leave_clearest():
+    """Placed here, never by matplotlib's "best" search (slow on long curves and warning so on a
+    loaded machine): a curve rising into the upper right leaves the upper left clearest."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from mechdyn.plotting import legend
+
+    fig, ax = plt.subplots()
+    x = np.linspace(0, 1, 100_000)
+    ax.plot(x, x**4, label="rising")
+    assert legend(ax)._loc == 2  # matplotlib's code of "upper left"
+    ax.plot(x, 1 - x, label="falling")
+    assert legend(ax, loc="center")._loc == 10  # a place given is kept
+    plt.close(fig)

@@ -17,7 +17,7 @@ import time
 import optuna
 import pytest
 
-from conftest import EXAMPLES
+from conftest import EXAMPLES, _fresh_postgres_database
 from mechdyn.cli.main import main
 from mechdyn.store import ResultStore, resolve_url
 from mechdyn.studies.storage import StudyStore, optuna_name
@@ -59,6 +59,17 @@ def _trials(url, name="shared-opt"):
         storage.engine.dispose()
 
 
+@pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.slow)])
+def store_url(request, tmp_path):
+    """A fresh results database: SQLite in the test command; the same multi-process tests on
+    PostgreSQL (5 to 80 s each, mostly waiting on other processes) in .ci/run's heavy step."""
+    if request.param == "sqlite":
+        yield str(tmp_path / "results.db")
+        return
+    with _fresh_postgres_database() as url:
+        yield url
+
+
 def _abandoned(trials):
     """Trials failed because their process died: each asked again (``mechdyn:retry_of``)."""
     retried = {t.system_attrs["mechdyn:retry_of"] for t in trials if "mechdyn:retry_of" in t.system_attrs}
@@ -93,6 +104,7 @@ def test_two_processes_share_one_optimization(store_url, tmp_path):
     assert {t.user_attrs["variant"] for t in evaluated} <= {v.id for v in vs}
 
 
+@pytest.mark.slow  # two processes through blocks of 3.5 s: timing, not work (.ci/run's heavy step)
 def test_shared_optimization_with_blocks_slower_than_the_heartbeat_grace(store_url, tmp_path):
     path = _study_file(tmp_path, samples=8, batch=2)
     # grace 2 s, every block 3.5 s, on one host: a process that still runs is never taken for dead,
@@ -105,6 +117,7 @@ def test_shared_optimization_with_blocks_slower_than_the_heartbeat_grace(store_u
     assert 8 <= len(_evaluated(trials)) <= 8 + 2
 
 
+@pytest.mark.slow  # two processes through blocks of 8 s: timing, not work (.ci/run's heavy step)
 def test_processes_on_other_hosts_stay_alive_through_their_heartbeats(store_url, tmp_path):
     # as if on two hosts (no process can look at the other's): grace 6 s, heartbeat 1 s, every block
     # 8 s: alive only through the heartbeat thread

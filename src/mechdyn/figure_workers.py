@@ -29,6 +29,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, cast
 
+from mechdyn.plotting import legend
+
 __all__ = ["FigureWorkers", "core_free", "one_blas_thread", "plot_workers"]
 
 Makers = Mapping[str, Callable[[], Any]]
@@ -64,7 +66,7 @@ def _get_ready(modules: tuple[str, ...]) -> None:
     axes[0].set_title("warm-up")
     axes[0].annotate("TDC", (10.0, 0.5), bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1})
     axes[1].set_xlabel("x (mm), ω (rad/s²), µm, °")
-    axes[0].legend()
+    legend(axes[0])
     fig.savefig(io.BytesIO(), format="png", dpi=130)
     plt.close(fig)
 

@@ -82,8 +82,8 @@ def column_format(values: list[Any]) -> str | None:
     the smallest magnitude that matters (at least a thousandth of the largest; smaller ones show as
     near zero), and with two of the column's spread where its values differ only further on (a
     stroke of 1495.3 mm beside its limit of 1496.3 ± 1 mm), unless the largest would then need more
-    than nine digits (then exponents for the whole column). None when the column holds anything but numbers (each row is then another quantity,
-    written on its own).
+    than nine digits (then exponents for the whole column). None when the column holds anything but
+    numbers (each row is then another quantity, written on its own).
 
     Parameters
     ----------

@@ -14,6 +14,7 @@ from mechdyn.balance.exact import GAP, Budget
 from mechdyn.balance.fronts import gain_mass
 from mechdyn.balance.influence import Influence
 from mechdyn.balance.objectives import split
+from mechdyn.plotting import legend
 from mechdyn.results import Result, Table, summary_table
 
 if TYPE_CHECKING:
@@ -394,7 +395,7 @@ class BalanceResult(Result):
         ax.set_xlabel("shaking force x [N]")
         ax.set_ylabel("shaking force y [N]")
         ax.set_aspect("equal", adjustable="datalim")
-        ax.legend()
+        legend(ax)
         return ax
 
     def _plot_torque(self) -> Any:
@@ -408,7 +409,7 @@ class BalanceResult(Result):
         axes[0].set_ylabel("driving torque [N·m]")
         axes[1].set_ylabel("shaking moment [N·m]")
         axes[1].set_xlabel("crank angle [deg]")
-        axes[0].legend()
+        legend(axes[0])
         return axes[0]
 
     def _plot_front(self) -> Any:
@@ -440,7 +441,7 @@ class BalanceResult(Result):
             ax.plot(mass, [r[n] * factor for r in rows], "o-", label=n.removesuffix("_N").replace("_", " "))
         ax.set_xlabel(mass_label.replace("counterweight mass", "total counterweight mass"))
         ax.set_ylabel(f"after balancing [{shown}]")
-        ax.legend()
+        legend(ax)
         return ax
 
 

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import new_axes
+from mechdyn.plotting import legend, new_axes
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -37,7 +37,7 @@ def plot_speed(r: DriveResult, ax: Any = None) -> Any:
     ax.set_ylabel("crank speed (rpm)")
     ax.set_title(f"{r.drive.name}: speed fluctuation δ = {r.steady.fluctuation:.4f}")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -90,7 +90,7 @@ def plot_torque(r: DriveResult, ax: Any = None) -> Any:
     ax.set_ylabel("torque (kN·m)")
     ax.set_title(f"{r.drive.name}: crank torque")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -118,7 +118,7 @@ def plot_shaking(r: DriveResult, force_unit: str | None = None, ax: Any = None) 
     ax.set_ylabel(f"shaking force ({unit})")
     ax.set_title(f"{r.drive.name}: shaking force")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -141,5 +141,5 @@ def plot_startup(r: DriveResult, ax: Any = None) -> Any:
     ax.set_ylabel("crank speed (rpm)")
     ax.set_title(f"{r.drive.name}: start-up from rest")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax

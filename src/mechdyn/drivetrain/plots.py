@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import new_axes
+from mechdyn.plotting import legend, new_axes
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -150,7 +150,7 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
     for panel in panels:
         panel.set_ylabel("angle")
     if ax is not None and modes:
-        ax.legend(fontsize="small")
+        legend(ax, fontsize="small")
     return first
 
 
@@ -205,7 +205,7 @@ def _bode(result: FRFResult, curves: dict[str, np.ndarray], unit: str, ax: Any) 
         if f[0] <= fn <= f[-1]:
             for a in (ax, phase) if phase is not None else (ax,):
                 a.axvline(fn, color="0.7", lw=0.8, ls=":")
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     if phase is not None:
         phase.set_xlabel("frequency (Hz)")
         phase.set_ylabel("phase (deg)")

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import display_unit, new_axes
+from mechdyn.plotting import display_unit, legend, new_axes
 from mechdyn.units import SHOWN_UNITS, convert
 
 if TYPE_CHECKING:
@@ -53,7 +53,7 @@ def plot_speeds(result: SimulationResult, ax: Any = None) -> Any:
     ax.set_xlabel("time (s)")
     ax.set_ylabel("speed (rpm)")
     ax.set_title(f"{result.system.drivetrain.name}: disk speeds")
-    ax.legend(fontsize="small", ncol=2)
+    legend(ax, fontsize="small", ncol=2)
     return ax
 
 
@@ -84,7 +84,7 @@ def plot_mesh_forces(result: SimulationResult, unit: str | None = None, ax: Any 
     ax.set_xlabel("time (s)")
     ax.set_ylabel(f"mesh force ({shown})")
     ax.set_title(f"{result.system.drivetrain.name}: mesh forces (dashed: quasi-static)")
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -115,5 +115,5 @@ def plot_dte(result: SimulationResult, unit: str | None = None, ax: Any = None) 
     ax.set_xlabel("time (s)")
     ax.set_ylabel(f"dynamic transmission error ({shown})")
     ax.set_title(f"{result.system.drivetrain.name}: dynamic transmission error (dotted: backlash)")
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax

@@ -6,6 +6,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mechdyn.plotting import legend
+
 if TYPE_CHECKING:
     from mechdyn.gear_dynamics.floquet import FloquetResult, StabilityChart
     from mechdyn.gear_dynamics.steady import SpeedSweepResult
@@ -160,7 +162,7 @@ def plot_sweep_dte(result: SpeedSweepResult, ax: Any = None, **display_units: An
     ax.set_xlabel(f"speed of disk {result.reference!r} (rpm)")
     ax.set_ylabel(f"DTE amplitude ({shown})")
     ax.set_title("dynamic transmission error along the line of action")
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -188,7 +190,7 @@ def plot_floquet(result: FloquetResult, ax: Any = None) -> Any:
     ax.set_xlabel(f"speed of disk {result.reference!r} (rpm)")
     ax.set_ylabel("spectral radius of the monodromy matrix")
     ax.set_title("parametric stability (Floquet): unstable where ρ > 1")
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 

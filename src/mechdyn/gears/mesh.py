@@ -54,6 +54,7 @@ from mechdyn.gears.geometry import SpurGear, inverse_involute, involute
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.ring import RingRim
 from mechdyn.gears.tooth import TruncatedTooth, hertz_compliance
+from mechdyn.plotting import legend
 from mechdyn.units import convert, show
 from mechdyn.units import si_field as _q
 
@@ -593,5 +594,5 @@ class MeshCycle:
         ax.set_xlabel("mesh cycle (contact travel / base pitch)")
         ax.set_ylabel("stiffness along the line of action (N/µm)")
         ax.set_title(self._title())
-        ax.legend(fontsize="small")
+        legend(ax, fontsize="small")
         return ax

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from mechdyn.plotting import dead_centre_marks, display_unit, new_axes, overlaid
+from mechdyn.plotting import dead_centre_marks, display_unit, legend, new_axes, overlaid
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -103,7 +103,7 @@ def plot_inertia_forces(result: DynamicsResult, ax: Any = None) -> Any:
     ax.set_ylabel(f"inertia force {label} ({unit})")
     ax.set_title(f"{result.mechanism.name}: inertia forces")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -120,7 +120,7 @@ def plot_torque(result: DynamicsResult, ax: Any = None) -> Any:
     ax.set_ylabel(f"driving torque ({unit})")
     ax.set_title(f"{result.mechanism.name}: driving torque")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -379,7 +379,7 @@ def plot_joint_forces(result: DynamicsResult, joints: list[str] | None = None, a
     ax.set_ylabel(f"{'joint and tooth force' if teeth else 'joint force'} ({unit})")
     ax.set_title(f"{m.name}: {'joint and tooth forces' if teeth else 'joint forces'}")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small", ncols=2)
+    legend(ax, fontsize="small", ncols=2)
     return ax
 
 
@@ -444,7 +444,7 @@ def plot_trajectory(
         a.set_xlabel("x (mm)")
         a.set_ylabel("y (mm)")
         a.grid(alpha=0.3)
-        a.legend(fontsize="small")
+        legend(a, fontsize="small")
     fig.suptitle(f"{m.name}: paths")
     return axes[0, 0]
 
@@ -559,7 +559,7 @@ def plot_coupler_curves(result: DynamicsResult, ax: Any = None) -> Any:
     ax.set_ylabel("y (mm)")
     ax.set_title(f"{m.name}: coupler curves")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -614,5 +614,5 @@ def plot_tonnage(result: DynamicsResult, ax: Any = None, length_unit: str = "mm"
     ax.set_ylabel(f"slide force ({unit})")
     ax.set_title(f"{result.mechanism.name}: tonnage")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.plotting import new_axes
+from mechdyn.plotting import legend, new_axes
 from mechdyn.units import convert, show
 
 __all__ = ["plot_calibration", "plot_contact_pressure", "plot_convergence", "plot_frf_fit", "plot_pad_curve"]
@@ -55,7 +55,7 @@ def plot_pad_curve(pad: Any, ax: Any = None) -> Any:
     kc = show(pad.compression_stiffness, "N/m", "kN/mm", ".4g")
     ax.set_title(f"{pad.name}: S = {pad.shape_factor:.2f}, K_c = {kc}")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -83,7 +83,7 @@ def plot_convergence(
     ax.set_ylabel("stiffness (kN/mm)")
     ax.set_title("mesh convergence")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -107,7 +107,7 @@ def plot_contact_pressure(anchor: Any, preloads: list[float], threshold: float |
     ax.set_ylabel("contact pressure (MPa)")
     ax.set_title("base plate on concrete: contact pressure under preload (FE)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -122,7 +122,7 @@ def plot_calibration(joint: Any, target: float, fitted: float, ax: Any = None) -
     ax.set_ylabel("member stiffness (kN/mm)")
     ax.set_title(f"{joint.name}: calibration of the cone angle")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -140,5 +140,5 @@ def plot_frf_fit(frequency: np.ndarray, measured: np.ndarray, fit: Any, ax: Any 
     ax.set_ylabel("receptance |x/F| (µm/N)")
     ax.set_title("mount from its measured frequency response")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax

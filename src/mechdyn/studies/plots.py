@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import new_axes
+from mechdyn.plotting import legend, new_axes
 
 if TYPE_CHECKING:
     from mechdyn.studies.result import StudyResult
@@ -87,7 +87,7 @@ def main_effects(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     ax.set_xticks(ticks, labels, rotation=30, ha="right", fontsize=8)
     ax.set_ylabel(w.label)
     ax.set_title(f"{result.study.name}: main effects on {w.key}", fontsize=10)
-    ax.legend(fontsize=8)
+    legend(ax, fontsize=8)
     return ax
 
 
@@ -116,7 +116,7 @@ def sobol_bars(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     ax.set_xticks(x, names, rotation=30, ha="right", fontsize=8)
     ax.set_ylabel("Sobol index")
     ax.set_title(f"Sobol indices of {w.key}", fontsize=10)
-    ax.legend(fontsize=8)
+    legend(ax, fontsize=8)
     return ax
 
 
@@ -151,7 +151,7 @@ def history(result: StudyResult, ax: Any = None) -> Any:
     ax.set_xlabel("variant (order evaluated)")
     ax.set_ylabel(o.label)
     ax.set_title(f"{st.name}: history", fontsize=10)
-    ax.legend(fontsize=8)
+    legend(ax, fontsize=8)
     return ax
 
 
@@ -191,7 +191,7 @@ def pareto(result: StudyResult, ax: Any = None) -> Any:
             ax.annotate(f" best {key}", (front[k, 0], front[k, 1]), fontsize=7)
     ax.set_xlabel(a.label)
     ax.set_ylabel(b.label)
-    ax.legend(fontsize=8)
+    legend(ax, fontsize=8)
     return ax
 
 
@@ -343,5 +343,5 @@ def curves(
     ax.set_xlabel(x or "sample")
     ax.set_title(f"{name}: {len(variants)} variants overlaid", fontsize=10)
     ax.set_ylabel(f"{name}" + (f" [{key_unit(name)}]" if key_unit(name) else ""))
-    ax.legend(fontsize=8)
+    legend(ax, fontsize=8)
     return ax

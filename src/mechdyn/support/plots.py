@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import new_axes, overlaid
+from mechdyn.plotting import legend, new_axes, overlaid
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -56,7 +56,7 @@ def plot_displacement(startup: SupportResponse, steady: SupportResponse, ax: Any
     ax.set_ylabel("bed displacement z (mm)")
     ax.set_title(f"{steady.machine.name}: bed displacement")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -71,7 +71,7 @@ def plot_forces(r: SupportResponse, ax: Any = None, force_unit: str | None = Non
     ax.set_ylabel(f"vertical force ({unit})")
     ax.set_title(f"{r.machine.name}: exciting and transmitted force, steady state")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -88,7 +88,7 @@ def plot_transmitted_vs_exciting(r: SupportResponse, ax: Any = None, force_unit:
     ax.set_title(f"{r.machine.name}: transmitted against exciting force")
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
@@ -104,7 +104,7 @@ def plot_mount_forces(r: SupportResponse, ax: Any = None, force_unit: str | None
     ax.set_ylabel(f"vertical mount force, dynamic part ({unit})")
     ax.set_title(f"{r.machine.name}: mount forces on the floor, steady state, without the weight")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     return ax
 
 
