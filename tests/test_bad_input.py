@@ -127,34 +127,34 @@ def test_a_truncated_file_is_refused_with_its_name(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_every_example_mutated_every_way_in_subprocesses(tmp_path):
-    """The whole set: 9 kinds on the first six numbers of every example, and truncation; a run may
-    take at most 60 s (a hang fails)."""
+@pytest.mark.parametrize("example", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
+def test_every_example_mutated_every_way_in_subprocesses(example, tmp_path):
+    """The whole set, an example per test (the workers share them): 9 kinds on the first six numbers
+    of the example, and truncation; a run may take at most 60 s (a hang fails)."""
     failures = []
-    for example in sorted(EXAMPLES.glob("*.toml")):
-        text = example.read_text()
-        model = tomllib.loads(text)["model"]["type"]
-        cases = [(f"{k}@{i + 1}", _mutate(text, i, k)) for i in _numbers(text)[:6] for k in KINDS]
-        cases.append(("truncated", text[: len(text) // 2]))
-        for label, mutated in cases:
-            work = tmp_path / "files"
-            shutil.rmtree(work, ignore_errors=True)
-            shutil.copytree(EXAMPLES, work, ignore=shutil.ignore_patterns("studies"))
-            target = work / example.name
-            target.write_text(mutated)
-            argv = [sys.executable, "-m", "mechdyn", *COMMAND[model][:1], str(target), *COMMAND[model][1:]]
-            argv += ["--json", "--db", str(tmp_path / "r.db")]
-            try:
-                p = subprocess.run(argv, capture_output=True, text=True, timeout=60)
-            except subprocess.TimeoutExpired:
-                failures.append(f"{example.name} {label}: hangs")
-                continue
-            if "Traceback" in p.stderr or p.returncode not in (0, 2):
-                failures.append(f"{example.name} {label}: {p.stderr.strip().splitlines()[-1:]}")
-            elif p.returncode == 2 and str(target) not in p.stderr:
-                failures.append(f"{example.name} {label}: the error does not name the file: {p.stderr[:120]}")
-            elif p.returncode == 0 and not _finite(json.loads(p.stdout)):
-                failures.append(f"{example.name} {label}: a non-finite result")
+    text = example.read_text()
+    model = tomllib.loads(text)["model"]["type"]
+    cases = [(f"{k}@{i + 1}", _mutate(text, i, k)) for i in _numbers(text)[:6] for k in KINDS]
+    cases.append(("truncated", text[: len(text) // 2]))
+    for label, mutated in cases:
+        work = tmp_path / "files"
+        shutil.rmtree(work, ignore_errors=True)
+        shutil.copytree(EXAMPLES, work, ignore=shutil.ignore_patterns("studies"))
+        target = work / example.name
+        target.write_text(mutated)
+        argv = [sys.executable, "-m", "mechdyn", *COMMAND[model][:1], str(target), *COMMAND[model][1:]]
+        argv += ["--json", "--db", str(tmp_path / "r.db")]
+        try:
+            p = subprocess.run(argv, capture_output=True, text=True, timeout=60)
+        except subprocess.TimeoutExpired:
+            failures.append(f"{example.name} {label}: hangs")
+            continue
+        if "Traceback" in p.stderr or p.returncode not in (0, 2):
+            failures.append(f"{example.name} {label}: {p.stderr.strip().splitlines()[-1:]}")
+        elif p.returncode == 2 and str(target) not in p.stderr:
+            failures.append(f"{example.name} {label}: the error does not name the file: {p.stderr[:120]}")
+        elif p.returncode == 0 and not _finite(json.loads(p.stdout)):
+            failures.append(f"{example.name} {label}: a non-finite result")
     assert not failures, "\n".join(failures)
 
 
