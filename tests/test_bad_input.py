@@ -127,6 +127,7 @@ def test_a_truncated_file_is_refused_with_its_name(tmp_path, capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(1800)  # up to 55 runs of 60 s at most each (a hang fails the run, not the suite)
 @pytest.mark.parametrize("example", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
 def test_every_example_mutated_every_way_in_subprocesses(example, tmp_path):
     """The whole set, an example per test (the workers share them): 9 kinds on the first six numbers
