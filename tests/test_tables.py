@@ -251,8 +251,8 @@ def test_one_rule_writes_a_number_in_the_terminal_the_report_and_the_dashboard(v
     """Each value on its own, five significant digits: the terminal (a table with a unit column), the
     report's and the dashboard's cells (reports.html) write it alike."""
     from mechdyn.numbers import number_text
-    from mechdyn.reports.html import _cell
+    from mechdyn.reports.html import table_cell
 
     assert number_text(value) == text
     assert _fmt(value) == text
-    assert _cell(value).text == text
+    assert table_cell(value).text == text

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.dashboard.study_data import PAGE_SIZE, StudyData
-from mechdyn.reports.html import _cell, toml_text
+from mechdyn.reports.html import table_cell, toml_text
 from mechdyn.store.store import ResultStore, StoreError
 from mechdyn.studies.storage import StudyStore
 
@@ -140,22 +140,22 @@ def _compare_row(
     ``shown`` maps a study's keys to their :class:`~mechdyn.reports.columns.Column`. A nested item
     (``"joint_force_peak_N · A"``) takes the unit its own name says, else its group's.
     """
-    from mechdyn.reports.html import _cell
+    from mechdyn.reports.html import table_cell
     from mechdyn.units import SHOWN_UNITS, convert, key_label, key_unit, readable_unit
 
     if given:  # a parameter as its study file wrote it, with its unit ("25 mm")
-        return key.replace("_", " "), "", [_cell(c) for c in cells]
+        return key.replace("_", " "), "", [table_cell(c) for c in cells]
     parts = key.split(" · ")
     words = " · ".join(key_label(p)[0] if n == 0 or "_" in p else p for n, p in enumerate(parts))
     column = shown.get(key)
     if column is not None and column.role == "output":  # in its study file's unit
         unit = SHOWN_UNITS.get(column.unit.replace(" ", ""), column.unit)  # "N*m" as "N·m"
-        return words, unit, [_cell(column.shown(c) if _is_value(c) else c) for c in cells]
+        return words, unit, [table_cell(column.shown(c) if _is_value(c) else c) for c in cells]
     named = [(key_unit(p), key_label(p)[1]) for p in reversed(parts)]
     si, unit = next(((u, label) for u, label in named if u not in (None, "1")), ("", ""))
     numbers = [abs(float(x)) for c in cells for x in _numbers(c)]
     if not si or not numbers:  # a number without unit, a count, a text
-        return words, unit, [_cell(c) for c in cells]
+        return words, unit, [table_cell(c) for c in cells]
     display, label = readable_unit(max(numbers), unit)
 
     def shown_in(c: Any) -> Any:
@@ -165,7 +165,7 @@ def _compare_row(
             return [float(convert(float(x), si, display)) for x in c]
         return c
 
-    return words, label, [_cell(shown_in(c)) for c in cells]
+    return words, label, [table_cell(shown_in(c)) for c in cells]
 
 
 def _numbers(v: Any) -> list[Any]:
@@ -273,7 +273,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
 
     def work_out_findings(st: Any) -> Findings:
         from mechdyn.errors import MechdynError
-        from mechdyn.reports.html import _figures, study_tables
+        from mechdyn.reports.html import figures_of, study_tables
         from mechdyn.studies.run import stored_result
         from mechdyn.studies.spec import StudyError
 
@@ -281,7 +281,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             study_data(st).warm()  # every value read once: the views over every variant then cost no query
             result = stored_result(store, st.name)
             indices = result.findings.get("indices", {}) if st.kind == "sobol" else {}
-            return study_tables(result), _figures(result.plots()), "", indices
+            return study_tables(result), figures_of(result.plots()), "", indices
         except (StudyError, StoreError, MechdynError) as exc:
             return [], [], f"The findings appear when every variant is stored: {exc}", {}
 
@@ -412,21 +412,21 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             run = store.get(run_id)
         except StoreError:
             return missing(f"There is no run {run_id} in this database.")
-        from mechdyn.reports.html import _cell
+        from mechdyn.reports.html import table_cell
         from mechdyn.results import nested_tables, summary_table
         from mechdyn.units import key_label
 
         # as the report shows it: in words and in the units a designer reads, nested values by name
         scalars = run.scalars
         summary = [
-            (str(r[0]) if t.title == "summary" else f"{t.title} · {r[0]}", _cell(r[1]), r[2])
+            (str(r[0]) if t.title == "summary" else f"{t.title} · {r[0]}", table_cell(r[1]), r[2])
             for t in [summary_table(scalars), *nested_tables(scalars)]
             for r in t.rows
         ]
         for k, v in scalars.items():  # lists of numbers (natural frequencies) in one row each
             if k != "warnings" and isinstance(v, list) and all(isinstance(x, (int, float)) for x in v):
                 label, unit = key_label(k)
-                summary.append((label, _cell(v), unit))
+                summary.append((label, table_cell(v), unit))
         figures = _line_figures([(f"run {run.id}", run.arrays)])
         return page(
             "run.html.j2",
@@ -546,7 +546,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
             views=study_views(st, shown),
             sliders=(w.sliders() if (w := what_if_of(st)) is not None else []),
             keep_designs=keep_designs,
-            table=[{**row, "cells": [_cell(x) for x in row["values"]]} for row in table],
+            table=[{**row, "cells": [table_cell(x) for x in row["values"]]} for row in table],
             page_size=PAGE_SIZE,
             definition=toml_text(st.definition),
             python="study" not in st.definition,
@@ -634,7 +634,7 @@ def create_app(url: str | None = None, allowed_hosts: Sequence[str] = (), keep_d
                         "id": r["id"],
                         "status": r["status"],
                         "error": r["error"],
-                        "cells": [vars(_cell(x)) for x in r["values"]],
+                        "cells": [vars(table_cell(x)) for x in r["values"]],
                     }
                     for r in rows
                 ],

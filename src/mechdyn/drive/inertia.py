@@ -93,13 +93,6 @@ class ReducedMechanism:
         return 0.5 * self.inertia_slope * speed * speed - self.force
 
 
-def _applied(mechanism: Any, k: Any) -> np.ndarray:
-    """The generalised applied forces of the mechanism (as its inverse dynamics takes them)."""
-    from mechdyn.mechanism.dynamics import _applied as applied
-
-    return applied(mechanism, k)
-
-
 def reduce_to_crank(mechanism: Any, n_angles: int = 720) -> ReducedMechanism:
     """The mechanism's equivalent inertia, its slope and the generalised applied force on the crank.
 
@@ -119,6 +112,7 @@ def reduce_to_crank(mechanism: Any, n_angles: int = 720) -> ReducedMechanism:
     -----
     I(φ) = q′ᵀ M q′, I′(φ) = 2 q′ᵀ M q″, Q(φ) = Q_qᵀ q′ (see the module docstring for the sources).
     """
+    from mechdyn.mechanism.dynamics import applied_forces
     from mechdyn.mechanism.kinematics import kinematics
 
     steady = replace(mechanism, driver=replace(mechanism.driver, profile=None))
@@ -142,10 +136,10 @@ def reduce_to_crank(mechanism: Any, n_angles: int = 720) -> ReducedMechanism:
     m = mass.ravel()
     inertia = np.sum(m * qd * qd, axis=1)
     slope = 2.0 * np.sum(m * qd * qdd, axis=1)
-    Q = _applied(steady, k)[order]
+    Q = applied_forces(steady, k)[order]
     force = np.sum(Q * qd, axis=1)
     gravity_only = replace(steady, process_forces=())
-    Qg = _applied(gravity_only, k)[order]
+    Qg = applied_forces(gravity_only, k)[order]
     process = force - np.sum(Qg * qd, axis=1)
     ordered = _reordered(k, order)
     return ReducedMechanism(steady, ordered, turned, angle[order], inertia, slope, force, process, direction)

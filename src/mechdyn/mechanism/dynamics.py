@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 
     import pandas as pd
 
-__all__ = ["DynamicsResult", "inverse_dynamics"]
+__all__ = ["DynamicsResult", "applied_forces", "inverse_dynamics"]
 
 
 # the summary's keys of a press's rating (tonnage, energy, reverse load): a table of their own
@@ -591,7 +591,23 @@ class DynamicsResult(Result):
         return cols
 
 
-def _applied(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:
+def applied_forces(mechanism: Mechanism, k: KinematicsResult) -> np.ndarray:
+    """The generalised applied forces on the body coordinates at every sample: gravity on each body's
+    centre of mass and the process forces at their points, N (and N·m on the rotations).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        Its gravity (m/s²) and process forces.
+    k : KinematicsResult
+        Its kinematics (positions, for the process forces' points and the output's position).
+
+    Returns
+    -------
+    ndarray
+        (N, n) Q_q, in the order of the body coordinates (x_G, y_G, ψ per body); the virtual work of
+        the forces (d'Alembert's principle: Q_q · δq).
+    """
     N, n = k.q.shape
     Q = np.zeros((N, n))
     Q.reshape(N, -1, 3)[:, :, :2] = mechanism.masses[:, None] * np.asarray(mechanism.gravity)
@@ -658,7 +674,7 @@ def inverse_dynamics(
     nb = len(mech.bodies)
     mass = np.repeat(mech.masses, 3).reshape(nb, 3)
     mass[:, 2] = mech.inertias
-    Q = _applied(mech, k)
+    Q = applied_forces(mech, k)
     if k.dyads is not None:  # joint forces group by group, without the full Jacobian
         order = np.argsort(k.dyads.angle[0])
         return DynamicsResult(k, k.dyads.multipliers[0][order], Q)

@@ -20,10 +20,12 @@ from typing import Any
 
 __all__ = [
     "Report",
+    "figures_of",
     "render",
     "run_report",
     "study_report",
     "study_tables",
+    "table_cell",
     "toml_text",
     "variant_counts",
     "variants_table",
@@ -84,7 +86,16 @@ def _number(v: float) -> str:
     return number_text(v)
 
 
-def _cell(v: Any) -> Cell:
+def table_cell(v: Any) -> Cell:
+    """A value as a report's (and the dashboard's) table cell: a number written by the one rule of
+    :mod:`mechdyn.numbers` and aligned as a number, a count as a whole number, a flag as yes or no,
+    none as a dash.
+
+    Parameters
+    ----------
+    v : any
+        The cell's value (SI numbers already converted to the column's unit).
+    """
     if v is None:
         return Cell("—")
     if isinstance(v, bool):
@@ -99,7 +110,7 @@ def _cell(v: Any) -> Cell:
     if isinstance(v, str) and v in ("holds", "VIOLATED"):
         return Cell(v, "holds" if v == "holds" else "fails")
     if isinstance(v, (list, tuple)) and v and all(isinstance(x, (int, float)) for x in v):
-        return Cell(", ".join(_cell(x).text for x in v), "num")
+        return Cell(", ".join(table_cell(x).text for x in v), "num")
     if isinstance(v, (list, tuple)) and all(isinstance(x, str) for x in v):
         return Cell(", ".join(v))  # names (a model's coordinates, the dominant one of each mode)
     if isinstance(v, (dict, list, tuple)):
@@ -109,7 +120,7 @@ def _cell(v: Any) -> Cell:
 
 def _table(t: Any) -> HtmlTable:
     """A :class:`mechdyn.results.Table` as HTML cells."""
-    return HtmlTable(t.title, list(t.columns), [[_cell(v) for v in row] for row in t.rows], t.note)
+    return HtmlTable(t.title, list(t.columns), [[table_cell(v) for v in row] for row in t.rows], t.note)
 
 
 def tables_html(tables: Sequence[Any]) -> str:
@@ -154,7 +165,14 @@ def _png(make: Callable[[], Any]) -> str:
     return base64.b64encode(buf.getvalue()).decode("ascii")
 
 
-def _figures(plots: Mapping[str, Callable[[], Any]]) -> list[Figure]:
+def figures_of(plots: Mapping[str, Callable[[], Any]]) -> list[Figure]:
+    """A result's plots drawn as a report's figures (PNG, titled by their file names).
+
+    Parameters
+    ----------
+    plots : mapping of str → callable
+        File name → a function that draws the plot (``result.plots()``).
+    """
     return [Figure(Path(name).stem.replace("_", " "), _png(make)) for name, make in plots.items()]
 
 
@@ -208,7 +226,7 @@ def _checks(summary: Mapping[str, Any]) -> HtmlTable | None:
     from mechdyn.units import key_label
 
     rows = [
-        [Cell(key_label(k)[0]), _cell(v), Cell(key_label(k)[1])]
+        [Cell(key_label(k)[0]), table_cell(v), Cell(key_label(k)[1])]
         for k, v in summary.items()
         if any(w in k for w in _CHECK_WORDS) and not isinstance(v, (dict, list))
     ]
@@ -288,7 +306,7 @@ def run_report(
         )
     )
     sections.append(Section("Tables", tables=[_table(t) for t in tables if t.title != "summary"]))
-    sections.append(Section("Plots", figures=[*_animations(result), *_figures(result.plots())]))
+    sections.append(Section("Plots", figures=[*_animations(result), *figures_of(result.plots())]))
     sections.append(Section("Model file", note=model_path, text=model_text))
     from mechdyn.registry import get
 
@@ -347,7 +365,7 @@ def study_tables(result: Any) -> list[HtmlTable]:
     for t in result.tables():
         table = _table(t)
         if list(t.columns) == _COUNT_COLUMNS:
-            table.rows = [[_cell(counts[k]) for k in ("variants", "evaluated", "reused", "failed")]]
+            table.rows = [[table_cell(counts[k]) for k in ("variants", "evaluated", "reused", "failed")]]
         tables.append(table)
     return tables
 
@@ -366,7 +384,7 @@ def variants_table(columns: Sequence[Any], variants: Sequence[Any], limit: int |
         At most this many rows (count).
     """
     rows = [
-        [Cell(str(v.id)), Cell(v.status), *(_cell(c.of(v)) for c in columns), Cell(v.error or "")]
+        [Cell(str(v.id)), Cell(v.status), *(table_cell(c.of(v)) for c in columns), Cell(v.error or "")]
         for v in list(variants)[:limit]
     ]
     return HtmlTable("", ["variant", "status", *(c.label for c in columns), "error"], rows)
@@ -471,10 +489,10 @@ def study_report(result: Any, *, database: str = "", study_text: str | None = No
         [
             [
                 Cell(shown[p.name].label),
-                _cell(shown[p.name].shown(p.base)),
-                _cell(shown[p.name].shown(p.low)),
-                _cell(shown[p.name].shown(p.high)),
-                Cell(", ".join(_cell(shown[p.name].shown(v)).text for v in p.levels) or "—"),
+                table_cell(shown[p.name].shown(p.base)),
+                table_cell(shown[p.name].shown(p.low)),
+                table_cell(shown[p.name].shown(p.high)),
+                Cell(", ".join(table_cell(shown[p.name].shown(v)).text for v in p.levels) or "—"),
             ]
             for p in st.parameters
         ],
@@ -506,7 +524,7 @@ def study_report(result: Any, *, database: str = "", study_text: str | None = No
     sections = [
         Section("Parameters", note=units_note, tables=[params]),
         Section("Findings", tables=study_tables(result)),
-        Section("Plots", figures=_figures(result.plots())),
+        Section("Plots", figures=figures_of(result.plots())),
         Section("Variants", note=units_note + rows_note, tables=[variants]),
         Section("Study file", note=study_note, text=study_text),
         Section("Model file", note=st.source.path, text=st.source.text),

@@ -39,7 +39,9 @@ __all__ = [
     "StoredRecord",
     "StoredRun",
     "check_name",
+    "pack_array",
     "resolve_url",
+    "unpack_array",
 ]
 
 ENV_VAR = "MECHDYN_DB"
@@ -151,13 +153,27 @@ def jsonable(value: Any) -> Any:
     return str(value)
 
 
-def _pack(a: np.ndarray) -> bytes:
+def pack_array(a: np.ndarray) -> bytes:
+    """An array as the bytes the database keeps: NumPy's ``.npy`` format, no pickles.
+
+    Parameters
+    ----------
+    a : ndarray
+        Any numeric array (its unit is kept beside it, not in it).
+    """
     buf = io.BytesIO()
     np.save(buf, np.asarray(a), allow_pickle=False)
     return buf.getvalue()
 
 
-def _unpack(b: bytes) -> np.ndarray:
+def unpack_array(b: bytes) -> np.ndarray:
+    """The array back from :func:`pack_array`'s bytes (no pickles are loaded).
+
+    Parameters
+    ----------
+    b : bytes
+        ``.npy`` bytes.
+    """
     return np.load(io.BytesIO(b), allow_pickle=False)
 
 
@@ -353,7 +369,7 @@ class ResultStore:
             parameters=jsonable(parameters),
             scalars=jsonable(scalars),
             package_version=__version__,
-            arrays=[_Array(name=k, unit=u, data=_pack(a)) for k, (a, u) in (arrays or {}).items()],
+            arrays=[_Array(name=k, unit=u, data=pack_array(a)) for k, (a, u) in (arrays or {}).items()],
         )
         with Session(self._engine) as s, s.begin():
             s.add(run)
@@ -449,7 +465,7 @@ class ResultStore:
                     f"no run with id {run_id} in {self.where}; `mechdyn results list` shows the ids"
                 )
             base = self._summary(r)
-            arrays = {a.name: (_unpack(a.data), a.unit) for a in r.arrays}
+            arrays = {a.name: (unpack_array(a.data), a.unit) for a in r.arrays}
         return StoredRun(**{**base.__dict__, "arrays": arrays})
 
     @guarded

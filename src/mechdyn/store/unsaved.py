@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.store.database import StoreError, is_sqlite, sqlite_path
-from mechdyn.store.store import ResultStore, _pack, _unpack, jsonable
+from mechdyn.store.store import ResultStore, jsonable, pack_array, unpack_array
 
 __all__ = ["import_unsaved", "keep_unsaved"]
 
@@ -28,13 +28,13 @@ FORMAT = "mechdyn-unsaved/1"
 
 def _arrays_out(arrays: Mapping[str, tuple[np.ndarray, str]] | None) -> dict[str, Any]:
     return {
-        k: {"unit": u, "npy": base64.b64encode(_pack(np.asarray(a))).decode()}
+        k: {"unit": u, "npy": base64.b64encode(pack_array(np.asarray(a))).decode()}
         for k, (a, u) in (arrays or {}).items()
     }
 
 
 def _arrays_in(doc: Mapping[str, Any]) -> dict[str, tuple[np.ndarray, str]]:
-    return {k: (_unpack(base64.b64decode(v["npy"])), v["unit"]) for k, v in doc.items()}
+    return {k: (unpack_array(base64.b64decode(v["npy"])), v["unit"]) for k, v in doc.items()}
 
 
 def keep_unsaved(url: str, kind: str, content: Mapping[str, Any]) -> Path:

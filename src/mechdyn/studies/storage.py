@@ -27,7 +27,15 @@ from sqlalchemy.orm import Session
 from mechdyn.store.schema import Curve as _Curve
 from mechdyn.store.schema import Study as _Study
 from mechdyn.store.schema import Variant as _Variant
-from mechdyn.store.store import ResultStore, StoreError, _pack, _unpack, check_name, guarded, jsonable
+from mechdyn.store.store import (
+    ResultStore,
+    StoreError,
+    check_name,
+    guarded,
+    jsonable,
+    pack_array,
+    unpack_array,
+)
 
 __all__ = ["StoredStudy", "StoredVariant", "StudyStore", "optuna_name", "variant_key"]
 
@@ -419,7 +427,7 @@ class StudyStore:
         self, s: Session, items: Sequence[tuple[int, Mapping[str, tuple[np.ndarray, str]]]]
     ) -> None:
         rows = [
-            {"variant_id": vid, "name": name, "unit": unit, "data": _pack(np.asarray(arr))}
+            {"variant_id": vid, "name": name, "unit": unit, "data": pack_array(np.asarray(arr))}
             for vid, curves in items
             for name, (arr, unit) in curves.items()
         ]
@@ -458,7 +466,7 @@ class StudyStore:
                 )
             v = self._variant(r)
             curves = {
-                c.name: (_unpack(c.data), c.unit)
+                c.name: (unpack_array(c.data), c.unit)
                 for c in s.scalars(select(_Curve).where(_Curve.variant_id == variant_id))
             }
         return StoredVariant(**{**v.__dict__, "curves": curves})
