@@ -150,30 +150,6 @@ class _Forming:
         ]
 
 
-def placed_on_grid(mechanism: Any, n_angles: int) -> Any:
-    """The mechanism with each forming force placed again on the grid of ``n_angles`` crank angles.
-
-    A ``"bdc"`` angle datum is the lowest *sampled* position, so the crank angle of a physical
-    position moves by up to half a step with the grid; a forming force placed on another grid would
-    end up to half that grid's step before or after bottom dead centre.
-
-    Parameters
-    ----------
-    mechanism : Mechanism
-        With process forces, some of them placed by :meth:`FormingForce.on`.
-    n_angles : int
-        Crank angles per revolution of the analysis, a whole number.
-    """
-    placed = [pf for pf in mechanism.process_forces if isinstance(pf.force, _Forming)]
-    if not placed:
-        return mechanism
-    others = tuple(pf for pf in mechanism.process_forces if not isinstance(pf.force, _Forming))
-    out = replace(mechanism, process_forces=others)
-    for pf in placed:
-        out = pf.force.load.on(out, n_angles)
-    return out
-
-
 @dataclass(frozen=True)
 class Drive:
     """A mechanism driven by a motor through a train of stages, with a flywheel.

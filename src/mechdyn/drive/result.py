@@ -13,7 +13,6 @@ import numpy as np
 
 from mechdyn.drive.forward import StartUp, SteadyState, size_flywheel, start_up, steady_state
 from mechdyn.drive.inertia import ReducedMechanism, reduce_to_crank
-from mechdyn.drive.model import placed_on_grid
 from mechdyn.results import Result, Table, summary_table
 from mechdyn.units import convert
 
@@ -365,7 +364,7 @@ def drive_analysis(
     from mechdyn.mechanism.kinematics import check_angles
 
     n = check_angles(n_angles)
-    drive = replace(drive, mechanism=placed_on_grid(drive.mechanism, 2 * n), gear_ratio=None, efficiency=None)
+    drive = replace(drive, gear_ratio=None, efficiency=None)
     reduced = reduce_to_crank(drive.mechanism, 2 * n)
     sized = None
     if target_fluctuation is not None:
@@ -399,6 +398,12 @@ def drive_analysis(
     return result
 
 
+PULLOUT_MARGIN = 0.9
+"""The motor's peak torque over the cycle above this fraction of its pull-out torque is warned on:
+the slip–torque curve is flat near pull-out, so within 10 % a small overload or a low supply voltage
+(the torque goes as V², IEC 60034-1 allows −5 %) stalls the motor."""
+
+
 def _warn_duty(summary: dict[str, Any]) -> None:
     """Warn where the motor runs above its continuous rating (S1 duty, IEC 60034-1: the RMS torque
     over the cycle is what heats it) or reaches its pull-out torque at the peak."""
@@ -415,7 +420,7 @@ def _warn_duty(summary: dict[str, Any]) -> None:
             stacklevel=3,
         )
     peak = summary.get("motor_torque_peak_to_pullout_ratio")
-    if peak is not None and peak > 0.9:
+    if peak is not None and peak > PULLOUT_MARGIN:
         warnings.warn(
             f"the motor's peak torque is {peak:.3g} of its pull-out torque: a little more load stalls it",
             ModelWarning,

@@ -31,8 +31,9 @@ GAUSS_POINTS = 6
 linear in the position along a cubic path."""
 
 _NEAR = 0.9
-"""Sample intervals whose end values reach this fraction of the sampled peak are searched for the
-peak between samples."""
+"""Smooth pieces of the cycle (between samples and kinks) whose end values reach this fraction of the
+largest end value are searched inside for the peak. A smooth piece of one sample step rising more
+than 11 % above both its ends is beyond what the cubic interpolation of the samples represents."""
 
 
 def _hermite(u: np.ndarray, p0: np.ndarray, p1: np.ndarray, m0: np.ndarray, m1: np.ndarray) -> tuple:
@@ -183,26 +184,31 @@ class ProcessPath:
 
         best = int(np.argmax(sampled))
         top, where = float(sampled[best]), (best, 0.0)
-        if top <= 0.0:
-            return top, *where
+        # The pieces: every sample interval cut at its kinks (table rows, the forming force's ends).
+        # Every piece's ends are evaluated; the smooth pieces whose ends reach _NEAR of the largest
+        # end are searched inside, the interval of a kink wherever it lies.
         ends = np.maximum(sampled, np.roll(sampled, -1))
-        for i in np.nonzero(ends >= _NEAR * top)[0]:
+        near = np.nonzero(ends >= _NEAR * top)[0].tolist() if top > 0.0 else []
+        intervals = sorted({*near, *self._cuts})
+        pieces = []
+        for i in intervals:
             edges = [0.0, *self._kinks(int(i)), 1.0]
-            for a, b in itertools.pairwise(edges):
-                for u in (a, b):
-                    v = float(self.torque(i, u))
-                    if v > top:
-                        top, where = v, (int(i), u)
-                if b - a < 1e-12:
-                    continue
-                r = minimize_scalar(
-                    lambda u, i=int(i): -float(self.torque(i, u)),
-                    bounds=(a, b),
-                    method="bounded",
-                    options={"xatol": 1e-10},
-                )
-                if -r.fun > top:
-                    top, where = float(-r.fun), (int(i), float(r.x))
+            values = [float(self.torque(i, u)) for u in edges]
+            for u, v in zip(edges, values, strict=True):
+                if v > top:
+                    top, where = v, (int(i), u)
+            pieces += [(int(i), a, b, max(va, vb)) for (a, va), (b, vb) in itertools.pairwise(zip(edges, values, strict=True))]
+        for i, a, b, end in pieces:
+            if b - a < 1e-12 or top <= 0.0 or end < _NEAR * top:
+                continue
+            r = minimize_scalar(
+                lambda u, i=i: -float(self.torque(i, u)),
+                bounds=(a, b),
+                method="bounded",
+                options={"xatol": 1e-10},
+            )
+            if -r.fun > top:
+                top, where = float(-r.fun), (i, float(r.x))
         return top, *where
 
     def angle_at(self, i: int, u: float) -> float:
@@ -261,6 +267,22 @@ class ProcessPath:
         j = (i + 1) % self.size
         h = self.step
         return float(_hermite(np.asarray(u), s[i], s[j], h * ds[i], h * ds[j])[0])
+
+    def bdc_position(self) -> float:
+        """The slide's lowest position, located between the samples on the same cubic that
+        :meth:`slide_position` reads (not the lowest sample), m; NaN without a slide."""
+        if self.slide is None:
+            return math.nan
+        s, ds = self.slide
+        low = int(np.argmin(s))
+        best = float(s[low])
+        for i in ((low - 1) % self.size, low):
+            j = (i + 1) % self.size
+            c = _cubic(s[i], s[j], self.step * ds[i], self.step * ds[j])
+            for r in np.roots(np.polyder(c)):
+                if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0:
+                    best = min(best, float(np.polyval(c, r.real)))
+        return best
 
 
 def _cubic(p0: float, p1: float, m0: float, m1: float) -> np.ndarray:

@@ -430,7 +430,7 @@ def breakthrough(
             best = (reverse, before, after, t_d, angle, shape)
     assert best is not None
     reverse, before, after, t_d, angle, shape = best
-    s_bdc = float(path.slide[0].min()) if path.slide is not None else math.nan
+    s_bdc = path.bdc_position()
     out: dict[str, Any] = {
         "breakthrough_force_N": before,
         "breakthrough_crank_angle_deg": math.degrees(angle),
