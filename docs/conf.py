@@ -80,6 +80,7 @@ def _write_api_reference() -> None:
         ("mechdyn.mounts", "Mount stiffness from the drawing"),
         ("mechdyn.vibration", "The linear-vibration core"),
         ("mechdyn.studies", "Design studies"),
+        ("mechdyn.uncertainty", "Tolerances to probabilities"),
         ("mechdyn.store", "The results database"),
         ("mechdyn.reports", "Reports"),
         ("mechdyn.io", "Model files"),
@@ -88,6 +89,7 @@ def _write_api_reference() -> None:
         ("mechdyn.units", "Units"),
         ("mechdyn.errors", "Errors and warnings"),
         ("mechdyn.plotting", "Plot helpers"),
+        ("mechdyn.figure_workers", "Figures drawn in parallel"),
     ]
     lines = [
         "API reference",

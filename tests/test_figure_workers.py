@@ -13,7 +13,7 @@ matplotlib.use("Agg")
 import pytest
 
 from mechdyn.figure_workers import FigureWorkers, plot_workers
-from mechdyn.plotting import save_figures
+from mechdyn.figure_workers import save_figures
 
 PARENT = os.getpid()
 

@@ -11,7 +11,9 @@ from mechdyn.drivetrain import Disk, Drivetrain, GearMesh
 from mechdyn.gear_dynamics import GearSystem
 from mechdyn.gear_dynamics._nonsmooth import BACK, DRIVE, GAP, NonsmoothFlow
 from mechdyn.gear_dynamics.floquet import linear_periodic, period_plan
-from mechdyn.gear_dynamics.steady import _peaks, _shoot_nonlinear, _warm_start, speed_sweep, steady_state
+from mechdyn.gear_dynamics.shooting import _shoot_nonlinear, _warm_start
+from mechdyn.gear_dynamics.steady import speed_sweep, steady_state
+from mechdyn.gear_dynamics.sweep_result import _peaks
 
 RA, RB, ZA, P = 0.0188, 0.047, 20, 24
 WN = np.sqrt(3e8 * RB**2 / 0.03)  # the gear's mode with the pinion held, rad/s

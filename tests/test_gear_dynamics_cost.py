@@ -16,7 +16,8 @@ from mechdyn.gear_dynamics import _cost
 from mechdyn.gear_dynamics._cost import simulation_cost, sweep_cost
 from mechdyn.gear_dynamics.floquet import period_plan
 from mechdyn.gear_dynamics.simulate import simulate
-from mechdyn.gear_dynamics.steady import _check_sweep_cost, _model, speed_sweep
+from mechdyn.gear_dynamics.steady import _model, speed_sweep
+from mechdyn.gear_dynamics.sweep import _check_sweep_cost
 
 TURRET = Path(__file__).resolve().parents[1] / "examples" / "turret_milling_startup.toml"
 RPM = 2 * math.pi / 60

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from mechdyn.gear_dynamics._harmonics import estimated_error, harmonics_for
-from mechdyn.gear_dynamics.floquet import _highest_frequency, period_plan
+from mechdyn.gear_dynamics.periodic import _highest_frequency, period_plan
 from mechdyn.gear_dynamics.steady import _model, speed_sweep
 from mechdyn.registry import get
 

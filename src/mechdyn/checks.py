@@ -43,7 +43,6 @@ __all__ = [
     "check_array",
     "check_count",
     "check_number",
-    "check_poisson_ratio",
     "magnitude_limit",
     "smallest_positive",
 ]
@@ -420,35 +419,3 @@ def check_count(
         element=element,
         field=field,
     )
-
-
-def check_poisson_ratio(element: str | None, field: str, value: Any) -> float:
-    """A Poisson's ratio ν, checked: finite and in (−1, 0.5), the range of a stable isotropic solid
-    (E > 0 with a positive bulk and shear modulus; e.g. Timoshenko & Goodier, *Theory of Elasticity*).
-
-    Parameters
-    ----------
-    element : str or None
-        The element (material, gear, tooth) it belongs to, for the message.
-    field : str
-        The parameter's name, for the message.
-    value : float or quantity
-        ν, dimensionless.
-
-    Returns
-    -------
-    float
-        ν.
-
-    Raises
-    ------
-    mechdyn.errors.ModelError
-        Naming the element, the parameter, the value and the range.
-    """
-    from mechdyn.units import si_field  # a plain number or a dimensionless quantity ("0.3")
-
-    nu = si_field(element, field, value, "", what="Poisson's ratio")
-    if not -1.0 < nu < 0.5:
-        shown = f"{_g(nu)}" if element is not None else f"{field} = {_g(nu)}"
-        raise ModelError(f"{shown} must lie in (−1, 0.5)", element=element, field=field)
-    return nu

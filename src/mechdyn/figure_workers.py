@@ -31,7 +31,7 @@ from typing import Any, cast
 
 from mechdyn.plotting import legend
 
-__all__ = ["FigureWorkers", "core_free", "one_blas_thread", "plot_workers"]
+__all__ = ["FigureWorkers", "core_free", "one_blas_thread", "plot_workers", "save_figures"]
 
 Makers = Mapping[str, Callable[[], Any]]
 
@@ -508,3 +508,32 @@ class FigureWorkers:
     def close(self) -> None:
         """End the other processes (those still waiting for a result end at once)."""
         self._collect()
+
+
+def save_figures(
+    source: Any, folder: str | Path, *, prefix: str = "", dpi: int = 130, workers: int | None = None
+) -> list[Path]:
+    """Draw and save every figure of a result, shared among processes where the platform allows
+    (:class:`FigureWorkers`).
+
+    Parameters
+    ----------
+    source : Result or mapping of str to callable
+        A result (its ``plots()``: file name → function returning the figure or its axes), or that
+        mapping itself.
+    folder : str or Path
+        Where to write them; made if missing.
+    prefix : str
+        Put before every file name (a study's name where several share the folder).
+    dpi : int
+        Resolution of a PNG, dots per inch.
+    workers : int, optional
+        Processes in all; :func:`plot_workers` by default.
+
+    Returns
+    -------
+    list of Path
+        The files, in the order of the figures.
+    """
+    with FigureWorkers(workers) as drawing:
+        return drawing.draw(source, folder, prefix=prefix, dpi=dpi)

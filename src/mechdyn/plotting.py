@@ -15,7 +15,6 @@ __all__ = [
     "overlaid",
     "plain_text",
     "save_figure",
-    "save_figures",
 ]
 
 
@@ -305,34 +304,3 @@ def save_figure(ax: Any, path: str | Path, *, dpi: int = 130) -> Path:
     fig.savefig(p, dpi=dpi, **png)
     plt.close(fig)
     return p
-
-
-def save_figures(
-    source: Any, folder: str | Path, *, prefix: str = "", dpi: int = 130, workers: int | None = None
-) -> list[Path]:
-    """Draw and save every figure of a result, shared among processes where the platform allows
-    (:class:`mechdyn.figure_workers.FigureWorkers`).
-
-    Parameters
-    ----------
-    source : Result or mapping of str to callable
-        A result (its ``plots()``: file name → function returning the figure or its axes), or that
-        mapping itself.
-    folder : str or Path
-        Where to write them; made if missing.
-    prefix : str
-        Put before every file name (a study's name where several share the folder).
-    dpi : int
-        Resolution of a PNG, dots per inch.
-    workers : int, optional
-        Processes in all; :func:`mechdyn.figure_workers.plot_workers` by default.
-
-    Returns
-    -------
-    list of Path
-        The files, in the order of the figures.
-    """
-    from mechdyn.figure_workers import FigureWorkers
-
-    with FigureWorkers(workers) as drawing:
-        return drawing.draw(source, folder, prefix=prefix, dpi=dpi)

@@ -22,12 +22,16 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from mechdyn.errors import MechdynError
 
+if TYPE_CHECKING:
+    from mechdyn.io.modelfile import ModelSource
+
 __all__ = [
     "Analysis",
+    "LoadedModel",
     "ModelType",
     "NotBatchable",
     "Option",
@@ -227,8 +231,6 @@ class Analysis:
         **options
             The analysis' options by name, SI.
         """
-        from mechdyn.io.modelfile import LoadedModel
-
         if not isinstance(model, LoadedModel):
             model = LoadedModel(self.model_types[0], model)
         if model.type not in self.model_types:
@@ -473,3 +475,32 @@ def summary_columns(summary: Mapping[str, Any], keys: Sequence[str], V: int) -> 
             raise NotBatchable(f"{key} is not one number per variant")
         out[key] = arr
     return out
+
+
+@dataclass(frozen=True)
+class LoadedModel:
+    """A model file as loaded: the model, the file's analysis settings, and the file itself.
+
+    Attributes
+    ----------
+    type : str
+        The file's ``[model] type``.
+    model : object
+        The immutable model the analyses run on (a :class:`~mechdyn.drivetrain.Drivetrain`, a
+        :class:`~mechdyn.mechanism.Mechanism`, a :class:`~mechdyn.support.MountedMachine`, a
+        :class:`~mechdyn.gears.GearPair`, two teeth, a mount estimate).
+    settings : object
+        What else the file says (analysis tables, load, samples): its builder's record, or what its
+        type's settings function reads (:class:`mechdyn.registry.ModelType`).
+    source : ModelSource or None
+        The file (None for a model built in Python).
+    """
+
+    type: str
+    model: Any
+    settings: Any = None
+    source: ModelSource | None = None  # mechdyn.io.modelfile.ModelSource
+
+    @property
+    def name(self) -> str:
+        return str(getattr(self.model, "name", "") or getattr(self.settings, "name", ""))

@@ -264,7 +264,7 @@ class Result:
 
     def _repr_html_(self) -> str:
         """Its tables as HTML, for a notebook (the same cells as the report's)."""
-        from mechdyn.reports.html import tables_html
+        from mechdyn.cells import tables_html
 
         return tables_html(self.tables())
 

@@ -28,6 +28,7 @@ __all__ = [  # noqa: F822
     "SHOWN_UNITS",
     "STANDARD_GRAVITY",
     "UnitError",
+    "check_poisson_ratio",
     "convert",
     "key_label",
     "key_suffix",
@@ -576,3 +577,35 @@ def readable(value: float, unit: str) -> tuple[float, str]:
 
 
 _SHOWN_TO_SI = {shown: si for si, shown in SHOWN_UNITS.items()}
+
+
+def check_poisson_ratio(element: str | None, field: str, value: Any) -> float:
+    """A Poisson's ratio ν, checked: finite and in (−1, 0.5), the range of a stable isotropic solid
+    (E > 0 with a positive bulk and shear modulus; e.g. Timoshenko & Goodier, *Theory of Elasticity*).
+
+    Parameters
+    ----------
+    element : str or None
+        The element (material, gear, tooth) it belongs to, for the message.
+    field : str
+        The parameter's name, for the message.
+    value : float or quantity
+        ν, dimensionless.
+
+    Returns
+    -------
+    float
+        ν.
+
+    Raises
+    ------
+    mechdyn.errors.ModelError
+        Naming the element, the parameter, the value and the range.
+    """
+    from mechdyn.errors import ModelError
+
+    nu = si_field(element, field, value, "", what="Poisson's ratio")
+    if not -1.0 < nu < 0.5:
+        shown = f"{nu:.6g}" if element is not None else f"{field} = {nu:.6g}"
+        raise ModelError(f"{shown} must lie in (−1, 0.5)", element=element, field=field)
+    return nu

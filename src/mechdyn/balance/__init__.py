@@ -20,7 +20,7 @@ __all__ = attach(
         "Evaluator": "solve",
         "FloorMap": "floor",
         "Influence": "influence",
-        "balance": "solve",
+        "balance": "design",
         "floor_map": "floor",
         "influence": "influence",
         "metric": "objectives",

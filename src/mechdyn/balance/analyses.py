@@ -58,7 +58,8 @@ def _balance(
     max_added_inertia: float | None = None,
     slack: float | None = None,
 ) -> Any:
-    from mechdyn.balance.solve import CounterweightSlot, balance
+    from mechdyn.balance.design import balance
+    from mechdyn.balance.solve import CounterweightSlot
     from mechdyn.errors import MechdynError
 
     machine = placement = None

@@ -51,7 +51,7 @@ def _run(args: argparse.Namespace) -> int:
         if result.every_variant_failed:
             continue
         if args.plots:
-            from mechdyn.plotting import save_figures
+            from mechdyn.figure_workers import save_figures
 
             prefix = "" if len(results) == 1 else _safe(result.study.name) + "_"
             plot_files += [str(p) for p in save_figures(result, args.plots, prefix=prefix)]

@@ -3,4 +3,4 @@ by side, a study's views with variants picked from a scatter plot (``mechdyn das
 
 from mechdyn._lazy import attach
 
-__all__ = attach(__name__, {"create_app": "app", "serve": "app"})
+__all__ = attach(__name__, {"create_app": "app", "serve": "app", "CacheLimits": "state"})

@@ -7,8 +7,8 @@ array. A run whose memory would exceed :data:`MEMORY_LIMIT` or whose time would 
 that would take more than :data:`TIME_WARN` goes on with a warning that gives the estimate.
 
 - **Harmonic balance**: at each speed a dense complex system of J (2H + 1) unknowns (the mesh
-  deflections' harmonics, :func:`mechdyn.gear_dynamics.steady._hb_solve`): (8/3) N³ real operations
-  of LU, 16 N² bytes.
+  deflections' harmonics, :func:`mechdyn.gear_dynamics.harmonic_balance._hb_solve`): (8/3) N³ real
+  operations of LU, 16 N² bytes.
 - **Floquet stability** (harmonic balance's check, and shooting): S Magnus segments per period, each
   a matrix exponential of the 2m + 1 state (the Padé [13/13] with scaling, about 30 products of
   d³ each) and the product.

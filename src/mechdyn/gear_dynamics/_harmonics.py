@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from mechdyn.gear_dynamics.floquet import LinearPeriodic, PeriodPlan, _highest_frequency
+from mechdyn.gear_dynamics.periodic import LinearPeriodic, PeriodPlan, _highest_frequency
 
 __all__ = [
     "AUTO_FACTOR",

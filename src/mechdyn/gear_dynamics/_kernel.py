@@ -1,21 +1,24 @@
 """The compiled right-hand side of a geared drivetrain in time (numba), its Jacobian and its events.
 
-Imported on first use by :mod:`mechdyn.gear_dynamics.simulate` (numba is slow to import); compiled once
-and cached on disk. The state is y = [z, ż, W_in, W_diss, W_par] with q = A z (z: the rigid-body
+Imported on first use by :mod:`mechdyn.gear_dynamics.simulate`; compiled once and cached on disk. The
+state is y = [z, ż, W_in, W_diss, W_par] with q = A z (z: the rigid-body
 angle of each free branch and the deflections relative to it), so that the error control of the
 integrator sees the small deflections, not the large rigid rotation.
 
 Per flexible mesh j: δ = g·q, τ = ph·q (ph = z_a/(2π) × the row of θ_a), the profile p(τ) and the
 error e(τ) interpolated linearly between P samples per cycle; contact mode 0 (drive side, or no
-backlash: h = x), 1 (in the gap: no force) or 2 (back side: h = x + b), x = δ − e(τ). The mode is a
-discrete state the integrator's events switch; the force does not read the sign of x, so that a root
-located a rounding error on either side of the boundary cannot make it chatter. The events read x
-itself (linear in the state), each boundary x = 0 and x = −b on its own: a product such as
-x (x + b) keeps its sign when a step crosses the whole backlash.
+backlash: h = x), 1 (in the gap: no force) or 2 (back side: h = x + b), x = δ − e(τ), the force that
+of the one contact law, :func:`._contact.mesh_force`. The mode is a discrete state the integrator's
+events switch; the force does not read the sign of x, so that a root located a rounding error on
+either side of the boundary cannot make it chatter. The events read x itself (linear in the state),
+each boundary x = 0 and x = −b on its own: a product such as x (x + b) keeps its sign when a step
+crosses the whole backlash.
 """
 
 import numba
 import numpy as np
+
+from mechdyn.gear_dynamics._contact import GAP, mesh_force
 
 __all__ = ["event_value", "event_values", "jacobian", "rhs"]
 
@@ -71,13 +74,10 @@ def rhs(y, out, n, A, W, K, C, Q, G, PH, prof, err, P, kbar, cm, gap, mode):
             td += PH[j, k] * qd[k]
         pj, dp = _interp(prof[j], P[j], t)
         e, de = _interp(err[j], P[j], t)
-        m = mode[j]
-        if m == 1:
-            continue
-        x = d - e
-        h = x if m == 0 else x + gap[j]
         xd = dd - de * td
-        fj = kbar[j] * pj * h + cm[j] * xd
+        fj, h, active = mesh_force(kbar[j] * pj, cm[j], d - e, xd, gap[j], mode[j])
+        if not active:
+            continue
         for k in range(n):
             f[k] -= G[j, k] * fj
         w_diss += cm[j] * xd * xd
@@ -106,7 +106,7 @@ def jacobian(y, n, A, W, K, C, G, PH, prof, P, kbar, cm, mode):
     Ke = K.copy()
     Ce = C.copy()
     for j in range(G.shape[0]):
-        if mode[j] == 1:
+        if mode[j] == GAP:  # out of contact: the law's force depends on neither x nor ẋ
             continue
         t = 0.0
         for k in range(n):

@@ -1,9 +1,10 @@
 """The event-located flow of a drivetrain with backlash over its period, and its Jacobian.
 
-About the nominal rotation at a constant speed (:mod:`.floquet`) each mesh j with backlash b_j is in
+About the nominal rotation at a constant speed (:mod:`.periodic`) each mesh j with backlash b_j is in
 one of three contact modes, a discrete state as in :func:`mechdyn.gear_dynamics.simulate`:
 drive-side contact (force k_j x_r + c_j ẋ_r), the gap (no force) or back-side contact
-(k_j (x_r + b_j) + c_j ẋ_r), x_r = g_j · x − e_j(t). The mode changes where x_r crosses 0 or −b_j
+(k_j (x_r + b_j) + c_j ẋ_r), x_r = g_j · x − e_j(t): the contact law :func:`._contact.mesh_force`,
+the one the time integration uses. The mode changes where x_r crosses 0 or −b_j
 in the sense that leaves it: drive → gap where x_r falls through 0, gap → drive where it rises
 through 0, gap → back where it falls through −b_j, back → gap where it rises through −b_j.
 
@@ -32,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.gear_dynamics.floquet import LinearPeriodic, PeriodPlan
+from mechdyn.gear_dynamics._contact import BACK, DRIVE, GAP, NO_BACKLASH, announce, mesh_forces
+from mechdyn.gear_dynamics.periodic import LinearPeriodic, PeriodPlan
 
-DRIVE, GAP, BACK = 0, 1, 2
 #: Most contact changes per period before the flow gives up (a chattering contact, a trial state of
 #: Newton's method far off).
 MAX_CHANGES_PER_PERIOD = 400
@@ -100,7 +101,9 @@ class NonsmoothFlow:
         self.base = Minv @ lin.force(speed)
         self.gap = np.array([np.inf if b is None else float(b) for b in lin.backlash])
         self.has_gap = np.isfinite(self.gap)
-        self.c = np.asarray(lin.mesh_damping, float)
+        self.law_gap = np.where(self.has_gap, self.gap, NO_BACKLASH)  # the contact law's backlash
+        announce()
+        self.c = np.ascontiguousarray(lin.mesh_damping, float)
         self.kbar = np.asarray(lin.mean_stiffness, float)
         self.cuts = corners(lin, plan)
         self._rate = [int(o) * int(s) * f0 for o, s in zip(plan.orders, plan.signs, strict=True)]
@@ -148,15 +151,13 @@ class NonsmoothFlow:
         K0, K1, E0, E1 = coeffs
         m, d = self.m, self.d
         x, v = y[:m], y[m:d]
-        contact = mode != GAP
         xr = self.G @ x - (E0 + E1 * t)
-        h = np.where(mode == BACK, xr + np.where(self.has_gap, self.gap, 0.0), xr)
-        k = (K0 + K1 * t) * contact
-        c = self.c * contact
-        fm = k * h + c * (self.G @ v - E1)
+        kt = K0 + K1 * t
+        fm, _, active = mesh_forces(kt, self.c, xr, self.G @ v - E1, self.law_gap, mode)
         a = self.base + self.B_x @ x + self.A_v @ v - self.MinvG @ fm
         if not variational:
             return np.concatenate([v, a])
+        k, c = kt * active, self.c * active  # ∂f/∂x_r and ∂f/∂ẋ_r of the law
         Y = y[d:].reshape(d, d)
         lower = np.concatenate(
             [self.B_x - (self.MinvG * k) @ self.G, self.A_v - (self.MinvG * c) @ self.G], 1

@@ -1,7 +1,7 @@
 """The operating point of a free-running train: the torque that holds a speed, and a motor's slope.
 
 A train that is not held at its speed (``boundary="free"`` or ``"motor"`` of
-:func:`mechdyn.gear_dynamics.floquet.linear_periodic`) turns steadily when the drive's mean torque
+:func:`mechdyn.gear_dynamics.periodic.linear_periodic`) turns steadily when the drive's mean torque
 balances the load and the drag of the grounded dampers: rᵀ (Q_load − Ω C r + T₀ t_d) = 0, with r the
 rigid rotation per unit reference speed and t_d the drive disk's row of θ = T q (the principle of
 virtual power for the rigid motion). About that point a motor's torque follows its torque–speed curve;

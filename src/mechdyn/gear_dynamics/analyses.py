@@ -49,7 +49,7 @@ def _simulate(
 ) -> Any:
     from dataclasses import replace
 
-    from mechdyn.drivetrain.schema import DynamicsSettings, motor_file
+    from mechdyn.gear_dynamics.schema import DynamicsSettings, motor_file
     from mechdyn.gear_dynamics.simulate import simulate
 
     where = _where(loaded)
@@ -245,7 +245,7 @@ def _speed_sweep(
 
     import numpy as np
 
-    from mechdyn.gear_dynamics.steady import speed_sweep
+    from mechdyn.gear_dynamics.sweep import speed_sweep
 
     settings = loaded.settings
     table = settings.speed_sweep if settings is not None else None

@@ -16,16 +16,18 @@ stiff BDF formulas as the train needs) with a compiled right-hand side and Jacob
   where x rises through 0, gap → back where x falls through −b (so that a step that carries the
   teeth across the whole backlash is seen, and the side hit decides the new mode). The instant is
   located by Brent's method on the step's dense output, and the integration restarts there in the
-  new mode, so that no step straddles the kink of the force or the jump of the contact damping.
-  (This is :func:`scipy.integrate.solve_ivp`'s event handling, done on the solver's steps directly:
-  one compiled call per step for all meshes instead of one Python call per mesh.)
+  new mode, so that no step straddles the kink of the force or the jump of the contact damping
+  (:mod:`mechdyn.gear_dynamics._events`). (This is :func:`scipy.integrate.solve_ivp`'s event
+  handling, done on the solver's steps directly: one compiled call per step for all meshes instead
+  of one Python call per mesh.)
 * **A restart sits on the boundary it has crossed.** The located root is a rounding error on either
   side of it; the new mode is left only after x has been inside it (the step is probed from the
   restart on), so that a state a rounding error on the old side is not a new crossing. Where x
   never gets inside (a grazing touch: the relative velocity zero at the boundary), the mesh goes
-  back at once, and the touch is not recorded as a change. The contact law is the one of
-  :mod:`mechdyn.gear_dynamics._nonsmooth` (Kelvin–Voigt: f = k h + c ẋ_r in contact, which may pull
-  just before the teeth part), so that a run settles on the orbit Newton shooting finds there.
+  back at once, and the touch is not recorded as a change. The contact law is
+  :func:`mechdyn.gear_dynamics._contact.mesh_force` (Kelvin–Voigt: f = k h + c ẋ_r in contact, which
+  may pull just before the teeth part), the one Newton's shooting integrates
+  (:mod:`mechdyn.gear_dynamics._nonsmooth`), so that a run settles on the orbit it finds there.
 * **The mesh cycle is resolved.** The stiffness profile may jump (single/double tooth contact); its
   samples are joined by straight lines, so the jump is a steep ramp. The step is limited to
   1/``cycle_steps`` (default 8) of the shortest mesh period at the speed the present acceleration
@@ -55,6 +57,8 @@ import numpy as np
 
 from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
+from mechdyn.gear_dynamics._contact import BACK, DRIVE, GAP, NO_BACKLASH, mesh_forces
+from mechdyn.gear_dynamics._events import EXIT_TO, exit_time, exits
 from mechdyn.gear_dynamics.result import ContactLoss, SimulationResult
 from mechdyn.gear_dynamics.system import GearSystem
 from mechdyn.units import si_field
@@ -64,14 +68,19 @@ __all__ = ["simulate", "static_deflection"]
 SEGMENT_CYCLES = 20
 """Mesh cycles per integration segment; the step limit follows the speed from segment to segment."""
 
-_DRIVE, _GAP, _BACK = 0, 1, 2
-
 
 def _kernels() -> Any:
     from mechdyn._compiled import announce
-    from mechdyn.gear_dynamics import _kernel
+    from mechdyn.gear_dynamics import _contact, _kernel
 
-    announce(_kernel.rhs, _kernel.jacobian, _kernel.event_values, _kernel.event_value)
+    announce(
+        _kernel.rhs,
+        _kernel.jacobian,
+        _kernel.event_values,
+        _kernel.event_value,
+        _contact.mesh_force,
+        _contact.mesh_forces,
+    )
     return _kernel
 
 
@@ -361,10 +370,10 @@ def simulate(
     has_gap = gap >= 0
     if m:
         kern.event_values(y, n, A, pk["G"], pk["PH"], pk["err"], pk["P"], ev_buf)
-        mode[has_gap & (ev_buf < 0)] = _GAP
-        mode[has_gap & (ev_buf <= -gap)] = _BACK
+        mode[has_gap & (ev_buf < 0)] = GAP
+        mode[has_gap & (ev_buf <= -gap)] = BACK
     # each mode's exits: margin = sign · x + offset, positive inside the mode, per mesh and boundary
-    exit_sign, exit_offset = _exits(gap)
+    exit_sign, exit_offset = exits(gap)
 
     breakpoints = sorted({b for load in inputs for b in load.breakpoints if 0.0 < b < t_total})
     out_buf = np.zeros(2 * n + 3)
@@ -473,7 +482,7 @@ def simulate(
                 for jj, side in np.argwhere(s_new < 0).tolist():  # a mesh past an exit of its mode
                     dense = dense if dense is not None else solver.dense_output()
                     sg, off = float(exit_sign[mode[jj], side]), float(exit_offset[jj, mode[jj], side])
-                    root = _root(kern, dense, t0, t1, sg, off, jj, event_args, bool(s_prev[jj, side] > 0))
+                    root = exit_time(kern, dense, t0, t1, sg, off, jj, event_args, bool(s_prev[jj, side] > 0))
                     if root < t_hit - 1e-15 * max(1.0, t_hit):
                         t_hit, hit = root, [(jj, side)]
                     elif abs(root - t_hit) <= 1e-15 * max(1.0, t_hit):
@@ -501,7 +510,7 @@ def simulate(
                 y = np.asarray(dense(t_hit), dtype=float).copy()
                 for j, side in hit:
                     old = int(mode[j])
-                    new = int(_EXIT_TO[old, side])
+                    new = int(EXIT_TO[old, side])
                     mode[j] = new
                     if changes and changes[-1] == (t_hit, j, new, old):
                         changes.pop()  # a grazing touch: entered and left at one instant, no change
@@ -530,85 +539,6 @@ def simulate(
     return _result(
         system, inputs, tt, q, qd, Z[2 * n :], modes_all, changes, method, wall, segments, n_calls[0]
     )
-
-
-def _exits(gap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The exits of each contact mode as margins sign · x + offset, positive inside the mode.
-
-    Parameters
-    ----------
-    gap : ndarray
-        (m,) backlash of each mesh, m (negative: none, the mesh never leaves the drive side).
-
-    Returns
-    -------
-    sign : ndarray
-        (3, 2) per mode (drive, gap, back) and exit: the sign of x (0: no such exit).
-    offset : ndarray
-        (m, 3, 2) per mesh, mode and exit: the offset, m (inf: no such exit).
-    """
-    sign = np.array([[1.0, 0.0], [-1.0, 1.0], [-1.0, 0.0]])
-    m = gap.size
-    offset = np.full((m, 3, 2), np.inf)
-    has = gap >= 0
-    offset[has, _DRIVE, 0] = 0.0  # drive side → gap where x falls through 0
-    offset[has, _GAP, 0] = 0.0  # gap → drive side where x rises through 0
-    offset[has, _GAP, 1] = gap[has]  # gap → back side where x falls through −b
-    offset[has, _BACK, 0] = -gap[has]  # back side → gap where x rises through −b
-    return sign, offset
-
-
-_EXIT_TO = np.array([[_GAP, _GAP], [_DRIVE, _BACK], [_GAP, _GAP]])
-"""The mode each mode's exit leads to: drive and back side to the gap; the gap to the side it hits."""
-
-_PROBE = np.concatenate([2.0 ** -np.arange(40.0, 4.0, -1.0), np.arange(1, 17) / 16.0])
-"""Fractions of a step (ascending) at which a margin that starts on its boundary is probed."""
-
-
-def _root(
-    kern: Any,
-    dense: Any,
-    t0: float,
-    t1: float,
-    sign: float,
-    offset: float,
-    j: int,
-    args: tuple[Any, ...],
-    armed: bool,
-) -> float:
-    """Where mesh ``j`` crosses an exit of its contact mode within the step [t0, t1], on the step's
-    dense output: the first fall of the margin g = sign · x + offset through 0, g(t1) < 0.
-
-    A margin positive at t0 (``armed``) is bracketed by the step. One that starts on its boundary (a
-    rounding error either side of 0: the mode entered there, at a restart) leaves only after it has
-    been positive: the step is probed from t0 on for the first positive margin, and the root sought
-    after it. A margin never positive in the step (the relative velocity at the boundary zero, or
-    pointing out of the mode: a grazing touch) leaves at t0. The direction of the crossing thus
-    decides, not the side of the boundary that rounding puts the restart on.
-
-    Returns
-    -------
-    float
-        The time of the exit, s.
-    """
-    from scipy.optimize import brentq
-
-    def g(tt: float) -> float:
-        return sign * float(kern.event_value(np.asarray(dense(tt), dtype=float), *args, j)) + offset
-
-    g1 = g(t1)
-    if g1 >= 0:  # the dense output at t1 a rounding error off the state: the exit at the step's end
-        return t1
-    lo = t0
-    if not armed or g(t0) <= 0:
-        ts = t0 + (t1 - t0) * _PROBE
-        vals = np.array([g(float(tt)) for tt in ts[:-1]] + [g1])
-        inside = np.flatnonzero(vals > 0)
-        if not inside.size:
-            return t0
-        first_out = inside[0] + int(np.argmax(vals[inside[0] :] <= 0))
-        lo, t1 = float(ts[first_out - 1]), float(ts[first_out])
-    return float(brentq(g, lo, t1, xtol=1e-15 * max(1.0, abs(t1)), rtol=4 * np.finfo(float).eps))
 
 
 def _result(
@@ -640,11 +570,15 @@ def _result(
         e = mesh.transmission_error(tau)
         x = mesh.g @ q - e
         xd = mesh.g @ qd - _periodic_slope(mesh.error, tau) * tau_d
-        b = mesh.backlash or 0.0
-        h = np.where(modes[j] == _DRIVE, x, np.where(modes[j] == _BACK, x + b, 0.0))
-        contact = modes[j] != _GAP
         k = mesh.stiffness(tau)
-        force[j] = k * h + mesh.damping * xd * contact
+        force[j], h, _ = mesh_forces(
+            np.full(N, k, dtype=float),
+            np.full(N, mesh.damping, dtype=float),
+            np.ascontiguousarray(x, dtype=float),
+            np.ascontiguousarray(xd, dtype=float),
+            np.full(N, NO_BACKLASH if mesh.backlash is None else mesh.backlash, dtype=float),
+            np.ascontiguousarray(modes[j], dtype=np.int64),
+        )
         dte[j] = x
         strain = strain + 0.5 * k * h * h
     kinetic = 0.5 * np.einsum("in,ij,jn->n", qd, system.M, qd)
@@ -710,16 +644,16 @@ def _contact_losses(
     out = []
     for j, mesh in enumerate(system.meshes):
         if loaded_flanks is not None and loaded_flanks[j] != 0.0 and mesh.backlash is not None:
-            working = _DRIVE if loaded_flanks[j] > 0.0 else _BACK
+            working = DRIVE if loaded_flanks[j] > 0.0 else BACK
         else:
-            working = _DRIVE if initial[j] == _GAP else int(initial[j])
-        opposite = _BACK if working == _DRIVE else _DRIVE
+            working = DRIVE if initial[j] == GAP else int(initial[j])
+        opposite = BACK if working == DRIVE else DRIVE
         start: float | None = 0.0 if initial[j] != working else None
         impacts = 0
         for t, jj, old, new in changes:
             if jj != j:
                 continue
-            if old == working and new == _GAP:
+            if old == working and new == GAP:
                 start, impacts = t, 0
             elif new == opposite:
                 impacts += 1

@@ -10,7 +10,7 @@ from mechdyn.plotting import legend
 
 if TYPE_CHECKING:
     from mechdyn.gear_dynamics.floquet import FloquetResult, StabilityChart
-    from mechdyn.gear_dynamics.steady import SpeedSweepResult
+    from mechdyn.gear_dynamics.sweep_result import SpeedSweepResult
 
 __all__ = ["plot_floquet", "plot_speed_sweep", "plot_stability_chart", "plot_sweep_dte"]
 

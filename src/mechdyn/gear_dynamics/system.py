@@ -227,21 +227,16 @@ class MeshLink:
 
         Notes
         -----
-        Kahraman & Singh (1990), the dynamic transmission error form of a spur pair with clearance.
+        Kahraman & Singh (1990), the dynamic transmission error form of a spur pair with clearance: the
+        contact law :func:`mechdyn.gear_dynamics._contact.mesh_force`, the one every solver uses.
         """
-        e = self.transmission_error(tau)
-        x = delta - e
-        b = self.backlash
-        if b is None:
-            h = x
-        elif x > 0.0:
-            h = x
-        elif x < -b:
-            h = x + b
-        else:
-            return 0.0
-        rate = delta_rate - _periodic_slope(self.error, tau) * tau_rate
-        return float(self.stiffness(tau) * h + self.damping * rate)
+        from mechdyn.gear_dynamics._contact import BY_SIGN, NO_BACKLASH, mesh_force
+
+        k = float(self.stiffness(tau))
+        x = float(delta - self.transmission_error(tau))
+        rate = float(delta_rate - _periodic_slope(self.error, tau) * tau_rate)
+        gap = NO_BACKLASH if self.backlash is None else float(self.backlash)
+        return float(mesh_force(k, float(self.damping), x, rate, gap, BY_SIGN)[0])
 
 
 def _profile_from(name: str, value: Any) -> np.ndarray:

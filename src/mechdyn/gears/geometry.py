@@ -44,7 +44,8 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.checks import check_number, check_poisson_ratio, magnitude_limit
+from mechdyn.checks import check_number, magnitude_limit
+from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.ring import RingRim, ring_rim_supports

@@ -44,7 +44,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechdyn.checks import check_count, check_poisson_ratio
+from mechdyn.checks import check_count
+from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError
 from mechdyn.gears.tooth import SHEAR_COEFFICIENT
 from mechdyn.units import show, si_field

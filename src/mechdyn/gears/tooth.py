@@ -38,7 +38,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from mechdyn.checks import check_poisson_ratio
+from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError, ModelWarning
 from mechdyn.units import si_field as _q
 

@@ -22,7 +22,7 @@ from typing import Any, TypeVar
 from pydantic import BaseModel, ValidationError
 
 from mechdyn.errors import ModelError, ModelFileError
-from mechdyn.registry import ModelType, model_types, resolve
+from mechdyn.registry import LoadedModel, ModelType, model_types, resolve
 
 __all__ = [
     "LoadedModel",
@@ -237,35 +237,6 @@ def load_with_source(path: str | Path) -> tuple[Any, ModelSource]:
     """
     source = read(path)
     return build_source(source), source
-
-
-@dataclass(frozen=True)
-class LoadedModel:
-    """A model file as loaded: the model, the file's analysis settings, and the file itself.
-
-    Attributes
-    ----------
-    type : str
-        The file's ``[model] type``.
-    model : object
-        The immutable model the analyses run on (a :class:`~mechdyn.drivetrain.Drivetrain`, a
-        :class:`~mechdyn.mechanism.Mechanism`, a :class:`~mechdyn.support.MountedMachine`, a
-        :class:`~mechdyn.gears.GearPair`, two teeth, a mount estimate).
-    settings : object
-        What else the file says (analysis tables, load, samples): its builder's record, or what its
-        type's settings function reads (:class:`mechdyn.registry.ModelType`).
-    source : ModelSource or None
-        The file (None for a model built in Python).
-    """
-
-    type: str
-    model: Any
-    settings: Any = None
-    source: ModelSource | None = None
-
-    @property
-    def name(self) -> str:
-        return str(getattr(self.model, "name", "") or getattr(self.settings, "name", ""))
 
 
 def load_model(path: str | Path) -> LoadedModel:

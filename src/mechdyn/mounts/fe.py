@@ -26,7 +26,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from mechdyn.checks import check_count, check_number, check_poisson_ratio
+from mechdyn.checks import check_count, check_number
+from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError
 
 MAX_ELEMENTS = 2_000_000

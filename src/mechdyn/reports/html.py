@@ -18,6 +18,8 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from mechdyn.cells import Cell, HtmlTable, html_table, table_cell
+
 __all__ = [
     "Report",
     "figures_of",
@@ -36,20 +38,6 @@ ANIMATION_FRAMES = 72  # frames of a report's animation: one per 5° of crank an
 
 # summary keys that record a check the analysis ran (a residual, a deviation, a convergence figure)
 _CHECK_WORDS = ("residual", "deviation", "convergence", "rigid_body_modes", "richardson", "error_relative")
-
-
-@dataclass
-class Cell:
-    text: str
-    css: str = ""
-
-
-@dataclass
-class HtmlTable:
-    title: str
-    columns: list[str]
-    rows: list[list[Cell]]
-    note: str = ""
 
 
 @dataclass
@@ -78,74 +66,6 @@ class Report:
     meta: list[tuple[str, str]]
     sections: list[Section]
     headline: list[str] = field(default_factory=list)
-
-
-def _number(v: float) -> str:
-    from mechdyn.numbers import number_text
-
-    return number_text(v)
-
-
-def table_cell(v: Any) -> Cell:
-    """A value as a report's (and the dashboard's) table cell: a number written by the one rule of
-    :mod:`mechdyn.numbers` and aligned as a number, a count as a whole number, a flag as yes or no,
-    none as a dash.
-
-    Parameters
-    ----------
-    v : any
-        The cell's value (SI numbers already converted to the column's unit).
-    """
-    if v is None:
-        return Cell("—")
-    if isinstance(v, bool):
-        return Cell("yes" if v else "no")
-    if isinstance(v, int) or (type(v).__module__ == "numpy" and "int" in type(v).__name__):
-        return Cell(str(int(v)), "num")  # a count stays a whole number
-    if isinstance(v, float) or type(v).__module__ == "numpy":
-        try:
-            return Cell(_number(float(v)), "num")
-        except (TypeError, ValueError):
-            pass
-    if isinstance(v, str) and v in ("holds", "VIOLATED"):
-        return Cell(v, "holds" if v == "holds" else "fails")
-    if isinstance(v, (list, tuple)) and v and all(isinstance(x, (int, float)) for x in v):
-        return Cell(", ".join(table_cell(x).text for x in v), "num")
-    if isinstance(v, (list, tuple)) and all(isinstance(x, str) for x in v):
-        return Cell(", ".join(v))  # names (a model's coordinates, the dominant one of each mode)
-    if isinstance(v, (dict, list, tuple)):
-        return Cell(json.dumps(v, default=str))
-    return Cell(str(v))
-
-
-def _table(t: Any) -> HtmlTable:
-    """A :class:`mechdyn.results.Table` as HTML cells."""
-    return HtmlTable(t.title, list(t.columns), [[table_cell(v) for v in row] for row in t.rows], t.note)
-
-
-def tables_html(tables: Sequence[Any]) -> str:
-    """Tables (:class:`mechdyn.results.Table`) as an HTML fragment, each with its title and note, the
-    cells as the report writes them (a result's ``_repr_html_`` in a notebook).
-
-    Parameters
-    ----------
-    tables : sequence of Table
-    """
-    from html import escape
-
-    parts = []
-    for t in map(_table, tables):
-        head = "".join(f"<th>{escape(c)}</th>" for c in t.columns)
-        body = "".join(
-            "<tr>" + "".join(f'<td class="{c.css}">{escape(c.text)}</td>' for c in row) + "</tr>"
-            for row in t.rows
-        )
-        parts.append(
-            f"<h4>{escape(t.title)}</h4><table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
-        )
-        if t.note:
-            parts.append(f"<p>{escape(t.note)}</p>")
-    return "\n".join(parts)
 
 
 def _png(make: Callable[[], Any]) -> str:
@@ -293,7 +213,7 @@ def run_report(
     first = [t for t in tables if t.title == "summary"] or [summary_table(summary)]
     labels = [[str(r[0]) for r in t.rows] for t in tables]  # a nested value a table already shows
     nested = [t for t in nested_tables(summary) if [str(r[0]) for r in t.rows] not in labels]
-    shown = [_table(t) for t in [*first, *nested]]
+    shown = [html_table(t) for t in [*first, *nested]]
     sections = [Section("Summary", note=note, tables=shown)]
     all_warnings = list(dict.fromkeys([*warnings, *getattr(result, "warnings", ())]))
     checks = _checks(summary)
@@ -305,7 +225,7 @@ def run_report(
             items=all_warnings or ["no warnings"],
         )
     )
-    sections.append(Section("Tables", tables=[_table(t) for t in tables if t.title != "summary"]))
+    sections.append(Section("Tables", tables=[html_table(t) for t in tables if t.title != "summary"]))
     sections.append(Section("Plots", figures=[*_animations(result), *figures_of(result.plots())]))
     sections.append(Section("Model file", note=model_path, text=model_text))
     from mechdyn.registry import get
@@ -363,7 +283,7 @@ def study_tables(result: Any) -> list[HtmlTable]:
     counts = variant_counts(result)
     tables = []
     for t in result.tables():
-        table = _table(t)
+        table = html_table(t)
         if list(t.columns) == _COUNT_COLUMNS:
             table.rows = [[table_cell(counts[k]) for k in ("variants", "evaluated", "reused", "failed")]]
         tables.append(table)

@@ -1,8 +1,10 @@
 """The compiled kernel of the dyad path (numba): one design variant over all crank angles, and the
 drivers that run many variants in parallel threads or one serially.
 
-Imported on first use by :mod:`mechdyn.mechanism.dyads` (numba is slow to import); compiled once and
-cached on disk. The operation codes are those of :func:`mechdyn.mechanism.dyads._encode`.
+Imported on first use by :mod:`mechdyn.mechanism.dyads.run` (numba is slow to import); compiled once
+and cached on disk. It takes one :class:`~mechdyn.mechanism.dyads.arguments.KernelArgs`, whose
+fields it reads by name; the operation codes are those of
+:func:`mechdyn.mechanism.dyads.arguments.encode`.
 """
 
 import numba
@@ -18,40 +20,17 @@ def _cross(a, b):
 
 @numba.njit(cache=True, error_model="numpy")
 def variant(v, args):
-    (
-        dz,
-        ops,
-        fdata,
-        grounded,
-        turn,
-        omega,
-        alpha,
-        mass,
-        inertia,
-        grav,
-        keep,
-        out_slot,
-        u_out,
-        pos_out,
-        vel_out,
-        acc_out,
-        rate_out,
-        force,
-        inertia_force,
-        moment,
-        torque,
-        s_out,
-        dyad_meas,
-        kops,
-        kf,
-        gops,
-        gf,
-        jkind,
-        n_lam,
-        applied,
-        lam_out,
-        peak_out,
-    ) = args
+    # the fields by the short names of the formulas below
+    dz, ops, fdata, grounded = args.drawing, args.ops, args.op_data, args.grounded
+    turn, omega, alpha = args.turn, args.omega, args.alpha
+    mass, inertia, grav = args.mass, args.inertia, args.gravity
+    keep, out_slot, u_out = args.keep, args.output_slot, args.output_axis
+    pos_out, vel_out, acc_out, rate_out = args.pos, args.vel, args.acc, args.rates
+    force, inertia_force, moment, torque = args.force, args.inertia_force, args.moment, args.torque
+    s_out, dyad_meas = args.stroke, args.dyad_measure
+    kops, kf, jkind = args.load_ops, args.load_data, args.joint_kind
+    gops, gf = args.frame_ops, args.frame_data
+    n_lam, applied, lam_out, peak_out = args.n_multipliers, args.applied, args.multipliers, args.peaks
     N = force.shape[1]
     S = dz.shape[1]
     nb = mass.shape[1]
@@ -274,12 +253,12 @@ def variant(v, args):
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def run_parallel(args):
     """Every variant (the leading axis of the arrays in ``args``) in parallel threads."""
-    for v in numba.prange(args[0].shape[0]):
+    for v in numba.prange(args.drawing.shape[0]):
         variant(v, args)
 
 
 @numba.njit(cache=True, error_model="numpy")
 def run_serial(args):
     """Every variant in turn (one design: no threads to start)."""
-    for v in range(args[0].shape[0]):
+    for v in range(args.drawing.shape[0]):
         variant(v, args)
