@@ -24,6 +24,7 @@ import pytest
 from conftest import EXAMPLES
 from mechdyn.studies import load_study, run_study
 from mechdyn.studies import polish as polish_module
+from mechdyn.studies.cells import MEASURE_DIGITS, given, number
 from mechdyn.studies.kinds import kind
 from mechdyn.studies.polish import CONVERGED, FIRST_ORDER, ITERATION_LIMIT, NOT_CONVERGED, stencil
 from mechdyn.studies.run import stored_result
@@ -121,7 +122,8 @@ def test_an_interior_optimum_is_a_first_order_point_with_its_measure_near_zero(w
     assert proof["active"] == [] and proof["measure"] < 1e-6 and proof["tolerance"] == FIRST_ORDER
     text = _text(with_global)
     assert "nothing: an interior optimum" in text
-    assert f"converged: first-order measure {proof['measure']:.2g} ≤ {FIRST_ORDER:g}" in text
+    measure = number(proof["measure"], MEASURE_DIGITS)  # the one number rule, three digits of a residual
+    assert f"converged: first-order measure {measure} ≤ {given(FIRST_ORDER)}" in text
 
 
 def test_a_polish_that_runs_out_of_iterations_says_so_and_is_not_called_converged(soft, monkeypatch):
@@ -205,7 +207,7 @@ def test_an_optimization_no_design_of_which_keeps_its_constraints_says_how_near_
     assert near["relative"] == pytest.approx(c["violation"] / 0.001, rel=1e-12)
     text = _text(result)
     assert f"nearest to keeping every constraint', 'variant {nearest.id}'" in text
-    assert f"broken by {c['violation'] * 1000:.4g} mm" in text
+    assert f"broken by {number(c['violation'] * 1000)} mm" in text
     assert all(e["verdict"] != CONVERGED for e in f["polish"]["per_start"])
     assert stored_result(soft.db, "too-stiff-a-limit").findings["least_violation"] == near
 
@@ -301,4 +303,4 @@ def test_an_optimum_along_a_valley_is_said_not_to_be_unique(ends, unique):
         assert f["non_unique"]["spans"]["a"] == pytest.approx([0.5, 0.75])
         assert f["non_unique"]["spans"]["b"] == pytest.approx([0.4, 0.6])
         assert "no: 2 first-order points as good as the optimum" in text
-        assert "a from 0.5 to 0.75" in text
+        assert "a from 0.500 to 0.750" in text  # as given, never fewer than three digits

@@ -32,6 +32,8 @@ from mechdyn.studies import (
     recompute,
     run_study,
 )
+from mechdyn.studies.cells import signed
+from mechdyn.studies.kinds.sweeps import RHO_DIGITS
 from mechdyn.studies.paths import PathError
 from mechdyn.studies.storage import StudyStore
 from mechdyn.support.model import MountedMachine
@@ -955,7 +957,7 @@ def test_the_curve_plots_label_the_base_design_and_only_it(tmp_path):
     assert [row[0] for row in ranking.rows] == [w.label for w in sample.study.watched]
     rho = sample.findings["rank_correlation"]["transmitted_force_range_N"]
     first = max(rho, key=lambda n: abs(rho[n]))
-    assert ranking.rows[0][3].startswith(f"{first} {rho[first]:+.2f}")
+    assert ranking.rows[0][3].startswith(f"{first} {signed(rho[first], RHO_DIGITS)}")
     sobol = run_study(
         dataclasses.replace(load_study(path), name="press-sobol", kind="sobol", samples=2),
         str(tmp_path / "r.db"),
@@ -1114,7 +1116,8 @@ def test_a_factorial_study_states_main_effects_interactions_and_its_extremes(tmp
     assert high.parameters["support.stiffness"] < low.parameters["support.stiffness"]
     # the tables say it in the study's units, and a stored study gives the same findings
     text = "\n".join(str(t) for t in result.tables())
-    assert "main effects on static_deflection_m.support" in text and "[mm]" in text and "[t]" in text
+    assert "main effects on static deflection · support" in text and "[mm]" in text and "[t]" in text
+    assert "static_deflection_m" not in text  # the output in words, as its summary names it
     assert "two-way interactions" in text and "lowest and highest" in text
     assert stored_result(db, "pad-grid").findings["factorial"] == result.findings["factorial"]
     import matplotlib

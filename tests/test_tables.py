@@ -256,3 +256,178 @@ def test_one_rule_writes_a_number_in_the_terminal_the_report_and_the_dashboard(v
     assert number_text(value) == text
     assert _fmt(value) == text
     assert table_cell(value).text == text
+
+
+# -- the shipped studies: every table by the one number rule, the counts adding up ---------------
+
+STUDIES = EXAMPLES / "studies"
+
+# each shipped study in its quickest form: the fewest samples its file takes (one trial a box, a
+# Sobol sample's smallest power of 2, one generation of the smallest population) and the analyses'
+# lightest options; a sweep's design as the file gives it. What is checked here is how the tables
+# write what a study found and count its variants, not the optimum (tests/test_studies.py and
+# tests/test_study_optimum.py check that).
+QUICK_STUDIES: dict[str, dict] = {
+    "press_link_relocation.toml": {"samples": 1},
+    "press_sobol.toml": {"samples": 2},
+    "press_support_influence.toml": {},
+    "press_synthesis.toml": {"samples": 1, "population": 4, "options": {"angles": 36}},
+    "rp1_sensitivity.toml": {"options": {"angles": 36}},
+    "turret_mesh_clocking.toml": {"options": {"points": 4}},
+}
+NUMBER = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:e[+-]\d+)?")
+COUNTS = re.compile(r"^\s*(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s*$")
+
+
+def _quick_file(name: str, folder) -> str:
+    """The shipped study ``name`` in its quick form (:data:`QUICK_STUDIES`), written into ``folder``."""
+    import tomllib
+
+    from mechdyn.reports.html import toml_text
+
+    data = tomllib.loads((STUDIES / name).read_text(encoding="utf-8"))
+    quick = dict(QUICK_STUDIES[name])
+    study = data["study"]
+    study["model"] = str((STUDIES / study["model"]).resolve())
+    study["options"] = {**study.get("options", {}), **quick.pop("options", {})}
+    study.update(quick)
+    path = folder / name
+    path.write_text(toml_text(data), encoding="utf-8")
+    return str(path)
+
+
+def _shipped(name: str, folder) -> dict:
+    """Run a shipped study's quick form twice, as ``mechdyn study`` does: into a new database, printing
+    its tables (and count the variants the database then holds), then again (reusing what is stored)
+    with ``--json`` and ``--report``."""
+    import contextlib
+    import html as htmllib
+    import json
+
+    from mechdyn.cli.main import main
+    from mechdyn.store import ResultStore
+    from mechdyn.studies.kinds.base import safe
+    from mechdyn.studies.storage import StudyStore
+    from mechdyn.studies.study import load_studies
+
+    path, db = _quick_file(name, folder), str(folder / "r.db")
+    studies = load_studies(path)
+    report = folder / "report.html"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)  # the published turret's base radii
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            assert main(["study", path, "--db", db]) == 0
+        with ResultStore(db, read_only=True) as store:
+            stored = {s.name: len(StudyStore(store).variants(s.name)) for s in studies}
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out):
+            assert main(["study", path, "--db", db, "--json", "--report", str(report)]) == 0
+    reports = {}
+    for s in studies:
+        target = report if len(studies) == 1 else report.with_name(f"report_{safe(s.name).strip('_')}.html")
+        reports[s.name] = " ".join(htmllib.unescape(re.sub(r"<[^>]+>", " ", target.read_text())).split())
+    return {
+        "studies": studies,
+        "printed": printed.getvalue(),
+        "stored": stored,
+        "json": json.loads(out.getvalue()),
+        "reports": reports,
+    }
+
+
+@pytest.fixture(scope="module")
+def shipped_study(tmp_path_factory):
+    """A shipped study's quick form, run once per module (:func:`_shipped`)."""
+    ran: dict[str, dict] = {}
+
+    def run(name: str) -> dict:
+        if name not in ran:
+            ran[name] = _shipped(name, tmp_path_factory.mktemp(name.removesuffix(".toml")))
+        return ran[name]
+
+    return run
+
+
+def test_every_shipped_study_has_a_quick_form_here():
+    assert sorted(p.name for p in STUDIES.glob("*.toml")) == sorted(QUICK_STUDIES)
+
+
+@pytest.mark.parametrize("name", sorted(QUICK_STUDIES))
+def test_every_table_of_every_shipped_study_reads_in_words_with_three_significant_digits(name, shipped_study):
+    """Every number a study's tables print (cells, titles and sentences) has at least three significant
+    digits, each written on its own: an output's change of a few millionths beside one of 40 % is not
+    0.00, an effect is not 1.0580e-02 beside 358.22, a stroke of 1495.3 mm is not 1495 beside its
+    1496.3 mm limit. Whole numbers are counts, ids and levels as the study file gives them. No output
+    is named by its summary key: words, as a summary names it (``displacement_max_m`` → displacement
+    max)."""
+    ran = shipped_study(name)
+    short = []
+    for line in ran["printed"].splitlines():
+        if line.startswith(("study '", "stored in ")):  # the study's name and where it is stored
+            continue
+        decimals = [x for x in NUMBER.findall(line) if "." in x or "e" in x]
+        short += [(x, line.strip()) for x in decimals if _significant(x) < 3]
+    assert not short, short
+    parts = {part for s in ran["studies"] for w in s.watched for part in w.key.split(".") if "_" in part}
+    assert parts and not [p for p in parts if p in ran["printed"]], ran["printed"]
+
+
+@pytest.mark.parametrize("name", sorted(QUICK_STUDIES))
+def test_the_variant_counts_of_every_shipped_study_add_up_alike_in_tables_json_and_report(
+    name, shipped_study
+):
+    """Each variant once, the base design among them where the kind has one: a first run's table
+    counts what the database then holds, all evaluated now; a rerun's JSON and its report count every
+    one of those as reused, and evaluated now + reused adds up to the variants in each (a file with
+    boxes: per box, and the JSON's totals are the boxes' sums)."""
+    ran = shipped_study(name)
+    lines = ran["printed"].splitlines()
+    for study, stored in ran["stored"].items():
+        at = lines.index(f"{study}: variants")
+        row = next(m for x in lines[at:] if (m := COUNTS.match(x)))
+        n, evaluated, reused, _ = map(int, row.groups())
+        assert (n, evaluated, reused) == (stored, stored, 0), (study, row.group(0))
+    doc = ran["json"]
+    again = {s["study"]: s for s in doc.get("studies", [doc])}
+    assert set(again) == set(ran["stored"])
+    for key in ("variants", "evaluated", "reused", "failed"):
+        assert doc[key] == sum(d[key] for d in again.values())
+    for study, d in again.items():
+        assert d["variants"] == d["evaluated"] + d["reused"] and d["reused"] == ran["stored"][study], d
+        counts = [d[key] for key in ("variants", "evaluated", "reused", "failed")]
+        text = ran["reports"][study]
+        assert "variants {} = {} evaluated now + {} reused (found stored)".format(*counts[:3]) in text
+        assert "variants evaluated now reused failed {} {} {} {}".format(*counts) in text
+
+
+@pytest.mark.parametrize(("peak", "unit"), [(12.0, "N"), (5e3, "N"), (5e4, "kN"), (2.4e7, "MN")])
+def test_a_force_axis_takes_the_unit_the_tables_take_for_its_largest_value(peak, unit):
+    """One ladder of units for tables and plots (:func:`mechdyn.units.readable_unit`): a plot keeps no
+    ladder of its own (a support's force axis once went to kN from 1 kN, where the tables stay in N up
+    to 10 kN); a unit asked for is kept."""
+    from mechdyn.plotting import display_unit
+    from mechdyn.support.plots import _force_scale
+    from mechdyn.units import readable
+
+    assert readable(peak, "N")[1] == unit
+    assert display_unit([0.5 * peak, -peak], "N")[0] == unit
+    scale, shown = _force_scale(np.array([0.5 * peak, -peak]), None)
+    assert shown == unit and peak / scale == pytest.approx(readable(peak, "N")[0], rel=1e-12)
+    assert _force_scale(np.array([peak]), "tonf")[1] == "tonf"
+
+
+@pytest.mark.parametrize(("example", "unit"), [("fourbar.toml", "N"), ("press_link_drive.toml", "kN")])
+def test_a_mechanisms_inertia_forces_are_drawn_in_the_unit_the_tables_take(example, unit):
+    """The inertia-force plot's axis in the unit its largest drawn force reads best in, as a summary
+    shows a force of that size (N for the four-bar's 12 N, kN for the press's 530 kN)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mechdyn.units import convert, readable_unit
+
+    ax = _run("mechanism", example, angles=36).plots()["inertia_forces.png"]()
+    assert ax.get_ylabel().endswith(f"({unit})")
+    curves = [np.abs(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata()) > 2]
+    largest = max(float(c.max()) for c in curves) / float(convert(1.0, "N", unit))  # back in N
+    assert readable_unit(largest, "N")[1] == unit

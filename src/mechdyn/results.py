@@ -53,12 +53,19 @@ class Table:
     note : str
         A sentence under the table (a verdict, what the numbers mean), shown by every renderer;
         a sentence never sits in a cell, where it would stretch its column.
+    per_value : bool
+        Every number is written on its own (:func:`mechdyn.numbers.number_text`), never in a format
+        its column shares (:func:`mechdyn.numbers.column_format`, which shows a value below a
+        thousandth of the column's largest as near zero): a study's tables, whose columns hold an
+        output's changes from a few per cent to a few millionths of one. A table with a ``unit``
+        column is written so too, each row being another quantity.
     """
 
     title: str
     columns: list[str]
     rows: list[list[Any]]
     note: str = ""
+    per_value: bool = False
 
 
 def frame_arrays(frame: pd.DataFrame) -> dict[str, tuple[np.ndarray, str]]:

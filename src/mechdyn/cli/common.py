@@ -60,7 +60,7 @@ def print_table(t: Table, file: Any = None, max_rows: int = MAX_ROWS) -> None:
     if hidden:
         rows = [*rows[:_HEAD], ["⋮"] * len(t.columns), *rows[-_TAIL:]]
     # a table with a unit column holds another quantity in each row: each value is formatted on its own
-    per_value = "unit" in t.columns
+    per_value = t.per_value or "unit" in t.columns
     specs = [None if per_value else column_format([r[i] for r in t.rows]) for i in range(len(t.columns))]
     cells = [[_fmt(v, specs[i]) if i < len(specs) else _fmt(v) for i, v in enumerate(r)] for r in rows]
     widths = [max([len(c), *(len(r[i]) for r in cells)]) for i, c in enumerate(t.columns)]

@@ -6,7 +6,6 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any
 
 __all__ = ["register"]
 
@@ -98,7 +97,9 @@ def _run(args: argparse.Namespace) -> int:
         for t in result.count_tables() if result.every_variant_failed else result.tables():
             print_table(t)
     if len(results) > 1:
-        print_table(_boxes_table(results))
+        from mechdyn.studies.result import boxes_table
+
+        print_table(boxes_table(results))
     for p in plot_files:
         print(f"plot: {p}")
     shown = where.removeprefix("sqlite:///")
@@ -117,30 +118,6 @@ def _failed(path: str, empty: list) -> int:
             file=sys.stderr,
         )
     return 1 if empty else 0
-
-
-def _boxes_table(results: list) -> Any:
-    """One row per study of a file with boxes: the optimum, its improvement, the constraints."""
-    from mechdyn.results import Table
-
-    st = results[0].study
-    watched = st.watched
-    rows = []
-    for r in results:
-        best = r.findings.get("best")
-        if best is None:
-            rows.append([r.study.name, "no feasible variant", *([None] * len(watched))])
-            continue
-        rows.append(
-            [
-                r.study.name,
-                r.findings.get("improvement_percent"),
-                *(w.show(best["outputs"].get(w.key)) for w in watched),
-            ]
-        )
-    return Table(
-        "the optimum of each box", ["study", "objective improved [%]", *(w.label for w in watched)], rows
-    )
 
 
 def _text(path: str) -> str | None:

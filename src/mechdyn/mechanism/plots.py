@@ -85,19 +85,20 @@ def plot_output_motion(result: DynamicsResult, ax: Any = None) -> Any:
 
 
 def plot_inertia_forces(result: DynamicsResult, ax: Any = None) -> Any:
-    """Each body's inertia force along the output axis (or its magnitude) and the total, kN."""
+    """Each body's inertia force along the output axis (or its magnitude) and the total, in the unit
+    the largest reads best in (N, kN or MN: :func:`mechdyn.plotting.display_unit`)."""
     ax = new_axes(ax)
     deg = np.degrees(result.angle)
     j = result.mechanism.output_joint()
     u = np.array([np.cos(j.axis), np.sin(j.axis)]) if j is not None else None
     label = "along the output axis" if u is not None else "magnitude"
     total = result.inertia_force @ u if u is not None else np.linalg.norm(result.inertia_force, axis=1)
-    unit = "kN" if np.abs(result.inertia_forces).max() >= 1e3 else "N"
-    scale = 1.0 / convert(1.0, "N", unit)
+    # the unit the largest force reads best in, as the tables choose it
+    unit, factor = display_unit(np.append(np.ravel(result.inertia_forces), total), "N")
     for i, b in enumerate(result.mechanism.bodies):
         f = result.inertia_forces[:, i, :]
-        ax.plot(deg, (f @ u if u is not None else np.linalg.norm(f, axis=1)) / scale, lw=1, label=b.name)
-    ax.plot(deg, total / scale, color="k", lw=2, label="total")
+        ax.plot(deg, (f @ u if u is not None else np.linalg.norm(f, axis=1)) * factor, lw=1, label=b.name)
+    ax.plot(deg, total * factor, color="k", lw=2, label="total")
     _dead_centres(ax, result)
     ax.set_xlabel("crank angle (deg)")
     ax.set_ylabel(f"inertia force {label} ({unit})")

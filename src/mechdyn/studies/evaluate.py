@@ -22,8 +22,9 @@ import numpy as np
 from mechdyn.errors import MechdynError
 from mechdyn.io.modelfile import ModelSource, load_source
 from mechdyn.registry import NotBatchable
+from mechdyn.studies.outputs import output_value
+from mechdyn.studies.parameters import Parameter
 from mechdyn.studies.paths import ModelTree
-from mechdyn.studies.spec import Parameter, output_value
 
 __all__ = ["Evaluation", "Evaluator"]
 

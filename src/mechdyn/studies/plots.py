@@ -9,10 +9,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.plotting import legend, new_axes
+from mechdyn.studies.cells import number, parameter_text, percent, signed, unit_text
 
 if TYPE_CHECKING:
+    from mechdyn.studies.outputs import Watched
     from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.spec import Watched
     from mechdyn.studies.storage import StoredVariant
 
 __all__ = [
@@ -38,8 +39,7 @@ def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
             by_param.setdefault(e["parameter"], []).append(e)
 
     def level(e: dict) -> str:
-        pct = e["level_percent"]
-        return f"{pct:+.0f} %" if pct is not None else str(e["level"])
+        return percent(e["level_percent"]) if e["level_percent"] is not None else str(e["level"])
 
     def change(e: dict) -> float:
         return float(e["outputs"][w.key]["change_percent"])
@@ -56,14 +56,16 @@ def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
             ax.barh(y, b - max(a, 0.0), left=max(a, 0.0), color="tab:red", height=0.6)
         if a < 0:
             ax.barh(y, min(b, 0.0) - a, left=a, color="tab:blue", height=0.6)
-        ax.annotate(f"{level(lo)} ({change(lo):+.2g} %) ", (a, y), ha="right", va="center", fontsize=7)
+        ax.annotate(f"{level(lo)} ({signed(change(lo), 3)} %) ", (a, y), ha="right", va="center", fontsize=7)
         if hi is not lo:
-            ax.annotate(f" {level(hi)} ({change(hi):+.2g} %)", (b, y), ha="left", va="center", fontsize=7)
+            ax.annotate(
+                f" {level(hi)} ({signed(change(hi), 3)} %)", (b, y), ha="left", va="center", fontsize=7
+            )
     ax.set_yticks(np.arange(len(names)), names, fontsize=8)
     ax.axvline(0.0, color="k", lw=0.8)
     span = max((abs(change(e)) for es in by_param.values() for e in es), default=1.0) or 1.0
     ax.set_xlim(-1.8 * span, 1.8 * span)
-    ax.set_xlabel(f"change of {w.key} from the base [%]")
+    ax.set_xlabel(f"change of {w.words} from the base [%]")
     ax.set_title(f"{result.study.name}: one at a time", fontsize=10)
     return ax
 
@@ -72,6 +74,7 @@ def main_effects(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     """A factorial study's main effects on one output: the mean over the grid at each level of each
     parameter, the parameters side by side on one axis (their levels as written), the grid mean dashed."""
     e = result.findings["factorial"][w.key]
+    w = w.readable([e["mean"], *(m for main in e["main"].values() for m in main["means"])])
     params = {p.name: p for p in result.study.parameters}
     names = sorted(e["main"], key=lambda n: -e["main"][n]["spread"])
     ax = new_axes(ax, figsize=(7.0, 4.0))
@@ -81,12 +84,12 @@ def main_effects(result: StudyResult, w: Watched, ax: Any = None) -> Any:
         x = x0 + np.arange(len(m["means"]))
         ax.plot(x, [w.show(v) for v in m["means"]], "o-", label=n)
         ticks += list(x)
-        labels += [params[n].shown(v) for v in m["levels"]]
+        labels += [parameter_text(params[n], v) for v in m["levels"]]
         x0 += len(m["means"]) + 1
     ax.axhline(w.show(e["mean"]), color="k", lw=0.8, ls="--", label="grid mean")
     ax.set_xticks(ticks, labels, rotation=30, ha="right", fontsize=8)
     ax.set_ylabel(w.label)
-    ax.set_title(f"{result.study.name}: main effects on {w.key}", fontsize=10)
+    ax.set_title(f"{result.study.name}: main effects on {w.words}", fontsize=10)
     legend(ax, fontsize=8)
     return ax
 
@@ -115,7 +118,7 @@ def sobol_bars(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     )
     ax.set_xticks(x, names, rotation=30, ha="right", fontsize=8)
     ax.set_ylabel("Sobol index")
-    ax.set_title(f"Sobol indices of {w.key}", fontsize=10)
+    ax.set_title(f"Sobol indices of {w.words}", fontsize=10)
     legend(ax, fontsize=8)
     return ax
 
@@ -126,6 +129,7 @@ def history(result: StudyResult, ax: Any = None) -> Any:
     st = result.study
     o = st.objectives[0].output if st.objectives else st.targets[0].output
     vs = sorted(result.variants, key=lambda v: v.id)
+    o = o.readable(v.outputs.get(o.key) for v in vs if v.status == "ok")
     y = np.array([o.show(v.outputs.get(o.key)) if v.status == "ok" else None for v in vs], dtype=float)
     feasible = np.array(
         [
@@ -158,14 +162,12 @@ def history(result: StudyResult, ax: Any = None) -> Any:
 def pareto(result: StudyResult, ax: Any = None) -> Any:
     """The first two objectives of every feasible variant and the Pareto front."""
     st = result.study
-    a, b = st.objectives[0].output, st.objectives[1].output
+    ok = [v for v in result.variants if v.status == "ok"]
+    a, b = (st.objectives[k].output for k in (0, 1))
+    a, b = (w.readable(v.outputs.get(w.key) for v in ok) for w in (a, b))
     ax = new_axes(ax)
     pts = np.array(
-        [
-            [a.show(v.outputs.get(a.key)), b.show(v.outputs.get(b.key))]
-            for v in result.variants
-            if v.status == "ok"
-        ],
+        [[a.show(v.outputs.get(a.key)), b.show(v.outputs.get(b.key))] for v in ok],
         dtype=float,
     )
     ax.plot(pts[:, 0], pts[:, 1], ".", color="0.6", ms=4, label="variants")
@@ -185,10 +187,11 @@ def pareto(result: StudyResult, ax: Any = None) -> Any:
         ax.plot(
             front[k, 0], front[k, 1], "*", ms=16, color="tab:orange", mec="k", label=f"knee (variant {knee})"
         )
+    words = {w.key: w.words for w in st.watched}
     for key, v in (result.findings.get("ends") or {}).items():
         if v in ids:
             k = ids.index(v)
-            ax.annotate(f" best {key}", (front[k, 0], front[k, 1]), fontsize=7)
+            ax.annotate(f" best {words.get(key, key)}", (front[k, 0], front[k, 1]), fontsize=7)
     ax.set_xlabel(a.label)
     ax.set_ylabel(b.label)
     legend(ax, fontsize=8)
@@ -206,19 +209,21 @@ def parallel(result: StudyResult, ax: Any = None) -> Any:
     st = result.study
     ok = [v for v in result.variants if v.status == "ok"][:2000]
     shown: list[tuple[str, Any, Any]] = [
-        (p.name, lambda v, p=p: v.parameters.get(p.name), lambda x, p=p: p.shown(x)) for p in st.parameters
+        (p.name, lambda v, p=p: v.parameters.get(p.name), lambda x, p=p: parameter_text(p, x))
+        for p in st.parameters
     ]
-    watched = list(st.watched)
-    by = next((o.output for o in st.objectives), watched[-1] if watched else None)
+    watched = [w.readable(v.outputs.get(w.key) for v in ok) for w in st.watched]
+    by = next((w for o in st.objectives for w in watched if w.key == o.output.key), None)
+    by = by or (watched[-1] if watched else None)
     if by is not None:  # the colouring output last, beside its colour bar
         watched = [w for w in watched if w.key != by.key] + [by]
     for w in watched:
-        unit = w.shown_unit
+        unit = unit_text(w.shown_unit)
         shown.append(
             (
-                w.key,
+                w.words,
                 lambda v, w=w: v.outputs.get(w.key),
-                lambda x, w=w, u=unit: f"{w.show(x):.4g} {u}".strip(),
+                lambda x, w=w, u=unit: f"{number(w.show(x))} {u}".strip(),
             )
         )
     M = np.array([[f(v) if f(v) is not None else np.nan for _, f, _ in shown] for v in ok], dtype=float)
@@ -257,7 +262,7 @@ def parallel(result: StudyResult, ax: Any = None) -> Any:
         )
         bar = ax.figure.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, pad=0.02)
         bar.set_label(by.label, fontsize=8)
-    ax.set_title(f"{st.name}: {len(ok)} variants, coloured by {by.key if by else '—'}", fontsize=10)
+    ax.set_title(f"{st.name}: {len(ok)} variants, coloured by {by.words if by else '—'}", fontsize=10)
     return ax
 
 
@@ -295,11 +300,23 @@ def choose_curves(
             stack = np.array([_on_grid(c, x, name, grid) for c in curves])
         except ValueError:  # a curve without the abscissa, or not one-dimensional: not comparable
             continue
-        scale = float(np.nanmax(np.abs(stack))) or 1.0
-        spread[name] = float(np.nanmax(np.abs(stack - stack[0]))) / scale
+        values = np.abs(stack[np.isfinite(stack)])
+        if not values.size:  # no value at all (a speed sweep's stability, not worked out)
+            continue
+        apart = np.abs(stack - stack[0])
+        apart = apart[np.isfinite(apart)]
+        spread[name] = (float(apart.max()) if apart.size else 0.0) / (float(values.max()) or 1.0)
     if len(curves) == 1:  # one alone: its curves that are not flat
         return x, [k for k in spread if np.ptp(np.asarray(first[k][0], dtype=float)) > 0][:n]
     return x, [k for k, d in sorted(spread.items(), key=lambda kv: -kv[1]) if d > 0][:n]
+
+
+def _words(key: str) -> str:
+    """A curve's name in words with its unit (``crank angle [deg]`` for ``crank_angle_deg``)."""
+    from mechdyn.units import key_label
+
+    words, unit = key_label(key)
+    return f"{words} [{unit}]" if unit else words
 
 
 def _on_grid(curve: dict[str, tuple[np.ndarray, str]], x: str, name: str, grid: np.ndarray) -> np.ndarray:
@@ -330,18 +347,23 @@ def curves(
     ``base`` is the id of the study's base design, drawn bold and labelled "(base)" when it is among
     the variants (a study without a base design, such as a Sobol sample, labels none).
     """
-    from mechdyn.units import key_unit
+    from mechdyn.plotting import display_unit
+    from mechdyn.units import key_label, key_unit
 
     ax = new_axes(ax)
-    for v in variants:
-        if name not in v.curves:
-            continue
-        y = v.curves[name][0]
+    drawn = [v for v in variants if name in v.curves]
+    # the unit the curves' largest value reads best in, as the tables and the summaries choose it
+    values = np.concatenate(
+        [np.ravel(np.asarray(v.curves[name][0], dtype=float)) for v in drawn] or [np.zeros(0)]
+    )
+    unit, factor = display_unit(values[np.isfinite(values)], key_unit(name) or "")
+    for v in drawn:
+        y = np.asarray(v.curves[name][0]) * factor
         xs = v.curves[x][0] if x is not None and x in v.curves else np.arange(y.size)
         label = f"variant {v.id}" + (" (base)" if v.id == base else "")
         ax.plot(xs, y, label=label, lw=2.0 if v.id == base else 1.0)
-    ax.set_xlabel(x or "sample")
-    ax.set_title(f"{name}: {len(variants)} variants overlaid", fontsize=10)
-    ax.set_ylabel(f"{name}" + (f" [{key_unit(name)}]" if key_unit(name) else ""))
+    ax.set_xlabel(_words(x) if x else "sample")
+    ax.set_title(f"{key_label(name)[0]}: {len(variants)} variants overlaid", fontsize=10)
+    ax.set_ylabel(f"{key_label(name)[0]} [{unit_text(unit)}]" if unit_text(unit) else key_label(name)[0])
     legend(ax, fontsize=8)
     return ax

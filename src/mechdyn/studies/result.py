@@ -10,10 +10,11 @@ from typing import Any
 import numpy as np
 
 from mechdyn.results import Result, Table
+from mechdyn.studies.cells import table
 from mechdyn.studies.storage import StoredStudy, StoredVariant
 from mechdyn.studies.study import Study
 
-__all__ = ["StudyResult", "failure_reason"]
+__all__ = ["StudyResult", "boxes_table", "failure_reason"]
 
 
 @dataclass(frozen=True, repr=False)  # the short repr of Result
@@ -169,7 +170,7 @@ class StudyResult(Result):
         failed) and, where some failed, why: one row per reason with how many."""
         name = self.study.name
         out = [
-            Table(
+            table(
                 f"{name}: variants",
                 ["variants", "evaluated now", "reused", "failed"],
                 [[self.count, self.evaluated, self.reused, self.failed]],
@@ -180,7 +181,7 @@ class StudyResult(Result):
         ]
         if self.failed:
             out.append(
-                Table(
+                table(
                     f"{name}: why variants failed",
                     ["variants", "reason", "first"],
                     [[g["count"], g["reason"], g["variants"][0]] for g in self.failures],
@@ -214,6 +215,38 @@ class StudyResult(Result):
         for name in names:
             out[f"curves_{safe(name)}.png"] = partial(sp.curves, self.kept, name, x, base=self.base_id)
         return out
+
+
+def boxes_table(results: list[StudyResult]) -> Table:
+    """One row per study of a file with boxes (:func:`mechdyn.studies.load_studies`): its optimum's
+    improvement of the objective and its outputs, each output in its study unit (else the unit the
+    column's largest value reads best in).
+
+    Parameters
+    ----------
+    results : list of StudyResult
+        The boxes' results, in order.
+    """
+    watched = [
+        w.readable((r.findings.get("best") or {}).get("outputs", {}).get(w.key) for r in results)
+        for w in results[0].study.watched
+    ]
+    rows: list[list[Any]] = []
+    for r in results:
+        best = r.findings.get("best")
+        if best is None:
+            rows.append([r.study.name, "no feasible variant", *([None] * len(watched))])
+            continue
+        rows.append(
+            [
+                r.study.name,
+                r.findings.get("improvement_percent"),
+                *(w.show(best["outputs"].get(w.key)) for w in watched),
+            ]
+        )
+    return table(
+        "the optimum of each box", ["study", "objective improved [%]", *(w.label for w in watched)], rows
+    )
 
 
 # a number on its own in an error message (not part of a name, a row number "#2" or an exponent "m^2")

@@ -20,8 +20,8 @@ import numpy as np
 
 from mechdyn import __version__
 from mechdyn.store.store import StoreError
+from mechdyn.studies.errors import StudyError
 from mechdyn.studies.evaluate import Evaluation, Evaluator
-from mechdyn.studies.spec import StudyError
 from mechdyn.studies.storage import StoredVariant, StudyStore, variant_key
 from mechdyn.studies.study import Study
 
@@ -78,7 +78,8 @@ class Runner:
         """Refuse, before any work, an output that names no number in the base design's result
         (a list without its entry, ``natural_frequencies_hz.0``, a table's name it does not hold):
         every variant would store nothing for it."""
-        from mechdyn.studies.spec import StudyError, output_problem
+        from mechdyn.studies.errors import StudyError
+        from mechdyn.studies.outputs import output_problem
 
         summary = self.evaluator.base_summary()
         if summary is None:

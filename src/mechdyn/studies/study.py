@@ -33,8 +33,10 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from mechdyn.io.modelfile import ModelSource, read
 from mechdyn.store.schema import NAME_LENGTH
+from mechdyn.studies.errors import StudyError
+from mechdyn.studies.outputs import Constraint, Objective, Watched
+from mechdyn.studies.parameters import Parameter
 from mechdyn.studies.paths import ModelTree, PathError
-from mechdyn.studies.spec import Constraint, Objective, Parameter, StudyError, Watched
 
 __all__ = ["Study", "load_studies", "load_study", "study_from_data"]
 
@@ -402,7 +404,7 @@ def load_studies(path: str | Path) -> list[Study]:
     import copy
 
     from mechdyn.io.modelfile import read_toml
-    from mechdyn.studies.spec import parse_relative
+    from mechdyn.studies.parameters import parse_relative
 
     src = read_toml(path, "a .toml study file")
     try:  # the file as a whole first: a box's study is then built from valid rows

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mechdyn.plotting import legend, new_axes, overlaid
+from mechdyn.plotting import display_unit, legend, new_axes, overlaid
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
@@ -27,9 +27,11 @@ __all__ = [
 
 
 def _force_scale(values: np.ndarray, force_unit: str | None) -> tuple[float, str]:
-
+    """(newtons per unit shown, the unit shown) of a force axis: ``force_unit`` where given, else the
+    unit the largest force reads best in, as the tables choose it (:func:`mechdyn.plotting.display_unit`)."""
     if force_unit is None:
-        force_unit = "kN" if np.abs(values).max(initial=0.0) >= 1e3 else "N"
+        shown, factor = display_unit(values, "N")
+        return 1.0 / factor, shown
     return float(convert(1.0, force_unit, "N")), force_unit
 
 

@@ -24,12 +24,14 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from mechdyn.results import Table
-from mechdyn.studies.spec import StudyError, level_kinds
+from mechdyn.studies.cells import number, parameter_text, table, unit_text
+from mechdyn.studies.errors import StudyError
+from mechdyn.studies.parameters import level_kinds
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
+    from mechdyn.studies.parameters import Parameter
     from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.spec import Parameter
     from mechdyn.studies.study import Study
 
 __all__ = ["KINDS", "Found", "Kind", "Ran", "kind", "least_violation", "register"]
@@ -291,10 +293,9 @@ def least_violation_table(result: StudyResult) -> Table:
         for c, d in zip(st.constraints, near["constraints"], strict=True):
             o = c.output
             by = o.difference(d["violation"]) if math.isfinite(d["violation"]) else None
-            unit = o.shown_unit
-            shown = "no value" if by is None else f"broken by {by:.4g} {unit}".strip()
+            shown = "no value" if by is None else f"broken by {number(by)} {unit_text(o.shown_unit)}".strip()
             rows.append([d["constraint"], "holds" if d["holds"] else shown])
-    return Table(f"{st.name}: no variant keeps every constraint", ["", "value"], rows)
+    return table(f"{st.name}: no variant keeps every constraint", ["", "value"], rows)
 
 
 def describe(study: Study, v: StoredVariant) -> dict[str, Any]:
@@ -317,14 +318,22 @@ def describe(study: Study, v: StoredVariant) -> dict[str, Any]:
 
 
 def variant_table(result: StudyResult, d: dict[str, Any], title: str) -> Table:
-    """One variant of the findings (:func:`describe`) as a table in the study's units."""
+    """One variant of the findings (:func:`describe`) as a table: its parameters as the study file
+    gives them, each output in words in the study's unit (else the unit its size reads best in),
+    whether each constraint holds."""
     st = result.study
-    rows: list[list[Any]] = [[p.name, d["given"].get(p.name)] for p in st.parameters]
-    rows += [[w.label, w.show(d["outputs"].get(w.key))] for w in st.watched]
+    rows: list[list[Any]] = [
+        [p.name, parameter_text(p, x) if (x := d["parameters"].get(p.name)) is not None else None]
+        for p in st.parameters
+    ]
+    for w in st.watched:
+        y = d["outputs"].get(w.key)
+        shown = w.readable([y])
+        rows.append([shown.label, shown.show(y)])
     rows += [[c["constraint"], "holds" if c["holds"] else "VIOLATED"] for c in d.get("constraints", [])]
     if title == "optimum" and result.findings.get("improvement_percent") is not None:
         rows.append(["improvement of the objective [%]", result.findings["improvement_percent"]])
-    return Table(f"{st.name}: {title} (variant {d['variant']})", ["", "value"], rows)
+    return table(f"{st.name}: {title} (variant {d['variant']})", ["", "value"], rows)
 
 
 def safe(key: str) -> str:

@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.results import Table
+from mechdyn.studies.cells import MEASURE_DIGITS, given, number, parameter_text, table, unit_text
+from mechdyn.studies.errors import StudyError
 from mechdyn.studies.kinds import liveness
 from mechdyn.studies.kinds.base import (
     Found,
@@ -36,7 +38,6 @@ from mechdyn.studies.polish import (
     polish,
     verdict,
 )
-from mechdyn.studies.spec import StudyError
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
@@ -276,8 +277,8 @@ def _front_role(findings: dict[str, Any], variant: int) -> str:
 
 def _front_table(result: StudyResult) -> Table:
     st, f = result.study, result.findings
-    ws = [o.output for o in st.objectives]
-    return Table(
+    ws = [o.output.readable(d["outputs"].get(o.output.key) for d in f["pareto_front"]) for o in st.objectives]
+    return table(
         f"{st.name}: Pareto front ({len(f['pareto_front'])} designs; the knee is nearest the "
         "ideal point, each objective scaled to its range on the front)",
         ["", "variant", *(p.name for p in st.parameters), *(w.label for w in ws)],
@@ -285,7 +286,7 @@ def _front_table(result: StudyResult) -> Table:
             [
                 _front_role(f, d["variant"]),
                 d["variant"],
-                *(d["given"].get(p.name) for p in st.parameters),
+                *(parameter_text(p, d["parameters"][p.name]) for p in st.parameters),
                 *(w.show(d["outputs"].get(w.key)) for w in ws),
             ]
             for d in sorted(f["pareto_front"], key=lambda d: d["outputs"].get(ws[0].key) or 0.0)
@@ -323,7 +324,7 @@ def _optimality_table(result: StudyResult) -> Table:
                 rows.append(
                     [
                         f"{a['per']} more on {a['name']}",
-                        f"{verb} the objective by {a['worth']:.4g} {proof['unit']}",
+                        f"{verb} the objective by {number(a['worth'])} {unit_text(proof['unit'])}".strip(),
                     ]
                 )
     if polished:
@@ -351,14 +352,15 @@ def _optimality_table(result: StudyResult) -> Table:
     if twins:
         params = {p.name: p for p in result.study.parameters}
         spread = "; ".join(
-            f"{name} from {params[name].shown(lo)} to {params[name].shown(hi)}"
+            f"{name} from {parameter_text(params[name], lo)} to {parameter_text(params[name], hi)}"
             for name, (lo, hi) in twins["spans"].items()
             if name in params and hi > lo
         )
         rows.append(
             [
                 "unique",
-                f"no: {len(twins['designs'])} first-order points as good as the optimum (within {TIE:g}), "
+                f"no: {len(twins['designs'])} first-order points as good as the optimum (within "
+                f"{given(TIE)}), "
                 f"at variants {', '.join(map(str, twins['designs']))}, spread over {spread}; the objective "
                 "is flat along them: choose among them by another criterion (a second objective or a "
                 "constraint)",
@@ -371,11 +373,13 @@ def _optimality_table(result: StudyResult) -> Table:
         rows.append(
             [
                 "optimum through the analysis itself",
-                "failed: " + str(check.get("status")) if diff is None else f"agrees to {diff:.1e} (relative)",
+                "failed: " + str(check.get("status"))
+                if diff is None
+                else f"agrees to {number(diff, MEASURE_DIGITS)} (relative)",
             ]
         )
     title = "how good the optimum is" if f.get("best") is not None else "how near the search came"
-    return Table(f"{result.study.name}: {title}", ["", "value"], rows)
+    return table(f"{result.study.name}: {title}", ["", "value"], rows)
 
 
 def _verdict_words(f: dict[str, Any], polished: dict[str, Any]) -> str:
@@ -384,24 +388,24 @@ def _verdict_words(f: dict[str, Any], polished: dict[str, Any]) -> str:
     proof = f.get("optimality")
     if proof is None:
         return f"{NOT_CONVERGED}: its first-order measure cannot be shown (no gradient stored there)"
-    measure = f"first-order measure {proof['measure']:.2g}"
+    measure = f"first-order measure {number(proof['measure'], MEASURE_DIGITS)}"
     if f.get("verdict") == CONVERGED:
-        return f"{CONVERGED}: {measure} ≤ {FIRST_ORDER:g}"
+        return f"{CONVERGED}: {measure} ≤ {given(FIRST_ORDER)}"
     ended_here = [e for e in polished.get("per_start") or [] if e.get("variant") == f["best"]["variant"]]
     if any(e.get("verdict") == ITERATION_LIMIT for e in ended_here):
-        return f"{ITERATION_LIMIT}: {measure} > {FIRST_ORDER:g}"
-    return f"{NOT_CONVERGED}: {measure} > {FIRST_ORDER:g}"
+        return f"{ITERATION_LIMIT}: {measure} > {given(FIRST_ORDER)}"
+    return f"{NOT_CONVERGED}: {measure} > {given(FIRST_ORDER)}"
 
 
 def _start_words(o: Any, end: dict[str, Any]) -> str:
     """Where one polish start ended: its verdict, the objective there and its measure."""
     if end.get("variant") is None:
         return f"{end['verdict']}: {end.get('message')}"
-    y = o.output.show(end.get("value"))
-    unit = o.output.shown_unit
-    at = f"{y:.6g} {unit}".strip() if y is not None else "no value"
+    w = o.output.readable([end.get("value")])
+    y = w.show(end.get("value"))
+    at = f"{number(y)} {unit_text(w.shown_unit)}".strip() if y is not None else "no value"
     m = end.get("measure")
-    shown = f"{m:.2g}" if m is not None else "not shown"
+    shown = number(m, MEASURE_DIGITS) if m is not None else "not shown"
     broken = "" if end.get("feasible") else ", a constraint broken"
     return (
         f"{end['verdict']}: {at} at variant {end['variant']}{broken} "

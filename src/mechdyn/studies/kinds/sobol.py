@@ -9,8 +9,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.results import Table
+from mechdyn.studies.cells import table
+from mechdyn.studies.errors import StudyError
 from mechdyn.studies.kinds.base import Found, Kind, parallel_plot, register, safe, value
-from mechdyn.studies.spec import StudyError
 from mechdyn.studies.storage import StoredVariant
 
 if TYPE_CHECKING:
@@ -84,15 +85,18 @@ class Sobol(Kind):
         return Found({"base_samples": study.samples or 256, "indices": indices})
 
     def tables(self, result: StudyResult) -> list[Table]:
+        """Per output (in words): each parameter's first- and total-order index with its 95 %
+        interval, the largest total order first."""
+        words = {w.key: w.words for w in result.study.watched}
         out = []
         for key, ind in result.findings["indices"].items():
             if "error" in ind:
-                out.append(Table(f"Sobol indices of {key}", ["note"], [[ind["error"]]]))
+                out.append(table(f"Sobol indices of {words.get(key, key)}", ["note"], [[ind["error"]]]))
                 continue
             ranked = sorted(ind.items(), key=lambda kv: -kv[1]["ST"])
             out.append(
-                Table(
-                    f"Sobol indices of {key} (95 % intervals), ranked by total order",
+                table(
+                    f"Sobol indices of {words.get(key, key)} (95 % intervals), ranked by total order",
                     ["parameter", "S1", "± S1", "ST", "± ST"],
                     [[n, d["S1"], d["S1_conf"], d["ST"], d["ST_conf"]] for n, d in ranked],
                 )

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.results import Table
+from mechdyn.studies.cells import number, parameter_text, percent, signed, table, unit_text
 from mechdyn.studies.kinds.base import (
     Found,
     Kind,
@@ -35,6 +36,10 @@ __all__ = ["Factorial", "LatinHypercube", "OneAtATime", "factorial_effects", "gr
 def _levels(study: Study) -> list[tuple[float, ...]]:
     """Each parameter's levels (a range: its two ends), SI."""
     return [p.levels or (float(p.low), float(p.high)) for p in study.parameters]  # type: ignore[arg-type]
+
+
+RHO_DIGITS = 3
+"""Significant digits of a rank correlation in a table (ρ from −1 to 1: +0.571)."""
 
 
 def grid(levels: Sequence[Sequence[float]]) -> np.ndarray:
@@ -94,19 +99,31 @@ class OneAtATime(Kind):
         return Found({"base": base_out, "base_variant": b.id, "effects": table})
 
     def tables(self, result: StudyResult) -> list[Table]:
+        """The base, then one row per parameter and level: the level as the study file gives it
+        (and in % of the base), each output in words with its change in % of the base value."""
         st, f = result.study, result.findings
+        params = {p.name: p for p in st.parameters}
+        at = {v.id: v.parameters for v in result.variants}
+        # each output in its study unit, else in the unit the column's largest value reads best in
+        shown = [
+            w.readable([f["base"].get(w.key), *(e["outputs"][w.key]["value"] for e in f["effects"])])
+            for w in st.watched
+        ]
         cols = ["parameter", "level"]
-        for w in st.watched:
+        for w in shown:
             cols += [w.label, "change [%]"]
-        rows = [["(base)", ""] + [x for w in st.watched for x in (w.show(f["base"].get(w.key)), None)]]
+        rows = [["(base)", ""] + [x for w in shown for x in (w.show(f["base"].get(w.key)), None)]]
         for e in f["effects"]:
-            level = e["level"] + (f" ({e['level_percent']:+.0f} %)" if e["level_percent"] is not None else "")
+            x = at.get(e["variant"], {}).get(e["parameter"])
+            level = parameter_text(params[e["parameter"]], x) if x is not None else e["level"]
+            if e["level_percent"] is not None:
+                level += f" ({percent(e['level_percent'])})"
             row = [e["parameter"], level]
-            for w in st.watched:
+            for w in shown:
                 o = e["outputs"][w.key]
                 row += [w.show(o["value"]), o["change_percent"]]
             rows.append(row)
-        return [Table(f"{st.name}: one at a time", cols, rows)]
+        return [table(f"{st.name}: one at a time", cols, rows)]
 
     def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
         from mechdyn.studies import plots as sp
@@ -158,10 +175,11 @@ def _sweep_tables(result: StudyResult) -> list[Table]:
         r = f["output_ranges"].get(w.key, {})
         corr = f["rank_correlation"].get(w.key, {})
         ranked = sorted(((n, c) for n, c in corr.items() if c is not None), key=lambda nc: -abs(nc[1]))
-        text = ", ".join(f"{n} {c:+.2f}" for n, c in ranked) or "—"
-        rows.append([w.label, w.show(r.get("min")), w.show(r.get("max")), text])
+        text = ", ".join(f"{n} {signed(c, RHO_DIGITS)}" for n, c in ranked) or "—"
+        shown = w.readable([r.get("min"), r.get("max")])
+        rows.append([shown.label, shown.show(r.get("min")), shown.show(r.get("max")), text])
     out = [
-        Table(
+        table(
             f"{st.name}: outputs over the variants, parameters ranked by rank correlation ρ",
             ["output", "lowest", "highest", "parameters by |ρ|"],
             rows,
@@ -277,7 +295,8 @@ def factorial_effects(study: Study, variants: list[StoredVariant], levels: list[
 
 def _factorial_tables(result: StudyResult) -> list[Table]:
     """Per output of a factorial study: main effects by level (parameters by the spread of their
-    effects), the two-way interactions, and the designs where it is lowest and highest."""
+    effects), the two-way interactions, and the designs where it is lowest and highest; the output
+    in words, in its study unit (else the unit its level means read best in)."""
     st = result.study
     by_id = {v.id: v for v in result.variants}
     params = {p.name: p for p in st.parameters}
@@ -285,17 +304,18 @@ def _factorial_tables(result: StudyResult) -> list[Table]:
     for key, e in result.findings["factorial"].items():
         w = next(w for w in st.watched if w.key == key)
         if "error" in e:
-            out.append(Table(f"{st.name}: effects on {w.key}", ["note"], [[e["error"]]]))
+            out.append(table(f"{st.name}: effects on {w.words}", ["note"], [[e["error"]]]))
             continue
-        unit = w.shown_unit
+        w = w.readable([e["mean"], *(m for main in e["main"].values() for m in main["means"])])
+        unit = unit_text(w.shown_unit)
         in_unit = f" [{unit}]" if unit else ""
         rows = []
         for name, m in sorted(e["main"].items(), key=lambda kv: -kv[1]["spread"]):
             for level, mean, effect in zip(m["levels"], m["means"], m["effects"], strict=True):
-                rows.append([name, params[name].shown(level), w.show(mean), w.difference(effect)])
+                rows.append([name, parameter_text(params[name], level), w.show(mean), w.difference(effect)])
         out.append(
-            Table(
-                f"{st.name}: main effects on {w.key} (grid mean {w.show(e['mean']):.4g}"
+            table(
+                f"{st.name}: main effects on {w.words} (grid mean {number(w.show(e['mean']))}"
                 + (f" {unit}" if unit else "")
                 + "), largest first",
                 ["parameter", "level", w.label, "effect" + in_unit],
@@ -304,8 +324,8 @@ def _factorial_tables(result: StudyResult) -> list[Table]:
         )
         if e["interactions"]:
             out.append(
-                Table(
-                    f"{st.name}: two-way interactions on {w.key}, largest first",
+                table(
+                    f"{st.name}: two-way interactions on {w.words}, largest first",
                     ["parameters", "largest interaction" + in_unit],
                     [[" × ".join(d["parameters"]), w.difference(d["largest"])] for d in e["interactions"]],
                 )
@@ -314,11 +334,11 @@ def _factorial_tables(result: StudyResult) -> list[Table]:
         for what in ("lowest", "highest"):
             v = by_id.get(e[what])
             if v is not None:
-                shown = [p.shown(v.parameters[p.name]) for p in st.parameters]
+                shown = [parameter_text(p, v.parameters[p.name]) for p in st.parameters]
                 rows.append([what, v.id, *shown, w.show(v.outputs.get(key))])
         out.append(
-            Table(
-                f"{st.name}: where {w.key} is lowest and highest",
+            table(
+                f"{st.name}: where {w.words} is lowest and highest",
                 ["", "variant", *(p.name for p in st.parameters), w.label],
                 rows,
             )

@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.results import Table
+from mechdyn.studies.cells import MEASURE_DIGITS, given, number, table, unit_text
+from mechdyn.studies.errors import StudyError
 from mechdyn.studies.kinds.base import (
     Found,
     Kind,
@@ -34,7 +36,6 @@ from mechdyn.studies.polish import (
     target_cost,
     verdict,
 )
-from mechdyn.studies.spec import StudyError
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
@@ -217,7 +218,8 @@ class Synthesis(Kind):
         elif proof is None:
             why = "the search stopped short: no gradient could be formed near the fit"
         elif judged != CONVERGED:
-            why = f"the search stopped short (first-order residual {proof['measure']:.2g})"
+            residual = number(proof["measure"], MEASURE_DIGITS)
+            why = f"the search stopped short (first-order residual {residual})"
         elif proof["active"]:
             why = (
                 "the limits make it unreachable from this fit: it is a first-order point held by "
@@ -255,29 +257,31 @@ class Synthesis(Kind):
         rows = []
         for t in f["targets"]:
             w = next(w for w in st.watched if w.key == t["output"])
+            w = w.readable([t["target"], t["value"], t["base_value"]])
             margin = t.get("margin")
-            shown = w.show(abs(margin)) if margin is not None else None
+            shown = w.difference(abs(margin)) if margin is not None else None
+            unit = unit_text(w.shown_unit)
             if margin is None or shown is None:
                 verdict = "no value"
             elif t.get("holds", margin >= 0):
-                verdict = f"holds ({shown:.3g} to spare)"
+                verdict = f"holds ({number(shown)} {unit} to spare)".replace("  ", " ")
             else:
-                verdict = f"MISSED by {shown:.3g}"
+                verdict = f"MISSED by {number(shown)} {unit}".strip()
             rows.append(
                 [
                     w.label,
                     w.show(t["target"]),
-                    w.show(t["tolerance"]),
+                    w.difference(t["tolerance"]),
                     w.show(t["value"]),
                     verdict,
                     w.show(t["base_value"]),
                 ]
             )
         out.append(
-            Table(f"{st.name}: targets", ["output", "target", "tolerance", "fit", "verdict", "base"], rows)
+            table(f"{st.name}: targets", ["output", "target", "tolerance", "fit", "verdict", "base"], rows)
         )
         if f.get("missed_because"):
-            out.append(Table(f"{st.name}: why a target is missed", ["note"], [[f["missed_because"]]]))
+            out.append(table(f"{st.name}: why a target is missed", ["note"], [[f["missed_because"]]]))
         out.append(_search_table(result))
         return out
 
@@ -313,7 +317,8 @@ def _search_table(result: StudyResult) -> Table:
         rows.append(
             [
                 f"stage {k} (seed {stage['seed']})",
-                f"{stage['generations']} generations, best fit Σ((y − target)/tolerance)² = {best:.4g}: "
+                f"{stage['generations']} generation{'' if stage['generations'] == 1 else 's'}, "
+                f"best fit Σ((y − target)/tolerance)² = {number(best)}: "
                 + ("every target holds" if stage["targets_met"] else "a target missed")
                 + "; polish "
                 + ", ".join(e["verdict"] for e in stage["polish"].get("per_start", [])),
@@ -324,11 +329,11 @@ def _search_table(result: StudyResult) -> Table:
     rows.append(
         [
             "first-order optimality (KKT residual, relative)",
-            f"{proof['measure']:.2g}" if proof is not None else "not shown (no gradient stored at the fit)",
+            proof["measure"] if proof is not None else "not shown (no gradient stored at the fit)",
         ]
     )
-    rows.append(["variants evaluated in all", f"{f.get('evaluations')}"])
-    return Table(f"{result.study.name}: search", ["", "value"], rows)
+    rows.append(["variants evaluated in all", f.get("evaluations")])
+    return table(f"{result.study.name}: search", ["", "value"], rows)
 
 
 def _verdict_words(f: dict[str, Any]) -> str:
@@ -339,7 +344,8 @@ def _verdict_words(f: dict[str, Any]) -> str:
     if proof is None:
         return f"{NOT_CONVERGED}: its first-order measure cannot be shown (no gradient stored there)"
     sign = "≤" if f.get("verdict") == CONVERGED else ">"
-    words = f"{f.get('verdict')}: first-order measure {proof['measure']:.2g} {sign} {FIRST_ORDER:g}"
+    measure = number(proof["measure"], MEASURE_DIGITS)
+    words = f"{f.get('verdict')}: first-order measure {measure} {sign} {given(FIRST_ORDER)}"
     if f.get("verdict") != CONVERGED and all(t.get("holds") for t in f.get("targets", [])):
         words += " (every target holds: the fit need not be the least-squares optimum)"
     return words
