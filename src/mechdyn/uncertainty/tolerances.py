@@ -14,6 +14,7 @@ from typing import Any
 
 from mechdyn.errors import ModelError
 from mechdyn.uncertainty.distributions import Variable, _si, lognormal, normal, truncated, uniform
+from mechdyn.units import convert
 
 __all__ = ["iso1328_single_pitch_tolerance", "tolerance", "tolerance_classes"]
 
@@ -79,8 +80,8 @@ def iso1328_single_pitch_tolerance(grade: int, d: Any, m_n: Any, *, rounded: boo
             element=name,
             field="grade",
         )
-    d_mm = _si(name, "d", d, "m", positive=True) * 1e3
-    m_mm = _si(name, "m_n", m_n, "m", positive=True) * 1e3
+    d_mm = convert(_si(name, "d", d, "m", positive=True), "m", "mm")
+    m_mm = convert(_si(name, "m_n", m_n, "m", positive=True), "m", "mm")
     if not 5.0 <= d_mm <= 15000.0:
         raise ModelError(
             f"d = {d!r} ({d_mm:.4g} mm) is outside ISO 1328-1:2013's scope 5 mm … 15 000 mm; "
@@ -95,10 +96,12 @@ def iso1328_single_pitch_tolerance(grade: int, d: Any, m_n: Any, *, rounded: boo
             element=name,
             field="m_n",
         )
-    f_um = (0.001 * d_mm + 0.4 * m_mm + 5.0) * math.sqrt(2.0) ** (grade - 5)
+    # ISO 1328-1:2013 eq. (5), its numbers in mm and µm as the standard writes it
+    # (0.001 d/mm is the number of d in metres)
+    f_um = (convert(d_mm, "mm", "m") + 0.4 * m_mm + 5.0) * math.sqrt(2.0) ** (grade - 5)
     if rounded:
         f_um = _round_iso1328(f_um)
-    return f_um * 1e-6
+    return convert(f_um, "um", "m")
 
 
 def _round_iso1328(value_um: float) -> float:
@@ -224,9 +227,8 @@ def tolerance(
         need(grade, "grade", "6")
         half = iso1328_single_pitch_tolerance(grade, need(d, "d", "'120 mm'"), need(m_n, "m_n", "'3 mm'"))  # type: ignore[arg-type]
         centre = 0.0 if nominal is None else _si(name, "nominal", nominal, unit)
-        return _band(
-            name, centre, half, chosen, sigmas, unit, source + f" Class {grade}: f_pT = {half * 1e6:g} µm."
-        )
+        shown = f" Class {grade}: f_pT = {convert(half, 'm', 'um'):g} µm."
+        return _band(name, centre, half, chosen, sigmas, unit, source + shown)
     centre = _si(name, "nominal", need(nominal, "nominal", "'2 MN/m'" if unit else "60"), unit)
     if kind == "lognormal":
         c = data["cov"] if cov is None else cov
