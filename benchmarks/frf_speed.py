@@ -1,20 +1,27 @@
 """Forced response and new small variants of free torsional chains, against the bare algorithms.
 
-    python benchmarks/frf_speed.py            # FRF at 10, 100, 400 and 2000 disks; a 10-disk study block
-    python benchmarks/frf_speed.py --quick    # 10, 100 and 400 disks, fewer repeats: within a minute
+    python benchmarks/frf_speed.py            # FRF at 10 to 3000 disks; banded to 10^5 disks; study block
+    python benchmarks/frf_speed.py --quick    # 10, 100, 400 disks, banded to 10^4, fewer repeats: a minute
     python benchmarks/frf_speed.py --json     # one JSON object with the times and ratios
 
-Two measurements, each against baselines timed in the same run:
+Three measurements, each against baselines timed in the same run:
 
 * **FRF**, 1 000 log-spaced frequencies, a unit torque at the first disk, modal damping ζ = 0.02.
-  ``mechdyn`` is :func:`mechdyn.drivetrain.frf` from the built model (assembly, modes, sum, element
-  loads). ``plain`` is modal superposition written here in a few lines on the same assembled matrices:
+  ``mechdyn`` is :func:`mechdyn.drivetrain.frf` from the built model (assembly, modes, sum), asked for
+  what the baseline computes: every disk's angle (``select``; the element loads are left out).
+  ``plain`` is modal superposition written here in a few lines on the same assembled matrices:
   ``scipy.linalg.eigh(K, M)``, then X = Φ diag(1/(λ − ω² + 2iζ√λ ω)) Φᵀ F for every frequency at once,
   disk angles only. ``direct`` is mechdyn's own frequency-by-frequency solve (``method="direct"``,
   the only one before; up to 400 disks, 100 with ``--quick``). ``opentorsion`` is openTorsion's
   ``ss_response`` with the same (modal) damping matrix, where installed and the size is practical (it
   inverts the dynamic stiffness at every frequency; up to 400 disks, 100 with ``--quick``). Each
   baseline's largest difference from mechdyn, relative to the largest amplitude, is reported.
+* **Rayleigh damping on long chains** (1 000, 3 000, 10⁴, 10⁵ disks; 1 000 and 10⁴ with ``--quick``),
+  1 000 log-spaced frequencies from 1 Hz to 10 kHz, the response of two disks and one shaft asked for
+  (``select``). ``mechdyn`` is :func:`mechdyn.drivetrain.frf` (one banded solve per frequency); the
+  baseline, ``bare_banded``, is that algorithm written here on the same assembled matrices: the
+  tridiagonal K + iωC − ω²M of each frequency solved by LAPACK ``zgtsv`` (:func:`scipy.linalg.solve_banded`),
+  the same two disk angles kept.
 * **A study block of 10-disk variants**: 1 000 variants of a 10-disk chain file whose 10 inertias and
   9 stiffnesses vary, evaluated as a design study evaluates them (:class:`mechdyn.studies.Evaluator`
   with the ``modal`` analysis: its batch path), per variant; against the bare tridiagonal solve of
@@ -85,7 +92,9 @@ def frf_case(n: int, quick: bool) -> dict:
     w = 2 * np.pi * FREQUENCIES
     budget, repeats = (0.3, 3) if quick else (1.0, 5)
     t_md, res = best_time(
-        lambda: frf(model, FREQUENCIES, {"d0": 1.0}, damping=ModalDamping(ZETA)), budget, repeats
+        lambda: frf(model, FREQUENCIES, {"d0": 1.0}, damping=ModalDamping(ZETA), select=model.disk_names),
+        budget,
+        repeats,
     )
     K, M = asm.K.toarray(), np.diag(asm.mass)
     F = np.zeros(n)
@@ -126,6 +135,48 @@ def frf_case(n: int, quick: bool) -> dict:
                 max_rel_diff_vs_opentorsion=_diff(res.angles, x_ot),
             )
     return case
+
+
+def rayleigh_case(n: int, quick: bool) -> dict:
+    """The banded direct solve of a long chain against the same algorithm written bare."""
+    from mechdyn.drivetrain.response import RayleighDamping
+
+    J, k = chain_data(n)
+    model = Drivetrain.chain(J, k)
+    asm = model.assembly
+    damping = RayleighDamping.from_ratios(10.0, 1000.0, ZETA)
+    w = 2 * np.pi * FREQUENCIES
+    picked = ("d0", f"d{n - 1}", "s0")
+    budget, repeats = (0.3, 2) if quick else (1.0, 3)
+    t_md, res = best_time(
+        lambda: frf(model, FREQUENCIES, {"d0": 1.0}, damping=damping, select=picked), budget, repeats
+    )
+    K, M = asm.K, asm.mass_diagonal
+    kd, ko = K.diagonal(), K.diagonal(1)
+    cd, co = damping.alpha * M + damping.beta * kd, damping.beta * ko
+
+    def bare() -> np.ndarray:
+        out = np.empty((w.size, 2), dtype=complex)
+        F = np.zeros(n, dtype=complex)
+        F[0] = 1.0
+        ab = np.empty((3, n), dtype=complex)
+        for i, wi in enumerate(w):
+            ab[1] = kd + 1j * wi * cd - wi**2 * M
+            ab[0, 1:] = ab[2, :-1] = ko + 1j * wi * co
+            x = sla.solve_banded((1, 1), ab, F, overwrite_ab=True, check_finite=False)
+            out[i] = x[0], x[-1]
+        return out
+
+    t_bare, x_bare = best_time(bare, budget, repeats)
+    return {
+        "disks": n,
+        "frequencies": FREQUENCIES.size,
+        "method": res.method,
+        "mechdyn_s": t_md,
+        "bare_banded_s": t_bare,
+        "ratio_vs_bare_banded": t_md / t_bare,
+        "max_rel_diff_vs_bare_banded": _diff(res.angles, x_bare),
+    }
 
 
 def _chain_file(folder: Path, J: np.ndarray, k: np.ndarray) -> Path:
@@ -222,7 +273,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--quick", action="store_true", help="10, 100 and 400 disks, fewer repeats")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     args = p.parse_args(argv)
-    sizes = [10, 100, 400] + ([] if args.quick else [2000])
+    sizes = [10, 100, 400] + ([] if args.quick else [1000, 3000])
     cases = []
     for n in sizes:
         cases.append(frf_case(n, args.quick))
@@ -239,6 +290,17 @@ def main(argv: list[str] | None = None) -> int:
                 diff = c["max_rel_diff_vs_opentorsion"]
                 line += f", openTorsion {c['opentorsion_s'] * 1e3:.0f} ms (Δ {diff:.1e})"
             print(line, flush=True)
+    banded = []
+    for n in [1000, 10_000] if args.quick else [1000, 3000, 10_000, 100_000]:
+        banded.append(rayleigh_case(n, args.quick))
+        if not args.json:
+            c = banded[-1]
+            print(
+                f"Rayleigh {n:>6} disks × {c['frequencies']} f: mechdyn {c['mechdyn_s'] * 1e3:8.1f} ms, bare "
+                f"banded {c['bare_banded_s'] * 1e3:8.1f} ms ({c['ratio_vs_bare_banded']:.2f}×, "
+                f"Δ {c['max_rel_diff_vs_bare_banded']:.1e})",
+                flush=True,
+            )
     block = study_block_case(args.quick)
     if not args.json:
         print(
@@ -253,7 +315,13 @@ def main(argv: list[str] | None = None) -> int:
             )
         )
     if args.json:
-        doc = {"benchmark": "frf_speed", "quick": args.quick, "frf": cases, "study_block": block}
+        doc = {
+            "benchmark": "frf_speed",
+            "quick": args.quick,
+            "frf": cases,
+            "rayleigh_banded": banded,
+            "study_block": block,
+        }
         print(json.dumps(doc, indent=2))
     return 0
 

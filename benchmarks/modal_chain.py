@@ -10,6 +10,16 @@ the same run: dense ``scipy.linalg.eigh(K, M)`` on the same assembled matrices (
 flattered), mechdyn's own sparse shift-invert path for the lowest modes of the largest chain, and
 openTorsion (``Assembly`` + ``undamped_modal_analysis``) where it is installed and
 the size is practical (it solves the unsymmetric problem with a dense ``eig``).
+
+Two more measurements, each against its baseline in the same run:
+
+* **Building a chain of 10⁵ disks from arrays** (:meth:`Drivetrain.chain`: the model, its checked
+  assembly) against the solve of its lowest 10 modes (``modal(model, n_modes=10)`` on the built model):
+  ``ratio_build_vs_solve``; and the same model from element lists (``Disk``/``Shaft`` objects), timed once.
+* **A new 10-disk variant** of a built model (:meth:`Drivetrain.with_values` with all 10 inertias and 9
+  stiffnesses, then ``modal``) against the bare solve of the variant's matrices,
+  ``scipy.linalg.eigh(K, M)`` (prepared beforehand), and ``scipy.linalg.eigh_tridiagonal`` of
+  M^-½ K M^-½; with ``modal`` of the built model and of the variant built from element lists.
 """
 
 from __future__ import annotations
@@ -98,6 +108,97 @@ def run_case(n: int, n_modes: int | None) -> dict:
     return case
 
 
+def build_case(n: int, quick: bool) -> dict:
+    """Build a chain of n disks from arrays (model and checked assembly) against its 10-mode solve."""
+    from mechdyn.drivetrain import Drivetrain
+
+    J, k = chain_data(n)
+
+    def build() -> Drivetrain:
+        model = Drivetrain.chain(J, k)
+        model.assembly  # noqa: B018 - the checked assembly is part of the build
+        return model
+
+    t_build, model = best_time(build, budget=1.0, max_repeats=2 if quick else 3)
+    t_solve, res = best_time(lambda: modal(model, n_modes=10), budget=1.0, max_repeats=2 if quick else 3)
+    case: dict = {
+        "n": n,
+        "build_from_arrays_s": t_build,
+        "solve_lowest_10_s": t_solve,
+        "ratio_build_vs_solve": t_build / t_solve,
+        "solver": res.solver,
+    }
+    if not quick:  # the element lists, for reference (one run: seconds at 10⁵)
+        t_lists, listed = best_time(lambda: _from_lists(J, k), budget=0.0, max_repeats=1)
+        case.update(build_from_element_lists_s=t_lists, same_model=bool(listed == model))
+    return case
+
+
+def _from_lists(J: np.ndarray, k: np.ndarray):
+    disks = [Disk(f"d{i}", J[i]) for i in range(J.size)]
+    model = Drivetrain(disks, [Shaft(f"s{i}", (f"d{i}", f"d{i + 1}"), k[i]) for i in range(k.size)])
+    model.assembly  # noqa: B018
+    return model
+
+
+def variant_case(quick: bool) -> dict:
+    """A new 10-disk variant of a built model (values changed, then modal) against the bare solves."""
+    n, calls = 10, (200 if quick else 2000)
+    J, k = chain_data(n)
+    base = Drivetrain.chain(J, k)
+    base.assembly  # noqa: B018
+    rng = np.random.default_rng(1)
+    Js, ks = J * rng.uniform(0.7, 1.3, (calls, n)), k * rng.uniform(0.7, 1.3, (calls, n - 1))
+    changes = [
+        {
+            "inertia": {f"d{i}": float(Js[v, i]) for i in range(n)},
+            "stiffness": {f"s{i}": float(ks[v, i]) for i in range(n - 1)},
+        }
+        for v in range(calls)
+    ]
+    Ks, Ms = [], []
+    for v in range(calls):  # the bare solves get their matrices ready-made
+        K = np.zeros((n, n))
+        K[np.arange(n - 1), np.arange(n - 1)] += ks[v]
+        K[np.arange(1, n), np.arange(1, n)] += ks[v]
+        K[np.arange(n - 1), np.arange(1, n)] -= ks[v]
+        K[np.arange(1, n), np.arange(n - 1)] -= ks[v]
+        Ks.append(K)
+        Ms.append(np.diag(Js[v]))
+    d = 1.0 / np.sqrt(Js)
+    diag = np.zeros((calls, n))
+    diag[:, :-1] += ks
+    diag[:, 1:] += ks
+    diag *= d**2
+    off = -ks * d[:, :-1] * d[:, 1:]
+
+    def per_call(fn) -> tuple[float, list]:
+        t, out = best_time(lambda: [fn(v) for v in range(calls)], budget=0.3, max_repeats=3 if quick else 7)
+        return t / calls, out
+
+    t_variant, got = per_call(lambda v: modal(base.with_values(**changes[v])))
+    t_lists, _ = per_call(lambda v: modal(_from_lists(Js[v], ks[v])))
+    t_built, _ = per_call(lambda v: modal(base))
+    t_eigh, lam = per_call(lambda v: sla.eigh(Ks[v], Ms[v], eigvals_only=True))
+    t_tri, _ = per_call(lambda v: sla.eigh_tridiagonal(diag[v], off[v]))
+    omega = np.array([r.omega for r in got])
+    ref = np.sqrt(np.clip(np.array(lam)[:, 1:], 0.0, None))
+    return {
+        "disks": n,
+        "variants": calls,
+        "variant_with_values_and_modal_s": t_variant,
+        "variant_from_element_lists_and_modal_s": t_lists,
+        "modal_of_built_model_s": t_built,
+        "bare_eigh_s": t_eigh,
+        "bare_eigh_tridiagonal_s": t_tri,
+        "ratio_variant_vs_bare_eigh": t_variant / t_eigh,
+        "ratio_variant_vs_bare_eigh_tridiagonal": t_variant / t_tri,
+        "ratio_element_lists_vs_bare_eigh": t_lists / t_eigh,
+        "ratio_built_modal_vs_bare_eigh": t_built / t_eigh,
+        "max_rel_diff_vs_bare_eigh": float(np.max(np.abs(omega / ref - 1))),
+    }
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="small sizes, finishes within a minute")
@@ -125,8 +226,37 @@ def main(argv: list[str] | None = None) -> int:
                     ratio, diff = r[f"ratio_vs_{key}"], r[f"max_rel_diff_vs_{key}"]
                     line += f"  {label} {t * 1e3:9.2f} ms ({ratio:6.1f}×, Δ {diff:.1e})"
             print(line, flush=True)
+    build = build_case(100_000, args.quick)
+    variant = variant_case(args.quick)
+    if not args.json:
+        print(
+            f"build N = {build['n']} from arrays {build['build_from_arrays_s'] * 1e3:.0f} ms, "
+            f"lowest 10 modes {build['solve_lowest_10_s'] * 1e3:.0f} ms "
+            f"({build['ratio_build_vs_solve']:.2f}×)"
+            + (
+                f"; from element lists {build['build_from_element_lists_s'] * 1e3:.0f} ms"
+                if "build_from_element_lists_s" in build
+                else ""
+            )
+        )
+        v = variant
+        print(
+            f"new 10-disk variant (with_values + modal) {v['variant_with_values_and_modal_s'] * 1e6:.0f} µs, "
+            f"bare eigh {v['bare_eigh_s'] * 1e6:.0f} µs ({v['ratio_variant_vs_bare_eigh']:.1f}×), "
+            f"eigh_tridiagonal {variant['bare_eigh_tridiagonal_s'] * 1e6:.0f} µs "
+            f"({variant['ratio_variant_vs_bare_eigh_tridiagonal']:.1f}×); from element lists "
+            f"{variant['variant_from_element_lists_and_modal_s'] * 1e6:.0f} µs; modal of the built model "
+            f"{variant['modal_of_built_model_s'] * 1e6:.0f} µs (Δ {variant['max_rel_diff_vs_bare_eigh']:.1e})"
+        )
     if args.json:
-        print(json.dumps({"benchmark": "modal_chain", "quick": args.quick, "cases": results}, indent=2))
+        doc = {
+            "benchmark": "modal_chain",
+            "quick": args.quick,
+            "cases": results,
+            "build": build,
+            "variant": variant,
+        }
+        print(json.dumps(doc, indent=2))
     return 0
 
 

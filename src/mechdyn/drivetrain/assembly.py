@@ -113,6 +113,17 @@ class Assembly:
         return self.rigid_body_vectors.shape[1]
 
     @cached_property
+    def stiffness_operator(self) -> sp.csr_array | np.ndarray:
+        """K for the eigen solvers, N·m/rad: dense where the model is small (up to
+        ``_DENSE_STIFFNESS`` coordinates, solved densely: no conversion per solve), else :attr:`K`."""
+        return self.K.toarray() if self.n <= _DENSE_STIFFNESS else self.K
+
+    @cached_property
+    def rigid_body_unit_shapes(self) -> np.ndarray:
+        """:attr:`rigid_body_vectors` scaled to a largest magnitude of 1 (rad), built once."""
+        return _unit_shapes(self.rigid_body_vectors)
+
+    @cached_property
     def M_full(self) -> sp.csr_array:
         """Mass over all degrees of freedom before the rigid-mesh reduction, kg·m²."""
         return _scatter(self.drivetrain, "mass")
@@ -126,6 +137,19 @@ class Assembly:
     def C_full(self) -> sp.csr_array:
         """Damping over all degrees of freedom before the rigid-mesh reduction, N·m·s/rad."""
         return _scatter(self.drivetrain, "damping")
+
+
+#: Largest model (coordinates) whose stiffness the eigen solvers get dense (they solve it densely).
+_DENSE_STIFFNESS = 150
+
+
+def _unit_shapes(shapes: np.ndarray) -> np.ndarray:
+    """Scale each column to a largest magnitude of 1, that entry positive."""
+    if shapes.size == 0:
+        return shapes.copy()
+    i = np.argmax(np.abs(shapes), axis=0)
+    peak = shapes[i, np.arange(shapes.shape[1])]
+    return shapes / np.where(peak == 0, 1.0, peak)
 
 
 def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
@@ -145,16 +169,12 @@ def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
 
 def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
     """θ = T q for the rigid-mesh constraints; each disk follows its group's first disk."""
-    idx = drivetrain.dof_index
     n = len(drivetrain.dof_names)
     links = []
-    for e, b in drivetrain.element_blocks:
-        if b.constraint is None:
-            continue
-        if len(b.disks) != 2:  # pragma: no cover - no such element yet
+    for a, b, ratio, e, count in drivetrain._constraints:
+        if count != 2:  # pragma: no cover - no such element yet
             raise ModelCheckError("only two-disk constraints can be reduced", element=e.name)
-        ca, cb = b.constraint
-        links.append((idx[b.disks[0]], idx[b.disks[1]], -ca / cb, e))
+        links.append((a, b, ratio, e))
     if not links:
         return sp.csr_array(sp.identity(n, format="csr")), drivetrain.dof_names
     group, amp, locked = drivetrain._propagate(links)

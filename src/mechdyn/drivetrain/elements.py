@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -121,9 +121,14 @@ def _name(name: Any) -> str:
 
 
 class Element:
-    """Base of the drivetrain elements: a name and the :meth:`blocks` protocol."""
+    """Base of the drivetrain elements: a name and the :meth:`blocks` protocol.
+
+    ``VALUES`` names the element's value fields (a number each, in the SI unit given, with the sign
+    it must have): the ones :meth:`Drivetrain.with_values` may change without rebuilding the model.
+    """
 
     name: str
+    VALUES: ClassVar[dict[str, tuple[str, str]]] = {}
 
     def blocks(self) -> ElementBlocks:  # pragma: no cover - abstract
         """The element's contribution to the model: its blocks of M, K and C on its own disks, or a
@@ -163,6 +168,7 @@ class Disk(Element):
 
     name: str
     inertia: float
+    VALUES: ClassVar[dict[str, tuple[str, str]]] = {"inertia": ("kg*m^2", "positive")}
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))
@@ -256,6 +262,11 @@ class Shaft(Element):
     inertia: float = 0.0
     mass_model: Literal["consistent", "lumped"] = "consistent"
     elements: int = 1
+    VALUES: ClassVar[dict[str, tuple[str, str]]] = {
+        "stiffness": ("N*m/rad", "positive"),
+        "damping": ("N*m*s/rad", "nonnegative"),
+        "inertia": ("kg*m^2", "nonnegative"),
+    }
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))
@@ -450,6 +461,10 @@ class GearMesh(Element):
     stiffness: float | None = None
     damping: float = 0.0
     _rigid_ratio: float = field(init=False, repr=False, compare=False, default=1.0)
+    VALUES: ClassVar[dict[str, tuple[str, str]]] = {
+        "stiffness": ("N/m", "positive"),
+        "damping": ("N*s/m", "nonnegative"),
+    }
 
     def __post_init__(self) -> None:
         name = _name(self.name)
@@ -633,6 +648,7 @@ class GroundSpring(Element):
     name: str
     disk: str
     stiffness: float
+    VALUES: ClassVar[dict[str, tuple[str, str]]] = {"stiffness": ("N*m/rad", "positive")}
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))
@@ -665,6 +681,7 @@ class GroundDamper(Element):
     name: str
     disk: str
     damping: float
+    VALUES: ClassVar[dict[str, tuple[str, str]]] = {"damping": ("N*m*s/rad", "positive")}
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", _name(self.name))

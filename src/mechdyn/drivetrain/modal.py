@@ -10,7 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from mechdyn.checks import check_count
-from mechdyn.drivetrain.assembly import Assembly, assemble
+from mechdyn.drivetrain.assembly import Assembly, _unit_shapes, assemble
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.results import Result, Table
 from mechdyn.vibration.eigen import Solver, solve_eigen
@@ -20,15 +20,6 @@ if TYPE_CHECKING:
     import pandas as pd
 
 __all__ = ["ModalResult", "modal", "stiffness_factor"]
-
-
-def _unit_shapes(shapes: np.ndarray) -> np.ndarray:
-    """Scale each column to a largest magnitude of 1, that entry positive."""
-    if shapes.size == 0:
-        return shapes.copy()
-    i = np.argmax(np.abs(shapes), axis=0)
-    peak = shapes[i, np.arange(shapes.shape[1])]
-    return shapes / np.where(peak == 0, 1.0, peak)
 
 
 def stiffness_factor(asm: Assembly) -> sp.csr_array | None:
@@ -405,12 +396,19 @@ def modal(
     if asm.n == n_rb:
         lam, Q, used = np.zeros(0), np.zeros((asm.n, 0)), "none"
     else:
-        # the factor is built only if the fast eigen paths' error estimate calls for the accurate ones
+        # the factor is built only if the fast eigen paths' error estimate calls for the accurate ones;
+        # the matrices were checked finite where the model entered (its elements), not again here
         mass = asm.mass_diagonal if asm.mass_diagonal is not None else asm.M
         lam, Q, used = solve_eigen(
-            asm.K, mass, n_modes=want, solver=solver, factor=lambda: stiffness_factor(asm), n_rigid=n_rb
+            asm.stiffness_operator,
+            mass,
+            n_modes=want,
+            solver=solver,
+            factor=lambda: stiffness_factor(asm),
+            n_rigid=n_rb,
+            check_finite=False,
         )
     lam, Q = lam[n_rb:], Q[:, n_rb:]
     omega = np.sqrt(np.clip(lam, 0.0, None))
     shapes = np.asarray(asm.T @ Q) if asm.T.shape[0] != asm.T.shape[1] else Q  # T = I without rigid meshes
-    return ModalResult(asm, omega, shapes, _unit_shapes(asm.rigid_body_vectors), used, Q, rigid_gears)
+    return ModalResult(asm, omega, shapes, asm.rigid_body_unit_shapes, used, Q, rigid_gears)

@@ -36,7 +36,7 @@ under an explicit method)."""
 # solve_ivp's methods; for the explicit ones, the stability interval on the negative real axis
 # (|h λ| at which a decaying mode goes unstable: Hairer & Wanner, Solving ODEs II, §IV.2) and the
 # evaluations per step
-METHODS = ("duhamel", "RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+METHODS = ("exact", "duhamel", "RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 _EXPLICIT = {"RK23": (2.5, 3), "RK45": (3.3, 6), "DOP853": (6.0, 12)}
 
 __all__ = ["SupportResponse", "harmonic_response", "periodic_response", "startup_response"]
@@ -82,6 +82,9 @@ class SupportResponse(Result):
         (N, n) in the machine's kept coordinates (m and rad, and their rates).
     kind : str
         ``"steady state"`` or ``"start-up"``.
+    method : str
+        How a start-up was computed (:func:`startup_response`'s ``method``, or what ran instead);
+        empty for a steady state.
     """
 
     machine: MountedMachine
@@ -91,6 +94,7 @@ class SupportResponse(Result):
     velocity: np.ndarray
     acceleration: np.ndarray
     kind: str = "steady state"
+    method: str = ""
 
     @cached_property
     def applied(self) -> np.ndarray:
@@ -327,11 +331,11 @@ def startup_response(
     machine: MountedMachine,
     load: PeriodicLoad,
     cycles: int = 5,
-    method: str = "DOP853",
+    method: str = "exact",
     steps_per_period: int | None = None,
     rtol: float = 1e-9,
 ) -> SupportResponse:
-    """Response from rest, the load switched on at t = 0, by time integration.
+    """Response from rest, the load switched on at t = 0: exact, or by time integration.
 
     Parameters
     ----------
@@ -340,9 +344,15 @@ def startup_response(
     cycles : int
         Periods to integrate, a whole number from 1 (at most 2e7 steps in all).
     method : str
-        ``"duhamel"``: the convolution integral in state-space form, exact for a load linear between
-        steps (:func:`scipy.signal.lsim`); or a :func:`scipy.integrate.solve_ivp` method
-        (``"RK23"``, ``"RK45"``, ``"DOP853"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``). The explicit
+        ``"exact"`` (the default): the periodic steady state plus the free vibration that starts the
+        machine from rest, y(t) = y_p(t) − e^{At} y_p(0) in state form (the solution of a linear
+        system with constant coefficients; e^{Ah} by :func:`scipy.linalg.expm`, applied step by
+        step), to round-off at any step; an undamped machine with a load harmonic on one of its
+        natural frequencies has no periodic solution and is integrated by ``"DOP853"`` instead (the
+        result's ``method`` says so). ``"duhamel"``: the convolution integral in state-space form,
+        exact for a load linear between steps (:func:`scipy.signal.lsim`); or a
+        :func:`scipy.integrate.solve_ivp` method (``"RK23"``, ``"RK45"``, ``"DOP853"``, ``"Radau"``,
+        ``"BDF"``, ``"LSODA"``). The explicit
         ones (RK…, DOP853) are refused for a model so stiff (a huge damping) that they would need
         more than :data:`MAX_EVALUATIONS` evaluations; any ``solve_ivp`` method stops with an error
         past that many, so that the integration always ends.
@@ -395,7 +405,13 @@ def startup_response(
     t = load.period * np.arange(cycles * steps_per_period + 1) / steps_per_period
     B = machine.load_matrix()
     A, Bs = _state_space(machine)
-    if method == "duhamel":
+    asked = method
+    x = _exact_startup(machine, load, A, t) if method == "exact" else None
+    if method == "exact" and x is None:
+        method = "DOP853"
+    if x is not None:
+        pass
+    elif method == "duhamel":
         from scipy.signal import StateSpace, lsim
 
         Q = series(load.coefficients, load.period, t) @ B.T
@@ -441,4 +457,32 @@ def startup_response(
         x = sol.y.T
     q, qd = x[:, :n], x[:, n:]
     qdd = (series(load.coefficients, load.period, t) @ B.T - qd @ C.T - q @ K.T) @ np.linalg.inv(M).T
-    return SupportResponse(machine, load, t, q, qd, qdd, "start-up")
+    ran = method if method == asked else f"{method} (no periodic solution for '{asked}': undamped resonance)"
+    return SupportResponse(machine, load, t, q, qd, qdd, "start-up", ran)
+
+
+def _exact_startup(
+    machine: MountedMachine, load: PeriodicLoad, A: np.ndarray, t: np.ndarray
+) -> np.ndarray | None:
+    """(t, 2n) state from rest, y_p(t) − e^{At} y_p(0) on equal steps, or None where the periodic
+    solution does not exist (a load harmonic on an undamped natural frequency)."""
+    from scipy.linalg import expm
+
+    w = 2 * math.pi / load.period * load.orders()[:, None]
+    with np.errstate(all="ignore"):
+        try:
+            X = harmonic_response(machine, load)
+        except (np.linalg.LinAlgError, ModelError):
+            return None
+    if not np.all(np.isfinite(X)):
+        return None
+    yp = np.hstack([series(X, load.period, t), series(1j * w * X, load.period, t)])
+    free = np.empty_like(yp)
+    v = -yp[0]
+    E = expm(A * (t[1] - t[0])) if t.size > 1 else np.eye(A.shape[0])
+    for k in range(t.size):  # e^{A t_k} v, one step at a time (2n ≤ 12)
+        free[k] = v
+        v = E @ v
+    out = yp + free
+    out[0] = 0.0  # at rest, exactly
+    return out

@@ -262,9 +262,10 @@ class AnalysisTable(FileModel):
     """``spatial`` (all six rigid-body coordinates) or ``planar`` (x–z with rocking about y)."""
     start_up_cycles: int = Field(default=5, ge=1, le=1000)
     """Load periods integrated from rest for the start-up."""
-    start_up_method: Literal["DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "duhamel"] = "DOP853"
-    """Time integrator of the start-up: a ``scipy.integrate.solve_ivp`` method or ``duhamel`` (the convolution
-    in state-space form)."""
+    start_up_method: Literal["exact", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "duhamel"] = "exact"
+    """How the start-up is computed: ``exact`` (the steady state plus the free vibration from rest, to
+    round-off), a ``scipy.integrate.solve_ivp`` method, or ``duhamel`` (the convolution in state-space
+    form)."""
     gravity: Acceleration = STANDARD_GRAVITY
     """Gravity, for the mounts' static deflection."""
     machine_group: Literal[1, 2] | None = None
