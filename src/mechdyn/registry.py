@@ -22,12 +22,9 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 from mechdyn.errors import MechdynError
-
-if TYPE_CHECKING:
-    from mechdyn.io.modelfile import ModelSource
 
 __all__ = [
     "Analysis",
@@ -499,7 +496,7 @@ class LoadedModel:
     type: str
     model: Any
     settings: Any = None
-    source: ModelSource | None = None  # mechdyn.io.modelfile.ModelSource
+    source: Any = None  # a mechdyn.io.modelfile.ModelSource (the registry stands below the files)
 
     @property
     def name(self) -> str:

@@ -316,7 +316,7 @@ def _upgrade(args: argparse.Namespace) -> int:
 
 def _import(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
-    from mechdyn.store.unsaved import import_unsaved
+    from mechdyn.studies.storage import import_unsaved
 
     with ResultStore(args.db) as store:
         for path in args.files:

@@ -19,9 +19,9 @@ from typing import Any
 import numpy as np
 
 from mechdyn.store.database import StoreError, is_sqlite, sqlite_path
-from mechdyn.store.store import ResultStore, jsonable, pack_array, unpack_array
+from mechdyn.store.store import jsonable, pack_array, unpack_array
 
-__all__ = ["import_unsaved", "keep_unsaved"]
+__all__ = ["keep_unsaved", "read_unsaved"]
 
 FORMAT = "mechdyn-unsaved/1"
 
@@ -73,18 +73,21 @@ def keep_unsaved(url: str, kind: str, content: Mapping[str, Any]) -> Path:
     raise StoreError(f"cannot write the unsaved {kind} beside {url} nor in {Path.cwd()}")
 
 
-def import_unsaved(store: ResultStore, path: str | os.PathLike[str]) -> str:
-    """Store what :func:`keep_unsaved` kept; returns what was stored, in words.
+def read_unsaved(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """What :func:`keep_unsaved` kept, read back with its arrays: ``kind`` (``"run"`` or
+    ``"study"``), and ``run`` (the keywords of :meth:`ResultStore.record`) or ``study`` and ``rows``
+    (a study's name and its variants, for :meth:`mechdyn.studies.storage.StudyStore.add`).
 
     Parameters
     ----------
-    store : ResultStore
-        The database to store it in.
     path : str or path
         The file.
-    """
-    from mechdyn.studies.storage import StudyStore
 
+    Raises
+    ------
+    StoreError
+        Where the file cannot be read or is not a file of unsaved results.
+    """
     try:
         doc = json.loads(Path(path).read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
@@ -94,9 +97,6 @@ def import_unsaved(store: ResultStore, path: str | os.PathLike[str]) -> str:
     if doc["kind"] == "run":
         run = dict(doc["run"])
         run["arrays"] = _arrays_in(run.get("arrays", {}))
-        return f"run {store.record(**run)}"
-    studies = StudyStore(store)
-    study = studies.study(doc["study"])
+        return {"kind": "run", "run": run}
     rows = [{**r, "curves": _arrays_in(r.get("curves", {}))} for r in doc["rows"]]
-    studies.add(study.id, rows)
-    return f"{len(rows)} variants of study {study.name!r}"
+    return {"kind": "study", "study": doc["study"], "rows": rows}

@@ -37,7 +37,7 @@ from mechdyn.store.store import (
     unpack_array,
 )
 
-__all__ = ["StoredStudy", "StoredVariant", "StudyStore", "optuna_name", "variant_key"]
+__all__ = ["StoredStudy", "StoredVariant", "StudyStore", "import_unsaved", "optuna_name", "variant_key"]
 
 
 def optuna_name(study: str) -> str:
@@ -497,3 +497,25 @@ class StudyStore:
             _utc(r.created_at),
             warnings=tuple(r.warnings or ()),
         )
+
+
+def import_unsaved(store: Any, path: Any) -> str:
+    """Store what :func:`mechdyn.store.unsaved.keep_unsaved` kept (a run, or a block of a study's
+    variants); returns what was stored, in words.
+
+    Parameters
+    ----------
+    store : ResultStore
+        The database to store it in.
+    path : str or path
+        The file.
+    """
+    from mechdyn.store.unsaved import read_unsaved
+
+    doc = read_unsaved(path)
+    if doc["kind"] == "run":
+        return f"run {store.record(**doc['run'])}"
+    studies = StudyStore(store)
+    study = studies.study(doc["study"])
+    studies.add(study.id, doc["rows"])
+    return f"{len(doc['rows'])} variants of study {study.name!r}"
