@@ -26,6 +26,7 @@ from mechdyn.drivetrain.assembly import Assembly
 from mechdyn.drivetrain.banded import band_form, direct_response, static_flexible
 from mechdyn.drivetrain.truncation import chain_form, modes_below, rigid_modes, truncation_factor
 from mechdyn.errors import ModelError
+from mechdyn.units import convert
 
 __all__ = ["FULL_LIMIT", "MODE_CUTOFF", "Response", "respond"]
 
@@ -403,8 +404,9 @@ def _all_modes(asm: Assembly, what: str) -> Any:
     from mechdyn.drivetrain.modal import modal
 
     if asm.n > ALL_MODES_MAX:
+        shapes = convert(asm.n**2 * 8, "byte", "gigabyte")
         raise ModelError(
-            f"{what} needs all {asm.n} modes ({asm.n**2 * 8 / 1e9:.3g} GB of shapes, more than the "
+            f"{what} needs all {asm.n} modes ({shapes:.3g} GB of shapes, more than the "
             f"{ALL_MODES_MAX}-coordinate limit); give RayleighDamping (solved banded, frequency by "
             "frequency) or lower the frequency range",
             element="frf",
