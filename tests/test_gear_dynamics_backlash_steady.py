@@ -182,6 +182,7 @@ def test_resonances_leave_out_ripples():
     assert _peaks(np.zeros(5)).size == 0
 
 
+@pytest.mark.slow  # a long sweep (tens of seconds): CI's heavy step
 def test_past_a_flip_the_period_doubled_orbit_is_the_one_simulate_settles_on():
     """A stiffness varying by 30 % with the mesh frequency at twice the gear's mode: the orbit of one
     mesh period is unstable (a Floquet multiplier below −1, the principal parametric resonance), and
@@ -219,6 +220,7 @@ def test_past_a_flip_the_period_doubled_orbit_is_the_one_simulate_settles_on():
     assert "the period-doubled orbit, of two mesh periods, is shown" in sweep.tables()[0].note
 
 
+@pytest.mark.slow  # a long sweep (tens of seconds): CI's heavy step
 def test_the_jump_band_s_edges_are_located_where_a_fine_sweep_jumps():
     """Swept up and down over five speeds, the band's edges come from the ends of the branches,
     located by bisection (to 1e-3 of the speed), not from the grid: each lies between the two speeds

@@ -128,6 +128,7 @@ def test_a_phase_on_a_mesh_without_a_cycle_is_refused_with_the_fix(tmp_path):
             mechdyn.load(path)
 
 
+@pytest.mark.slow  # a long sweep (tens of seconds): CI's heavy step
 def test_the_clocking_study_of_the_turret_finds_the_phase_that_lowers_both_dynamic_factors(tmp_path, capsys):
     """Eight phases of mesh 2 against mesh 1 over the main resonance: out of step by 5/8 of a cycle
     the largest K_v of mesh 2 falls from 2.87 to 1.81 and mesh 1's from 2.09 to 1.73; in step (the

@@ -36,6 +36,7 @@ def test_the_rule_reaches_twice_the_highest_natural_frequency_at_the_lowest_spee
     assert H * 19 * low / (2 * math.pi) >= 2 * f_top > (H - 1) * 19 * low / (2 * math.pi)
 
 
+@pytest.mark.slow  # a long sweep (tens of seconds): CI's heavy step
 def test_the_default_count_gives_k_v_within_1_percent_of_the_converged_answer_at_every_speed(turret):
     """The shipped range, 1200–4500 rpm, at 23 speeds (every fifth of the file's 60 and the largest
     K_v's): the default harmonics against 240 (within 6e-5 of 480 at all 60 speeds, measured)."""

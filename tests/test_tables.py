@@ -336,32 +336,34 @@ def _shipped(name: str, folder) -> dict:
     }
 
 
-@pytest.fixture(scope="module")
-def shipped_study(tmp_path_factory):
-    """A shipped study's quick form, run once per module (:func:`_shipped`)."""
-    ran: dict[str, dict] = {}
-
-    def run(name: str) -> dict:
-        if name not in ran:
-            ran[name] = _shipped(name, tmp_path_factory.mktemp(name.removesuffix(".toml")))
-        return ran[name]
-
-    return run
-
-
 def test_every_shipped_study_has_a_quick_form_here():
     assert sorted(p.name for p in STUDIES.glob("*.toml")) == sorted(QUICK_STUDIES)
 
 
-@pytest.mark.parametrize("name", sorted(QUICK_STUDIES))
-def test_every_table_of_every_shipped_study_reads_in_words_with_three_significant_digits(name, shipped_study):
+# the studies whose quick form still takes tens of seconds (rp1's pitch-curve check per variant, the
+# synthesis's generations) run in CI's heavy step (pytest -m slow)
+_HEAVY_STUDIES = ("rp1_sensitivity.toml", "press_synthesis.toml")
+_SHIPPED = [
+    pytest.param(n, marks=pytest.mark.slow) if n in _HEAVY_STUDIES else n for n in sorted(QUICK_STUDIES)
+]
+
+
+@pytest.mark.parametrize("name", _SHIPPED)
+def test_every_shipped_study_reads_in_words_and_counts_alike(name, tmp_path):
+    """One run of each shipped study's quick form (once: parametrized tests go to different workers),
+    its tables, JSON and report checked for both rules below."""
+    ran = _shipped(name, tmp_path)
+    _reads_in_words_with_three_significant_digits(ran)
+    _variant_counts_add_up_alike_in_tables_json_and_report(ran)
+
+
+def _reads_in_words_with_three_significant_digits(ran: dict) -> None:
     """Every number a study's tables print (cells, titles and sentences) has at least three significant
     digits, each written on its own: an output's change of a few millionths beside one of 40 % is not
     0.00, an effect is not 1.0580e-02 beside 358.22, a stroke of 1495.3 mm is not 1495 beside its
     1496.3 mm limit. Whole numbers are counts, ids and levels as the study file gives them. No output
     is named by its summary key: words, as a summary names it (``displacement_max_m`` → displacement
     max)."""
-    ran = shipped_study(name)
     short = []
     for line in ran["printed"].splitlines():
         if line.startswith(("study '", "stored in ")):  # the study's name and where it is stored
@@ -373,15 +375,11 @@ def test_every_table_of_every_shipped_study_reads_in_words_with_three_significan
     assert parts and not [p for p in parts if p in ran["printed"]], ran["printed"]
 
 
-@pytest.mark.parametrize("name", sorted(QUICK_STUDIES))
-def test_the_variant_counts_of_every_shipped_study_add_up_alike_in_tables_json_and_report(
-    name, shipped_study
-):
+def _variant_counts_add_up_alike_in_tables_json_and_report(ran: dict) -> None:
     """Each variant once, the base design among them where the kind has one: a first run's table
     counts what the database then holds, all evaluated now; a rerun's JSON and its report count every
     one of those as reused, and evaluated now + reused adds up to the variants in each (a file with
     boxes: per box, and the JSON's totals are the boxes' sums)."""
-    ran = shipped_study(name)
     lines = ran["printed"].splitlines()
     for study, stored in ran["stored"].items():
         at = lines.index(f"{study}: variants")
