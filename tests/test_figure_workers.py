@@ -12,8 +12,7 @@ matplotlib.use("Agg")
 
 import pytest
 
-from mechdyn.figure_workers import FigureWorkers, plot_workers
-from mechdyn.figure_workers import save_figures
+from mechdyn.figure_workers import FigureWorkers, plot_workers, save_figures
 
 PARENT = os.getpid()
 

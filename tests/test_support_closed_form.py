@@ -102,7 +102,6 @@ def test_startup_converges_onto_the_steady_state(method):
     assert per_cycle[2] < 1.5 * decay**2 * per_cycle[0] + tol * scale
 
 
-
 def test_the_exact_start_up_against_a_single_dof_closed_form_and_a_tight_integration():
     """The default start-up is the steady state plus the free vibration from rest: against the
     single-DOF closed form for one harmonic (Duhamel's integral worked by hand) to 1e-12, and against
@@ -140,6 +139,7 @@ def test_an_undamped_resonance_has_no_periodic_solution_and_is_integrated():
     assert r.method.startswith("DOP853") and "undamped resonance" in r.method
     amp = np.abs(r.displacement[:, 0])
     assert amp[-200:].max() > 6 * amp[:200].max()
+
 
 def _four_mounts(h, kz=2.0e6, kh=0.5e6, a=1.2, b=0.8, c=300.0):
     body = RigidBody(2000.0, (0.0, 0.0, h), (400.0, 700.0, 900.0))

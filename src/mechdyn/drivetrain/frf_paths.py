@@ -27,6 +27,7 @@ from mechdyn.drivetrain.banded import band_form, direct_response, static_flexibl
 from mechdyn.drivetrain.truncation import chain_form, modes_below, rigid_modes, truncation_factor
 from mechdyn.errors import ModelError
 from mechdyn.units import convert
+from mechdyn.vibration.harmonic import finite_response
 
 __all__ = ["FULL_LIMIT", "MODE_CUTOFF", "Response", "respond"]
 
@@ -72,22 +73,6 @@ class Response:
     residual: np.ndarray | None = None
     residual_scale: np.ndarray | None = None
     error_factor: np.ndarray | None = None
-
-
-def _finite(out: np.ndarray, w: np.ndarray) -> np.ndarray:
-    if np.isfinite(out).all():
-        return out
-    bad = ~np.isfinite(out).all(axis=1)
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ModelError(
-            f"the response at ω = {w[k]:g} rad/s ({w[k] / (2 * np.pi):g} Hz) is not finite (it overflows: "
-            "the dynamic stiffness is nearly singular there, an undamped resonance, a free model near "
-            "0 rad/s, or the load is too large); leave that frequency out, add damping or check the model",
-            element="harmonic response",
-            field="omega",
-        )
-    return out
 
 
 def modal_sum(
@@ -146,7 +131,7 @@ def modal_sum(
                 block += residual / s
                 if residual2 is not None:
                     block += (wb**2 / s**2) * residual2
-    return _finite(out, w)
+    return finite_response(out, w)
 
 
 def rayleigh_part(asm: Assembly) -> tuple[float, float] | None:
@@ -256,7 +241,7 @@ def _direct(asm: Assembly, C: Any, F: np.ndarray, w: np.ndarray, rows: np.ndarra
     else:
         theta = _dense_direct(asm.K, C, M, F, w, rows)
         label = f"direct solve at each frequency ({why})"
-    return Response(_finite(theta, w), label, np.zeros(0))
+    return Response(finite_response(theta, w), label, np.zeros(0))
 
 
 def respond(

@@ -45,12 +45,11 @@ from typing import Any
 import numpy as np
 
 from mechdyn.checks import check_number, magnitude_limit
-from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError
 from mechdyn.gears.profile import ProfileTooth
 from mechdyn.gears.ring import RingRim, ring_rim_supports
 from mechdyn.gears.tooth import TruncatedTooth
-from mechdyn.units import show
+from mechdyn.units import check_poisson_ratio, show
 from mechdyn.units import si_field as _q
 
 __all__ = [

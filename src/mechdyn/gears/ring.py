@@ -45,10 +45,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mechdyn.checks import check_count
-from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError
 from mechdyn.gears.tooth import SHEAR_COEFFICIENT
-from mechdyn.units import show, si_field
+from mechdyn.units import check_poisson_ratio, show, si_field
 
 if TYPE_CHECKING:
     from mechdyn.gears.geometry import SpurGear

@@ -38,8 +38,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError, ModelWarning
+from mechdyn.units import check_poisson_ratio
 from mechdyn.units import si_field as _q
 
 __all__ = [

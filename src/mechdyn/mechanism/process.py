@@ -197,7 +197,8 @@ class ProcessPath:
             for u, v in zip(edges, values, strict=True):
                 if v > top:
                     top, where = v, (int(i), u)
-            pieces += [(int(i), a, b, max(va, vb)) for (a, va), (b, vb) in itertools.pairwise(zip(edges, values, strict=True))]
+            ends = itertools.pairwise(zip(edges, values, strict=True))
+            pieces += [(int(i), a, b, max(va, vb)) for (a, va), (b, vb) in ends]
         for i, a, b, end in pieces:
             if b - a < 1e-12 or top <= 0.0 or end < _NEAR * top:
                 continue

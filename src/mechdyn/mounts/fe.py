@@ -27,8 +27,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from mechdyn.checks import check_count, check_number
-from mechdyn.units import check_poisson_ratio
 from mechdyn.errors import ModelError
+from mechdyn.units import check_poisson_ratio
 
 MAX_ELEMENTS = 2_000_000
 """The most triangles a finite-element model may have (a few minutes of solving); a finer mesh, or a

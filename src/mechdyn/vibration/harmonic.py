@@ -20,7 +20,7 @@ import scipy.sparse as sp
 from mechdyn.checks import check_array
 from mechdyn.errors import ModelError
 
-__all__ = ["dynamic_stiffness", "finite_matrices", "harmonic_solve", "modal_superposition"]
+__all__ = ["dynamic_stiffness", "finite_matrices", "finite_response", "harmonic_solve", "modal_superposition"]
 
 # below this size a dense LAPACK solve beats building and factorising a sparse matrix
 _DENSE_LIMIT = 200
@@ -129,7 +129,7 @@ def harmonic_solve(K: Any, C: Any, M: Any, F: Any, omega: Any) -> np.ndarray:
             except RuntimeError as exc:  # "Factor is exactly singular"
                 raise _singular(wi) from exc
             out[i] = lu.solve(rows[i].astype(complex))
-        return _finite_response(out, w)
+        return finite_response(out, w)
     K, C, M = (A.toarray() if sp.issparse(A) else np.asarray(A, dtype=float) for A in (K, C, M))
     # frequencies in blocks of at most _BLOCK_ENTRIES matrix entries: batched LAPACK calls for small
     # models, bounded memory for large ones
@@ -141,7 +141,7 @@ def harmonic_solve(K: Any, C: Any, M: Any, F: Any, omega: Any) -> np.ndarray:
         except np.linalg.LinAlgError:
             bad = next(i for i in range(Z.shape[0]) if _is_singular(Z[i]))
             raise _singular(w[lo + bad]) from None
-    return _finite_response(out, w)
+    return finite_response(out, w)
 
 
 def modal_superposition(
@@ -194,11 +194,19 @@ def modal_superposition(
             wb = w[lo : lo + step, None]
             Y = g / (lam - wb**2 + 1j * wb * c)  # (block, n_modes) modal amplitudes
             out[lo : lo + step] = Y @ shapes.T
-    return _finite_response(out, w)
+    return finite_response(out, w)
 
 
-def _finite_response(out: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """``out``, or a ModelError naming the first frequency whose response is not finite."""
+def finite_response(out: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """``out``, or a ModelError naming the first frequency whose response is not finite.
+
+    Parameters
+    ----------
+    out : ndarray
+        (frequencies, …) the response, one row per frequency.
+    w : ndarray
+        (frequencies,) ω, rad/s.
+    """
     bad = ~np.isfinite(out).all(axis=1)
     if bad.any():
         k = int(np.argmax(bad))
