@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import io
 import re
+import tomllib
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -429,3 +431,21 @@ def test_a_mechanisms_inertia_forces_are_drawn_in_the_unit_the_tables_take(examp
     curves = [np.abs(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata()) > 2]
     largest = max(float(c.max()) for c in curves) / float(convert(1.0, "N", unit))  # back in N
     assert readable_unit(largest, "N")[1] == unit
+
+
+def test_a_stored_study_s_variants_list_in_words_with_three_significant_digits(tmp_path, capsys):
+    """``mechdyn results list --study``: each number on its own (a study's outputs spread over decades),
+    an output the file does not show named in words with its SI unit, not by its key."""
+    from mechdyn.cli.main import main
+
+    path, db = _quick_file("press_support_influence.toml", tmp_path), str(tmp_path / "r.db")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert main(["study", path, "--db", db]) == 0
+    capsys.readouterr()
+    name = tomllib.loads(Path(path).read_text(encoding="utf-8"))["study"]["name"]
+    assert main(["results", "list", "--study", name, "--db", db]) == 0
+    printed = capsys.readouterr().out
+    short = [x for x in NUMBER.findall(printed) if ("." in x or "e" in x) and _significant(x) < 3]
+    assert not short, printed
+    assert "_m " not in printed and "_N" not in printed, printed

@@ -102,11 +102,27 @@ def _show(args: argparse.Namespace) -> int:
     return 0
 
 
+def _given_text(text: Any) -> Any:
+    """A parameter's value as stored (``"4.05e+08 N/m"``) with at least three significant digits
+    (:func:`mechdyn.studies.cells.given`): a choice or a name as it is."""
+    from mechdyn.studies.cells import given
+
+    if not isinstance(text, str):
+        return text
+    number, _, unit = text.partition(" ")
+    try:
+        return f"{given(float(number))} {unit}".rstrip()
+    except ValueError:
+        return text
+
+
 def _list_study(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
+    from mechdyn.studies.outputs import Watched
     from mechdyn.studies.run import display_units
     from mechdyn.studies.storage import StudyStore
+    from mechdyn.units import key_unit
 
     with ResultStore(args.db, read_only=True) as store:
         studies = StudyStore(store)
@@ -122,18 +138,24 @@ def _list_study(args: argparse.Namespace) -> int:
         [
             v.id,
             v.status,
-            *(v.given.get(n) for n in names),
+            *(_given_text(v.given.get(n)) for n in names),
             *(shown[o].show(v.outputs.get(o)) if o in shown else v.outputs.get(o) for o in outs),
             v.error or "",
         ]
         for v in variants
     ]
     where = "outputs in the study's units" if shown else "outputs in SI"
+
+    def words(key: str) -> str:  # an output the study file does not show: its key in words, SI
+        unit = next((u for part in key.split(".") if (u := key_unit(part))), "")
+        return Watched(key, unit, "").label
+
     print_table(
         Table(
             f"study {st.name!r} ({st.kind} of {st.analysis}, {len(variants)} variants; {where})",
-            ["id", "status", *names, *(shown[o].label if o in shown else o for o in outs), "error"],
+            ["id", "status", *names, *(shown[o].label if o in shown else words(o) for o in outs), "error"],
             rows,
+            per_value=True,  # each number on its own: a study's outputs spread over decades
         )
     )
     return 0
