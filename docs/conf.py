@@ -81,6 +81,7 @@ def _write_api_reference() -> None:
         ("mechdyn.vibration", "The linear-vibration core"),
         ("mechdyn.studies", "Design studies"),
         ("mechdyn.uncertainty", "Tolerances to probabilities"),
+        ("mechdyn.measurement", "Measured frequency responses"),
         ("mechdyn.store", "The results database"),
         ("mechdyn.reports", "Reports"),
         ("mechdyn.io", "Model files"),
