@@ -11,7 +11,8 @@ its Jacobian from the variational equations mapped by the saltation matrix at ev
 periods in which the slowest mode of the mean system decays (:func:`_warm_start`, :func:`_settle`).
 Past a flip (a Floquet multiplier below −1) the orbit of one period is unstable and the stable orbit of
 two periods born there is sought instead (:func:`_period_doubled`). The continuation over speed that
-strings these orbits into branches is :mod:`.sweep`'s.
+strings these orbits into branches is :mod:`.sweep`'s, and through a branch's folds (the same period
+map with the speed an unknown, pseudo-arclength) :mod:`.continuation`'s.
 """
 
 from __future__ import annotations

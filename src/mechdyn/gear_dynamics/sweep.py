@@ -7,12 +7,15 @@ and then:
 * **follows the branches** with backlash (:func:`_sweep`): each speed starts Newton's method from
   the orbit of the speed before (natural continuation), visited up, down or both ways
   (``direction``), as a slowly run-up or run-down machine follows one branch of the response;
-* **bisects the edge** where a branch ends (a fold of the softening backlash nonlinearity, or a
-  grazing): from the last good orbit to within :data:`EDGE_RTOL` of the speed of its end, and there
-  **jumps**: the last state is run at the new speed until it settles, and Newton starts from there;
-  the up and down sweeps then differ inside the band of multiple solutions, whose edges are those
-  bisected ends (Kahraman & Singh, *J. Sound Vib.* 142 (1990) 49–75;
-  :meth:`.sweep_result.SpeedSweepResult.hysteresis`);
+* **follows a branch through its folds** where Newton fails between two speeds: pseudo-arclength
+  continuation from the last good orbit (:func:`.continuation.follow`) to the fold of the softening
+  backlash nonlinearity (or a loss of stability), located to :data:`.continuation.FOLD_RTOL` of the
+  speed, and through it along the unstable branch to the next fold; there the sweep **jumps**: the
+  last state is run at the new speed until it settles, and Newton starts from there. The up and down
+  sweeps then differ inside the band of multiple solutions, whose edges are the folds (Kahraman &
+  Singh, *J. Sound Vib.* 142 (1990) 49–75; :meth:`.sweep_result.SpeedSweepResult.hysteresis`).
+  Where the continuation fails, the end is **bisected** to within :data:`EDGE_RTOL` of the speed
+  instead (the fallback, stated in the result's notes);
 * **refines the peaks**: speeds are added either side of every local maximum of a mesh's force
   amplitude (:func:`.sweep_result._peaks`);
 * checks the harmonic-balance truncation where it matters most (the lowest speed and the largest
@@ -25,8 +28,9 @@ The result is :class:`.sweep_result.SpeedSweepResult`.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -36,6 +40,7 @@ from mechdyn.errors import ModelError
 from mechdyn.gear_dynamics._cost import check as check_cost
 from mechdyn.gear_dynamics._cost import sweep_cost
 from mechdyn.gear_dynamics._harmonics import HARMONICS_RTOL, MAX_AUTO, harmonics_for, needed_harmonics
+from mechdyn.gear_dynamics.continuation import ContinuedBranch, follow
 from mechdyn.gear_dynamics.floquet import UNSTABLE_MARGIN
 from mechdyn.gear_dynamics.periodic import (
     LinearPeriodic,
@@ -51,6 +56,7 @@ from mechdyn.gear_dynamics.steady import (
     _check_integrator,
     _check_method,
     _choose,
+    _grid,
     _harmonics_given,
     _harmonics_words,
     _mesh_forces,
@@ -65,7 +71,8 @@ __all__ = ["speed_sweep"]
 
 Direction = Literal["up", "down", "both"]
 _DIRECTIONS = ("up", "down", "both")
-#: The relative width in speed to which the end of a branch (a jump) is located by bisection.
+#: The relative width in speed to which the end of a branch (a jump) is located by bisection, the
+#: fallback where the continuation (:mod:`.continuation`) fails.
 EDGE_RTOL = 1e-3
 
 
@@ -143,12 +150,17 @@ def speed_sweep(
     Each speed's periodic solution as :func:`.steady.steady_state` (harmonic balance: one sparse solve per
     speed, the speed-independent stiffness coupling assembled once). With backlash, Newton's method
     on the event-located flow starts from the previous speed's solution (natural continuation); where
-    it fails or finds an unstable orbit, the step is halved up to three times, and then the previous
-    solution is run for the periods in which the slowest mode decays by e⁻⁶ at the new speed and
-    Newton starts from there: past the end of a branch (a fold of the softening backlash
-    nonlinearity) the sweep jumps to the other branch, so that the up and down sweeps differ inside
-    the band of multiple solutions (Kahraman & Singh, *J. Sound Vib.* 142 (1990) 49–75). A speed where
-    Newton still fails is kept with ``converged`` False. K_v = max f / f_static follows ISO 6336-1
+    it fails or finds an unstable orbit, the branch is followed from the previous solution by
+    pseudo-arclength continuation (:func:`mechdyn.gear_dynamics.continuation.follow`; Keller 1977,
+    Seydel 2010, ch. 4) to this speed or to its fold, located, and through the fold along the unstable
+    branch to the next (:attr:`SpeedSweepResult.branches`); past the fold the orbit at the fold is run
+    for the periods in which the slowest mode decays by e⁻⁶ at the new speed and Newton starts from
+    there: the sweep jumps to the other branch, so that the up and down sweeps differ inside the band
+    of multiple solutions, whose edges are the folds (Kahraman & Singh, *J. Sound Vib.* 142 (1990)
+    49–75). Where the continuation fails, the end is bisected (:data:`EDGE_RTOL`) and a note says so.
+    Each speed states what ran and its CPU time (:attr:`SpeedSweepResult.solve_paths`,
+    :attr:`SpeedSweepResult.solve_cpu`). A speed where Newton still fails is kept with ``converged``
+    False. K_v = max f / f_static follows ISO 6336-1
     (2019), clause 6's definition of the dynamic factor as the ratio of the largest to the nominal tooth load.
     """
     _check_method(method)
@@ -178,8 +190,9 @@ def speed_sweep(
     iso_cache: dict[bytes, tuple[np.ndarray, np.ndarray, list[str]]] = {}
     natural = _natural_frequencies(lin)
 
-    def result(sweep: str) -> SpeedSweepResult:
-        grid, stack, jumps = _sweep(solver, s, sweep, refine)
+    def result(sweep: str, known_folds: tuple[float, ...] = ()) -> SpeedSweepResult:
+        log = _Log()
+        grid, stack, jumps = _sweep(solver, s, sweep, refine, known_folds, log)
         error = float("nan")
         if balance:  # the truncation checked where it matters most: lowest speed, largest K_v
             kv = _sweep_kv(stack) * _stack_kv(stack)
@@ -192,6 +205,7 @@ def speed_sweep(
             iso_cache[key] = _iso_factors(system, lin, grid, stack[3], dict(gear_pairs or {}))
         iso, iso_resonance, iso_notes = iso_cache[key]
         notes = [plan.note] if plan.note else []
+        notes.extend(log.fallbacks)
         if not np.isfinite(_sweep_kv(stack)).any():
             notes.append("no load given: the dynamic factor K_v needs a static mesh force (give load=...)")
         return SpeedSweepResult(
@@ -212,6 +226,9 @@ def speed_sweep(
             closure=stack[5][:, 2],
             period_multiple=stack[5][:, 3].astype(int),
             jump_speeds=tuple(jumps),
+            branches=tuple(log.branches),
+            solve_paths=tuple(log.paths.get(float(g), "") for g in grid) if solver.nonlinear else (),
+            solve_cpu=np.array([log.cpu.get(float(g), np.nan) for g in grid]) if solver.nonlinear else None,
             method=(
                 _harmonics_words(H, given is None, error)
                 if balance
@@ -237,69 +254,157 @@ def speed_sweep(
             continue
         break
     if direction == "both":
-        down = result("down") if solver.nonlinear else replace(first, direction="down")
+        folds = tuple(f for b in first.branches for f in b.folds)
+        down = result("down", folds) if solver.nonlinear else replace(first, direction="down")
         return replace(first, down=down)
     return first
 
 
+@dataclass
+class _Log:
+    """What one sweep did at each speed (in words) and its CPU time (s), the branches it followed by
+    continuation, and where it fell back to bisection (in words)."""
+
+    paths: dict[float, str] = field(default_factory=dict)
+    cpu: dict[float, float] = field(default_factory=dict)
+    branches: list[ContinuedBranch] = field(default_factory=list)
+    fallbacks: list[str] = field(default_factory=list)
+
+
 def _sweep(
-    solver: _Solver, s: np.ndarray, direction: str, refine: int
+    solver: _Solver,
+    s: np.ndarray,
+    direction: str,
+    refine: int,
+    known_folds: tuple[float, ...] = (),
+    log: _Log | None = None,
 ) -> tuple[np.ndarray, list[np.ndarray], list[float]]:
     """The speeds computed (ascending), the stacked rows (force max, min, RMS, static force, DTE
     amplitude, [converged, ρ, closure, periods]) of one sweep over the ascending speeds ``s``, visited
     upwards or downwards, and the speeds where the sweep jumped (rad/s). With backlash each speed
     starts Newton from the periodic state of the speed before; where that fails (or the orbit found is
-    unstable) the branch is followed by bisection from the last good orbit to within
-    :data:`EDGE_RTOL` of the speed of its end, and where it ends short of the speed (a fold or a
-    grazing) the last state is run for a while at the new speed before Newton (the jump)."""
+    unstable) the branch is followed from the last good orbit by pseudo-arclength continuation
+    (:func:`.continuation.follow`): to this speed where it gets there, stable; else to its end, a fold
+    or a loss of stability, located to :data:`.continuation.FOLD_RTOL`, and beyond a fold along the
+    unstable branch to the next fold (unless ``known_folds`` holds it), after which the last state
+    is run for a while at this speed before Newton (the jump). Where the continuation fails, the end
+    is bisected from the last good orbit to within :data:`EDGE_RTOL` of the speed (the fallback,
+    stated in ``log``)."""
     lin, plan = solver.lin, solver.plan
     J = len(lin.names)
     rows: dict[float, tuple[np.ndarray, ...]] = {}
     states: dict[float, np.ndarray] = {}
     jumps: list[float] = []
+    log = log if log is not None else _Log()
+    counted = 0.0  # CPU time of the continuation points kept as speeds (counted there)
 
     def run(speed: float, *, start: np.ndarray | None = None, settle: bool = True, keep: bool = True) -> bool:
         t, x, v, ok = solver.solve(speed, start=start, settle=settle)
         good = ok and not solver.rho > 1.0 + UNSTABLE_MARGIN
         if not (good or keep):
             return False
-        force, delta = _mesh_forces(lin, plan, speed, t, x, v)
-        rows[speed] = (
-            force.max(axis=0),
-            force.min(axis=0),
-            np.sqrt(np.mean(force**2, axis=0)),
-            _static_forces(lin, speed),
-            0.5 * np.ptp(delta, axis=0),
-            np.array([ok, solver.rho, solver.closure, solver.multiple]),
-        )
+        rows[speed] = _row(lin, plan, speed, t, x, v, ok, solver.rho, solver.closure, solver.multiple)
         if ok and solver.nonlinear:
             states[speed] = np.concatenate([x[0], v[0]])
         return good
 
+    def bisect(previous: float, speed: float) -> str:
+        # the fallback: the branch followed to its end by bisection from the last good orbit; where it
+        # ends short of this speed (a fold or a grazing: the jump), the end is located and the last
+        # state run at this speed for a while before Newton (the branch a slow sweep lands on)
+        lo, hi = previous, speed
+        while abs(hi - lo) > EDGE_RTOL * speed:
+            mid = 0.5 * (lo + hi)
+            if run(mid, start=states[lo], settle=False, keep=False):
+                log.paths[mid] = "a point of a bisection (the fallback)"
+                lo = mid
+            else:
+                hi = mid
+        if run(speed, start=states[lo], settle=False, keep=False):
+            return "bisection to this speed (the fallback), then Newton"
+        jumps.append(0.5 * (lo + hi))
+        solver.start = states[lo]
+        run(speed, settle=True)
+        return "bisection to the branch's end (the fallback), then the jump: a settling run, Newton"
+
+    def follow_branch(previous: float, speed: float) -> str:
+        """The branch from the orbit at ``previous`` towards ``speed`` by continuation; what ran."""
+        nonlocal counted
+        N = _grid(lin, plan, solver.bal.H if solver.bal is not None else 16)
+        branch = follow(
+            lin,
+            plan,
+            previous,
+            states[previous],
+            toward=speed,
+            bounds=(float(s[0]), float(s[-1])),
+            samples=N,
+            known_folds=known_folds + tuple(f for b in log.branches for f in b.folds),
+            mesh_forces=lambda v, t, x, xd: _mesh_forces(lin, plan, v, t, x, xd)[0],
+            static_forces=lambda v: _static_forces(lin, v),
+        )
+        if branch.failed:
+            log.fallbacks.append(
+                f"between {previous:.6g} and {speed:.6g} rad/s the continuation failed ({branch.end}): the "
+                f"branch's end was bisected to {EDGE_RTOL:g} of the speed instead"
+            )
+            return bisect(previous, speed)
+        first = _first_edge(branch)
+        for i in range(1, first if first is not None else branch.speeds.size):
+            if branch.stable[i] and branch.kinds[i] == "point":  # the stable branch up to its end
+                speed_i = float(branch.speeds[i])
+                if speed_i not in rows:
+                    rows[speed_i] = _branch_row(lin, plan, branch, i)
+                    states[speed_i] = branch.states[i]
+                    log.paths[speed_i] = "a point of a continuation (the stable branch to its end)"
+                    log.cpu[speed_i] = float(branch.cpu_seconds[i])
+                    counted += float(branch.cpu_seconds[i])
+        log.branches.append(replace(branch, samples=None))  # the orbits' samples: in the rows above
+        if first is None:  # the branch reaches this speed, stable
+            if run(speed, start=branch.states[-1], settle=False, keep=False):
+                return "continuation to this speed, then Newton"
+            solver.start = branch.states[-1]
+            run(speed, settle=True)
+            return "continuation to this speed, then a settling run, Newton"
+        jumps.append(float(branch.speeds[first]))
+        solver.start = branch.states[first]
+        run(speed, settle=True)
+        return (
+            "continuation to the branch's end (a fold or a loss of stability), then the jump: a settling "
+            "run, Newton"
+        )
+
     order = s if direction == "up" else s[::-1]
     previous = None
     for speed in order.tolist():
+        spent = time.process_time()
+        counted = 0.0
         if not solver.nonlinear:  # a unique solution at each speed
             run(speed)
-            continue
-        ok = run(speed, settle=previous is None)
-        if not ok and previous is not None and previous in states:
-            # the branch followed to its end by bisection from the last good orbit; where it ends short
-            # of this speed (a fold or a grazing: the jump), the end is located and the last state run
-            # at this speed for a while before Newton (the branch a slow sweep lands on)
-            lo, hi = previous, speed
-            while abs(hi - lo) > EDGE_RTOL * speed:
-                mid = 0.5 * (lo + hi)
-                if run(mid, start=states[lo], settle=False, keep=False):
-                    lo = mid
-                else:
-                    hi = mid
-            if not run(speed, start=states[lo], settle=False, keep=False):
-                jumps.append(0.5 * (lo + hi))
-                solver.start = states[lo]
+            log.paths[speed] = solver.method.replace("_", " ")
+        else:
+            fresh = solver.start is None
+            ok = run(speed, settle=previous is None)
+            log.paths[speed] = (
+                "Newton from the orbit of the speed before"
+                if previous is not None
+                else (
+                    "a run from the static deflection, then Newton"
+                    if fresh
+                    else "Newton from the last orbit of the sweep before"
+                )
+            )
+            if not ok and previous is not None and previous in states and rows[previous][5][3] != 1:
+                # the orbit before is period-doubled (the continuation follows orbits of one period):
+                # run from it at this speed until it settles, then Newton over one or two periods
                 run(speed, settle=True)
-        elif not ok and previous is not None:  # no orbit at the speed before: start afresh by a run
-            run(speed, settle=True)
+                log.paths[speed] = "a settling run from the period-doubled orbit before, then Newton"
+            elif not ok and previous is not None and previous in states:
+                log.paths[speed] = follow_branch(previous, speed)
+            elif not ok and previous is not None:  # no orbit at the speed before: start afresh by a run
+                run(speed, settle=True)
+                log.paths[speed] = "a settling run, then Newton (no orbit at the speed before)"
+        log.cpu[speed] = time.process_time() - spent - counted
         previous = speed
     for _ in range(refine):
         grid = np.array(sorted(rows))
@@ -312,14 +417,77 @@ def _sweep(
         if not new:
             break
         for speed in sorted(new, reverse=direction == "down"):
+            spent = time.process_time()
             start = None
             if solver.nonlinear:  # from the speed visited before it, on the same branch
                 before = [g for g in states if (g < speed if direction == "up" else g > speed)]
                 if before:
                     start = states[max(before) if direction == "up" else min(before)]
             run(float(speed), start=start)
+            log.paths[float(speed)] = (
+                "Newton from the nearest orbit before it (a speed added at a peak)"
+                if solver.nonlinear
+                else solver.method.replace("_", " ")
+            )
+            log.cpu[float(speed)] = time.process_time() - spent
     grid = np.array(sorted(rows))
     return grid, [np.array([rows[g][k] for g in grid]).reshape(grid.size, -1) for k in range(6)], jumps
+
+
+def _row(
+    lin: LinearPeriodic,
+    plan: PeriodPlan,
+    speed: float,
+    t: np.ndarray,
+    x: np.ndarray,
+    v: np.ndarray,
+    ok: bool,
+    rho: float,
+    closure: float,
+    multiple: int,
+) -> tuple[np.ndarray, ...]:
+    """One speed's stacked row: force max, min, RMS, static force, DTE amplitude, [converged, ρ,
+    closure, periods]."""
+    force, delta = _mesh_forces(lin, plan, speed, t, x, v)
+    return (
+        force.max(axis=0),
+        force.min(axis=0),
+        np.sqrt(np.mean(force**2, axis=0)),
+        _static_forces(lin, speed),
+        0.5 * np.ptp(delta, axis=0),
+        np.array([ok, rho, closure, multiple]),
+    )
+
+
+def _branch_row(
+    lin: LinearPeriodic, plan: PeriodPlan, branch: ContinuedBranch, i: int
+) -> tuple[np.ndarray, ...]:
+    """The stacked row of a continuation point (a stable orbit of the branch the sweep follows)."""
+    m = lin.m
+    assert branch.samples is not None
+    y = branch.samples[i]
+    N = y.shape[1]
+    return _row(
+        lin,
+        plan,
+        float(branch.speeds[i]),
+        np.arange(N) / N,
+        y[:m].T,
+        y[m : 2 * m].T,
+        True,
+        float(branch.spectral_radius[i]),
+        float(branch.closure[i]),
+        1,
+    )
+
+
+def _first_edge(branch: ContinuedBranch) -> int | None:
+    """The index of the branch's first located fold or loss of stability; None where it reached the
+    speed asked for."""
+    for i, kind in enumerate(branch.kinds):
+        if kind in ("fold", "loss of stability"):
+            return i
+    return None
 
 
 def _iso_factors(

@@ -74,6 +74,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
                     alpha=0.5,
                     label=f"{name}: K_v swept down",
                 )
+            _continued(ax, result, j, line.get_color())
         else:
             ax.plot(rpm, result.force_amplitude[:, j], label=f"{name}: force amplitude (N), no load")
         iso = result.iso_dynamic_factor[:, j]
@@ -105,6 +106,46 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
     ax.set_title("dynamic mesh force over speed")
     ax.legend(fontsize="small", loc="upper left")
     return ax
+
+
+def _continued(ax: Any, result: SpeedSweepResult, j: int, color: Any) -> None:
+    """The branches followed by continuation (:attr:`SpeedSweepResult.branches`, the down sweep's
+    too): K_v of mesh ``j`` dashed where the orbit is unstable (between the folds), thin where it is
+    stable, the folds marked by crosses; labelled once."""
+    branches = result.branches + (result.down.branches if result.down is not None else ())
+    labelled = False
+    for branch in branches:
+        kv = branch.dynamic_factor[:, j]
+        if not np.isfinite(kv).any():
+            continue
+        x = _rpm(branch.speeds)
+        stable = np.asarray(branch.stable, bool)
+        unstable = ~stable
+        near = unstable.copy()  # the unstable stretch with its ends, so that the curve joins
+        near[1:] |= unstable[:-1]
+        near[:-1] |= unstable[1:]
+        ax.plot(x, np.where(stable, kv, np.nan), color=color, lw=0.8)
+        ax.plot(
+            x,
+            np.where(near, kv, np.nan),
+            color=color,
+            lw=1.0,
+            ls="--",
+            label=None
+            if labelled
+            else f"{result.mesh_names[j]}: branch through the folds (dashed: unstable)",
+        )
+        folds = branch.fold_indices
+        if folds.size:
+            ax.plot(
+                x[folds],
+                kv[folds],
+                "x",
+                color=color,
+                ms=6,
+                label=None if labelled else f"{result.mesh_names[j]}: folds (the jump band's edges)",
+            )
+        labelled = True
 
 
 def _doubled(result: SpeedSweepResult) -> np.ndarray | None:

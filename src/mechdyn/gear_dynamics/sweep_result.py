@@ -4,7 +4,9 @@
 and RMS, static force, DTE amplitude, convergence, Floquet spectral radius, closure, period multiple)
 and derives from it the dynamic factor K_v, the resonances (the prominent peaks of the force
 amplitude, :func:`_peaks`, refined by a parabola), where the train's modes meet the mesh orders
-(:mod:`._resonance`), and with a down sweep the band of the jump (:meth:`SpeedSweepResult.hysteresis`);
+(:mod:`._resonance`), and with a down sweep the band of the jump (:meth:`SpeedSweepResult.hysteresis`),
+its edges the folds of the branches followed by continuation (:attr:`SpeedSweepResult.branches`,
+:class:`.continuation.ContinuedBranch`); with backlash also what ran at each speed and its CPU time;
 its tables, notes and plots (:mod:`.sweep_plots`) say so in words.
 """
 
@@ -16,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.gear_dynamics._resonance import crossings, iso_note
+from mechdyn.gear_dynamics.continuation import ContinuedBranch
 from mechdyn.gear_dynamics.floquet import UNSTABLE_MARGIN
 from mechdyn.gear_dynamics.steady import _truncation_warning
 from mechdyn.results import Result, Table
@@ -95,8 +98,21 @@ class SpeedSweepResult(Result):
         (n_s,) the periods T of each speed's orbit: 1, or 2 where the orbit of one period is unstable
         (past a flip) and the period-doubled orbit is the one shown (backlash).
     jump_speeds : tuple of float
-        With backlash: where the branch the sweep followed ends and it jumps to another, each located
-        by bisection to within :data:`.sweep.EDGE_RTOL` of the speed, rad/s.
+        With backlash: where the branch the sweep followed ends and it jumps to another, rad/s: a fold
+        (or a loss of stability) located by pseudo-arclength continuation to within
+        :data:`.continuation.FOLD_RTOL` of the speed, or, where the continuation failed (the fallback,
+        stated in :attr:`notes`), the end bisected to within :data:`.sweep.EDGE_RTOL`.
+    branches : tuple of ContinuedBranch
+        With backlash: the branches followed by pseudo-arclength continuation where the sweep's branch
+        ended between two of its speeds (:class:`.continuation.ContinuedBranch`): each from the last
+        orbit the sweep found to the fold, and through it along the unstable branch to the next fold,
+        every point with its Floquet multipliers, Newton iterations and CPU time.
+    solve_paths : tuple of str
+        With backlash: per speed, what ran to find its orbit, in words (Newton from the orbit before,
+        continuation to a fold and the jump, a point of a continuation, the bisection fallback).
+    solve_cpu : ndarray or None
+        With backlash: (n_s,) CPU time spent on each speed, s (a continuation's counted at the speed
+        that started it, less its points kept as speeds, which carry their own).
     """
 
     speeds: np.ndarray
@@ -124,6 +140,9 @@ class SpeedSweepResult(Result):
     natural_frequencies_hz: np.ndarray | None = None
     period_multiple: np.ndarray | None = None
     jump_speeds: tuple[float, ...] = ()
+    branches: tuple[ContinuedBranch, ...] = ()
+    solve_paths: tuple[str, ...] = ()
+    solve_cpu: np.ndarray | None = None
 
     @property
     def stable(self) -> np.ndarray:
@@ -183,11 +202,27 @@ class SpeedSweepResult(Result):
             for j, n in enumerate(self.mesh_names)
         }
 
+    @property
+    def fold_speeds(self) -> tuple[float, ...]:
+        """The folds located by continuation in this sweep and its down sweep, rad/s, ascending (the
+        same fold met by both counted once, :data:`.continuation.KNOWN_RTOL`)."""
+        from mechdyn.gear_dynamics.continuation import KNOWN_RTOL
+
+        found: list[float] = []
+        for sweep in (self, self.down):
+            for branch in sweep.branches if sweep is not None else ():
+                for f in branch.folds:
+                    if not any(abs(f - g) <= KNOWN_RTOL * f for g in found):
+                        found.append(float(f))
+        return tuple(sorted(found))
+
     def hysteresis(self) -> dict[str, tuple[float, float] | None]:
         """With a down sweep (``direction="both"``): per mesh, the lowest and highest speed (rad/s) at
         which the up and the down sweep, both converged and stable, differ in force amplitude by more than
         :data:`HYSTERESIS_RTOL` of the larger (the band of the jump phenomenon), or None where they
-        agree; empty without a down sweep."""
+        agree; empty without a down sweep. Where the sweeps jumped at the band's ends, the edges are
+        the speeds of those jumps: the folds located by continuation (:attr:`jump_speeds`), not the
+        grid's speeds."""
         if self.down is None:
             return {}
         common, iu, idn = np.intersect1d(self.speeds, self.down.speeds, return_indices=True)
@@ -263,6 +298,8 @@ class SpeedSweepResult(Result):
             if self.down is not None:
                 band = self.hysteresis()[name]
                 meshes[name]["hysteresis_speeds_rad_s"] = list(band) if band else []
+            if self.branches or (self.down is not None and self.down.branches):
+                meshes[name]["fold_speeds_rad_s"] = list(self.fold_speeds)
             meshes[name]["train_resonance_speeds_rad_s"] = [c[3] for c in self.train_resonances()[name]]
             if np.isfinite(self.iso_dynamic_factor[:, j]).any():
                 meshes[name]["iso_dynamic_factor_max_ratio"] = float(np.nanmax(self.iso_dynamic_factor[:, j]))
@@ -308,7 +345,21 @@ class SpeedSweepResult(Result):
         cols["converged"] = self.converged
         cols["spectral_radius_ratio"] = self.spectral_radius
         cols["stable"] = self.stable
+        if self.solve_cpu is not None:
+            cols["solve_cpu_s"] = self.solve_cpu
         return pd.DataFrame(cols)
+
+    def arrays(self) -> dict[str, tuple[np.ndarray, str]]:
+        """The columns of :meth:`to_frame`, and of each continued branch's table prefixed
+        ``branch_K_`` (K from 0; the down sweep's after the up sweep's)."""
+        from mechdyn.results import frame_arrays
+
+        out = frame_arrays(self.to_frame())
+        branches = self.branches + (self.down.branches if self.down is not None else ())
+        for k, branch in enumerate(branches):
+            for name, value in frame_arrays(branch.to_frame()).items():
+                out[f"branch_{k}_{name}"] = value
+        return out
 
     def tables(self, **display_units: str) -> list[Table]:
         """Per mesh: largest K_v and where (rpm), static force, largest DTE amplitude, resonances (rpm);
@@ -358,7 +409,84 @@ class SpeedSweepResult(Result):
                 ),
             ),
             *self._resonance_table(),
+            *self._continuation_tables(),
         ]
+
+    def _continuation_tables(self) -> list[Table]:
+        """With backlash: how each speed's orbit was found and its CPU time (grouped), and each branch
+        followed by continuation: from where, its folds, its points and their cost."""
+        from mechdyn.units import convert
+
+        def rpm(v: float) -> float:
+            return float(convert(v, "rad/s", "rpm"))
+
+        sweeps = [w for w in (self, self.down) if w is not None and w.solve_cpu is not None]
+        if self.down is not None and self.down.solve_cpu is self.solve_cpu:
+            sweeps = sweeps[:1]
+        if not sweeps:
+            return []
+        rows: list[list[Any]] = []
+        for w in sweeps:
+            assert w.solve_cpu is not None
+            for path in dict.fromkeys(w.solve_paths):
+                pick = np.array([p == path for p in w.solve_paths], bool)
+                cpu = w.solve_cpu[pick]
+                rows.append(
+                    [w.direction, path, int(pick.sum()), float(np.nanmean(cpu)), float(np.nansum(cpu))]
+                )
+        tables = []
+        cpu_all = np.concatenate([np.asarray(w.solve_cpu, float) for w in sweeps])
+        tables.append(
+            Table(
+                "how each speed's periodic orbit was found (backlash), and its CPU time",
+                ["swept", "what ran", "speeds", "CPU per speed [s]", "CPU in all [s]"],
+                rows,
+                note=(
+                    f"{np.nansum(cpu_all):.3g} s of CPU over {cpu_all.size} speeds: "
+                    f"{np.nansum(cpu_all) / max(cpu_all.size, 1):.3g} s a speed."
+                ),
+            )
+        )
+        branch_rows: list[list[Any]] = []
+        for w in sweeps:
+            for b in w.branches:
+                unstable = int((~b.stable & np.array([k == "point" for k in b.kinds])).sum())
+                branch_rows.append(
+                    [
+                        w.direction,
+                        rpm(float(b.speeds[0])),
+                        ", ".join(f"{rpm(f):.6g}" for f in b.folds) or "none",
+                        int(b.speeds.size),
+                        unstable,
+                        float(b.cpu_seconds.sum() / max(b.speeds.size, 1)),
+                        float(b.cpu_seconds.sum()),
+                        b.end,
+                    ]
+                )
+        if branch_rows:
+            tables.append(
+                Table(
+                    "branches followed through their folds by pseudo-arclength continuation",
+                    [
+                        "swept",
+                        "from [rpm]",
+                        "folds [rpm]",
+                        "points",
+                        "unstable points",
+                        "CPU per point [s]",
+                        "CPU in all [s]",
+                        "stopped",
+                    ],
+                    branch_rows,
+                    note=(
+                        "Where the sweep's branch ended between two speeds it was followed from the last "
+                        "orbit by pseudo-arclength continuation: the folds (a real Floquet multiplier "
+                        "through +1) are the edges of the jump band, not the grid's speeds; the branch "
+                        "between them is unstable, drawn dashed and never counted in the band."
+                    ),
+                )
+            )
+        return tables
 
     def _resonance_table(self) -> list[Table]:
         """The train's resonances within the range per mesh, beside ISO's pair resonance."""
