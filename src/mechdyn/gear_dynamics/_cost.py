@@ -13,7 +13,8 @@ that would take more than :data:`TIME_WARN` goes on with a warning that gives th
   a matrix exponential of the 2m + 1 state (the Padé [13/13] with scaling, about 30 products of
   d³ each) and the product.
 - **Shooting with backlash**: Newton's iterations of the event-located flow; about
-  :data:`BACKLASH_SECONDS` of CPU a speed (measured 0.3–8 s on turret C and a single pair).
+  :data:`BACKLASH_SECONDS` of CPU a speed (measured 0.10 s a speed on a single pair and 0.71 s on
+  turret C, the continuation through a fold 0.08–1.2 s a point).
 - **simulate**: at least ``cycle_steps`` steps a mesh cycle at the fastest mesh's frequency at the
   highest speed the inputs can reach (the motor's no-load speed, or the initial speed), about
   :data:`SECONDS_PER_CYCLE` × (n/10)² of CPU a cycle (1.2–8 ms measured for 10 disks); every sample
@@ -37,8 +38,9 @@ MEMORY_LIMIT = 4 * 2**30
 TIME_LIMIT = 36_000.0
 #: Runs estimated to take longer than this go on with a warning, s.
 TIME_WARN = 600.0
-#: CPU of one speed of the Newton shooting through contact loss, s (an upper figure).
-BACKLASH_SECONDS = 8.0
+#: CPU of one speed of the Newton shooting through contact loss, continuation included, s (the
+#: figure the docs state and the sweeps meet: at most 1 s a speed).
+BACKLASH_SECONDS = 1.0
 #: CPU of one mesh cycle of ``simulate`` for a 10-disk train, s.
 SECONDS_PER_CYCLE = 5e-3
 
