@@ -362,8 +362,8 @@ def frf(
       factorisation of K with a coordinate of each free branch held (the mode-acceleration or
       residual-flexibility correction; Craig & Kurdila, §11.3). Each left-out mode's term
       1/(λ_r − ω² + iωc_r) is replaced by 1/(λ_r(1 + iωβ)); the relative error of that is at most
-      e(ω) = (ρ² + 2ζρ + αω/λ_c)/(|1 + iωβ| − ρ² − 2ζρ − αω/λ_c), ρ = ω/ω_c, and the result's
-      :attr:`FRFResult.truncation_error` is max e(ω)·|x_res(ω)| over the largest amplitude, over
+      e(ω) = (ρ² + 2ζρ + αω/λ_c)/(abs(1 + iωβ) − ρ² − 2ζρ − αω/λ_c), ρ = ω/ω_c, and the result's
+      :attr:`FRFResult.truncation_error` is max e(ω)·abs(x_res(ω)) over the largest amplitude, over
       every output (an estimate: the left-out modes' static terms are taken to add up, not cancel).
 
     Only the coordinates behind ``select`` are formed, frequency block by frequency block: memory is

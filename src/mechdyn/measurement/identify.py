@@ -32,7 +32,7 @@ NEW, STABLE_FREQUENCY, STABLE = 0, 1, 2  # status of a pole in the stabilisation
 def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Modal assurance criterion between every column of ``a`` and every column of ``b``.
 
-    MAC_ij = |a_iᴴ b_j|² / ((a_iᴴ a_i)(b_jᴴ b_j)) (Allemang & Brown, "A correlation coefficient for
+    MAC_ij = abs(a_iᴴ b_j)² / ((a_iᴴ a_i)(b_jᴴ b_j)) (Allemang & Brown, "A correlation coefficient for
     modal vector analysis", IMAC I, 1982); 1 for parallel shapes, 0 for orthogonal ones.
 
     Parameters
