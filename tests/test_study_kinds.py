@@ -53,7 +53,7 @@ Y = Watched("y_N", "N", "")
 
 
 def test_every_kind_is_one_registered_object_with_the_whole_protocol():
-    assert list(KINDS) == ["oat", "factorial", "lhs", "sobol", "optimize", "synthesis"]
+    assert list(KINDS) == ["oat", "factorial", "lhs", "sobol", "optimize", "synthesis", "tolerance"]
     for name, k in KINDS.items():
         assert isinstance(k, Kind) and k.name == name and kind(name) is k and k.title
         assert k.uses in ("levels", "ranges")
@@ -226,6 +226,8 @@ _EXTRA = {
     "synthesis": '[[targets]]\noutput = "stroke_m"\nequals = "190 mm"\ntolerance = "1 mm"\n',
 }
 
+_SPAN = {"tolerance": 'scatter = {distribution = "normal", std = "1 mm"}'}
+
 
 @pytest.mark.parametrize("name", list(KINDS))
 def test_every_kind_states_the_same_findings_after_a_run_and_from_the_database_alone(tmp_path, name):
@@ -235,9 +237,9 @@ def test_every_kind_states_the_same_findings_after_a_run_and_from_the_database_a
         CHEAP.format(
             kind=name,
             model=str(EXAMPLES / "slider_crank.toml"),
-            samples={"sobol": 4, "lhs": 6, "optimize": 8, "synthesis": 3}.get(name, 1),
+            samples={"sobol": 4, "lhs": 6, "optimize": 8, "synthesis": 3, "tolerance": 4}.get(name, 1),
             extra=_EXTRA.get(name, ""),
-            span='levels = ["-10 %", "10 %"]' if levels else 'range = "±10 %"',
+            span=_SPAN.get(name, 'levels = ["-10 %", "10 %"]' if levels else 'range = "±10 %"'),
         )
     )
     db = str(tmp_path / "r.db")

@@ -274,6 +274,7 @@ QUICK_STUDIES: dict[str, dict] = {
     "press_sobol.toml": {"samples": 2},
     "press_support_influence.toml": {},
     "press_synthesis.toml": {"samples": 1, "population": 4, "options": {"angles": 36}},
+    "press_support_tolerance.toml": {"samples": 4},
     "rp1_sensitivity.toml": {"options": {"angles": 36}},
     "turret_mesh_clocking.toml": {"options": {"points": 4}},
 }

@@ -470,7 +470,13 @@ _STUDY = TemplateExample(
     },
     hints={
         "study": {"samples": 64, "population": 20, "boxes": ["±10 %", "±20 %"], "options": {"modes": 3}},
-        "parameters": {"name": "shaft stiffness", "range": "±10 %", "tie": ["disks.motor.inertia"]},
+        "parameters": {
+            "name": "shaft stiffness",
+            "range": "±10 %",
+            "tie": ["disks.motor.inertia"],
+            "scatter": {"distribution": "lognormal", "cov": 0.15},
+        },
+        "outputs": {"limit": "150 Hz", "side": "below"},
         "objectives": {"output": "frequencies_hz.1", "unit": "Hz", "goal": "maximize"},
         "constraints": {
             "output": "frequencies_hz.1",

@@ -100,6 +100,9 @@ class Parameter:
         (``base`` 0, ``levels`` the indices of the study's levels). Empty for a number.
     integer : bool
         A whole number (a tooth count): levels only, and the file gets whole numbers.
+    scatter : mechdyn.uncertainty.Variable or None
+        How the value scatters (SI), for a ``tolerance`` study: a study file's ``scatter`` table
+        (:func:`mechdyn.uncertainty.variable_from_dict`); None for a range or levels.
     """
 
     name: str
@@ -114,6 +117,7 @@ class Parameter:
     apply: Callable[[Any, float], Any] | None = field(default=None, compare=False)
     choices: tuple[Any, ...] = ()
     integer: bool = False
+    scatter: Any = field(default=None, compare=False)
 
     # -- construction ------------------------------------------------------------------------
     @classmethod
@@ -127,6 +131,7 @@ class Parameter:
         tie: Sequence[str] = (),
         name: str | None = None,
         where: str = "",
+        scatter: Any = None,
     ) -> list[Parameter]:
         """The parameter(s) a study file's row names: a vector (``points.C``) gives one parameter
         per component (``points.C.x``, ``points.C.y``).
@@ -149,8 +154,19 @@ class Parameter:
             ``NAME.x`` and ``NAME.y``.
         where : str
             The study file and row, for errors.
+        scatter : mapping, optional
+            How the value scatters, for a ``tolerance`` study, instead of a range or levels: a table
+            of :func:`mechdyn.uncertainty.variable_from_dict` (``{distribution = "lognormal", median
+            = "2 MN/m", cov = 0.15}``, ``{tolerance = "shore_a_5"}``), the model's value its default
+            nominal.
         """
-        if (range is None) == (levels is None):
+        if scatter is not None:
+            if range is not None or levels is not None:
+                raise StudyError(
+                    f"{where}: give the parameter {path!r} a scatter or a range or levels, not both (a "
+                    "tolerance study takes scatter, the other kinds a range or levels)"
+                )
+        elif (range is None) == (levels is None):
             raise StudyError(f"{where}: give the parameter {path!r} either a range or levels (one of them)")
         locations = tree.resolve(path)
         tied = [loc for p in tie for loc in tree.resolve(p)]
@@ -165,6 +181,8 @@ class Parameter:
         out = []
         for label, locs in groups:
             out.append(cls._one(tree, label, locs, range, levels, where))
+        if scatter is not None:
+            return [_scattered(p, scatter, len(groups), where) for p in out]
         return out
 
     @classmethod
@@ -228,7 +246,7 @@ class Parameter:
                     f'{where}: levels of {name!r} must be a non-empty list, e.g. ["-10 %", "10 %"]'
                 )
             lv = tuple(r if (r := relative(q)) is not None else absolute(q, "level") for q in levels)
-        else:
+        elif range_ is not None:  # neither: a scatter (from_spec)
             rel = parse_relative(range_)
             if rel is not None:
                 if rel[0] != "±":
@@ -471,6 +489,41 @@ class Parameter:
     @property
     def bounded(self) -> bool:
         return self.low is not None and self.high is not None and math.isfinite(self.high - self.low)
+
+
+def _scattered(p: Parameter, spec: Any, groups: int, where: str) -> Parameter:
+    """The parameter ``p`` (made without range or levels) with the scatter a study file's ``scatter``
+    table gives it (:func:`mechdyn.uncertainty.variable_from_dict`, SI, the model's value its nominal).
+
+    Parameters
+    ----------
+    p : Parameter
+    spec : mapping
+        The ``scatter`` table as read.
+    groups : int
+        How many parameters the row makes (a point: one per coordinate, which a scatter refuses).
+    where : str
+        The study file and row, for errors.
+    """
+    from dataclasses import replace
+
+    from mechdyn.errors import ModelError
+    from mechdyn.uncertainty import variable_from_dict
+    from mechdyn.units import ureg
+
+    if p.discrete or p.apply is not None or groups > 1:
+        what = "a point" if groups > 1 else ("a whole number" if p.integer else "a choice")
+        raise StudyError(
+            f"{where} → scatter: {p.name!r} is {what}; a scatter is given to one quantity (a point: "
+            'give each coordinate a row of its own, e.g. path = "points.C.x")'
+        )
+    # the unit the file writes where it is SI already (N/m, not kg/s²): errors then speak the file's
+    si = p.unit if p.factor == 1.0 else str(ureg.Quantity(1.0, p.unit).to_base_units().units)
+    try:
+        variable = variable_from_dict(p.name, spec, si, nominal=p.base)
+    except ModelError as exc:
+        raise StudyError(f"{where} → scatter: {exc}") from None
+    return replace(p, scatter=variable)
 
 
 def _bound_problem(bound: Any, value: float, field: str) -> str | None:

@@ -7,7 +7,7 @@ built in Python with :class:`Study`. Every error names the study file and the fi
 
     [study]
     name = "press-support-influence"
-    kind = "oat"                     # oat, factorial, lhs, sobol, optimize, synthesis
+    kind = "oat"                     # oat, factorial, lhs, sobol, optimize, synthesis, tolerance
     model = "../press_on_support.toml"
     analysis = "support"
 
@@ -50,8 +50,9 @@ class _StudyTable(_Row):
     """The study's name in the results database; running a study of a stored name resumes it."""
     kind: str
     """``oat`` (one at a time), ``factorial``, ``lhs`` (Latin hypercube), ``sobol`` (Sobol indices),
-    ``optimize`` (Optuna) or ``synthesis`` (differential evolution to targets): the kinds registered in
-    :mod:`mechdyn.studies.kinds`."""
+    ``optimize`` (Optuna), ``synthesis`` (differential evolution to targets) or ``tolerance`` (the
+    parameters' scatter to each output's distribution and each limit's probability): the kinds
+    registered in :mod:`mechdyn.studies.kinds`."""
 
     @field_validator("kind")
     @classmethod
@@ -74,7 +75,7 @@ class _StudyTable(_Row):
         ge=1,
         le=10_000_000,
         description="lhs: variants; sobol: base samples N (N·(P+2) variants); optimize: trials; "
-        "synthesis: generations",
+        "synthesis: generations; tolerance: samples (a power of 2 for qmc)",
     )
     seed: int = Field(default=1, ge=0, le=2**32 - 1)
     """Seed of the samplers and optimizers (0 to 2³²−1), so that a study can be repeated."""
@@ -91,6 +92,9 @@ class _StudyTable(_Row):
     sampler: Literal["tpe", "random", "qmc"] = "tpe"
     """optimize (one objective): the global stage's sampler, Optuna's ``tpe`` (default), ``random`` or
     ``qmc`` (scrambled Sobol points); a constrained SLSQP polish of its best designs follows."""
+    method: Literal["qmc", "mc"] = "qmc"
+    """tolerance: how the scatter is sampled, ``qmc`` (randomized quasi-Monte Carlo: scrambled Sobol
+    points in up to 16 independent replicates, samples a power of 2) or ``mc`` (Monte Carlo)."""
     boxes: list[str] = Field(
         default_factory=list,
         description='one study per box: parameters with range = "box" take each ("±10 %", "±20 %")',
@@ -114,6 +118,12 @@ class _ParameterRow(_Row):
     ``["rubber shore 50", "rubber shore 70"]``; another mount file: ``["wedge_mount.toml"]``)."""
     tie: list[str] = Field(default_factory=list)
     """More paths that move with this parameter, each by the same factor from its own value."""
+    scatter: dict[str, Any] | None = None
+    """tolerance: how the value scatters, instead of a range or levels: ``{distribution =
+    "lognormal", median = "2 MN/m", cov = 0.15}``, ``{distribution = "uniform", low = ..., high =
+    ...}`` (also normal, triangular, levels; truncated by lower/upper), or a named tolerance class
+    ``{tolerance = "shore_a_5"}``, ``{tolerance = "band", plus_minus = "20 %"}``; the model's value
+    is the default median, mean or nominal (:func:`mechdyn.uncertainty.variable_from_dict`)."""
 
 
 class _OutputRow(_Row):
@@ -121,6 +131,10 @@ class _OutputRow(_Row):
     """A summary key of the analysis, nested with dots (``joint_force_peak_N.F``)."""
     unit: str = ""
     """Display unit of the output (default: SI)."""
+    limit: str | float | None = None
+    """tolerance: the limit whose exceedance probability is wanted, with its unit (``"25 um/s"``)."""
+    side: Literal["above", "below"] = "above"
+    """tolerance: the failure is the output ``above`` the limit (default) or ``below`` it."""
 
 
 class _GoalRow(_Row):
@@ -166,7 +180,7 @@ class Study:
     ----------
     name : str
         Its name in the results database (running a study of a stored name resumes it).
-    kind : {"oat", "factorial", "lhs", "sobol", "optimize", "synthesis"}
+    kind : {"oat", "factorial", "lhs", "sobol", "optimize", "synthesis", "tolerance"}
     source : ModelSource
         The base model file.
     analysis : str
@@ -202,6 +216,10 @@ class Study:
         Parameter rows (SI) an optimization tries first (e.g. the optimum of a smaller box).
     family : str
         The file's study name when the file holds one study per box ("" otherwise).
+    method : {"qmc", "mc"}
+        ``tolerance``: how the scatter is sampled (see the study file's ``method``).
+    limits : tuple of mechdyn.uncertainty.Limit
+        ``tolerance``: the outputs' limits (SI), whose exceedance probabilities are wanted.
     """
 
     name: str
@@ -225,6 +243,8 @@ class Study:
     path: str = ""
     start: tuple[tuple[float, ...], ...] = ()
     family: str = ""
+    method: str = "qmc"
+    limits: tuple[Any, ...] = ()
 
     def starting_from(self, rows: Any) -> Study:
         """The same study, asked to evaluate these parameter rows (SI) first (an optimizer's start).
@@ -324,6 +344,14 @@ def _quantity(w: Watched, value: Any, what: str, where: str) -> float | None:
         raise StudyError(
             f"{where}: {what} {value!r} of {w.key!r} needs a quantity in {w.unit or 'no unit'}: {exc}"
         ) from None
+
+
+def _limit(w: Watched, row: _OutputRow, where: str) -> Any:
+    """An output row's limit (``tolerance``) as a :class:`mechdyn.uncertainty.Limit`, SI."""
+    from mechdyn.uncertainty import Limit
+
+    value = _quantity(w, row.limit, "limit", where)
+    return Limit(w.key, float(value), row.side) if value is not None else None
 
 
 def _constraint(analysis: Any, row: _ConstraintRow, where: str, target: bool = False) -> Constraint:
@@ -485,6 +513,7 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
                 tie=row.tie,
                 name=row.name,
                 where=where,
+                scatter=row.scatter,
             )
         except PathError as exc:
             raise StudyError(f"{where}: {exc}") from None
@@ -521,6 +550,11 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
         _watched(analysis, o.output, o.unit, f"{src_path}: [[outputs]] #{i + 1}")
         for i, o in enumerate(f.outputs)
     )
+    limits = tuple(
+        _limit(w, o, f"{src_path}: [[outputs]] #{i + 1}")
+        for i, (w, o) in enumerate(zip(outputs, f.outputs, strict=True))
+        if o.limit is not None
+    )
     objectives = tuple(
         Objective(_watched(analysis, o.output, o.unit, f"{src_path}: [[objectives]] #{i + 1}"), o.goal)
         for i, o in enumerate(f.objectives)
@@ -551,6 +585,8 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
         s.sampler,
         dict(data),
         src_path,
+        method=s.method,
+        limits=limits,
     )
     check(study)
     return study

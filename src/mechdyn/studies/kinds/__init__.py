@@ -11,6 +11,8 @@ lhs        Latin hypercube over the ranges   output ranges, rank correlations, t
 sobol      Saltelli's sampling               first- and total-order indices with 95 % intervals
 optimize   Optuna, then an SLSQP polish      the optimum and its proof, or the Pareto front
 synthesis  differential evolution, polish    the fit, a verdict and margin per target
+tolerance  each parameter's scatter sampled  each output's distribution, each limit's probability
+           (Monte Carlo or quasi-MC)         (with intervals), the tolerances ranked
 ========== ================================= =====================================================
 """
 
@@ -20,5 +22,18 @@ from mechdyn.studies.kinds import sweeps
 from mechdyn.studies.kinds import sobol
 from mechdyn.studies.kinds import optimize
 from mechdyn.studies.kinds import synthesis
+from mechdyn.studies.kinds import tolerance
 
-__all__ = ["KINDS", "Found", "Kind", "Ran", "kind", "optimize", "register", "sobol", "sweeps", "synthesis"]
+__all__ = [
+    "KINDS",
+    "Found",
+    "Kind",
+    "Ran",
+    "kind",
+    "optimize",
+    "register",
+    "sobol",
+    "sweeps",
+    "synthesis",
+    "tolerance",
+]
