@@ -158,6 +158,7 @@ def test_an_entry_heavier_than_the_bound_is_not_kept_and_a_filled_in_one_is_weig
 # -- the dashboard's caches ---------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # six real studies through every cache (over 10 s): CI's heavy step
 def test_every_cache_stays_within_its_bounds_after_three_times_as_many_studies_and_variants(database):
     from mechdyn.dashboard.app import create_app
 
@@ -190,6 +191,7 @@ def test_every_cache_stays_within_its_bounds_after_three_times_as_many_studies_a
         _assert_within(app)
 
 
+@pytest.mark.slow  # findings with pictures, computed twice (over 10 s): CI's heavy step
 def test_pictures_and_curves_are_kept_within_their_bytes(database):
     from mechdyn.dashboard.app import create_app
 

@@ -208,6 +208,7 @@ def _brute_force(system: GearSystem, speed: float, load: float, periods: int) ->
     return np.array(out)
 
 
+@pytest.mark.slow  # an integration until the transient dies (over 10 s): CI's heavy step
 @pytest.mark.parametrize("fraction", [1.1])
 def test_steady_state_is_reached_by_time_integration(fraction):
     """Above the mesh resonance (ζ ≈ 0.2): 20 decay times of plain integration reach the

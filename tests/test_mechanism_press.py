@@ -81,6 +81,7 @@ def test_closed_form_dyads_agree_with_the_engine(press, press_result):
         np.testing.assert_allclose(k.point(body, point)[0], closed[point], atol=1e-8)
 
 
+@pytest.mark.slow  # a synthesis study (over 10 s): CI's heavy step
 def test_the_synthesis_study_keeps_its_limits_and_nears_the_signature(tmp_path):
     """The quick form of examples/studies/press_synthesis.toml: a fit that keeps the connecting rod
     within 15° of the slide's axis and the guide within 300 mm of the crank, and reaches the published

@@ -561,6 +561,7 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
+@pytest.mark.slow  # a real Dask cluster started (over 10 s): CI's heavy step
 def test_a_study_on_a_real_dask_scheduler_equals_the_in_process_run(tmp_path):
     path = write_study(tmp_path, KILL_STUDY.replace("samples = 400", "samples = 60"))
     port = _free_port()
@@ -718,6 +719,7 @@ def test_the_sobol_study_of_press_a_in_its_quick_form(tmp_path, capsys):
     assert stroke[slide]["ST"] == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.slow  # every variant checks its pitch curves (over 10 s): CI's heavy step
 def test_the_rp1_sensitivity_against_the_published_directions(tmp_path):
     """SPEC §6: larger ε raises the gear and arm forces, the torque and the shaking force; smaller R
     raises the gear forces and lowers the torque; L changes no force. (Smaller |α|: published as
