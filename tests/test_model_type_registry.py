@@ -27,7 +27,7 @@ from conftest import EXAMPLES, ROOT
 from mechdyn import registry
 from mechdyn.errors import MechdynError, ModelFileError, ModelWarning
 from mechdyn.io.modelfile import file_types, read_toml, schema_of, validate
-from mechdyn.registry import ModelType, model_types, register_model_type, resolve
+from mechdyn.registry import ModelType, extend_model_type, model_types, register_model_type, resolve
 
 CAPABILITY_PACKAGES = ("drivetrain", "mechanism", "support", "gears", "mounts", "studies")
 TYPES = model_types()
@@ -107,7 +107,7 @@ def test_a_study_file_is_not_a_model_file_and_the_error_lists_the_model_types(tm
 
 def test_the_drivetrain_settings_come_from_its_registration():
     kind = TYPES["drivetrain"]
-    assert kind.settings == "mechdyn.drivetrain.schema:settings" and kind.model_attribute is None
+    assert kind.settings == "mechdyn.gear_dynamics.file:settings" and kind.model_attribute is None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
         loaded = mechdyn.load(EXAMPLES / "turret_milling.toml")
@@ -134,6 +134,28 @@ def test_a_second_type_of_a_registered_name_is_refused():
     assert register_model_type(drivetrain) is drivetrain  # the same again: nothing happens
     with pytest.raises(ValueError, match="'drivetrain' is already registered"):
         register_model_type(ModelType("drivetrain", "elsewhere:build"))
+
+
+def test_the_gear_dynamics_wing_extends_the_drivetrain_file_type():
+    from mechdyn.drivetrain.schema import DrivetrainFile as Base
+    from mechdyn.gear_dynamics.file import DrivetrainFile
+    from mechdyn.io.modelfile import schema_of
+
+    drivetrain = TYPES["drivetrain"]
+    assert drivetrain.schema == "mechdyn.gear_dynamics.file:DrivetrainFile"
+    assert drivetrain.builder == "mechdyn.drivetrain.schema:build"  # the drivetrain wing's own
+    assert schema_of("drivetrain") is DrivetrainFile and issubclass(DrivetrainFile, Base)
+    assert {"motor", "loads", "simulation", "speed_sweep"} <= set(DrivetrainFile.model_fields) - set(
+        Base.model_fields
+    )
+    # extending again alike does nothing; otherwise, or an unknown type, is refused
+    assert (
+        extend_model_type("drivetrain", schema=drivetrain.schema, settings=drivetrain.settings) == drivetrain
+    )
+    with pytest.raises(ValueError, match="'drivetrain' is extended already"):
+        extend_model_type("drivetrain", schema="elsewhere:File")
+    with pytest.raises(ValueError, match="'gearbox' is not registered"):
+        extend_model_type("gearbox", schema="elsewhere:File")
 
 
 def test_a_bad_reference_names_itself():
@@ -191,6 +213,7 @@ def own_registry(monkeypatch):
     that none registers into the copy and is lost)."""
     model_types()
     monkeypatch.setattr(registry, "_MODEL_TYPES", dict(registry._MODEL_TYPES))
+    monkeypatch.setattr(registry, "_REGISTERED", dict(registry._REGISTERED))
     monkeypatch.setattr(save_module, "_EXTRA_WRITERS", dict(save_module._EXTRA_WRITERS))
 
 

@@ -74,7 +74,7 @@ def _write(tmp_path, text):
 
 def test_the_good_file_loads(tmp_path):
     from mechdyn.drivetrain.response import RayleighDamping
-    from mechdyn.drivetrain.schema import settings
+    from mechdyn.gear_dynamics.file import settings
     from mechdyn.io import read
 
     path = _write(tmp_path, GOOD)
@@ -226,7 +226,7 @@ def test_published_turret_ratios_warn(tmp_path):
 
 
 def test_response_settings_are_checked_against_the_disks(tmp_path):
-    from mechdyn.drivetrain.schema import settings
+    from mechdyn.gear_dynamics.file import settings
     from mechdyn.io import read
 
     path = _write(tmp_path, GOOD.replace('excitation = [{ disk = "motor"', 'excitation = [{ disk = "motr"'))

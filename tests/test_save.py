@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 import mechdyn
 from conftest import EXAMPLES
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, GroundDamper, GroundSpring, Shaft
-from mechdyn.drivetrain.schema import DrivetrainSettings
+from mechdyn.gear_dynamics.file import DrivetrainTimeSettings
 from mechdyn.errors import MechdynError, ModelWarning
 from mechdyn.gears import GearPair, SpurGear
 from mechdyn.mechanism import (
@@ -175,7 +175,7 @@ def test_a_drivetrain_built_in_python_comes_back_equal(tmp_path):
     model = _gearbox()
     again = round_trip(model, tmp_path)
     assert again.type == "drivetrain" and again.model == model
-    assert again.settings == DrivetrainSettings()  # no analysis tables
+    assert again.settings == DrivetrainTimeSettings()  # no analysis tables
     text = (tmp_path / "saved.toml").read_text()
     assert 'inertia = "0.0040369 kg*m^2"' in text and 'kind = "internal"' in text
     assert "[[ground_dampers]]" in text and "ratio = 2.5" in text

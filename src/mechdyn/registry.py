@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 from mechdyn.errors import MechdynError
@@ -34,6 +34,7 @@ __all__ = [
     "Option",
     "Output",
     "analyses",
+    "extend_model_type",
     "get",
     "model_types",
     "register",
@@ -402,15 +403,16 @@ class ModelType:
         return self.builder is not None
 
 
-_MODEL_TYPES: dict[str, ModelType] = {}
+_MODEL_TYPES: dict[str, ModelType] = {}  # as extended (what files of the type are read with)
+_REGISTERED: dict[str, ModelType] = {}  # as their capability registered them
 
 
 def register_model_type(model_type: ModelType) -> ModelType:
     """Add a model-file type to the registry; returns it.
 
     A capability calls this in its ``analyses`` module, next to its analyses' :func:`register`.
-    Registering the same record again does nothing; another record under a registered name is an
-    error.
+    Registering the same record again (or the type as extended) does nothing; another record under a
+    registered name is an error.
 
     Parameters
     ----------
@@ -422,11 +424,52 @@ def register_model_type(model_type: ModelType) -> ModelType:
     ValueError
         When another type of that name is registered.
     """
-    existing = _MODEL_TYPES.get(model_type.name)
-    if existing is not None and existing != model_type:
+    existing = _REGISTERED.get(model_type.name)
+    if existing is not None and model_type not in (existing, _MODEL_TYPES[model_type.name]):
         raise ValueError(f"a model type named {model_type.name!r} is already registered")
-    _MODEL_TYPES[model_type.name] = model_type
+    if existing is None:
+        _REGISTERED[model_type.name] = model_type
+    _MODEL_TYPES.setdefault(model_type.name, model_type)
     return model_type
+
+
+def extend_model_type(name: str, *, schema: str | None = None, settings: str | None = None) -> ModelType:
+    """Let another capability add tables to a registered file type; returns the extended type.
+
+    The gear-dynamics wing adds a drivetrain file's time tables this way, so that the drivetrain
+    wing knows nothing of them: ``schema`` is a subclass of the type's schema that validates the
+    whole file (the builder validates with :func:`mechdyn.io.modelfile.schema_of`, which answers the
+    extended one), and ``settings`` reads the type's own settings and adds what the new tables say.
+    Extending again with the same references does nothing.
+
+    Parameters
+    ----------
+    name : str
+        A registered model type (``"drivetrain"``); the capability that registers it must be
+        imported first.
+    schema, settings : str, optional
+        ``"module:name"`` references that replace the type's (None: keep it).
+
+    Raises
+    ------
+    ValueError
+        For a type not registered, or one extended already with other references.
+    """
+    base = _REGISTERED.get(name)
+    if base is None:
+        raise ValueError(
+            f"model type {name!r} is not registered; import the capability that registers it first"
+        )
+    extended = replace(
+        base,
+        schema=schema if schema is not None else base.schema,
+        settings=settings if settings is not None else base.settings,
+    )
+    current = _MODEL_TYPES[name]
+    if current != base and current != extended:
+        raise ValueError(f"model type {name!r} is extended already ({current.schema}, {current.settings})")
+    _MODEL_TYPES[name] = extended
+    return extended
 
 
 def model_types() -> Mapping[str, ModelType]:

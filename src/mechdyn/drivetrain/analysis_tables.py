@@ -3,8 +3,8 @@ from a file's analysis tables (:class:`DrivetrainSettings`, :attr:`mechdyn.io.Lo
 
 The tables are part of the drivetrain file's schema (:class:`mechdyn.drivetrain.schema.DrivetrainFile`),
 which :func:`mechdyn.drivetrain.schema.settings` reads into these settings; the time-simulation tables
-(``[motor]``, ``[[loads]]``, ``[simulation]``, ``[speed_sweep]``) are those of
-:mod:`mechdyn.gear_dynamics.schema`. Every dimensional value carries its unit.
+(``[motor]``, ``[[loads]]``, ``[simulation]``, ``[speed_sweep]``) are added to the file type by the
+gear-dynamics wing (:mod:`mechdyn.gear_dynamics.file`). Every dimensional value carries its unit.
 """
 
 from __future__ import annotations
@@ -17,7 +17,6 @@ from typing import Annotated, Any
 from pydantic import Field, model_validator
 
 from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
-from mechdyn.gear_dynamics.schema import DynamicsSettings, SpeedSweepTable
 from mechdyn.io.fields import Angle, AngularSpeed, FileModel, Frequency, PerSecond, Time, Torque
 
 __all__ = [
@@ -109,7 +108,8 @@ class ResponseSettings:
 
 @dataclass(frozen=True)
 class DrivetrainSettings:
-    """The analysis tables of a drivetrain file (:attr:`mechdyn.io.LoadedModel.settings`).
+    """The analysis tables of a drivetrain file (a loaded file's settings are
+    :class:`mechdyn.gear_dynamics.file.DrivetrainTimeSettings`, which adds the time tables).
 
     Attributes
     ----------
@@ -117,10 +117,6 @@ class DrivetrainSettings:
         ``[campbell]``.
     response : ResponseSettings or None
         ``[response]``.
-    dynamics : DynamicsSettings or None
-        The mesh dynamics, ``[motor]``, ``[[loads]]`` and ``[simulation]`` (None when the file has none).
-    speed_sweep : SpeedSweepTable or None
-        ``[speed_sweep]`` (SI values).
     gear_pairs : dict of str to GearPair
         The gear data of each mesh given by a ``gear_pair``, by mesh name (for ISO 6336-1's K_v); read
         from the model's gear data, not an analysis table, so not compared (a saved file gives its
@@ -129,8 +125,6 @@ class DrivetrainSettings:
 
     campbell: CampbellSettings | None = None
     response: ResponseSettings | None = None
-    dynamics: DynamicsSettings | None = None
-    speed_sweep: SpeedSweepTable | None = None
     gear_pairs: dict[str, Any] = dataclass_field(default_factory=dict, compare=False)
 
 

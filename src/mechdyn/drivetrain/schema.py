@@ -3,17 +3,18 @@
 A file has ``[model] type = "drivetrain"``, an optional ``[material]`` with defaults for elements
 given by geometry, arrays of tables ``[[disks]]``, ``[[shafts]]``, ``[[meshes]]``, ``[[gear_pairs]]``,
 ``[[ground_springs]]``, ``[[ground_dampers]]``, and optional ``[campbell]`` and ``[response]``
-tables for those analyses (:mod:`mechdyn.drivetrain.analysis_tables`). A time simulation (``mechdyn
-simulate``) reads each mesh's ``backlash``, ``transmission_error`` and ``stiffness_variation``, a
-``[motor]`` on a disk, ``[[loads]]`` and ``[simulation]``; a speed sweep (``mechdyn speed-sweep``)
-reads ``[speed_sweep]``: those tables are :mod:`mechdyn.gear_dynamics.schema`'s. Every dimensional
-value carries its unit. See ``examples/``.
+tables for those analyses (:mod:`mechdyn.drivetrain.analysis_tables`). The gear-dynamics wing adds
+each mesh's ``backlash``, ``transmission_error``, ``stiffness_variation`` and ``phase`` and the
+``[motor]``, ``[[loads]]``, ``[simulation]`` and ``[speed_sweep]`` tables of ``mechdyn simulate`` and
+``mechdyn speed-sweep`` (:mod:`mechdyn.gear_dynamics.file`, registered with
+:func:`mechdyn.registry.extend_model_type`): :func:`build` validates the whole file with the schema
+as extended. Every dimensional value carries its unit. See ``examples/``.
 """
 
 from __future__ import annotations
 
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Annotated, Any, Literal
 
@@ -39,18 +40,6 @@ from mechdyn.drivetrain.elements import (
 )
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelFileError, ModelWarning
-from mechdyn.gear_dynamics.schema import (
-    DynamicsSettings,
-    LoadTable,
-    MeshDynamics,
-    MeshDynamicsRow,
-    MotorTable,
-    SimulationTable,
-    SpeedSweepTable,
-    StiffnessVariation,
-    dynamics_settings,
-)
-from mechdyn.gear_dynamics.schema import motor_file as motor_file  # its former home
 from mechdyn.gears.schema import GearTable, pair_from_tables
 from mechdyn.gears.schema import MaterialTable as GearMaterialTable
 from mechdyn.io.fields import (
@@ -67,18 +56,17 @@ from mechdyn.io.fields import (
     TorsionalDamping,
     TorsionalStiffness,
 )
-from mechdyn.io.modelfile import ModelSource, field_context, validate
+from mechdyn.io.modelfile import ModelSource, field_context, schema_of, validate
 from mechdyn.units import show
 
 __all__ = [
     "CampbellSettings",
     "DrivetrainFile",
     "DrivetrainSettings",
-    "DynamicsSettings",
-    "MeshDynamics",
+    "MeshTable",
     "ResponseSettings",
-    "SpeedSweepTable",
     "build",
+    "disk_check",
     "settings",
 ]
 
@@ -201,21 +189,6 @@ class MeshTable(FileModel):
     gear_pair: str | None = None
     """The name of a ``[[gear_pairs]]`` row: the mesh then takes its teeth, base radii and mean mesh stiffness
     (over a mesh cycle) from that gear data."""
-    backlash: Length | None = Field(default=None, gt=0.0)
-    """Total backlash along the line of action, for ``mechdyn simulate``: the teeth separate and may hit
-    the back flanks (default: none, the teeth always in contact)."""
-    transmission_error: Length = Field(default=0.0, ge=0.0)
-    """Amplitude of the static transmission error, a sine at the mesh frequency, for ``mechdyn simulate``
-    (needs the teeth)."""
-    stiffness_variation: StiffnessVariation = "constant"
-    """How the mesh stiffness varies over the mesh cycle in ``mechdyn simulate``: ``"constant"`` (the
-    mean), ``"gears"`` (the cycle of the ``gear_pair``'s teeth), or a rectangular wave
-    ``{ fluctuation = 0.3, contact_ratio = 1.6 }`` (needs the teeth). Modal analyses use the mean."""
-    phase: Dimensionless = Field(default=0.0, ge=-1.0, le=1.0)
-    """The mesh's clocking against the others, in mesh cycles: how far its stiffness cycle and
-    transmission error stand ahead when the first disk's angle is 0 (0.25: a quarter of a base pitch;
-    an angle α of the first gear is z_a · α / 360°). Rounded to the cycle's samples (1/360 cycle for a
-    rectangular wave); it matters with a stiffness_variation or a transmission_error."""
 
     @model_validator(mode="after")
     def _one_source(self) -> MeshTable:
@@ -229,12 +202,6 @@ class MeshTable(FileModel):
             raise ValueError(
                 f"gear_pair {self.gear_pair!r} sets teeth, base radii and stiffness; "
                 f"remove {', '.join(given)}"
-            )
-        if self.stiffness_variation == "gears" and self.gear_pair is None:
-            raise ValueError(
-                'stiffness_variation = "gears" takes the mesh cycle of a gear pair; give gear_pair = the '
-                "name of a [[gear_pairs]] row, or stiffness_variation = { fluctuation = 0.3, "
-                "contact_ratio = 1.6 }"
             )
         return self
 
@@ -290,14 +257,15 @@ class DrivetrainFile(FileModel):
     ground_dampers: list[GroundDamperTable] = Field(default_factory=list)
     campbell: CampbellTable | None = None
     response: ResponseTable | None = None
-    motor: MotorTable | None = None
-    """A motor on a disk, for ``mechdyn simulate``."""
-    loads: list[LoadTable] = Field(default_factory=list)
-    """Torques on disks over time, for ``mechdyn simulate``."""
-    simulation: SimulationTable | None = None
-    """The time simulation of ``mechdyn simulate``: duration, initial speed, integrator."""
-    speed_sweep: SpeedSweepTable | None = None
-    """The periodic steady state over speed of ``mechdyn speed-sweep``: speed range, points, reference."""
+
+
+class _MeshPairRow(FileModel):
+    """A ``[[meshes]]`` row's name and gear pair (the whole row was validated by :func:`build`)."""
+
+    model_config = ConfigDict(extra="ignore", frozen=True)
+
+    name: str
+    gear_pair: str | None = None
 
 
 class _AnalysisTables(FileModel):
@@ -307,13 +275,9 @@ class _AnalysisTables(FileModel):
 
     campbell: CampbellTable | None = None
     response: ResponseTable | None = None
-    meshes: list[MeshDynamicsRow] = Field(default_factory=list)
+    meshes: list[_MeshPairRow] = Field(default_factory=list)
     gear_pairs: list[GearPairTable] = Field(default_factory=list)
     gear_material: GearMaterialTable = GearMaterialTable()
-    motor: MotorTable | None = None
-    loads: list[LoadTable] = Field(default_factory=list)
-    simulation: SimulationTable | None = None
-    speed_sweep: SpeedSweepTable | None = None
 
 
 def _where(table: str, i: int, name: str) -> str:
@@ -362,8 +326,12 @@ def _check_names(source: ModelSource, f: DrivetrainFile) -> None:
 
 
 def build(source: ModelSource) -> Drivetrain:
-    """Build the :class:`Drivetrain` described by a parsed model file."""
-    f = validate(DrivetrainFile, source)
+    """Build the :class:`Drivetrain` described by a parsed model file, the whole file validated with
+    the drivetrain type's schema as registered (with the tables other wings add)."""
+    schema = schema_of("drivetrain")
+    if not issubclass(schema, DrivetrainFile):  # an extension subclasses the drivetrain's schema
+        raise TypeError(f"the drivetrain file type's schema {schema.__name__} is not a DrivetrainFile")
+    f = validate(schema, source)
     _check_names(source, f)
     mat = f.material
     disks: list[Disk] = []
@@ -486,9 +454,9 @@ def _mm(length_m: Any) -> str:
     return show(float(length_m), "m", "mm", ".5g")
 
 
-def settings(source: ModelSource, drivetrain: Drivetrain) -> DrivetrainSettings:
-    """Read the optional analysis tables of a drivetrain file, checking disk and mesh names."""
-    f = validate(_AnalysisTables, source)
+def disk_check(source: ModelSource, drivetrain: Drivetrain) -> Callable[[str, str | None], None]:
+    """``check(where, disk)``: raises a :class:`~mechdyn.errors.ModelFileError` at ``where`` in the
+    file when ``disk`` (a name, or None for none) is not a disk of ``drivetrain``."""
     known = drivetrain.disk_names
 
     def check(where: str, disk: str | None) -> None:
@@ -497,13 +465,17 @@ def settings(source: ModelSource, drivetrain: Drivetrain) -> DrivetrainSettings:
                 source.path, where, f"{disk!r} is not a disk; defined disks: {', '.join(known)}", disk
             )
 
+    return check
+
+
+def settings(source: ModelSource, drivetrain: Drivetrain) -> DrivetrainSettings:
+    """Read the ``[campbell]`` and ``[response]`` tables of a drivetrain file and each mesh's gear pair,
+    checking disk and mesh names."""
+    f = validate(_AnalysisTables, source)
+    check = disk_check(source, drivetrain)
     camp = campbell_settings(f.campbell, check) if f.campbell is not None else None
     resp = response_settings(f.response, check) if f.response is not None else None
-    if f.speed_sweep is not None:
-        check("[speed_sweep] → reference", f.speed_sweep.reference)
-    pairs = _mesh_gear_pairs(source, f)
-    dynamics = dynamics_settings(source, f, drivetrain, check, pairs)
-    return DrivetrainSettings(camp, resp, dynamics, f.speed_sweep, pairs)
+    return DrivetrainSettings(camp, resp, _mesh_gear_pairs(source, f))
 
 
 def _mesh_gear_pairs(source: ModelSource, f: _AnalysisTables) -> dict[str, Any]:

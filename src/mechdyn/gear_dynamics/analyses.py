@@ -4,17 +4,26 @@ The analysis runs on a ``type = "drivetrain"`` file: each mesh's ``backlash``, `
 ``stiffness_variation`` build the :class:`~mechdyn.gear_dynamics.GearSystem` (one builder,
 :func:`_system`); the ``[motor]`` and the ``[[loads]]`` are its torque inputs; ``[simulation]`` and
 ``[speed_sweep]`` give the defaults of the options. The model type itself is registered by
-:mod:`mechdyn.drivetrain.analyses`.
+:mod:`mechdyn.drivetrain.analyses`; this wing extends it with those tables
+(:mod:`mechdyn.gear_dynamics.file`).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+import mechdyn.drivetrain.analyses  # noqa: F401 - registers the drivetrain file type this wing extends
 from mechdyn.errors import MechdynError, ModelFileError
-from mechdyn.registry import Analysis, Option, Output, register
+from mechdyn.registry import Analysis, Option, Output, extend_model_type, register
 
 __all__: list[str] = []
+
+# a drivetrain file's meshes carry their dynamics and the file its time tables
+extend_model_type(
+    "drivetrain",
+    schema="mechdyn.gear_dynamics.file:DrivetrainFile",
+    settings="mechdyn.gear_dynamics.file:settings",
+)
 
 _METHODS = ("LSODA", "Radau", "BDF", "DOP853", "RK45", "RK23")
 

@@ -4,9 +4,9 @@
 and ``phase`` (:class:`MeshDynamicsRow`), a ``[motor]`` on a disk (:class:`MotorTable`, or another
 file's through :func:`motor_file`), ``[[loads]]`` (:class:`LoadTable`) and ``[simulation]``
 (:class:`SimulationTable`); ``mechdyn speed-sweep`` reads ``[speed_sweep]`` (:class:`SpeedSweepTable`).
-The drivetrain file's schema (:mod:`mechdyn.drivetrain.schema`) holds these tables beside its
-elements; :func:`dynamics_settings` turns them into the :class:`DynamicsSettings` that
-:meth:`GearSystem.from_drivetrain <mechdyn.gear_dynamics.GearSystem.from_drivetrain>` and the torque
+The drivetrain file type holds these tables beside its elements (:mod:`mechdyn.gear_dynamics.file`
+extends :mod:`mechdyn.drivetrain.schema` with them); :func:`dynamics_settings` turns them into the
+:class:`DynamicsSettings` that :meth:`GearSystem.from_drivetrain <mechdyn.gear_dynamics.GearSystem.from_drivetrain>` and the torque
 inputs of :mod:`mechdyn.gear_dynamics.loads` take. Every dimensional value carries its unit.
 """
 
