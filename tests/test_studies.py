@@ -630,13 +630,13 @@ def test_the_study_command_prints_json_and_lists_exports_and_compares(tmp_path, 
     ids = [str(listed[0]["id"]), str(listed[3]["id"])]
     assert main(["results", "compare", *ids, "--db", db, "--plots", str(tmp_path / "c")]) == 0
     out = capsys.readouterr().out
-    assert "variants side by side" in out and "transmitted_force_range_N" in out
+    assert "variants side by side" in out and "transmitted force range [tonf]" in out
     assert list((tmp_path / "c").glob("compare_*.png"))
     # after the run, the tables show the outputs in the units the study file asked for (JSON stays SI)
     from mechdyn.units import convert
 
     force = convert(listed[0]["outputs"]["transmitted_force_range_N"], "N", "tonf")
-    row = re.compile(r"transmitted_force_range_N\s+tonf\s+" + f"{force:.3f}")
+    row = re.compile(r"transmitted force range \[tonf\]\s+" + f"{force:.3f}")
     assert row.search(out), out
     assert main(["results", "list", "--study", "press-support-influence", "--db", db]) == 0
     out = capsys.readouterr().out

@@ -277,6 +277,7 @@ QUICK_STUDIES: dict[str, dict] = {
     "press_support_tolerance.toml": {"samples": 4},
     "rp1_sensitivity.toml": {"options": {"angles": 36}},
     "turret_mesh_clocking.toml": {"options": {"points": 4}},
+    "turret_kv_tolerance.toml": {"samples": 4, "small_probability": "off", "options": {"points": 4}},
 }
 NUMBER = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:e[+-]\d+)?")
 COUNTS = re.compile(r"^\s*(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s*$")
@@ -450,3 +451,34 @@ def test_a_stored_study_s_variants_list_in_words_with_three_significant_digits(t
     short = [x for x in NUMBER.findall(printed) if ("." in x or "e" in x) and _significant(x) < 3]
     assert not short, printed
     assert "_m " not in printed and "_N" not in printed, printed
+
+
+def _short_numbers(printed: str) -> list[str]:
+    """Numbers printed with a decimal point or exponent but fewer than three significant digits."""
+    return [x for x in NUMBER.findall(printed) if ("." in x or "e" in x) and _significant(x) < 3]
+
+
+def test_the_results_commands_print_in_words_with_three_significant_digits(tmp_path, capsys):
+    """``mechdyn results compare`` (variants side by side), ``results show`` (one stored run) and
+    ``results studies``: outputs named in words with their unit, each number on its own."""
+    from mechdyn.cli.main import main
+
+    path, db = _quick_file("press_support_influence.toml", tmp_path), str(tmp_path / "r.db")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert main(["study", path, "--db", db]) == 0
+        assert main(["modal", str(EXAMPLES / "turret_milling.toml"), "--db", db]) == 0
+    capsys.readouterr()
+    assert main(["results", "compare", "1", "2", "3", "--db", db]) == 0
+    compared = capsys.readouterr().out
+    assert "transmitted force range [tonf]" in compared and "displacement max [mm]" in compared, compared
+    assert "4.05e+08 N/m" in compared and "4.5e+08" not in compared, compared  # the given values, 3 digits
+    assert main(["results", "show", "1", "--db", db]) == 0
+    shown = capsys.readouterr().out.split("\n", 1)[1]  # after the header (the package's version)
+    assert "frequencies [Hz]" in shown and "modes 1 · frequency [Hz]" in shown, shown
+    assert re.search(r"frequencies \[Hz\]\s+1101\.3, 2710\.0, 6033\.2", shown), shown
+    assert main(["results", "studies", "--db", db]) == 0
+    studies = capsys.readouterr().out
+    for printed in (compared, shown, studies):
+        assert not _short_numbers(printed), printed
+        assert not re.search(r"\b[a-z]+_(?:m|N|hz|Hz|s)\b", printed), printed  # no raw output key

@@ -54,6 +54,7 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _show(args: argparse.Namespace) -> int:
+    from mechdyn.numbers import is_number, number_text
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
 
@@ -74,27 +75,36 @@ def _show(args: argparse.Namespace) -> int:
     print("parameters: " + json.dumps(jsonable(r.parameters)))
     rows: list[list[object]] = []
 
-    def add(key: str, value: object) -> None:  # every value in full, nested tables one row each
+    def add(key: str, value: object) -> None:  # nested tables one row each, named in words with the unit
         if isinstance(value, dict):
             for k, v in value.items():
-                add(f"{key} · {k}", v)
+                add(f"{key}.{k}", v)
         elif isinstance(value, list) and any(isinstance(v, (dict, list)) for v in value):
             for i, v in enumerate(value, start=1):
-                add(f"{key} #{i}", v)
+                add(f"{key}.{i}", v)
         elif isinstance(value, list):
-            rows.append([key, ", ".join(json.dumps(jsonable(v)) for v in value)])
+            rows.append([_heading(key, {}), ", ".join(_text(v) for v in value)])
         else:
             plain = isinstance(value, (int, float, str)) or value is None
-            rows.append([key, value if plain else json.dumps(jsonable(value))])
+            rows.append([_heading(key, {}), value if plain else json.dumps(jsonable(value))])
+
+    def _text(v: object) -> str:
+        return number_text(v) if is_number(v) else json.dumps(jsonable(v))
 
     for k, v in r.scalars.items():
         add(k, v)
-    print_table(Table("results", ["key", "value"], rows), max_rows=len(rows) + 1)
+    print_table(
+        Table("results (SI; every digit with --json)", ["", "value"], rows, per_value=True),
+        max_rows=len(rows) + 1,
+    )
     print_table(
         Table(
-            "arrays",
-            ["name", "shape", "dtype", "unit"],
-            [[k, "×".join(map(str, a.shape)), str(a.dtype), u] for k, (a, u) in r.arrays.items()],
+            "arrays (in Python: ResultStore(db).get(id).arrays)",
+            ["", "shape", "dtype"],
+            [
+                [_array_heading(k, u), "×".join(map(str, a.shape)), str(a.dtype)]
+                for k, (a, u) in r.arrays.items()
+            ],
         )
     )
     if args.model:
@@ -116,13 +126,28 @@ def _given_text(text: Any) -> Any:
         return text
 
 
+def _heading(key: str, shown: dict[str, Any]) -> str:
+    """An output's heading in words with its unit: as its study shows it, else its key in words, SI."""
+    from mechdyn.studies.outputs import Watched
+    from mechdyn.units import key_unit
+
+    if key in shown:
+        return str(shown[key].label)
+    unit = next((u for part in key.split(".") if (u := key_unit(part))), "")
+    return str(Watched(key, unit, "").label)
+
+
+def _array_heading(key: str, unit: str) -> str:
+    """A stored array's name in words with the unit it is stored in."""
+    heading = _heading(key, {})
+    return heading if "[" in heading or not unit else f"{heading} [{unit}]"
+
+
 def _list_study(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
-    from mechdyn.studies.outputs import Watched
     from mechdyn.studies.run import display_units
     from mechdyn.studies.storage import StudyStore
-    from mechdyn.units import key_unit
 
     with ResultStore(args.db, read_only=True) as store:
         studies = StudyStore(store)
@@ -145,15 +170,10 @@ def _list_study(args: argparse.Namespace) -> int:
         for v in variants
     ]
     where = "outputs in the study's units" if shown else "outputs in SI"
-
-    def words(key: str) -> str:  # an output the study file does not show: its key in words, SI
-        unit = next((u for part in key.split(".") if (u := key_unit(part))), "")
-        return Watched(key, unit, "").label
-
     print_table(
         Table(
             f"study {st.name!r} ({st.kind} of {st.analysis}, {len(variants)} variants; {where})",
-            ["id", "status", *names, *(shown[o].label if o in shown else words(o) for o in outs), "error"],
+            ["id", "status", *names, *(_heading(o, shown) for o in outs), "error"],
             rows,
             per_value=True,  # each number on its own: a study's outputs spread over decades
         )
@@ -167,7 +187,6 @@ def _compare(args: argparse.Namespace) -> int:
     from mechdyn.store import ResultStore
     from mechdyn.store.store import jsonable
     from mechdyn.studies.storage import StudyStore
-    from mechdyn.units import key_unit
 
     with ResultStore(args.db, read_only=not args.plots) as store:  # --plots keeps the curves it computes
         studies = StudyStore(store)
@@ -192,15 +211,20 @@ def _compare(args: argparse.Namespace) -> int:
         return 0
     rows = []
     for k in keys:
-        if k in shown:  # an output, in the unit its study shows it
-            w = shown[k]
-            unit = w.shown_unit
-            vals = [w.show(v.outputs.get(k)) if k in v.outputs else None for v in variants]
-        else:
-            unit = key_unit(k.split(".")[-1]) or ""
-            vals = [v.given.get(k) if k in v.given else v.outputs.get(k) for v in variants]
-        rows.append([k, unit if k not in variants[0].given else "", *vals])
-    print_table(Table("variants side by side", ["", "unit", *(f"variant {v.id}" for v in variants)], rows))
+        if any(k in v.given for v in variants):  # a parameter, as its study file gives it
+            rows.append([k, *(_given_text(v.given.get(k)) for v in variants)])
+        elif k in shown:  # an output, in the unit its study shows it
+            rows.append([_heading(k, shown), *(shown[k].show(v.outputs.get(k)) for v in variants)])
+        else:  # in words, SI
+            rows.append([_heading(k, shown), *(v.outputs.get(k) for v in variants)])
+    print_table(
+        Table(
+            "variants side by side (outputs in their study's units, else SI)",
+            ["", *(f"variant {v.id}" for v in variants)],
+            rows,
+            per_value=True,  # each number on its own: a row's values may differ by decades
+        )
+    )
     curves = sorted(set.intersection(*(set(v.curves) for v in variants))) if variants else []
     if args.plots and curves:
         from mechdyn.plotting import save_figure
