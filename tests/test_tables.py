@@ -51,21 +51,27 @@ def test_rows_are_labelled_in_words_and_every_number_column_has_one_format(name,
     with ResultStore(str(tmp_path / "r.db")) as store:
         tables = _run(name, example, store, **options).tables()
     for t in tables:
-        for row in t.rows:
-            assert not (isinstance(row[0], str) and SNAKE.match(row[0])), f"{t.title}: row label {row[0]!r}"
-        out = io.StringIO()
-        print_table(t, file=out)
-        text = out.getvalue()
-        assert not re.search(r"(?<![\w.])-0(?:\.0*)?(?:e[+-]00)?(?![\w.])", text), text
-        for i in range(len(t.columns)):
-            if "unit" in t.columns:  # each row another quantity: each value formatted on its own
-                continue
-            spec = _column_spec([r[i] for r in t.rows])
-            if spec is None:
-                continue
-            shown = [_fmt(r[i], spec) for r in t.rows if r[i] is not None and not isinstance(r[i], int)]
-            decimals = {len(s.split("e")[0].split(".")[1]) if "." in s else 0 for s in shown if s != "—"}
-            assert len(decimals) <= 1, f"{t.title}, column {t.columns[i]!r}: {shown}"
+        _check_columns(t)
+
+
+def _check_columns(t: Table) -> None:
+    """Row labels in words, no negative zero, and one precision in each number column of a table
+    whose rows are alike (a table with a unit column has each row another quantity)."""
+    for row in t.rows:
+        assert not (isinstance(row[0], str) and SNAKE.match(row[0])), f"{t.title}: row label {row[0]!r}"
+    out = io.StringIO()
+    print_table(t, file=out)
+    text = out.getvalue()
+    assert not re.search(r"(?<![\w.])-0(?:\.0*)?(?:e[+-]00)?(?![\w.])", text), text
+    if "unit" in t.columns or t.per_value:  # each value formatted on its own
+        return
+    for i in range(len(t.columns)):
+        spec = _column_spec([r[i] for r in t.rows])
+        if spec is None:
+            continue
+        shown = [_fmt(r[i], spec) for r in t.rows if r[i] is not None and not isinstance(r[i], int)]
+        decimals = {len(s.split("e")[0].split(".")[1]) if "." in s else 0 for s in shown if s != "—"}
+        assert len(decimals) <= 1, f"{t.title}, column {t.columns[i]!r}: {shown}"
 
 
 # light options for the analyses that would otherwise integrate or sweep at length
@@ -106,13 +112,16 @@ def _unit_tables():
 
 @pytest.mark.parametrize(("name", "example"), list(_unit_tables()))
 def test_every_summary_of_every_example_reads_in_words_with_three_significant_digits(name, example, tmp_path):
-    """Each row of a summary is another quantity: its value is written on its own, in the unit a
+    """Every table of every analysis of every example passes the column checks above; and each row
+    of a summary is another quantity: its value is written on its own, in the unit a
     designer reads it in (a stroke in mm, not "1 m"), with at least three significant digits, and its
     label is words, not a result key."""
     from mechdyn.store import ResultStore
 
     with ResultStore(str(tmp_path / "r.db")) as store:
         tables = _run(name, example, store, **_LIGHT.get(name, {})).tables()
+    for t in tables:  # every table of every analysis of every example
+        _check_columns(t)
     for t in (t for t in tables if "unit" in t.columns):
         out = io.StringIO()
         print_table(t, file=out)
