@@ -477,6 +477,7 @@ _STUDY = TemplateExample(
             "scatter": {"distribution": "lognormal", "cov": 0.15},
         },
         "outputs": {"limit": "150 Hz", "side": "below"},
+        "correlations": {"between": ["shaft stiffness", "load inertia"], "coefficient": 0.5},
         "objectives": {"output": "frequencies_hz.1", "unit": "Hz", "goal": "maximize"},
         "constraints": {
             "output": "frequencies_hz.1",

@@ -95,6 +95,11 @@ class _StudyTable(_Row):
     method: Literal["qmc", "mc"] = "qmc"
     """tolerance: how the scatter is sampled, ``qmc`` (randomized quasi-Monte Carlo: scrambled Sobol
     points in up to 16 independent replicates, samples a power of 2) or ``mc`` (Monte Carlo)."""
+    small_probability: Literal["importance", "subset", "form", "sorm", "off"] | None = None
+    """tolerance: the method for a limit the samples exceed rarely (below 1e-3, or never):
+    ``importance`` (FORM, then importance sampling at its design point; the default for continuous
+    scatter), ``subset`` (subset simulation; the default with discrete levels), ``form``, ``sorm``, or
+    ``off``."""
     boxes: list[str] = Field(
         default_factory=list,
         description='one study per box: parameters with range = "box" take each ("±10 %", "±20 %")',
@@ -137,6 +142,17 @@ class _OutputRow(_Row):
     """tolerance: the failure is the output ``above`` the limit (default) or ``below`` it."""
 
 
+class _CorrelationRow(_Row):
+    between: list[str] = Field(min_length=2, max_length=2)
+    """tolerance: the two parameters whose scatter is correlated, by their names (the path where a
+    row gives no name)."""
+    coefficient: float
+    """The correlation coefficient, between -1 and 1 (exclusive), dimensionless."""
+    measure: Literal["normal", "spearman"] = "normal"
+    """``normal``: the Gaussian copula's own correlation (default); ``spearman``: a rank correlation,
+    converted exactly (2 sin(π ρ_S / 6))."""
+
+
 class _GoalRow(_Row):
     output: str
     """A summary key of the analysis to optimize."""
@@ -170,6 +186,7 @@ class StudyFile(_Row):
     objectives: list[_GoalRow] = Field(default_factory=list)
     constraints: list[_ConstraintRow] = Field(default_factory=list)
     targets: list[_ConstraintRow] = Field(default_factory=list)
+    correlations: list[_CorrelationRow] = Field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -220,6 +237,11 @@ class Study:
         ``tolerance``: how the scatter is sampled (see the study file's ``method``).
     limits : tuple of mechdyn.uncertainty.Limit
         ``tolerance``: the outputs' limits (SI), whose exceedance probabilities are wanted.
+    correlations : tuple of (str, str, float, str)
+        ``tolerance``: the correlated pairs of parameters, each (name, name, coefficient,
+        measure), the coefficient dimensionless.
+    small_probability : str or None
+        ``tolerance``: the method for rarely exceeded limits (see the study file's field).
     """
 
     name: str
@@ -245,6 +267,8 @@ class Study:
     family: str = ""
     method: str = "qmc"
     limits: tuple[Any, ...] = ()
+    correlations: tuple[tuple[str, str, float, str], ...] = ()
+    small_probability: str | None = None
 
     def starting_from(self, rows: Any) -> Study:
         """The same study, asked to evaluate these parameter rows (SI) first (an optimizer's start).
@@ -587,7 +611,12 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
         src_path,
         method=s.method,
         limits=limits,
+        correlations=tuple((c.between[0], c.between[1], c.coefficient, c.measure) for c in f.correlations),
+        small_probability=s.small_probability,
     )
+    if s.kind != "tolerance" and (f.correlations or s.small_probability is not None):
+        given = "[[correlations]]" if f.correlations else "[study] small_probability"
+        raise StudyError(f'{src_path}: {given} is for kind = "tolerance" studies; remove it')
     check(study)
     return study
 

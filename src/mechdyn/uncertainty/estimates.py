@@ -330,9 +330,12 @@ def quantile_interval(sorted_y: np.ndarray, q: float, *, level: float = LEVEL) -
     return Interval(value, low, high, level, "order statistics (distribution-free)")
 
 
-def replicate_interval(pooled: float, per_replicate: np.ndarray, *, level: float = LEVEL) -> Interval:
+def replicate_interval(
+    pooled: float, per_replicate: np.ndarray, *, level: float = LEVEL, low: float = -math.inf
+) -> Interval:
     """An RQMC estimate with the interval from its replicates' spread (Student t, R − 1 degrees of
-    freedom).
+    freedom), its lower end at least ``low`` (0 for a standard deviation: few replicates give a wide
+    interval).
 
     Parameters
     ----------
@@ -342,9 +345,11 @@ def replicate_interval(pooled: float, per_replicate: np.ndarray, *, level: float
         The same estimate from each replicate, in the quantity's unit.
     level : float
         Confidence level, fraction.
+    low : float
+        The least value the quantity can take, in its unit.
     """
     r = len(per_replicate)
     half = _t(level, r - 1) * float(np.std(per_replicate, ddof=1)) / math.sqrt(r)
     return Interval(
-        pooled, pooled - half, pooled + half, level, f"replicate spread (Student t, {r} replicates)"
+        pooled, max(pooled - half, low), pooled + half, level, f"replicate spread (Student t, {r} replicates)"
     )

@@ -237,6 +237,10 @@ def small_probability(
         column = names.index(limit.output)
 
     calls = [0]
+    # the output relative to the size of its limit: FORM's line search (Abdo–Rackwitz) weighs the
+    # limit state against the distance in the standard space, so a limit state of 1e-3 (a
+    # displacement in metres) left it stalling near the origin; the event is the same
+    scale = abs(float(limit.value)) or 1.0
 
     def g(xi: Any) -> np.ndarray:
         xi = np.asarray(xi, dtype=float)
@@ -249,13 +253,13 @@ def small_probability(
                 element="reliability",
                 field="outputs",
             )
-        return Y[:, [column]]
+        return Y[:, [column]] / scale
 
     d = space.dimension
     model = ot.PythonFunction(d, 1, func_sample=g)
     antecedent = ot.RandomVector(ot.Normal(d))
     operator = ot.Greater() if limit.side == "above" else ot.Less()
-    event = ot.ThresholdEvent(ot.CompositeRandomVector(model, antecedent), operator, limit.value)
+    event = ot.ThresholdEvent(ot.CompositeRandomVector(model, antecedent), operator, limit.value / scale)
     ot.RandomGenerator.SetSeed(
         int(seed) if seed is not None else int(np.random.default_rng().integers(2**31))
     )
@@ -286,7 +290,7 @@ def small_probability(
         prob = _simulated(limit.event, p, cov, z, level, "subset", calls[0], samples)
         details = {
             "levels": int(algo.getStepsNumber()),
-            "thresholds": [float(t) for t in algo.getThresholdPerStep()],
+            "thresholds": [float(t) * scale for t in algo.getThresholdPerStep()],
             "coefficient_of_variation_per_level": per_level,
             "coefficient_of_variation_independent_levels": math.sqrt(sum(d * d for d in per_level)),
         }

@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 
     from mechdyn.uncertainty.distributions import Variable
 
-__all__ = ["InputRanking", "rank_inputs"]
+__all__ = ["InputRanking", "first_order_given_data", "rank_inputs"]
 
 
 @dataclass(frozen=True)
@@ -237,3 +237,39 @@ def rank_inputs(
         for lim in limits
     )
     return InputRanking(tuple(space.names), n, level, by_output, by_limit, not space.independent, len(Y))
+
+
+def first_order_given_data(x: np.ndarray, y: np.ndarray) -> float:
+    """The first-order Sobol index of ``y`` on ``x`` from one sample (no design of its own).
+
+    The samples are sorted by x into M = ⌊√n⌋ classes of equal count; the index is the variance of
+    the class means over the variance of y (Plischke, Borgonovo & Smith, *Eur. J. Oper. Res.* 226,
+    2013), corrected for the scatter of the class means themselves: a ratio r has expectation
+    S + (1 − S)·b with b = (M − 1)/(n − 1), so S = (r − b)/(1 − b), at least 0. It is
+    ``Var(E[y | x]) / Var(y)`` whatever the other inputs do, so with correlated inputs an input's
+    index includes what it shares with those it is correlated with (the indices may then sum above 1).
+
+    Parameters
+    ----------
+    x : ndarray
+        The input's samples (n), any unit.
+    y : ndarray
+        The output's (or a limit's indicator's) samples (n), any unit.
+
+    Returns
+    -------
+    float
+        The index, fraction (0 for a constant y).
+    """
+    import math
+
+    n = len(y)
+    total = float(np.var(y))
+    if n < 4 or total == 0.0:
+        return 0.0
+    m = max(2, math.isqrt(n))
+    classes = np.array_split(np.argsort(x, kind="stable"), m)
+    mean = float(np.mean(y))
+    between = sum(len(c) * (float(np.mean(y[c])) - mean) ** 2 for c in classes) / n
+    bias = (m - 1) / (n - 1)  # E[between / total] = S + (1 - S)·bias: the classes' own scatter
+    return max(0.0, (between / total - bias) / (1.0 - bias))

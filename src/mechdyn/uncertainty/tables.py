@@ -11,6 +11,7 @@ The forms a file may hold (TOML shown; every number with its unit unless the val
     grade     = {distribution = "levels", values = ["1 MN/m", "2 MN/m"], probabilities = [0.3, 0.7]}
     hardness  = {tolerance = "shore_a_5"}                                # nominal: the model's value
     pitch     = {tolerance = "iso1328_fpt", grade = 6, d = "120 mm", m_n = "3 mm"}
+    amplitude = {tolerance = "iso1328_fpt", grade = 6, d = "120 mm", m_n = "3 mm", magnitude = true}
     mounts    = {tolerance = "band", plus_minus = "20 %", shape = "uniform"}
 
 :func:`variable_from_dict` reads one; its errors (:class:`mechdyn.errors.ModelError`) name the field,
@@ -47,7 +48,7 @@ DISTRIBUTION_KEYS: dict[str, tuple[str, ...]] = {
 }
 """The keys each distribution accepts besides ``distribution`` (``lower``/``upper`` truncate)."""
 
-_TOLERANCE_KEYS = ("nominal", "shape", "plus_minus", "grade", "d", "m_n", "cov")
+_TOLERANCE_KEYS = ("nominal", "shape", "plus_minus", "grade", "d", "m_n", "cov", "magnitude")
 
 
 def _unknown(name: str, key: str, allowed: tuple[str, ...], what: str) -> ModelError:
@@ -115,7 +116,8 @@ def variable_from_dict(
         if extra:
             raise _unknown(name, extra[0], _TOLERANCE_KEYS, "a tolerance table")
         options = {k: spec[k] for k in _TOLERANCE_KEYS if k in spec}
-        options.setdefault("nominal", nominal)
+        if not options.get("magnitude"):  # a magnitude is folded at zero, whatever the model's value
+            options.setdefault("nominal", nominal)
         return tolerance(name, spec["tolerance"], unit=unit, **options)
 
     kind = spec["distribution"]

@@ -143,6 +143,7 @@ def tolerance(
     d: Any = None,
     m_n: Any = None,
     cov: Any = None,
+    magnitude: bool = False,
 ) -> Variable:
     """A value of a named tolerance class as a distribution.
 
@@ -183,6 +184,11 @@ def tolerance(
     cov : float, optional
         Coefficient of variation replacing the class's assumed one (``concrete_modulus``,
         ``soil_stiffness``), dimensionless.
+    magnitude : bool
+        ``iso1328_fpt``: the size of the deviation, abs(f_pt), on [0, f_pT] (for a value that cannot
+        be negative, such as the amplitude of a transmission error): the band centred on 0 folded at
+        0, which is exactly the band's distribution truncated to [0, f_pT] (normal: a half-normal of
+        σ = f_pT / 3 cut at f_pT; uniform: uniform on [0, f_pT]). No ``nominal`` with it.
 
     Examples
     --------
@@ -219,6 +225,13 @@ def tolerance(
             )
         return value
 
+    if magnitude and kind != "iso1328_fpt":
+        raise ModelError(
+            f"magnitude = true is for the iso1328_fpt class (a signed deviation), not {tolerance_class!r}; "
+            "remove it",
+            element=name,
+            field="magnitude",
+        )
     if kind == "iso1328_fpt":
         if unit != "m":
             raise ModelError(
@@ -226,8 +239,26 @@ def tolerance(
             )
         need(grade, "grade", "6")
         half = iso1328_single_pitch_tolerance(grade, need(d, "d", "'120 mm'"), need(m_n, "m_n", "'3 mm'"))  # type: ignore[arg-type]
-        centre = 0.0 if nominal is None else _si(name, "nominal", nominal, unit)
         shown = f" Class {grade}: f_pT = {convert(half, 'm', 'um'):g} µm."
+        if magnitude:
+            if not isinstance(magnitude, bool):
+                raise ModelError(
+                    f"magnitude = {magnitude!r}: give true or false", element=name, field="magnitude"
+                )
+            if nominal is not None:
+                raise ModelError(
+                    f"nominal = {nominal!r} with magnitude = true: the size of a deviation centred on 0 "
+                    "has no nominal; remove one of them",
+                    element=name,
+                    field="nominal",
+                )
+            folded = " Its size abs(f_pt): the band folded at 0."
+            if chosen == "uniform":
+                return uniform(name, 0.0, half, unit, source=source + shown + folded)
+            return truncated(
+                normal(name, 0.0, half / sigmas, unit, source=source + shown + folded), 0.0, half
+            )
+        centre = 0.0 if nominal is None else _si(name, "nominal", nominal, unit)
         return _band(name, centre, half, chosen, sigmas, unit, source + shown)
     centre = _si(name, "nominal", need(nominal, "nominal", "'2 MN/m'" if unit else "60"), unit)
     if kind == "lognormal":

@@ -18,30 +18,47 @@ the samples themselves (Plischke, Borgonovo & Smith, *Eur. J. Oper. Res.* 226, 2
 the conditional means over √n classes of equal count, corrected for the bias of the classes' own
 scatter); with fewer, Spearman's rank correlation (its square as the share). Each ranking says
 which it is.
+
+Parameters may be correlated (``[[correlations]]``: two parameters and a coefficient, the Gaussian
+copula's own or Spearman's rank correlation), checked as a whole: each name a parameter, each pair
+once, each coefficient in (−1, 1), the matrix positive definite.
+
+A limit the samples exceed rarely (an estimated probability below :data:`RARE_PROBABILITY`, or not
+at all) gets its probability by :func:`mechdyn.uncertainty.small_probability` as well (importance
+sampling at the FORM design point by default, subset simulation where a parameter takes discrete
+levels; ``[study] small_probability`` chooses). Its evaluations go through the batch engine and are
+stored as the study's variants, after the design's; OpenTURNS, seeded with the study's seed, asks
+for the same points again when the findings are stated from the database, so that they are answered
+from the stored variants and the findings stay a function of them.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from mechdyn.results import Table
-from mechdyn.studies.cells import given, number, table, unit_text
 from mechdyn.studies.errors import StudyError
-from mechdyn.studies.kinds.base import Found, Kind, register, safe, value
-from mechdyn.studies.storage import StoredVariant
+from mechdyn.studies.kinds.base import Found, Kind, Ran, register, value
+from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
-    from mechdyn.studies.outputs import Watched
     from mechdyn.studies.result import StudyResult
     from mechdyn.studies.study import Study
     from mechdyn.uncertainty import InputSpace
 
-__all__ = ["GIVEN_DATA_EVENTS", "GIVEN_DATA_SAMPLES", "Tolerance", "first_order_given_data", "space"]
+__all__ = [
+    "GIVEN_DATA_EVENTS",
+    "GIVEN_DATA_SAMPLES",
+    "RARE_PROBABILITY",
+    "Tolerance",
+    "correlation_matrix",
+    "first_order_given_data",
+    "space",
+]
 
 DEFAULT_SAMPLES = 1024
 """Samples of a tolerance study whose file gives none (a power of 2)."""
@@ -56,10 +73,86 @@ correlation."""
 GIVEN_DATA_EVENTS = 10
 """Samples needed on either side of a limit for its indicator's Sobol index (count)."""
 
+RARE_PROBABILITY = 1e-3
+"""Below this estimated probability (or with no sample beyond the limit) a limit's probability is also
+found by :func:`mechdyn.uncertainty.small_probability` (fraction)."""
+
+RARE_SAMPLES = (100, 1000)
+"""Importance samples (or points per level of subset simulation) for a rare limit: the study's
+samples, within these bounds (count)."""
+
+
+def correlation_matrix(study: Study) -> np.ndarray | None:
+    """The copula's correlation matrix (normal space) of the study's ``[[correlations]]``, in the
+    parameters' order; None for independent parameters.
+
+    Each row names two parameters (their names, the path where a row gives none) and a coefficient
+    in (−1, 1), the Gaussian copula's own (``measure = "normal"``) or Spearman's rank correlation
+    (``"spearman"``), converted exactly: ``R = 2 sin(π ρ_S / 6)`` (Kruskal, *JASA* 53, 1958).
+
+    Parameters
+    ----------
+    study : Study
+        A tolerance study.
+
+    Raises
+    ------
+    StudyError
+        Naming the file, the row, the field and the value: a name that is no parameter, a parameter
+        paired with itself, a pair given twice, a coefficient outside (−1, 1), or coefficients that
+        contradict each other (the matrix not positive definite).
+    """
+    import difflib
+
+    rows = tuple(getattr(study, "correlations", ()) or ())
+    if not rows:
+        return None
+    where = f"{study.path or study.name}: [[correlations]]"
+    names = [p.name for p in study.parameters]
+    R = np.eye(len(names))
+    given: dict[frozenset[str], int] = {}
+    for i, (a, b, rho, measure) in enumerate(rows):
+        here = f"{where} #{i + 1}"
+        for name in (a, b):
+            if name not in names:
+                near = difflib.get_close_matches(name, names, n=1)
+                raise StudyError(
+                    f"{here} → between: {name!r} is not a parameter of the study"
+                    + (f" (did you mean {near[0]!r}?)" if near else "")
+                    + f"; give two of {', '.join(map(repr, names))}"
+                )
+        if a == b:
+            raise StudyError(f"{here} → between: {a!r} is paired with itself; give two different parameters")
+        pair = frozenset((a, b))
+        if pair in given:
+            raise StudyError(
+                f"{here} → between: the pair {a!r}, {b!r} is given already in #{given[pair]}; give each "
+                "pair once (the correlation is symmetric)"
+            )
+        given[pair] = i + 1
+        if not (isinstance(rho, (int, float)) and math.isfinite(rho) and abs(rho) < 1.0):
+            raise StudyError(
+                f"{here} → coefficient: {rho!r} is not a correlation coefficient; give a number between "
+                "-1 and 1 (exclusive), e.g. 0.5"
+            )
+        if measure not in ("normal", "spearman"):
+            raise StudyError(f"{here} → measure: {measure!r}; give 'normal' or 'spearman'")
+        r = 2.0 * math.sin(math.pi * rho / 6.0) if measure == "spearman" else float(rho)
+        i_a, i_b = names.index(a), names.index(b)
+        R[i_a, i_b] = R[i_b, i_a] = r
+    least = float(np.linalg.eigvalsh(R).min())
+    if least <= 1e-10:
+        pairs = ", ".join(f"{a} – {b}: {rho:g}" for a, b, rho, _ in rows)
+        raise StudyError(
+            f"{where}: the coefficients ({pairs}) contradict each other: the correlation matrix is not "
+            f"positive definite (its smallest eigenvalue is {least:.3g}); weaken one of them"
+        )
+    return R
+
 
 def space(study: Study) -> InputSpace:
-    """The study's parameters' scatter as an :class:`~mechdyn.uncertainty.InputSpace` (independent),
-    SI, in the study's parameter order.
+    """The study's parameters' scatter as an :class:`~mechdyn.uncertainty.InputSpace`, SI, in the
+    study's parameter order, tied by the ``[[correlations]]`` (:func:`correlation_matrix`).
 
     Parameters
     ----------
@@ -68,7 +161,7 @@ def space(study: Study) -> InputSpace:
     """
     from mechdyn.uncertainty import InputSpace
 
-    return InputSpace(tuple(p.scatter for p in study.parameters))
+    return InputSpace(tuple(p.scatter for p in study.parameters), correlation_matrix(study))
 
 
 def _sampling(study: Study) -> tuple[int, int]:
@@ -78,12 +171,8 @@ def _sampling(study: Study) -> tuple[int, int]:
 
 
 def first_order_given_data(x: np.ndarray, y: np.ndarray) -> float:
-    """The first-order Sobol index of ``y`` on ``x`` from one sample (no design of its own).
-
-    The samples are sorted by x into M = ⌊√n⌋ classes of equal count; the index is the variance of
-    the class means over the variance of y (Plischke, Borgonovo & Smith, *Eur. J. Oper. Res.* 226,
-    2013), corrected for the scatter of the class means themselves: a ratio r has expectation
-    S + (1 − S)·b with b = (M − 1)/(n − 1), so S = (r − b)/(1 − b), at least 0.
+    """The first-order Sobol index of ``y`` on ``x`` from the samples themselves: see
+    :func:`mechdyn.uncertainty.sensitivity.first_order_given_data` (Plischke, Borgonovo & Smith 2013).
 
     Parameters
     ----------
@@ -95,18 +184,11 @@ def first_order_given_data(x: np.ndarray, y: np.ndarray) -> float:
     Returns
     -------
     float
-        The index, fraction (0 for a constant y).
+        The index, fraction.
     """
-    n = len(y)
-    total = float(np.var(y))
-    if n < 4 or total == 0.0:
-        return 0.0
-    m = max(2, math.isqrt(n))
-    classes = np.array_split(np.argsort(x, kind="stable"), m)
-    mean = float(np.mean(y))
-    between = sum(len(c) * (float(np.mean(y[c])) - mean) ** 2 for c in classes) / n
-    bias = (m - 1) / (n - 1)  # E[between / total] = S + (1 - S)·bias: the classes' own scatter
-    return max(0.0, (between / total - bias) / (1.0 - bias))
+    from mechdyn.uncertainty.sensitivity import first_order_given_data as given_data
+
+    return given_data(x, y)
 
 
 def _ranking(study: Study, X: np.ndarray, y: np.ndarray, events: int | None) -> dict[str, Any]:
@@ -121,6 +203,8 @@ def _ranking(study: Study, X: np.ndarray, y: np.ndarray, events: int | None) -> 
     if enough:
         measures = {p.name: first_order_given_data(X[:, j], y) for j, p in enumerate(study.parameters)}
         method = "first-order Sobol index from the samples (Plischke et al. 2013)"
+        if getattr(study, "correlations", ()):
+            method += "; with correlated parameters an index includes what they share"
     else:
         measures = {}
         for j, p in enumerate(study.parameters):
@@ -140,13 +224,6 @@ def _stored(Y: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
     return lambda _X: Y
 
 
-def _limit_text(w: Watched, limit: float) -> str:
-    """A limit (SI) as the study file gives it, in the output's display unit."""
-    shown = w.readable([limit])
-    x = shown.show(limit)
-    return f"{given(x if x is not None else limit)} {unit_text(shown.shown_unit)}".strip()
-
-
 def _scatter(v: Any) -> dict[str, Any]:
     """A parameter's :class:`~mechdyn.uncertainty.Variable` as findings hold it (SI)."""
     return {
@@ -159,15 +236,113 @@ def _scatter(v: Any) -> dict[str, Any]:
     }
 
 
-def _scatter_text(d: dict[str, Any]) -> str:
-    """A scatter's distribution and its parameters as given (each number with three digits at least)."""
+def _correlations(study: Study) -> list[dict[str, Any]]:
+    """The study's correlated pairs as findings hold them."""
+    rows = tuple(getattr(study, "correlations", ()) or ())
+    if not rows:
+        return []
+    R, names = correlation_matrix(study), [p.name for p in study.parameters]
+    assert R is not None
+    return [
+        {
+            "between": [a, b],
+            "coefficient": float(rho),
+            "measure": measure,
+            "normal": float(R[names.index(a), names.index(b)]),
+        }
+        for a, b, rho, measure in rows
+    ]
 
-    def shown(x: Any) -> str:
-        if isinstance(x, list):
-            return "[" + ", ".join(shown(y) for y in x) + "]"
-        return given(float(x)) if isinstance(x, (int, float)) else str(x)
 
-    return f"{d['distribution']} (" + ", ".join(f"{k} {shown(x)}" for k, x in d["parameters"].items()) + ")"
+def rare_method(study: Study) -> str:
+    """The method for a rarely exceeded limit: the study's ``small_probability``, by default
+    ``importance`` (FORM, then importance sampling) or ``subset`` where a parameter takes discrete
+    levels (FORM needs continuous inputs); ``off`` for none.
+
+    Parameters
+    ----------
+    study : Study
+        A tolerance study.
+    """
+    chosen = getattr(study, "small_probability", None)
+    if chosen:
+        return str(chosen)
+    return "importance" if all(p.scatter.continuous for p in study.parameters) else "subset"
+
+
+def _rare_samples(study: Study) -> int:
+    """Importance samples or points per level for a rare limit (count, :data:`RARE_SAMPLES`)."""
+    low, high = RARE_SAMPLES
+    return int(min(high, max(low, _sampling(study)[0])))
+
+
+def _rare(Y: np.ndarray, limit: Any) -> bool:
+    """Whether the samples exceed the limit rarely enough for a small-probability method."""
+    hits = int(np.count_nonzero(limit.exceeded(Y)))
+    return hits == 0 or hits / len(Y) < RARE_PROBABILITY
+
+
+def _small(
+    study: Study, key: str, limit: Any, evaluate: Callable[[np.ndarray], list[StoredVariant]]
+) -> dict[str, Any]:
+    """One rare limit's probability by :func:`mechdyn.uncertainty.small_probability`, the model
+    answered by ``evaluate`` (the runner, or the stored variants): the probability's fields
+    (:meth:`~mechdyn.uncertainty.Probability.as_dict`) with ``reliability_index``, ``design_point``
+    and ``importance`` (FORM's), or ``method`` and ``error``."""
+    from mechdyn.errors import ModelError
+    from mechdyn.uncertainty import small_probability
+
+    method = rare_method(study)
+    raised: list[BaseException] = []
+
+    def f(X: np.ndarray) -> np.ndarray:
+        try:
+            return np.array([[value(v, key)] for v in evaluate(np.atleast_2d(X))])
+        except Exception as exc:  # OpenTURNS wraps what its model raises: keep the cause
+            raised.append(exc)
+            raise
+
+    try:
+        r = small_probability(
+            f,
+            space(study),
+            limit,
+            outputs=[key],
+            method=method,
+            samples=_rare_samples(study),
+            seed=study.seed,
+        )
+    except (ModelError, RuntimeError) as exc:
+        cause = raised[-1] if raised else exc
+        if raised and not isinstance(cause, (ModelError, StudyError)):
+            raise cause from None  # not the method's failure (the database, a bug): stop the run
+        text = str(cause).splitlines()[0].removeprefix("InternalException : ")
+        return {"method": method, "error": text}
+    return {
+        **r.probability.as_dict(),
+        "reliability_index": r.reliability_index,
+        "design_point": r.design_point,
+        "importance": r.importance,
+    }
+
+
+def _stored_lookup(variants: list[StoredVariant]) -> Callable[[np.ndarray], list[StoredVariant]]:
+    """The stored variants of the rows of X (SI), found by their keys; a row not stored is refused."""
+    by_key = {v.key: v for v in variants}
+
+    def lookup(X: np.ndarray) -> list[StoredVariant]:
+        out = []
+        for row in np.atleast_2d(X):
+            v = by_key.get(variant_key(row))
+            if v is None:
+                raise StudyError(
+                    "a point the small-probability method asks for is not stored (is the study still "
+                    "running?); run the study to evaluate it"
+                )
+            out.append(v)
+        return out
+
+    return lookup
 
 
 @register
@@ -175,7 +350,9 @@ class Tolerance(Kind):
     """Tolerances to probabilities: each parameter's ``scatter`` sampled (Monte Carlo or randomized
     quasi-Monte Carlo), each output's mean, standard deviation and quantiles with 95 % intervals, each
     limit's exceedance probability with its interval, and the tolerances ranked by their share
-    (:mod:`mechdyn.uncertainty`: SciPy's distributions and Sobol sequences)."""
+    (:mod:`mechdyn.uncertainty`: SciPy's distributions and Sobol sequences); parameters tied by
+    ``[[correlations]]`` (a Gaussian copula), and a rarely exceeded limit's probability by a
+    small-probability method as well (OpenTURNS)."""
 
     name = "tolerance"
     title = "tolerances to probabilities"
@@ -201,6 +378,14 @@ class Tolerance(Kind):
             )
         if not study.watched:
             raise StudyError(f'{where}: give at least one [[outputs]] row (output = "...", limit = "...")')
+        correlation_matrix(study)
+        chosen = getattr(study, "small_probability", None)
+        discrete = [p.name for p in study.parameters if not p.scatter.continuous]
+        if chosen in ("importance", "form", "sorm") and discrete:
+            raise StudyError(
+                f"{where}: [study] small_probability = {chosen!r} needs continuous scatter ({discrete} "
+                'take discrete levels); give small_probability = "subset"'
+            )
 
     def design(self, study: Study) -> np.ndarray:
         """The samples (n × P, SI), drawn as :func:`mechdyn.uncertainty.propagate` draws them with the
@@ -212,15 +397,54 @@ class Tolerance(Kind):
             return s.sample(n, method="mc", seed=rng)
         return np.concatenate([s.sample(n // r, method="qmc", seed=rng) for _ in range(r)])
 
+    def run(self, runner: Any) -> Ran:
+        """Evaluate the design, then, for each rarely exceeded limit, the points its small-probability
+        method asks for (stored after the design's variants, in the order asked)."""
+        study = runner.study
+        n = _sampling(study)[0]
+        variants = runner.evaluate(self.design(study))
+        extra: dict[str, StoredVariant] = {}
+
+        def evaluate(X: np.ndarray) -> list[StoredVariant]:
+            got = runner.evaluate(X)
+            for v in got:
+                extra.setdefault(v.key, v)
+            return got
+
+        if rare_method(study) != "off":
+            for w in study.watched:
+                Y = np.array([value(v, w.key) for v in variants[:n]])
+                if not np.isfinite(Y).all():
+                    continue
+                for lim in study.limits:
+                    if lim.output == w.key and _rare(Y, lim):
+                        _small(study, w.key, lim, evaluate)  # the findings state it from the stored points
+        design = {v.key for v in variants}
+        return Ran(variants + [v for k, v in extra.items() if k not in design])
+
+    def order(self, study: Study, variants: Any) -> list[StoredVariant]:
+        """The design's variants in design order, then those a small-probability method asked for,
+        in the order stored."""
+        first = super().order(study, variants)
+        seen = {v.key for v in first}
+        return first + sorted((v for v in variants if v.key not in seen), key=lambda v: v.id)
+
     def findings(self, study: Study, variants: list[StoredVariant]) -> Found:
-        """``samples``, ``method`` (in words), ``replicates``, and per output (``outputs``) its
+        """``samples``, ``method`` (in words), ``replicates``, ``correlations`` (each pair's
+        ``between``, ``coefficient`` and ``measure`` as given and ``normal``, the copula's), and per
+        output (``outputs``) its
         ``distribution`` (mean, std and quantiles with their intervals, SI: ``mean``, ``mean_low``,
         ``mean_high``, ``q5``, ...) and ``ranking`` (``method``, ``measures`` per parameter,
         ``ranked``), or ``{"error": ...}``; per limit (``limits``) ``output``, ``value`` (SI), ``side``,
-        ``probability`` (:meth:`mechdyn.uncertainty.Probability.as_dict`) and ``ranking``."""
+        ``probability`` (:meth:`mechdyn.uncertainty.Probability.as_dict`), ``ranking`` and, for a rarely
+        exceeded limit, ``small_probability`` (the same fields by the small-probability method, with
+        ``reliability_index``, ``design_point`` and ``importance``, or ``error``). The variants after
+        the design's are those the small-probability methods asked for."""
         from mechdyn.uncertainty import propagate
 
         n, r = _sampling(study)
+        lookup = _stored_lookup(variants)
+        variants = variants[:n]
         X = np.array([[v.parameters[p.name] for p in study.parameters] for v in variants], dtype=float)
         failed = sum(1 for v in variants if v.status != "ok")
         outputs: dict[str, Any] = {}
@@ -255,15 +479,16 @@ class Tolerance(Kind):
             }
             for lim, prob in zip(mine, got.probabilities, strict=True):
                 hit = lim.exceeded(Y)
-                limits.append(
-                    {
-                        "output": w.key,
-                        "value": lim.value,
-                        "side": lim.side,
-                        "probability": prob.as_dict(),
-                        "ranking": _ranking(study, X, hit.astype(float), int(hit.sum())),
-                    }
-                )
+                found = {
+                    "output": w.key,
+                    "value": lim.value,
+                    "side": lim.side,
+                    "probability": prob.as_dict(),
+                    "ranking": _ranking(study, X, hit.astype(float), int(hit.sum())),
+                }
+                if rare_method(study) != "off" and _rare(Y, lim):
+                    found["small_probability"] = _small(study, w.key, lim, lookup)
+                limits.append(found)
         method = (
             "Monte Carlo" if r == 1 else f"randomized quasi-Monte Carlo (scrambled Sobol, {r} replicates)"
         )
@@ -273,155 +498,23 @@ class Tolerance(Kind):
                 "method": method,
                 "replicates": r,
                 "scatter": {p.name: _scatter(p.scatter) for p in study.parameters},
+                "correlations": _correlations(study),
                 "outputs": outputs,
                 "limits": limits,
             }
         )
 
-    # -- showing ------------------------------------------------------------------------------
+    # -- showing (mechdyn.studies.kinds.tolerance_show) ---------------------------------------
     def tables(self, result: StudyResult) -> list[Table]:
-        """The scatter; each output's distribution (95 % intervals) in its unit; each limit's
-        probability with its interval; each ranking, largest share first, with its method."""
-        st, f = result.study, result.findings
-        watched = {w.key: w for w in st.watched}
-        out = [
-            table(
-                f"{st.name}: scatter of the parameters ({f['samples']} samples, {f['method']})",
-                ["parameter", "unit", "scatter", "mean", "standard deviation"],
-                [
-                    [name, unit_text(d["unit"]), _scatter_text(d), d["mean"], d["std"]]
-                    for name, d in f["scatter"].items()
-                ],
-            )
-        ]
-        rows: list[list[Any]] = []
-        for key, d in f["outputs"].items():
-            w = watched[key]
-            if "error" in d:
-                rows.append([w.words, "no value", None, None, d["error"]])
-                continue
-            dist = d["distribution"]
-            shown = w.readable([dist["mean"], dist.get("q95")])
-            for stat in ("mean", "std", "q5", "q50", "q95"):
-                if stat not in dist:
-                    continue
-                scale = shown.difference if stat == "std" else shown.show
-                rows.append(
-                    [
-                        shown.label,
-                        {
-                            "mean": "mean",
-                            "std": "standard deviation",
-                            "q5": "5 % quantile",
-                            "q50": "median",
-                            "q95": "95 % quantile",
-                        }[stat],
-                        scale(dist[stat]),
-                        scale(dist[f"{stat}_low"]),
-                        scale(dist[f"{stat}_high"]),
-                    ]
-                )
-        out.append(
-            table(
-                f"{st.name}: distribution of each output (95 % intervals)",
-                ["output", "", "value", "low", "high"],
-                rows,
-            )
-        )
-        if f["limits"]:
-            lrows: list[list[Any]] = []
-            for d in f["limits"]:
-                w = watched[d["output"]]
-                event = f"{w.words} {'>' if d['side'] == 'above' else '<'} {_limit_text(w, d['value'])}"
-                if "error" in d:
-                    lrows.append([event.strip(), None, None, None, d["error"]])
-                    continue
-                p = d["probability"]
-                lrows.append([event.strip(), p["value"], p["low"], p["high"], p["failures"]])
-            out.append(
-                table(
-                    f"{st.name}: probability of exceeding each limit (95 % intervals)",
-                    ["event", "probability", "low", "high", "samples beyond"],
-                    lrows,
-                )
-            )
-        for what, ranking in self._rankings(result):
-            if not ranking.get("ranked"):
-                out.append(
-                    table(
-                        f"{st.name}: tolerances ranked by their share of {what}",
-                        ["note"],
-                        [[ranking["method"]]],
-                    )
-                )
-                continue
-            m = ranking["measures"]
-            out.append(
-                table(
-                    f"{st.name}: tolerances ranked by their share of {what}",
-                    ["parameter", "measure"],
-                    [[name, m[name]] for name in ranking["ranked"]],
-                    note=f"measure: {ranking['method']}",
-                )
-            )
-        return out
+        """The scatter and its correlations; each output's distribution (95 % intervals) in its unit;
+        each limit's probability with its interval, and a rare limit's by its small-probability
+        method; each ranking, largest share first, with its method."""
+        from mechdyn.studies.kinds.tolerance_show import tables
 
-    def _rankings(self, result: StudyResult) -> list[tuple[str, dict[str, Any]]]:
-        f, watched = result.findings, {w.key: w for w in result.study.watched}
-        out = [
-            (f"the scatter of {watched[k].words}", d["ranking"])
-            for k, d in f["outputs"].items()
-            if "ranking" in d
-        ]
-        for d in f["limits"]:
-            if "ranking" in d:
-                w = watched[d["output"]]
-                side = ">" if d["side"] == "above" else "<"
-                out.append((f"P({w.words} {side} {_limit_text(w, d['value'])})", d["ranking"]))
-        return out
+        return tables(result)
 
     def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
         """Per output: its histogram and its empirical CDF, each limit drawn."""
-        out: dict[str, Callable[[], Any]] = {}
-        for w in result.study.watched:
-            if "error" not in result.findings["outputs"].get(w.key, {"error": 1}):
-                out[f"tolerance_{safe(w.key)}.png"] = partial(distribution_plot, result, w)
-        return out
+        from mechdyn.studies.kinds.tolerance_show import plots
 
-
-def distribution_plot(result: StudyResult, w: Watched, ax: Any = None) -> Any:
-    """One output's histogram over its samples with its empirical CDF (right axis), each of its limits
-    drawn as a vertical line with its probability.
-
-    Parameters
-    ----------
-    result : StudyResult
-        A tolerance study's result.
-    w : Watched
-        The output.
-    ax : matplotlib Axes, optional
-    """
-    from mechdyn.plotting import legend, new_axes
-
-    y = np.array([value(v, w.key) for v in result.variants])
-    y = y[np.isfinite(y)]
-    shown = w.readable([float(np.max(np.abs(y)))] if y.size else [])
-    ys = np.array([shown.show(float(v)) for v in y])
-    ax = new_axes(ax, figsize=(7.0, 4.0))
-    ax.hist(ys, bins=max(10, min(60, int(math.sqrt(len(ys))))), density=True, alpha=0.6, label="samples")
-    ax.set_xlabel(shown.label)
-    ax.set_ylabel("probability density")
-    cdf = ax.twinx()
-    s = np.sort(ys)
-    cdf.step(s, np.arange(1, len(s) + 1) / len(s), where="post", color="k", lw=1.0, label="CDF")
-    cdf.set_ylabel("cumulative probability")
-    cdf.set_ylim(0.0, 1.0)
-    for d in result.findings["limits"]:
-        if d["output"] != w.key or "probability" not in d:
-            continue
-        x = shown.show(d["value"])
-        p = d["probability"]
-        ax.axvline(x, color="C3", ls="--", label=f"limit {number(x)}: P = {number(p['value'])}")
-    ax.set_title(f"{w.words}: {result.findings['samples']} samples", fontsize=10)
-    legend(ax, fontsize=8)
-    return ax
+        return plots(result)
