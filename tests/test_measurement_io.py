@@ -186,3 +186,138 @@ def test_csv_a_value_that_is_not_a_number(tmp_path):
         ModelFileError, match=r"nan\.csv: data row 3, column 2 \(a:z/a:z re \[m/N\]\): is 'oops'"
     ):
         read_csv(path)
+
+
+# ---- UFF 55: mode shapes ----------------------------------------------------------------------
+
+
+def _machine_modes():
+    from mechdyn.support import Mount, MountedMachine, RigidBody, modes
+
+    corners = {
+        f"{i + 1}": (sx * 1.2, sy * 0.8, 0.0)
+        for i, (sx, sy) in enumerate([(-1, -1), (1, -1), (-1, 1), (1, 1)])
+    }
+    body = RigidBody(2000.0, (0.05, -0.03, 0.4), (400.0, 700.0, 900.0))
+    k = (0.5e6, 0.8e6, 2.0e6)
+    machine = MountedMachine(
+        body, [Mount(n, xyz, k, tuple(1e-3 * v for v in k)) for n, xyz in corners.items()]
+    )
+    return machine, modes(machine), corners
+
+
+def _shapes_at_corners(machine, found, corners):
+    from mechdyn.measurement import observation_matrix
+
+    outputs = [(n, d) for n in corners for d in "xyz"]
+    return (observation_matrix(machine.dofs, outputs, corners) @ found.shapes).reshape(len(corners), 3, -1)
+
+
+def test_uff55_normal_modes_written_by_pyuff_read_as_identified_modes(tmp_path):
+    from mechdyn.measurement import compare_modes, read_uff_modes
+
+    machine, found, corners = _machine_modes()
+    at = _shapes_at_corners(machine, found, corners)
+    zeta = 1e-3 * found.omega / 2  # stiffness-proportional damping
+    sets = [
+        pyuff.prepare_55(
+            model_type=1,
+            id1="modes",
+            analysis_type=2,
+            data_ch=2,
+            spec_data_type=8,
+            data_type=2,
+            n_data_per_node=3,
+            node_nums=[1, 2, 3, 4],
+            load_case=1,
+            mode_n=j + 1,
+            freq=float(found.frequencies_hz[j]),
+            modal_m=1.0,
+            modal_damp_vis=float(zeta[j]),
+            modal_damp_his=0.0,
+            r1=-3.0 * at[:, 0, j],
+            r2=-3.0 * at[:, 1, j],
+            r3=-3.0 * at[:, 2, j],
+        )
+        for j in reversed(range(6))  # written highest first: read back sorted
+    ]
+    m = read_uff_modes(_write(tmp_path / "modes.uff", sets))
+    np.testing.assert_allclose(m.frequencies_hz, found.frequencies_hz, rtol=5e-6)  # 6 digits in the file
+    np.testing.assert_allclose(m.damping, zeta, rtol=1e-5)
+    assert m.outputs == tuple((n, d) for n in corners for d in "xyz")
+    assert np.abs(m.shapes).max() == pytest.approx(1.0)
+    # paired with the model's own modes: MAC 1 on the diagonal (the scale and sign of a shape do not matter)
+    cmp = compare_modes(m, found, corners)
+    np.testing.assert_array_equal(cmp.pairs, np.column_stack([np.arange(6), np.arange(6)]))
+    np.testing.assert_allclose(cmp.paired_mac, 1.0, atol=1e-9)
+    np.testing.assert_allclose(cmp.frequency_error, 0.0, atol=5e-6)
+    assert np.all(m.frequency_scatter_hz == 0)
+    with pytest.raises(ValueError, match="no stabilisation chart"):
+        m.plot()
+    # the vertical components only
+    z = read_uff_modes(tmp_path / "modes.uff", directions=("z",))
+    assert z.outputs == tuple((n, "z") for n in corners)
+
+
+def test_uff55_complex_modes_give_frequency_and_damping_from_the_eigenvalue(tmp_path):
+    from mechdyn.measurement import read_uff_modes
+
+    wn, zeta = 2 * np.pi * np.array([12.0, 30.0]), np.array([0.02, 0.05])
+    lam = -zeta * wn + 1j * wn * np.sqrt(1 - zeta**2)
+    shapes = np.array([[1.0, 0.5j, 0.0], [0.3, -1.0, 0.0]])  # (mode, node); r2 = 0: not measured
+    sets = [
+        pyuff.prepare_55(
+            model_type=1,
+            id1="complex",
+            analysis_type=3,
+            data_ch=2,
+            spec_data_type=12,
+            data_type=5,
+            n_data_per_node=3,
+            node_nums=[7, 8, 9],
+            load_case=1,
+            mode_n=j + 1,
+            eig=lam[j],
+            modal_a=0j,
+            modal_b=0j,
+            r1=shapes[j],
+            r2=np.zeros(3, complex),
+            r3=2j * shapes[j],
+        )
+        for j in range(2)
+    ]
+    m = read_uff_modes(_write(tmp_path / "complex.uff", sets))
+    np.testing.assert_allclose(m.omega, wn, rtol=1e-5)  # the file keeps 6 digits
+    np.testing.assert_allclose(m.damping, zeta, rtol=1e-5)
+    # node 9 is zero in both modes and r2 everywhere: not measured, left out
+    assert m.outputs == (("7", "x"), ("7", "z"), ("8", "x"), ("8", "z"))
+    assert m.shapes.shape == (4, 2)
+
+
+def test_uff55_errors_name_the_file_and_dataset(tmp_path):
+    from mechdyn.measurement import read_uff_modes
+
+    frf = _dataset(_h(10.0, 0, 0), 1, 3, 1, 3)
+    with pytest.raises(ModelFileError, match=r"frf\.uff.*no dataset 55"):
+        read_uff_modes(_write(tmp_path / "frf.uff", [frf]))
+    bad = pyuff.prepare_55(
+        model_type=1,
+        id1="x",
+        analysis_type=2,
+        data_ch=2,
+        spec_data_type=8,
+        data_type=2,
+        n_data_per_node=3,
+        node_nums=[1],
+        load_case=1,
+        mode_n=1,
+        freq=0.0,
+        modal_m=1.0,
+        modal_damp_vis=0.0,
+        modal_damp_his=0.0,
+        r1=np.ones(1),
+        r2=np.ones(1),
+        r3=np.ones(1),
+    )
+    with pytest.raises(ModelFileError, match=r"dataset #1 \(type 55, mode 1\) → freq"):
+        read_uff_modes(_write(tmp_path / "zero.uff", [bad]))

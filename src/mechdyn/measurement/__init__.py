@@ -1,10 +1,13 @@
 """Measured frequency responses in, modes out, the model against the measurement (issue 47).
 
 Read measured FRFs (:func:`read_uff` for Universal File dataset 58, :func:`read_csv`) into a
-:class:`MeasuredFRF` in SI, identify the modes with their scatter and a stabilisation chart
-(:func:`identify_modes`: LSCF poles from sdypy-EMA, LSFD residues), and pair them with a model's
-modes by MAC (:func:`compare_modes`, :func:`mac`; points mapped to model coordinates by
-:func:`observation_matrix`).
+:class:`MeasuredFRF` in SI, or identified mode shapes (dataset 55, :func:`read_uff_modes`);
+identify the modes with their scatter and a stabilisation chart (:func:`identify_modes`: LSCF
+poles from sdypy-EMA, LSFD residues); pair them with a model's modes by MAC
+(:func:`compare_modes`, :func:`mac`; points mapped to model coordinates by
+:func:`observation_matrix`); and update the model's values so that its modes match, with their
+uncertainty and identifiability (:func:`update_model`, a :class:`ModelUpdate`).
+:func:`simulate_frf` makes synthetic measurements of a known model.
 """
 
 from mechdyn._lazy import attach
@@ -14,6 +17,7 @@ __all__ = attach(
     {
         "IdentifiedModes": "identify",
         "MeasuredFRF": "data",
+        "ModelUpdate": "update_result",
         "ModeComparison": "compare",
         "StabilisationChart": "identify",
         "compare_modes": "compare",
@@ -22,5 +26,8 @@ __all__ = attach(
         "observation_matrix": "compare",
         "read_csv": "data",
         "read_uff": "data",
+        "read_uff_modes": "modefile",
+        "simulate_frf": "synthetic",
+        "update_model": "updating",
     },
 )

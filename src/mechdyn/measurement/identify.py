@@ -209,6 +209,8 @@ class IdentifiedModes:
         -------
         matplotlib Axes
         """
+        if self.chart.measured is None:
+            raise ValueError(f"no stabilisation chart to draw: the modes were {self.method}")
         return self.chart.plot(ax, modes=self)
 
 
