@@ -40,8 +40,8 @@ def _mechanism_batch(loaded: Any, columns: Any, keys: Any, angles: int | None = 
 
             raise NotBatchable("a value outside the mechanism file")
         own[keys_] = values
-    batch = cycle_columns(loaded.model, own, n)
-    V = batch.angle.shape[0]
+    batch = cycle_columns(loaded.model, own, n, summary_only=True)  # a study keeps scalars
+    V = batch.n_variants
     errors = [batch.failures.get(v) for v in range(V)]
     return summary_columns(batch.summary(), keys, V), errors
 

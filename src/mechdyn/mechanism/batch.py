@@ -25,6 +25,8 @@ def cycle_columns(
     columns: Mapping[tuple[str | int, ...], np.ndarray],
     n_angles: int,
     n_variants: int | None = None,
+    *,
+    summary_only: bool = False,
 ) -> Any:
     """One :func:`~mechdyn.mechanism.cycle` over the variants that ``columns`` describe.
 
@@ -39,19 +41,23 @@ def cycle_columns(
         Crank angles per revolution.
     n_variants : int, optional
         V (default: the length of the columns); the base design V times when no column is given.
+    summary_only : bool
+        Keep each variant's scalar figures alone (:func:`~mechdyn.mechanism.dyads.cycle_summary`:
+        chunks of variants through reused work buffers, a few hundred bytes per variant), not its
+        curves; the figures are the same.
 
     Returns
     -------
-    CycleBatch
-        Motions not kept (``store_points=False``); a variant that cannot be assembled is NaN with
-        its reason in ``failures``.
+    CycleBatch or CycleSummary
+        Motions not kept (``store_points=False``), or the figures alone (``summary_only``); a
+        variant that cannot be assembled is NaN with its reason in ``failures``.
 
     Raises
     ------
     NotBatchable
         For a value the batch does not vary, or a mechanism the compiled batch does not run.
     """
-    from mechdyn.mechanism.dyads import NotDecomposable, cycle, plan
+    from mechdyn.mechanism.dyads import NotDecomposable, cycle, cycle_summary, plan
 
     try:
         plan(mechanism)
@@ -80,4 +86,6 @@ def cycle_columns(
     if not (points or masses or inertias):
         first = next(iter(mechanism.points))
         points[first] = np.tile(np.asarray(mechanism.points[first], float), (V, 1))
+    if summary_only:
+        return cycle_summary(mechanism, n_angles, points, masses, inertias=inertias)
     return cycle(mechanism, n_angles, points, masses, inertias=inertias, store_points=False, errors="nan")

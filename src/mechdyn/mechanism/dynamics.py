@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from mechdyn.mechanism.kinematics import KinematicsResult, kinematics, output_position
+from mechdyn.mechanism.kinematics import KinematicsResult, angle_order, kinematics, output_position
 from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, GearJoint, Mechanism, _point
 from mechdyn.mechanism.motion import mechanism_dyads, motion_columns, rocker_link
@@ -676,7 +676,7 @@ def inverse_dynamics(
     mass[:, 2] = mech.inertias
     Q = applied_forces(mech, k)
     if k.dyads is not None:  # joint forces group by group, without the full Jacobian
-        order = np.argsort(k.dyads.angle[0])
+        order = angle_order(k.dyads.angle[0])
         return DynamicsResult(k, k.dyads.multipliers[0][order], Q)
     rhs = Q - mass.ravel() * k.qdd
     J, Jg = k.evaluation.load_jacobian

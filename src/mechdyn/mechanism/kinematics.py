@@ -28,6 +28,7 @@ __all__ = [
     "AssemblyError",
     "KinematicsResult",
     "SingularPositionError",
+    "angle_order",
     "check_angles",
     "crank_angles",
     "dyad_motion",
@@ -469,9 +470,24 @@ def _raise_singular(
         )
 
 
+def angle_order(angle: np.ndarray) -> np.ndarray | slice:
+    """The order that sorts a cycle's crank angles (rad): a whole slice where they are in order
+    already (a datum at the first sample: the arrays are then views, not copies), else the
+    ``argsort``.
+
+    Parameters
+    ----------
+    angle : ndarray
+        (N,) crank angle from the datum at each step of the cycle, rad.
+    """
+    if angle.size < 2 or bool((angle[1:] > angle[:-1]).all()):
+        return slice(None)
+    return np.argsort(angle)
+
+
 def _from_cycle(mechanism: Mechanism, c) -> KinematicsResult:
     """A KinematicsResult from the dyad path (one variant), ordered by angle and checked."""
-    order = np.argsort(c.angle[0])
+    order = angle_order(c.angle[0])
     n = c.angle.shape[1]
     step = 2.0 * math.pi / n * math.copysign(1.0, mechanism.driver.speed)
     turned = np.abs(step) * np.arange(n)
@@ -584,22 +600,12 @@ def crank_angles(
 def _between(s: np.ndarray, lowest: np.ndarray) -> np.ndarray:
     """Where, in steps from the lowest sample of each row of ``s`` (V, n), a cycle's least value lies:
     the minimum of the quartic through the five samples about it, within half a step (0 where the
-    samples do not allow it: fewer than five, or not finite)."""
-    V, n = s.shape
-    out = np.zeros(V)
-    if n < 5:
-        return out
-    x = np.arange(-2, 3)
-    for v in range(V):
-        y = s[v, (lowest[v] + x) % n]
-        if not np.isfinite(y).all():
-            continue
-        c = np.polynomial.polynomial.polyfit(x, y - y[2], 4)
-        d = np.polynomial.polynomial.polyder(c)
-        roots = np.polynomial.polynomial.polyroots(d)
-        real = [r.real for r in roots if abs(r.imag) < 1e-12 and abs(r.real) <= 0.5]
-        if real:
-            out[v] = min(real, key=lambda r: np.polynomial.polynomial.polyval(r, c))
+    samples do not allow it: fewer than five, or not finite). Compiled, over all rows at once
+    (:func:`mechdyn.mechanism.dyads._reduce.between`): no Python work per variant."""
+    from mechdyn.mechanism.dyads._reduce import between
+
+    out = np.empty(s.shape[0])
+    between(np.ascontiguousarray(s, dtype=float), np.ascontiguousarray(lowest, dtype=np.int64), out)
     return out
 
 

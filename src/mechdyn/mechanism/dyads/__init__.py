@@ -21,13 +21,26 @@ refused here and run on the general engine.
 
 The package by job: :mod:`.decomposition` (the plan: the order in which the points become known),
 :mod:`.arguments` (the plan and the loads encoded for the kernel, :class:`~.arguments.KernelArgs`),
-:mod:`._kernel` (the compiled kernel, motion and λ in one pass), :mod:`.run` (:func:`cycle` and
-:func:`variants`) and :mod:`.results` (:class:`CycleBatch`, :class:`DesignBatch`).
+:mod:`._kernel` (the compiled kernel, motion and λ in one pass), :mod:`.run` (:func:`cycle`),
+:mod:`.sequence` (:func:`variants`), :mod:`.results` (:class:`CycleBatch`, :class:`DesignBatch`),
+and :mod:`.summary` with :mod:`._reduce` (:func:`cycle_summary`: the scalar figures alone, reduced
+in compiled code).
 """
 
 from mechdyn.mechanism.dyads.decomposition import NotDecomposable, plan
 from mechdyn.mechanism.dyads.decomposition import Step as Step  # the plan's steps, as before
 from mechdyn.mechanism.dyads.results import CycleBatch, DesignBatch
-from mechdyn.mechanism.dyads.run import cycle, variants
+from mechdyn.mechanism.dyads.run import cycle
+from mechdyn.mechanism.dyads.sequence import variants
+from mechdyn.mechanism.dyads.summary import CycleSummary, cycle_summary
 
-__all__ = ["CycleBatch", "DesignBatch", "NotDecomposable", "cycle", "plan", "variants"]
+__all__ = [
+    "CycleBatch",
+    "CycleSummary",
+    "DesignBatch",
+    "NotDecomposable",
+    "cycle",
+    "cycle_summary",
+    "plan",
+    "variants",
+]

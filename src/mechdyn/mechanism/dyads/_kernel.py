@@ -19,7 +19,16 @@ def _cross(a, b):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def variant(v, args):
+def _over(z, d):
+    """z / d for a complex z and a real d, part by part: the value of the complex division (whose
+    denominator has no imaginary part), without its general algorithm's branches."""
+    return complex(z.real / d, z.imag / d)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def variant(v, args, lane):
+    # v: the variant (its inputs, its joint-force peaks); lane: the row of the per-angle outputs it
+    # writes (v itself, or a row of the summary-only batch's work buffers)
     # the fields by the short names of the formulas below
     dz, ops, fdata, grounded = args.drawing, args.ops, args.op_data, args.grounded
     turn, omega, alpha = args.turn, args.omega, args.alpha
@@ -87,31 +96,33 @@ def variant(v, args):
             elif kind == 4:  # RRR dyad
                 r1, r2, sg = fdata[v, o, 0], fdata[v, o, 1], fdata[v, o, 2]
                 d = pos[k2] - pos[k1]
-                dist = abs(d)
+                dist = np.sqrt(d.real * d.real + d.imag * d.imag)
                 if dist == 0.0:  # the two known points coincide: no dyad (complex division would raise)
                     dist = np.nan
                 x = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist)
                 h2 = r1 * r1 - x * x
                 if h2 < 0.0:
                     h2 = np.nan
-                pp = pos[k1] + d / dist * (x + 1j * sg * np.sqrt(h2))
+                pp = pos[k1] + _over(d, dist) * (x + 1j * sg * np.sqrt(h2))
                 a1 = pp - pos[k1]
                 a2 = pp - pos[k2]
                 det = a1.real * a2.imag - a1.imag * a2.real
                 if dyad_meas.shape[0] > 0:  # sine of the transmission angle, signed
-                    dyad_meas[v, k, ops[o, 5]] = det / (abs(a1) * abs(a2))
+                    n1 = a1.real * a1.real + a1.imag * a1.imag
+                    n2 = a2.real * a2.real + a2.imag * a2.imag
+                    dyad_meas[lane, k, ops[o, 5]] = det / np.sqrt(n1 * n2)
                 if det == 0.0:  # the links in line: velocities undefined (complex division would raise)
                     det = np.nan
                 b1 = a1.real * vel[k1].real + a1.imag * vel[k1].imag
                 b2 = a2.real * vel[k2].real + a2.imag * vel[k2].imag
-                vv = ((b1 * a2.imag - b2 * a1.imag) + 1j * (a1.real * b2 - a2.real * b1)) / det
+                vv = complex((b1 * a2.imag - b2 * a1.imag) / det, (a1.real * b2 - a2.real * b1) / det)
                 e1 = vv - vel[k1]
                 e2 = vv - vel[k2]
                 c1 = a1.real * acc[k1].real + a1.imag * acc[k1].imag - (e1.real * e1.real + e1.imag * e1.imag)
                 c2 = a2.real * acc[k2].real + a2.imag * acc[k2].imag - (e2.real * e2.real + e2.imag * e2.imag)
                 pos[t] = pp
                 vel[t] = vv
-                acc[t] = ((c1 * a2.imag - c2 * a1.imag) + 1j * (a1.real * c2 - a2.real * c1)) / det
+                acc[t] = complex((c1 * a2.imag - c2 * a1.imag) / det, (a1.real * c2 - a2.real * c1) / det)
             else:  # RRP dyad: a link end on a frame guide through the point's drawing position
                 L, sg = fdata[v, o, 0], fdata[v, o, 1]
                 u = fdata[v, o, 2] + 1j * fdata[v, o, 3]
@@ -126,7 +137,7 @@ def variant(v, args):
                 rel = pp - pos[k1]
                 den = rel.real * u.real + rel.imag * u.imag
                 if dyad_meas.shape[0] > 0:
-                    dyad_meas[v, k, ops[o, 5]] = den / abs(rel)
+                    dyad_meas[lane, k, ops[o, 5]] = den / np.sqrt(rel.real * rel.real + rel.imag * rel.imag)
                 if den == 0.0:
                     den = np.nan
                 sd = (rel.real * vel[k1].real + rel.imag * vel[k1].imag) / den
@@ -142,7 +153,7 @@ def variant(v, args):
         f = 0.0 + 0.0j
         for i in range(nb):
             f += mass[v, i] * (grav - acc[P + i])
-        inertia_force[v, k] = f - grav * msum
+        inertia_force[lane, k] = f - grav * msum
         if loads:
             # every load from the multipliers λ, solved dyad by dyad from the output back to the
             # crank (Assur groups: each dyad's Newton–Euler equations are a 2×2 system by moments
@@ -151,8 +162,8 @@ def variant(v, args):
                 need_f[i] = mass[v, i] * (acc[P + i] - grav)
                 need_m[i] = inertia[v, i] * al[i]
                 if applied.shape[0] > 0:
-                    need_f[i] -= applied[v, k, i, 0] + 1j * applied[v, k, i, 1]
-                    need_m[i] -= applied[v, k, i, 2]
+                    need_f[i] -= applied[lane, k, i, 0] + 1j * applied[lane, k, i, 1]
+                    need_m[i] -= applied[lane, k, i, 2]
             for q in range(lam.shape[0]):
                 lam[q] = 0.0
             for o in range(kops.shape[0]):
@@ -169,7 +180,7 @@ def variant(v, args):
                     det = _cross(a1, a2)
                     if det == 0.0:  # the links in line: the forces are undefined
                         det = np.nan
-                    F1 = (a2 * m1 - a1 * m2) / det
+                    F1 = _over(a2 * m1 - a1 * m2, det)
                     F2 = f1 + f2 - F1
                     Fp = F1 - f1
                     for side in range(2):
@@ -226,39 +237,45 @@ def variant(v, args):
                     fm += lam[2 * jj]
                 ff += F
                 fm += _cross(pos[pt], F)
-            force[v, k] = ff
-            moment[v, k] = fm
-            torque[v, k] = -lam[lam.shape[0] - 1]
-            for q in range(jkind.shape[0]):  # each joint's largest force over the cycle
-                mag = abs(lam[2 * q] + 1j * lam[2 * q + 1]) if jkind[q] == 0 else abs(lam[2 * q + 1])
-                if mag > peak_out[v, q]:
-                    peak_out[v, q] = mag
+            force[lane, k] = ff
+            moment[lane, k] = fm
+            torque[lane, k] = -lam[lam.shape[0] - 1]
+            for q in range(jkind.shape[0]):  # each joint's largest force over the cycle (squared here)
+                x = lam[2 * q] if jkind[q] == 0 else 0.0
+                mag2 = x * x + lam[2 * q + 1] * lam[2 * q + 1]
+                if mag2 > peak_out[v, q]:
+                    peak_out[v, q] = mag2
             if lam_out.shape[0] > 0:
                 for q in range(lam.shape[0]):
-                    lam_out[v, k, q] = lam[q]
+                    lam_out[lane, k, q] = lam[q]
         if out_slot >= 0:
             d = pos[out_slot] - dz[v, out_slot]
-            s_out[v, k] = d.real * u_out.real + d.imag * u_out.imag
+            s_out[lane, k] = d.real * u_out.real + d.imag * u_out.imag
         for j in range(keep.shape[0]):
-            pos_out[v, k, j] = pos[keep[j]]
-            vel_out[v, k, j] = vel[keep[j]]
-            acc_out[v, k, j] = acc[keep[j]]
+            pos_out[lane, k, j] = pos[keep[j]]
+        if vel_out.shape[0] > 0:  # the summary-only batch keeps positions alone
+            for j in range(keep.shape[0]):
+                vel_out[lane, k, j] = vel[keep[j]]
+                acc_out[lane, k, j] = acc[keep[j]]
         if rates:
             for i in range(nb):
-                rate_out[v, k, i, 0] = ph[i]
-                rate_out[v, k, i, 1] = w[i]
-                rate_out[v, k, i, 2] = al[i]
+                rate_out[lane, k, i, 0] = ph[i]
+                rate_out[lane, k, i, 1] = w[i]
+                rate_out[lane, k, i, 2] = al[i]
+    if loads:
+        for q in range(jkind.shape[0]):
+            peak_out[v, q] = np.sqrt(peak_out[v, q])
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def run_parallel(args):
     """Every variant (the leading axis of the arrays in ``args``) in parallel threads."""
     for v in numba.prange(args.drawing.shape[0]):
-        variant(v, args)
+        variant(v, args, v)
 
 
 @numba.njit(cache=True, error_model="numpy")
 def run_serial(args):
     """Every variant in turn (one design: no threads to start)."""
     for v in range(args.drawing.shape[0]):
-        variant(v, args)
+        variant(v, args, v)

@@ -1,28 +1,29 @@
-"""The dyad path's runs: :func:`cycle` (one mechanism and its point and mass arrays over a revolution)
-and :func:`variants` (a sequence of variant models), each one pass of the compiled kernel over every
-crank angle and design variant, with the positions the samples may have stepped over screened between
-them (:mod:`mechdyn.mechanism.screening`).
+"""The dyad path's runs: :func:`cycle` (one mechanism and its point and mass arrays over a revolution),
+one pass of the compiled kernel over every crank angle and design variant, with the positions the
+samples may have stepped over screened between them (:mod:`mechdyn.mechanism.screening`); and its
+steps (:class:`Setup`, :func:`run_block`, :func:`screen_block`), which the summary-only batch
+(:mod:`.summary`) runs block by block. A sequence of variant models: :mod:`.sequence`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
 from mechdyn.checks import check_array
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.dyads.arguments import KernelArgs, _cross, encode, encode_loads, motion_only
-from mechdyn.mechanism.dyads.decomposition import NotDecomposable, Step, plan
-from mechdyn.mechanism.dyads.results import CycleBatch, DesignBatch
+from mechdyn.mechanism.dyads.decomposition import Step, plan
+from mechdyn.mechanism.dyads.results import CycleBatch
 from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, check_angles, crank_angles
 from mechdyn.mechanism.model import GROUND, Mechanism
 from mechdyn.mechanism.motion import output_rocker
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 
-__all__ = ["cycle", "variants"]
+__all__ = ["Outputs", "Setup", "cycle", "dyad_plan", "nominal_setup", "run_block", "screen_block"]
 
 
 def _z(xy: Any) -> np.ndarray:
@@ -101,7 +102,7 @@ def cycle(
     """
     m = mechanism
     n_angles = check_angles(n_angles)
-    steps = plan(m)
+    steps = dyad_plan(m)
     given = {}
     for name, arr in (points or {}).items():
         if name not in m.points:
@@ -119,12 +120,166 @@ def cycle(
         )
         for name, arr in (inertias or {}).items()
     }
+    if given or masses or inertias:
+        setup = _setup(m, steps, n_angles, given, masses, inertias, store_points)
+    else:  # the design as drawn: its encoded plan is kept with the (immutable) model
+        setup = nominal_setup(m, n_angles, store_points)
+    if errors not in ("raise", "nan"):
+        raise ModelError(f"errors={errors!r} must be 'raise' or 'nan'")
+    V, N, nb = setup.V, setup.N, len(m.bodies)
+    K = setup.keep.size
+    out = Outputs(
+        pos=np.empty((V, N, K), dtype=complex),
+        vel=np.empty((V, N, K), dtype=complex),
+        acc=np.empty((V, N, K), dtype=complex),
+        rates=np.empty((V, N, nb, 3) if store_points else (0, 0, 0, 0)),
+        force=np.empty((V, N), dtype=complex),
+        inertia_force=np.empty((V, N), dtype=complex),
+        moment=np.empty((V, N)),
+        torque=np.empty((V, N)),
+        stroke=np.empty((V, N)) if setup.output_slot >= 0 else np.empty((0, 0)),
+        dyad_measure=np.empty((V, N, setup.n_dyads)),  # every variant's, for the screening
+        multipliers=np.empty((V, N, m.n_constraints) if store_points else (0, 0, 0)),
+        peaks=np.empty((V, len(m.joints))),
+    )
+    read_at = run_block(setup, 0, V, out)
+    failures: dict[int, str] = {}
+    screen_block(setup, 0, out, read_at, errors, failures)
+    pos, vel, acc, rates = out.pos, out.vel, out.acc, out.rates
+    z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(setup.wanted)}
+    stroke = out.stroke if setup.output_slot >= 0 else None
+    angle = crank_angles(m, setup.theta_draw, setup.step, stroke, N)
+    body_rates = (
+        {b.name: (rates[..., i, 0], rates[..., i, 1], rates[..., i, 2]) for i, b in enumerate(m.bodies)}
+        if store_points
+        else {}
+    )
+    return CycleBatch(
+        m,
+        angle,
+        out.torque,
+        out.moment,
+        stroke,
+        out.force,
+        out.inertia_force,
+        z,
+        body_rates,
+        out.dyad_measure,
+        steps,
+        (pos, vel, acc, rates),
+        setup.mass,
+        setup.inertia,
+        out.multipliers if store_points else None,
+        out.peaks,
+        failures,
+    )
+
+
+class Setup(NamedTuple):
+    """Everything a run of the kernel needs that does not depend on which variants it runs: the
+    encoded plan, the variants' drawings, masses and inertias (rows over V), the loads' program."""
+
+    m: Mechanism
+    steps: list[Step]
+    V: int
+    N: int
+    draw: dict[str, np.ndarray]
+    mass: np.ndarray
+    inertia: np.ndarray
+    dz: np.ndarray | None  # None: encoded block by block (the summary-only batch)
+    ops: np.ndarray
+    fdata: np.ndarray | None
+    grounded: np.ndarray
+    wanted: list[str]
+    keep: np.ndarray
+    theta_draw: np.ndarray
+    step: float
+    turn: np.ndarray
+    output_slot: int
+    output_axis: complex
+    n_dyads: int
+    load_ops: np.ndarray
+    load_data: np.ndarray
+    frame_ops: np.ndarray
+    frame_data: np.ndarray
+    joint_kind: np.ndarray
+
+
+class Outputs(NamedTuple):
+    """The kernel's outputs for a block of variants (rows: the block's variants), as
+    :class:`~mechdyn.mechanism.dyads.arguments.KernelArgs` names them."""
+
+    pos: np.ndarray
+    vel: np.ndarray
+    acc: np.ndarray
+    rates: np.ndarray
+    force: np.ndarray
+    inertia_force: np.ndarray
+    moment: np.ndarray
+    torque: np.ndarray
+    stroke: np.ndarray
+    dyad_measure: np.ndarray
+    multipliers: np.ndarray
+    peaks: np.ndarray
+
+
+def _cache(m: Mechanism) -> dict[Any, Any]:
+    """What the dyad path keeps with a model: a model is immutable (a variant is a new object), so
+    its plan and its drawing's encoding hold for its lifetime (stored as ``cached_property`` stores,
+    beside the dataclass fields, which equality and ``replace`` ignore)."""
+    return cast(dict[Any, Any], m.__dict__.setdefault("_dyad_cache", {}))
+
+
+def dyad_plan(m: Mechanism) -> list[Step]:
+    """:func:`~mechdyn.mechanism.dyads.plan` of ``m``, worked out once per model.
+
+    Parameters
+    ----------
+    m : Mechanism
+        The model.
+
+    Raises
+    ------
+    NotDecomposable
+        When the mechanism is not a crank with RRR/RRP dyads (not kept: asked again each time).
+    """
+    cache = _cache(m)
+    if "plan" not in cache:
+        cache["plan"] = plan(m)
+    return cast(list[Step], cache["plan"])
+
+
+def nominal_setup(m: Mechanism, n_angles: int, store_points: bool) -> Setup:
+    """The :class:`Setup` of the design as drawn (one variant), worked out once per model, number of
+    angles and ``store_points`` (the kernel and the results only read its arrays).
+
+    Parameters
+    ----------
+    m : Mechanism
+        The model.
+    n_angles : int
+        Crank angles per revolution (checked by the caller).
+    store_points : bool
+        Whether every point's motion is kept.
+    """
+    cache = _cache(m)
+    key = ("setup", n_angles, store_points)
+    if key not in cache:
+        setup = _setup(m, dyad_plan(m), n_angles, {}, {}, {}, store_points)
+        if len(cache) > 16:  # a model analysed at many resolutions: keep the latest few
+            cache.pop(next(k for k in cache if k != "plan"))
+        cache[key] = setup
+    return cast(Setup, cache[key])
+
+
+def _setup(m, steps, n_angles, given, masses, inertias, store_points, encode_all=True) -> Setup:
+    """The variants' data (checked inputs) and the encoded plan, once per call (``encode_all``
+    False: each variant's encoded drawing is left to :func:`run_block`, block by block)."""
     V = max([1, *(a.size for a in given.values()), *(a.size for a in (*masses.values(), *inertias.values()))])
     draw = {
         k: np.broadcast_to(given[k], (V,)).copy() if k in given else np.full(V, complex(*v))
         for k, v in m.points.items()
     }
-    nb = len(m.bodies)
     mass = np.tile(m.masses, (V, 1))
     inertia = np.tile(m.inertias, (V, 1))
     for name, arr in masses.items():
@@ -135,7 +290,11 @@ def cycle(
         mass[:, i] = new
     for name, arr in inertias.items():
         inertia[:, m.body_index[name]] = np.broadcast_to(arr.reshape(-1), (V,))
-    slot, dz, ops, fdata, grounded = encode(m, steps, draw)
+    if encode_all:
+        slot, dz, ops, fdata, grounded = encode(m, steps, draw)
+    else:
+        slot, _, ops, _, grounded = encode(m, steps, {k: v[:1] for k, v in draw.items()})
+        dz = fdata = None
     j = m.output_joint()
     wanted = (
         list(m.points) + [f"__com__{b.name}" for b in m.bodies]
@@ -147,147 +306,179 @@ def cycle(
             | (set(rocker[1:]) if (rocker := output_rocker(m)) else set())  # for swing_figures
         )
     )
-    keep = np.array([slot[n] for n in wanted], dtype=np.int64)
     N = n_angles
+    step = 2 * math.pi / N * math.copysign(1.0, m.driver.speed)
+    kops, kf, gops, gf, jkind = encode_loads(m, steps, slot)
+    return Setup(
+        m=m,
+        steps=steps,
+        V=V,
+        N=N,
+        draw=draw,
+        mass=mass,
+        inertia=inertia,
+        dz=dz,
+        ops=ops,
+        fdata=fdata,
+        grounded=grounded,
+        wanted=wanted,
+        keep=np.array([slot[n] for n in wanted], dtype=np.int64),
+        theta_draw=np.angle(draw[m.driver.tip] - draw[m.driver.pivot]),
+        step=step,
+        turn=np.exp(1j * step * np.arange(N)),  # the crank's rotation from the drawing, the same for all
+        output_slot=slot[j.point] if j is not None else -1,
+        output_axis=complex(math.cos(j.axis), math.sin(j.axis)) if j is not None else 0j,
+        n_dyads=int(sum(1 for st in steps if st.kind in ("rrr", "rrp"))),
+        load_ops=kops,
+        load_data=kf,
+        frame_ops=gops,
+        frame_data=gf,
+        joint_kind=jkind,
+    )
+
+
+def run_block(
+    s: Setup, lo: int, hi: int, out: Outputs, kernel: Callable[[KernelArgs], None] | None = None
+) -> np.ndarray | None:
+    """The kernel over variants ``lo:hi`` of ``s``, written into ``out`` (rows: those variants).
+
+    Parameters
+    ----------
+    s : Setup
+        The variants and the encoded plan (:func:`cycle`'s first step).
+    lo, hi : int
+        The block of variants, indices into the V of ``s``.
+    out : Outputs
+        The kernel's outputs, hi − lo rows each (an empty array: not kept); joint-force peaks in N.
+    kernel : callable, optional
+        Runs the pass that computes the loads in place of the compiled kernel (the summary-only
+        batch's kernel, which reduces as it goes).
+
+    Returns
+    -------
+    ndarray or None
+        (hi − lo, N) the crank angle from the datum each variant's speed was read at, rad; None
+        where the datum is bottom dead centre and the speed constant.
+    """
+    m, N, W = s.m, s.N, hi - lo
     omega = m.driver.speed
-    theta_draw = np.angle(draw[m.driver.tip] - draw[m.driver.pivot])
-    step = 2 * math.pi / N * math.copysign(1.0, omega)
-    pos = np.empty((V, N, keep.size), dtype=complex)
-    vel = np.empty_like(pos)
-    acc = np.empty_like(pos)
-    rates = np.empty((V, N, nb, 3) if store_points else (0, 0, 0, 0))
-    force = np.empty((V, N), dtype=complex)
-    inertia_force = np.empty((V, N), dtype=complex)
-    moment = np.empty((V, N))
-    torque = np.empty((V, N))
-    out_slot = slot[j.point] if j is not None else -1
-    u_out = complex(math.cos(j.axis), math.sin(j.axis)) if j is not None else 0j
-    s_out = np.empty((V, N)) if j is not None else np.empty((0, 0))
-    turn = np.exp(1j * step * np.arange(N))  # the crank's rotation from the drawing, the same for all
+    theta_draw = s.theta_draw[lo:hi]
     # θ̇, θ̈ per variant and step, read at the crank angle from the datum; "bdc" is found from the motion
     # first (positions do not depend on the speed) when a speed profile needs it
     profile_after_motion = m.angle_datum == "bdc" and m.driver.profile is not None
+    read_at: np.ndarray | None
     if m.angle_datum == "bdc":
-        omega_k, alpha_k = np.full((V, N), omega), np.zeros((V, N))
+        omega_k, alpha_k = np.full((W, N), omega), np.zeros((W, N))
         read_at = None
     else:
-        read_at = crank_angles(m, theta_draw, step, None, N)
+        read_at = crank_angles(m, theta_draw, s.step, None, N)
         omega_k, alpha_k = m.driver.rates(read_at)
-    n_dyads = int(sum(1 for st in steps if st.kind in ("rrr", "rrp")))
-    dyad_meas = np.empty((V, N, n_dyads))  # every variant's, for the screening below
-    kops, kf, gops, gf, jkind = encode_loads(m, steps, slot)
-    n_lam = m.n_constraints
-    lam_out = np.empty((V, N, n_lam) if store_points else (0, 0, 0))
-    peaks = np.empty((V, len(m.joints)))
+    has_output = s.output_slot >= 0
+    if s.dz is not None and s.fdata is not None:
+        dz, fdata = s.dz[lo:hi], s.fdata[lo:hi]
+    else:
+        _, dz, _, fdata, _ = encode(m, s.steps, {k: v[lo:hi] for k, v in s.draw.items()})
 
     def run(loads: np.ndarray, applied: np.ndarray) -> None:
         w, a = (np.ascontiguousarray(x, dtype=float) for x in (omega_k, alpha_k))
         args = KernelArgs(
             drawing=dz,
-            ops=ops,
+            ops=s.ops,
             op_data=fdata,
-            grounded=grounded,
-            turn=turn,
+            grounded=s.grounded,
+            turn=s.turn,
             omega=w,
             alpha=a,
-            mass=mass,
-            inertia=inertia,
+            mass=s.mass[lo:hi],
+            inertia=s.inertia[lo:hi],
             gravity=complex(*m.gravity),
-            keep=keep,
-            output_slot=out_slot,
-            output_axis=u_out,
-            pos=pos,
-            vel=vel,
-            acc=acc,
-            rates=rates,
-            force=force,
-            inertia_force=inertia_force,
-            moment=moment,
-            torque=torque,
-            stroke=s_out,
-            dyad_measure=dyad_meas,
+            keep=s.keep,
+            output_slot=s.output_slot,
+            output_axis=s.output_axis,
             load_ops=loads,
-            load_data=kf,
-            frame_ops=gops,
-            frame_data=gf,
-            joint_kind=jkind,
-            n_multipliers=n_lam,
+            load_data=s.load_data,
+            frame_ops=s.frame_ops,
+            frame_data=s.frame_data,
+            joint_kind=s.joint_kind,
+            n_multipliers=m.n_constraints,
             applied=applied,
-            multipliers=lam_out,
-            peaks=peaks,
+            **out._asdict(),
         )
-        _kernel(parallel=V > 8)(args)
+        if kernel is not None and loads.shape[0]:
+            kernel(args)
+        else:
+            _kernel(parallel=W > 8)(args)
 
     no_applied = np.zeros((0, 0, 0, 0))
     if m.process_forces or profile_after_motion:  # the motion first, then the loads
         run(np.zeros((0, 16), dtype=np.int64), no_applied)
-        angle0 = crank_angles(m, theta_draw, step, s_out if j is not None else None, N)
+        s_out = out.stroke if has_output else None
+        angle0 = crank_angles(m, theta_draw, s.step, s_out, N)
         if profile_after_motion:
             read_at = angle0
             omega_k, alpha_k = m.driver.rates(read_at)
         applied = no_applied
         if m.process_forces:
-            z0 = {n: pos[..., i] for i, n in enumerate(wanted)}
-            applied = _process_loads(m, angle0, s_out if j is not None else None, z0, V, N)
-        run(kops, applied)
+            z0 = {n: out.pos[..., i] for i, n in enumerate(s.wanted)}
+            applied = _process_loads(m, angle0, s_out, z0, W, N)
+        run(s.load_ops, applied)
     else:
-        run(kops, no_applied)
-    if errors not in ("raise", "nan"):
-        raise ModelError(f"errors={errors!r} must be 'raise' or 'nan'")
-    # the positions the samples may have stepped over, refined between them (mechanism.screening)
-    failures: dict[int, str] = {}
-    suspect = np.isnan(dyad_meas).any(axis=(1, 2)) | (np.abs(dyad_meas) < SCREEN).any(axis=(1, 2))
-    for v in np.flatnonzero(suspect):
+        run(s.load_ops, no_applied)
+    return read_at
+
+
+def screen_block(
+    s: Setup, lo: int, out: Outputs, read_at: np.ndarray | None, errors: str, failures: dict[int, str]
+) -> None:
+    """Screen the positions the samples of variants ``lo:lo + len(out)`` may have stepped over
+    (:mod:`mechdyn.mechanism.screening`).
+
+    Parameters
+    ----------
+    s : Setup
+        The variants and the encoded plan.
+    lo : int
+        The index of the block's first variant in the V of ``s``.
+    out : Outputs
+        The block's kernel outputs (:func:`run_block`); a failed variant's rows become NaN (its
+        dyad measures stay).
+    read_at : ndarray or None
+        (rows, N) the crank angles the speed was read at, rad (:func:`run_block`'s return).
+    errors : {"raise", "nan"}
+        Raise at the first variant that fails, or name it in ``failures``.
+    failures : dict of int to str
+        Written: variant index in the whole batch → why it fails (the angle, the loop, the joint).
+
+    Raises
+    ------
+    AssemblyError, SingularPositionError
+        With ``errors="raise"``, naming the variant, the crank angle and the joint.
+    """
+    m, steps = s.m, s.steps
+    meas = out.dyad_measure
+    suspect = np.isnan(meas).any(axis=(1, 2)) | (np.abs(meas) < SCREEN).any(axis=(1, 2))
+    for i in np.flatnonzero(suspect):
+        v = lo + int(i)
         measure = _measure(
             m,
             steps,
-            {n: a[v : v + 1] for n, a in draw.items()},
-            mass[v : v + 1],
-            inertia[v : v + 1],
-            0.0 if read_at is None else float(read_at[v, 0]),
+            {n: a[v : v + 1] for n, a in s.draw.items()},
+            s.mass[v : v + 1],
+            s.inertia[v : v + 1],
+            0.0 if read_at is None else float(read_at[i, 0]),
         )
-        finding = screen(measure, dyad_meas[v], abs(step))
+        finding = screen(measure, meas[i], abs(s.step))
         if finding is None:
             continue
-        failures[int(v)] = _message(
-            m, steps, finding, float(theta_draw[v]), math.copysign(1.0, omega), v if V > 1 else None
+        failures[v] = _message(
+            m, steps, finding, float(s.theta_draw[v]), math.copysign(1.0, s.step), v if s.V > 1 else None
         )
         if errors == "raise":
             cls = SingularPositionError if finding.kind == "singular" else AssemblyError
-            raise cls(failures[int(v)])
-        for arr in (torque, moment, force, inertia_force, pos, vel, acc, peaks):
-            arr[v] = np.nan
-        if lam_out.size:
-            lam_out[v] = np.nan
-        if s_out.size:
-            s_out[v] = np.nan
-    z = {n: (pos[..., i], vel[..., i], acc[..., i]) for i, n in enumerate(wanted)}
-    stroke = None if j is None else s_out
-    angle = crank_angles(m, theta_draw, step, stroke, N)
-    body_rates = (
-        {b.name: (rates[..., i, 0], rates[..., i, 1], rates[..., i, 2]) for i, b in enumerate(m.bodies)}
-        if store_points
-        else {}
-    )
-    return CycleBatch(
-        m,
-        angle,
-        torque,
-        moment,
-        stroke,
-        force,
-        inertia_force,
-        z,
-        body_rates,
-        dyad_meas,
-        steps,
-        (pos, vel, acc, rates),
-        mass,
-        inertia,
-        lam_out if store_points else None,
-        peaks,
-        failures,
-    )
+            raise cls(failures[v])
+        for arr in out:  # every output of the variant that is kept (its dyad measures stay)
+            if arr.size and arr is not out.dyad_measure:
+                arr[i] = np.nan
 
 
 def _measure(m: Mechanism, steps: list[Step], draw, mass: np.ndarray, inertia: np.ndarray, start: float):
@@ -339,99 +530,6 @@ def _message(m: Mechanism, steps: list[Step], f: Finding, theta_draw: float, sig
         f"({dyad.kind.upper()} dyad at point {p!r}, links {links}) does not close; a link is too "
         "short to reach"
     )
-
-
-def variants(
-    models: Sequence[Mechanism], n_angles: int = 360, *, store_points: bool = True, method: Any = "auto"
-) -> CycleBatch | DesignBatch:
-    """Many variant models of one mechanism in one batched evaluation; variant i of the result is
-    the single-design result of ``models[i]``.
-
-    Parameters
-    ----------
-    models : sequence of Mechanism
-        Variants of one topology: they may differ in their drawing's point coordinates, their bodies'
-        masses and inertias (and their names), nothing else.
-    n_angles : int
-        Crank angles per revolution, a whole number from 4 to 100 000.
-    store_points : bool
-        Keep the motions (and with them every joint force); see :func:`cycle`.
-    method : {"auto", "dyads", "newton"} or callable
-        The motion solver, as for :func:`~mechdyn.mechanism.kinematics`: ``"auto"`` and ``"dyads"``
-        run one compiled batch where the mechanism decomposes; ``"newton"`` or a callable
-        ``(mechanism, n_angles) -> KinematicsResult`` run design by design.
-
-    Returns
-    -------
-    CycleBatch or DesignBatch
-        One variant per model, in order, each with its ``status`` (``"ok"`` or why it was not
-        computed: the angle, the loop and the joint); the others are computed. A crank with RRR/RRP
-        dyads runs as one compiled batch (:class:`CycleBatch`); any other mechanism (gear trains,
-        sliders on moving guides) runs design by design on the general engine
-        (:class:`DesignBatch`, with the same summary keys).
-
-    Raises
-    ------
-    ModelError
-        When a model differs from the first in more than points, masses and inertias (naming the
-        variant and what differs).
-    """
-    if not models:
-        raise ModelError("give at least one model", element="variants")
-    n_angles = check_angles(n_angles)
-    base = models[0]
-    for i, m in enumerate(models[1:], start=1):
-        _same_topology(base, m, i)
-    if method not in ("auto", "dyads"):
-        return DesignBatch.run(models, n_angles, method)
-    try:
-        plan(base)
-    except NotDecomposable:
-        if method == "dyads":
-            raise
-        return DesignBatch.run(models, n_angles)
-    changed = [p for p in base.points if any(m.points[p] != base.points[p] for m in models)]
-    points = {p: np.array([m.points[p] for m in models]) for p in changed}
-    masses, inertias = {}, {}
-    for k, b in enumerate(base.bodies):
-        if any(m.bodies[k].mass != b.mass for m in models):
-            masses[b.name] = np.array([m.bodies[k].mass for m in models])
-        # each model's own inertia, also where only the mass changes (cycle() would scale it)
-        if b.name in masses or any(m.bodies[k].inertia != b.inertia for m in models):
-            inertias[b.name] = np.array([m.bodies[k].inertia for m in models])
-    if len(models) > 1 and not (points or masses or inertias):  # identical variants: still one each
-        points = {p: np.array([base.points[p]] * len(models)) for p in list(base.points)[:1]}
-    return cycle(
-        base,
-        n_angles,
-        points,
-        masses,
-        inertias=inertias,
-        store_points=store_points,
-        errors="nan",
-    )
-
-
-def _same_topology(base: Mechanism, m: Mechanism, i: int) -> None:
-    """Refuse a variant that differs from the first in more than points, masses and inertias."""
-
-    def differs(what: str) -> None:
-        raise ModelError(
-            f"variant {i} differs from variant 0 in its {what}; a batch holds variants of one "
-            "topology that differ in points, masses and inertias; run the others one by one",
-            element="variants",
-        )
-
-    if set(m.points) != set(base.points):
-        differs("point names")
-    if len(m.bodies) != len(base.bodies):
-        differs("bodies")
-    for a, b in zip(m.bodies, base.bodies, strict=True):
-        if (a.name, a.points, a.center_of_mass) != (b.name, b.points, b.center_of_mass):
-            differs(f"body {b.name!r} (its name, points or centre of mass)")
-    for what in ("joints", "driver", "gravity", "process_forces", "output", "angle_datum"):
-        if getattr(m, what) != getattr(base, what):
-            differs(what.replace("_", " "))
 
 
 def _process_loads(
