@@ -53,6 +53,35 @@ def _body(m: Mechanism, name: str, field: str) -> str:
     return name
 
 
+def checked_variants(
+    m: Mechanism,
+    points: Mapping[str, Any] | None,
+    masses: Mapping[str, Any] | None,
+    inertias: Mapping[str, Any] | None,
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """The variants' points (complex, m), masses (kg) and inertias (kg·m²), checked finite and
+    named in the drawing, as :func:`cycle` and :func:`~mechdyn.mechanism.dyads.cycle_summary` take
+    them."""
+    given = {}
+    for name, arr in (points or {}).items():
+        if name not in m.points:
+            raise ModelError(f"point {name!r} is not in the drawing", element="points")
+        given[name] = _z(
+            check_array("cycle", f"points[{name!r}]", arr, "m", what="coordinates").reshape(-1, 2)
+        )
+    masses = {
+        name: check_array("cycle", f"masses[{_body(m, name, 'masses')!r}]", arr, "kg", nonnegative=True)
+        for name, arr in (masses or {}).items()
+    }
+    inertias = {
+        name: check_array(
+            "cycle", f"inertias[{_body(m, name, 'inertias')!r}]", arr, "kg*m^2", nonnegative=True
+        )
+        for name, arr in (inertias or {}).items()
+    }
+    return given, masses, inertias
+
+
 def cycle(
     mechanism: Mechanism,
     n_angles: int = 360,
@@ -103,23 +132,7 @@ def cycle(
     m = mechanism
     n_angles = check_angles(n_angles)
     steps = dyad_plan(m)
-    given = {}
-    for name, arr in (points or {}).items():
-        if name not in m.points:
-            raise ModelError(f"point {name!r} is not in the drawing", element="points")
-        given[name] = _z(
-            check_array("cycle", f"points[{name!r}]", arr, "m", what="coordinates").reshape(-1, 2)
-        )
-    masses = {
-        name: check_array("cycle", f"masses[{_body(m, name, 'masses')!r}]", arr, "kg", nonnegative=True)
-        for name, arr in (masses or {}).items()
-    }
-    inertias = {
-        name: check_array(
-            "cycle", f"inertias[{_body(m, name, 'inertias')!r}]", arr, "kg*m^2", nonnegative=True
-        )
-        for name, arr in (inertias or {}).items()
-    }
+    given, masses, inertias = checked_variants(m, points, masses, inertias)
     if given or masses or inertias:
         setup = _setup(m, steps, n_angles, given, masses, inertias, store_points)
     else:  # the design as drawn: its encoded plan is kept with the (immutable) model

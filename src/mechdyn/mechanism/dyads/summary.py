@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.mechanism.dyads.run import Outputs, _body, _setup, _z, dyad_plan, run_block, screen_block
+from mechdyn.mechanism.dyads.run import Outputs, _setup, checked_variants, dyad_plan, run_block, screen_block
 from mechdyn.mechanism.kinematics import check_angles, crank_angles
 from mechdyn.mechanism.model import Mechanism
 from mechdyn.mechanism.motion import output_rocker
@@ -135,8 +135,7 @@ def cycle_summary(
     ModelError
         For an input outside its range (naming it).
     """
-    from mechdyn.checks import check_array, check_count
-    from mechdyn.errors import ModelError
+    from mechdyn.checks import check_count
     from mechdyn.mechanism.dyads._reduce import (
         COLUMNS,
         LAYOUT,
@@ -151,23 +150,7 @@ def cycle_summary(
     n_angles = check_angles(n_angles)
     chunk = check_count("cycle_summary", "chunk", chunk, low=1, high=100_000, what="variants")
     steps = dyad_plan(m)
-    given = {}
-    for name, arr in (points or {}).items():
-        if name not in m.points:
-            raise ModelError(f"point {name!r} is not in the drawing", element="points")
-        given[name] = _z(
-            check_array("cycle", f"points[{name!r}]", arr, "m", what="coordinates").reshape(-1, 2)
-        )
-    masses = {
-        name: check_array("cycle", f"masses[{_body(m, name, 'masses')!r}]", arr, "kg", nonnegative=True)
-        for name, arr in (masses or {}).items()
-    }
-    inertias = {
-        name: check_array(
-            "cycle", f"inertias[{_body(m, name, 'inertias')!r}]", arr, "kg*m^2", nonnegative=True
-        )
-        for name, arr in (inertias or {}).items()
-    }
+    given, masses, inertias = checked_variants(m, points, masses, inertias)
     rocker = output_rocker(m)
     bdc = m.angle_datum == "bdc"
     has_output = m.output_joint() is not None
