@@ -89,7 +89,7 @@ def _show(args: argparse.Namespace) -> int:
             rows.append([_heading(key, {}), value if plain else json.dumps(jsonable(value))])
 
     def _text(v: object) -> str:
-        return number_text(v) if is_number(v) else json.dumps(jsonable(v))
+        return number_text(float(v)) if is_number(v) else json.dumps(jsonable(v))  # type: ignore[arg-type]
 
     for k, v in r.scalars.items():
         add(k, v)

@@ -200,7 +200,7 @@ def cycle_summary(
     buf = buffers(W)
     deg_buf = np.empty((W, N))
     for lo, hi in blocks:
-        out = Outputs(*(a[: hi - lo] if a.shape[0] else a for a in buf[:-1]), peaks=peaks[lo:hi])
+        out = Outputs._make([*(a[: hi - lo] if a.shape[0] else a for a in buf[:-1]), peaks[lo:hi]])
         deg = deg_buf[: hi - lo]
         if not (bdc and has_output):  # a fixed datum: the angles are known before the motion
             deg[:] = np.degrees(crank_angles(m, s.theta_draw[lo:hi], s.step, None, N))
