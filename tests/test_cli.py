@@ -25,6 +25,8 @@ MECHANISM_EXAMPLES = sorted(
 SUPPORT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "support"' in p.read_text())
 MOUNT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "mount"' in p.read_text())
 DRIVE_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if 'type = "drive"' in p.read_text())
+# a measurement file beside its data (tests/test_measurement_file.py runs it through the command line)
+MEASUREMENT_EXAMPLES = sorted(EXAMPLES.glob("measured/*.toml"))
 GEAR_EXAMPLES = sorted(
     p
     for p in EXAMPLES.glob("*.toml")
@@ -40,8 +42,9 @@ def test_every_example_is_run_by_one_of_the_tests():
         MOUNT_EXAMPLES,
         GEAR_EXAMPLES,
         DRIVE_EXAMPLES,
+        MEASUREMENT_EXAMPLES,
     ]
-    for p in EXAMPLES.glob("*.toml"):
+    for p in [*EXAMPLES.glob("*.toml"), *EXAMPLES.glob("measured/*.toml")]:
         assert sum(p in group for group in lists) == 1, p.name
 
 

@@ -29,6 +29,7 @@ ANALYSIS = {
     "gear_pair": "gear",
     "tooth_pair": "gear",
     "drive": "drive",
+    "measurement": "modes-from-test",
 }
 MODEL_TYPES = [t for t in file_types() if t != "study"]
 
@@ -84,6 +85,9 @@ def test_a_new_template_loads_and_its_analysis_runs(file_type, tmp_path, capsys)
     path = tmp_path / f"{file_type}.toml"
     if file_type == "drive":  # it drives the mechanism template's four-bar, in a file beside it
         assert main(["new", "mechanism", str(tmp_path / "mechanism.toml")]) == 0
+    if file_type == "measurement":  # it tests the machine of examples/measured, with its data beside it
+        for name in ("machine.toml", "tap_test.uff"):
+            (tmp_path / name).write_bytes((ROOT / "examples" / "measured" / name).read_bytes())
     assert main(["new", file_type, str(path)]) == 0
     assert f"wrote {path}" in capsys.readouterr().out
     tomllib.loads(path.read_text())  # valid TOML as written

@@ -37,7 +37,8 @@ MODEL_TYPES = sorted(name for name, t in TYPES.items() if t.loads)
 def _examples(file_type: str) -> list[Path]:
     """The example model files whose ``[model] type`` is ``file_type``."""
     found = []
-    for path in sorted(EXAMPLES.glob("*.toml")):
+    # the examples and the measured one (examples/measured: a test with its data and model files)
+    for path in sorted([*EXAMPLES.glob("*.toml"), *EXAMPLES.glob("measured/*.toml")]):
         with path.open("rb") as f:
             model = tomllib.load(f).get("model", {})
         if model.get("type") == file_type:
@@ -58,6 +59,7 @@ def test_the_capabilities_register_the_model_types_and_the_study_file():
         "tooth_pair",
         "mount",
         "drive",
+        "measurement",
     }
     assert not TYPES["study"].loads and TYPES["study"].schema is not None
     assert file_types() == sorted([*MODEL_TYPES, "study"])

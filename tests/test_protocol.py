@@ -30,8 +30,10 @@ EXAMPLE_OF = {
     "tooth_pair": "tooth_pair1_published.toml",
     "mount": "pad_shore60.toml",
     "drive": "press_driven.toml",
+    "measurement": "measured/tap_test.toml",
 }
 OPTIONS = {
+    "modes-from-test": [{"bootstrap": 0, "starts": 0}],
     "modal": [{}, {"compare_rigid": True}, {"rigid_gears": True}],
     "frf": [{"points": 40}],
     "mechanism": [{"angles": 36}],

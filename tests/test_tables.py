@@ -23,6 +23,14 @@ from mechdyn.numbers import column_format as _column_spec
 from mechdyn.registry import get
 from mechdyn.results import Table
 
+# the shipped model files: examples/*.toml and the measurement files beside their data
+MODEL_EXAMPLES = sorted([*EXAMPLES.glob("*.toml"), *EXAMPLES.glob("measured/*.toml")])
+
+
+def _shipped_name(path: Path) -> str:
+    return path.relative_to(EXAMPLES).as_posix()
+
+
 SNAKE = re.compile(r"^[a-z0-9]+(?:_[a-z0-9]+)+$")
 CASES = [
     ("modal", "turret_milling.toml", {"compare_rigid": True}),
@@ -79,6 +87,7 @@ _LIGHT = {
     "mechanism": {"angles": 72},
     "support": {"cycles": 1},
     "frf": {"points": 200},
+    "modes-from-test": {"bootstrap": 0, "starts": 0},  # no bootstrap of the scatter, no global start
     # a few milliseconds of a free run at speed: every drivetrain example, with or without [simulation]
     "simulate": {"duration": 0.005, "initial_speed": 100.0},
     # a few speeds and harmonics, teeth in contact: every drivetrain example, with or without [speed_sweep]
@@ -103,11 +112,11 @@ def _unit_tables():
     from mechdyn.io.modelfile import read
     from mechdyn.registry import analyses
 
-    for path in sorted(EXAMPLES.glob("*.toml")):
+    for path in MODEL_EXAMPLES:
         kind = read(path).model_type
         for name, a in analyses().items():
             if kind in a.model_types:
-                yield pytest.param(name, path.name, id=f"{name}-{path.stem}")
+                yield pytest.param(name, _shipped_name(path), id=f"{name}-{path.stem}")
 
 
 @pytest.mark.parametrize(("name", "example"), list(_unit_tables()))
@@ -223,7 +232,7 @@ def test_the_command_line_shows_forces_and_lengths_in_the_units_asked_for(tmp_pa
 WARNS_ON_PURPOSE = {"turret_indexing.toml": "published base radii disagree with their tooth ratios"}
 
 
-@pytest.mark.parametrize("example", sorted(p.name for p in EXAMPLES.glob("*.toml")))
+@pytest.mark.parametrize("example", [_shipped_name(p) for p in MODEL_EXAMPLES])
 def test_a_shipped_example_runs_without_warnings_unless_they_are_its_point(example, tmp_path):
     from mechdyn.io.modelfile import read
     from mechdyn.registry import analyses

@@ -6,13 +6,17 @@
    tops, blows at point 1 along z and point 4 along x; made by ``make_data.py``);
 2. identify its modes (LSCF poles, LSFD shapes, with their scatter) between 3 and 28 Hz;
 3. compare them with the modes of the designed model ``machine.toml`` (the accelerometer points
-   are the mounts' positions), paired by MAC;
+   are the mounts' positions, as the measurement file ``tap_test.toml`` maps them), paired by MAC;
 4. update the mounts' stiffness and damping along x, y and z (every mount alike:
    ``mounts.*.stiffness.x`` …, ``mounts.*.damping.x`` …) from the frequencies and damping ratios,
    with their 95 % intervals and identifiability, and write the updated model file
    ``machine_updated.toml`` into FOLDER (default: the current folder);
 5. predict the floor force of the spindle's unbalance (12.5 Hz) on the updated model with the band
    that the measurement leaves (the mounts' posterior carried through by sampling).
+
+Steps 1–4 run from the measurement file ``tap_test.toml`` too::
+
+    mechdyn modes-from-test examples/measured/tap_test.toml --write-updated machine_updated.toml
 
 The machine that ``make_data.py`` built the test from has mounts of 0.6, 0.7 and 2.3 MN/m and
 600, 700 and 2300 N·s/m.
@@ -47,7 +51,7 @@ def main(out: Path, samples: int = 64) -> dict:
     print("identified modes\n", found.to_frame().round(4).to_string(), "\n")
 
     designed = mechdyn.load(HERE / "machine.toml")
-    points = {m.name: tuple(m.position) for m in designed.model.mounts}  # accelerometers on the mounts
+    points = dict(mechdyn.load(HERE / "tap_test.toml").model.mapping)  # the test file's [[points]]
     before = compare_modes(found, modes(designed.model), points)
     print("designed model against the test\n", before.to_frame().round(4).to_string(), "\n")
 

@@ -54,6 +54,7 @@ CAPABILITIES = (
     "mechdyn.mounts.analyses",
     "mechdyn.drive.analyses",
     "mechdyn.balance.analyses",
+    "mechdyn.measurement.analyses",
     "mechdyn.studies.file_type",
 )
 
@@ -91,6 +92,9 @@ class Option:
         Smallest allowed value of an ``int`` or ``float`` option, in the option's ``unit``.
     metavar : str or tuple of str, optional
         Placeholder(s) in ``--help``.
+    writes : bool
+        The option names a file the analysis writes (``--write-updated PATH``): not stored with the
+        run's parameters, so that a report, which runs a stored run again, writes nothing.
     """
 
     name: str
@@ -102,6 +106,7 @@ class Option:
     default: Any = None
     minimum: float | None = None
     metavar: str | tuple[str, ...] | None = None
+    writes: bool = False
 
     def __post_init__(self) -> None:
         if self.kind == "quantity" and not self.unit:

@@ -266,7 +266,8 @@ def _run(args: argparse.Namespace, analysis: Analysis, drawing: Any) -> int:
         print(f"warning: {n}", file=sys.stderr)
     source = loaded.source
     assert source is not None  # the command line loads a file
-    parameters = {k: v for k, v in options.items() if v is not None and v is not False}
+    writes = {o.name for o in analysis.options if o.writes}  # a file written once, not again by a report
+    parameters = {k: v for k, v in options.items() if v is not None and v is not False and k not in writes}
     failed: list[str] = []
     run_id = _store_run(
         args.db,

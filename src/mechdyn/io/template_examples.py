@@ -539,6 +539,31 @@ _DRIVE = TemplateExample(
     },
 )
 
+_MEASUREMENT = TemplateExample(
+    intro="The example: a hammer test of a machine on four mounts (the accelerometers on the mounts' "
+    "tops), compared with the machine's model and its mounts' stiffness updated; it needs the data and "
+    "model files beside it (copy examples/measured/tap_test.uff and machine.toml).",
+    run="mechdyn modes-from-test FILE --plots plots",
+    model={
+        "model": {"type": "measurement", "name": "tap test"},
+        "measurement": {"data": "tap_test.uff", "model": "machine.toml", "f_min": "3 Hz", "f_max": "28 Hz"},
+        "points": [{"point": str(k), "mount": str(k)} for k in range(1, 5)],
+        "update": [{"path": f"mounts.*.stiffness.{a}", "prior_scatter": 0.3} for a in "xyz"],
+    },
+    hints={
+        "model": {"source": "hammer test of the machine as built"},
+        "measurement": {"units": "m/s^2/N"},
+        "points": {"location": ["1.2 m", "0.8 m", "0 m"], "disk": "motor"},
+        "updating": {"damping_error": 0.05},
+    },
+    notes={
+        "points": "Each point of the data file mapped to a model point: a mount of a support by name, a "
+        "location (x, y, z) in the machine's coordinates, or a drivetrain disk by name (one of the three).",
+        "update": "The model values to update, named as a design study names them, with the scatter of "
+        "their logarithm before the test; without [[update]] rows the test is only compared.",
+    },
+)
+
 EXAMPLES: dict[str, TemplateExample] = {
     "drive": _DRIVE,
     "drivetrain": _DRIVETRAIN,
@@ -548,6 +573,7 @@ EXAMPLES: dict[str, TemplateExample] = {
     "mount": _MOUNT,
     "gear_pair": _GEAR_PAIR,
     "tooth_pair": _TOOTH_PAIR,
+    "measurement": _MEASUREMENT,
     "study": _STUDY,
 }
 """The example of each file type's template, by type."""

@@ -7,7 +7,10 @@ poles from sdypy-EMA, LSFD residues); pair them with a model's modes by MAC
 (:func:`compare_modes`, :func:`mac`; points mapped to model coordinates by
 :func:`observation_matrix`); and update the model's values so that its modes match, with their
 uncertainty and identifiability (:func:`update_model`, a :class:`ModelUpdate`).
-:func:`simulate_frf` makes synthetic measurements of a known model.
+:func:`simulate_frf` makes synthetic measurements of a known model. A measurement model file
+(``[model] type = "measurement"``: the data, the tested model, the points' mapping, the values to
+update) runs the whole loop as ``mechdyn modes-from-test`` (:func:`modes_from_test`, a
+:class:`TestCorrelation`).
 """
 
 from mechdyn._lazy import attach
@@ -20,9 +23,11 @@ __all__ = attach(
         "ModelUpdate": "update_result",
         "ModeComparison": "compare",
         "StabilisationChart": "identify",
+        "TestCorrelation": "correlation_result",
         "compare_modes": "compare",
         "identify_modes": "identify",
         "mac": "identify",
+        "modes_from_test": "correlation",
         "observation_matrix": "compare",
         "read_csv": "data",
         "read_uff": "data",

@@ -42,6 +42,7 @@ from mechdyn.measurement.update_result import ModelUpdate
 __all__ = ["ModelUpdate", "update_model"]
 
 _Z95 = 1.959963984540054  # two-sided 95 % quantile of the standard normal distribution
+_COLLINEAR = 1e-6  # smallest over largest singular value of the scaled sensitivities: columns dependent
 
 
 class UpdateError(MechdynError):
@@ -212,7 +213,7 @@ def _identifiable(
         idx = np.flatnonzero(keep)
         Js = J[:, idx] / norms[idx]
         s, V = np.linalg.svd(Js, full_matrices=False)[1:]
-        if s[-1] < 1e-6 * s[0]:  # dependent columns: drop the one that weighs most in the null direction
+        if s[-1] < _COLLINEAR * s[0]:  # dependent columns: drop the one weighing most in the null direction
             weights = np.abs(V[-1])
             k = idx[int(np.flatnonzero(weights >= weights.max() - 1e-9)[-1])]
             partners = ", ".join(names[idx[i]] for i in np.flatnonzero(weights > 0.1) if idx[i] != k)
