@@ -20,8 +20,8 @@ from hypothesis import strategies as st
 import mechdyn
 from conftest import EXAMPLES
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, GroundDamper, GroundSpring, Shaft
-from mechdyn.gear_dynamics.file import DrivetrainTimeSettings
 from mechdyn.errors import MechdynError, ModelWarning
+from mechdyn.gear_dynamics.file import DrivetrainTimeSettings
 from mechdyn.gears import GearPair, SpurGear
 from mechdyn.mechanism import (
     Body,

@@ -17,7 +17,7 @@ __all__ = attach(
         "Disk": "elements",
         "Drivetrain": "model",
         "FRFResult": "response",
-        "GearMesh": "elements",
+        "GearMesh": "gear_mesh",
         "GroundDamper": "elements",
         "GroundSpring": "elements",
         "ModalDamping": "response",

@@ -10,10 +10,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from mechdyn.checks import check_count
-from mechdyn.drivetrain.assembly import Assembly, _unit_shapes, assemble
+from mechdyn.drivetrain.assembly import _DENSE_STIFFNESS, Assembly, _unit_shapes
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.results import Result, Table
-from mechdyn.vibration.eigen import Solver, solve_eigen
+from mechdyn.vibration.eigen import Solver, dense_modes, solve_eigen
 from mechdyn.vibration.modes import Modes
 
 if TYPE_CHECKING:
@@ -80,6 +80,17 @@ def stiffness_factor(asm: Assembly) -> sp.csr_array | None:
         shape=(count, len(dt.dof_names)),
     )
     return F if asm.T.shape[0] == asm.T.shape[1] else sp.csr_array(F @ asm.T)
+
+
+def _small_dense(asm: Assembly, n_rb: int) -> tuple[np.ndarray, np.ndarray, str] | None:
+    """All modes of a small model with a diagonal M and a dense stiffness operator by one LAPACK call
+    (:func:`mechdyn.vibration.eigen.dense_modes`); None where it does not apply or is in doubt."""
+    mass = asm.mass_diagonal
+    K = asm.stiffness_operator
+    if mass is None or asm.n > _DENSE_STIFFNESS or not isinstance(K, np.ndarray):
+        return None
+    found = dense_modes(K, mass, n_rb)
+    return None if found is None else (*found, "dense")
 
 
 @dataclass(frozen=True, repr=False)  # the short repr of Result
@@ -386,14 +397,19 @@ def modal(
     (array([6.164]), 1)
     """
     if isinstance(model, Drivetrain):
-        asm = assemble(model.with_rigid_gears() if rigid_gears else model)
+        asm = (model.with_rigid_gears() if rigid_gears else model).assembly
     else:
-        asm = assemble(model.drivetrain.with_rigid_gears()) if rigid_gears else model
+        asm = model.drivetrain.with_rigid_gears().assembly if rigid_gears else model
     n_rb = asm.n_rigid_body
     if n_modes is not None:
         n_modes = check_count("modal", "n_modes", n_modes, high=10**9, what="modes")
     want = None if n_modes is None else n_rb + n_modes
-    if asm.n == n_rb:
+    small = None
+    if (want is None or want >= asm.n) and solver in ("auto", "dense") and asm.n > n_rb:
+        small = _small_dense(asm, n_rb)
+    if small is not None:
+        lam, Q, used = small
+    elif asm.n == n_rb:
         lam, Q, used = np.zeros(0), np.zeros((asm.n, 0)), "none"
     else:
         # the factor is built only if the fast eigen paths' error estimate calls for the accurate ones;

@@ -11,7 +11,8 @@ from typing import Any
 
 import numpy as np
 
-from mechdyn.drivetrain.elements import Disk, Element, ElementBlocks, GearMesh, Shaft
+from mechdyn.drivetrain.elements import Disk, Element, ElementBlocks, Shaft
+from mechdyn.drivetrain.gear_mesh import GearMesh
 from mechdyn.errors import ModelError
 
 __all__ = ["BlockGroup", "Drivetrain"]
@@ -65,9 +66,22 @@ class Drivetrain:
     """
 
     disks: tuple[Disk, ...]
-    elements: tuple[Element, ...] = ()
+    # a factory rather than a class-level default: a variant made by with_values builds its element
+    # objects when first read (__getattr__), which a class attribute ``elements`` would shadow
+    elements: tuple[Element, ...] = field(default_factory=tuple)
     name: str = "drivetrain"
     provenance: Mapping[str, str] = field(default_factory=dict, compare=False)
+
+    def __getattr__(self, name: str) -> Any:
+        # only for attributes not set: the disks and elements of a variant made by with_values, built
+        # from its values when first read (its analyses do not need them)
+        if name in ("disks", "elements") and "_values" in self.__dict__:
+            from mechdyn.drivetrain.variants import variant_items
+
+            disks, elements = variant_items(self.__dict__["_value_layout"], self.__dict__["_values"])
+            self.__dict__.update(disks=disks, elements=elements)
+            return self.__dict__[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "disks", tuple(self.disks))
@@ -226,21 +240,22 @@ class Drivetrain:
     @cached_property
     def _block_groups(self) -> dict[str, tuple[BlockGroup, ...]]:
         idx = self.dof_index
-        out: dict[str, tuple[BlockGroup, ...]] = {}
-        for which in ("mass", "stiffness", "damping"):
-            by_size: dict[int, tuple[list[int], list[list[int]], list[np.ndarray]]] = {}
-            for i, (_, b) in enumerate(self.element_blocks):
-                block = getattr(b, which)
+        kinds = ("mass", "stiffness", "damping")
+        # one walk over the elements for the three matrices: (which, block size) → positions, dofs, blocks
+        by_size: dict[tuple[str, int], tuple[list[int], list[list[int]], list[np.ndarray]]] = {}
+        for i, (_, b) in enumerate(self.element_blocks):
+            dofs = [idx[d] for d in b.disks]
+            for which, block in zip(kinds, (b.mass, b.stiffness, b.damping), strict=True):
                 if block is None:
                     continue
-                e_list, d_list, b_list = by_size.setdefault(len(b.disks), ([], [], []))
+                e_list, d_list, b_list = by_size.setdefault((which, len(dofs)), ([], [], []))
                 e_list.append(i)
-                d_list.append([idx[d] for d in b.disks])
+                d_list.append(dofs)
                 b_list.append(block)
-            out[which] = tuple(
-                BlockGroup(np.array(e), np.array(d, dtype=np.intp), np.array(bl, dtype=float))
-                for e, d, bl in by_size.values()
-            )
+        out: dict[str, tuple[BlockGroup, ...]] = {which: () for which in kinds}
+        for (which, _), (e, d, bl) in by_size.items():
+            group = BlockGroup(np.array(e), np.array(d, dtype=np.intp), np.array(bl, dtype=float))
+            out[which] = (*out[which], group)
         return out
 
     @cached_property
@@ -322,13 +337,23 @@ class Drivetrain:
         Returns
         -------
         Drivetrain
-            Equal to the model rebuilt with ``dataclasses.replace`` on those elements; its matrices,
-            though, are made from this model's structure (:mod:`mechdyn.drivetrain.variants`): the
-            values enter a weighted sum per matrix, no element is re-checked nor the assembly with
-            its checks redone, so a variant of a small model costs little more than its eigen solve.
-            A value that appears or vanishes (a damping from or to 0, a shaft's inertia) changes the
-            structure: that variant is rebuilt in full. Provenance entries of the changed values are
-            dropped.
+            Equal to the model rebuilt with ``dataclasses.replace`` on those elements (and to the
+            model built from element lists with the new values); its matrices, though, are made from
+            this model's structure (:mod:`mechdyn.drivetrain.variants`): the values enter a weighted
+            sum per matrix, no element is re-checked nor the assembly with its checks redone, and its
+            disk and element objects are made only when read, so a variant of a small model costs
+            about twice its bare eigen solve (``benchmarks/modal_chain.py``). A value that appears or
+            vanishes (a damping from or to 0, a shaft's inertia) changes the structure: that variant
+            is rebuilt in full. Provenance entries of the changed values are dropped.
+
+        Raises
+        ------
+        mechdyn.errors.ModelError
+            Naming the element, the field and the value, for a value that is not finite, not
+            positive where it must be, beyond the element's bounds, or of the wrong unit; a name that
+            is not a disk or element of the model; a field the element does not have. The new values
+            are checked here, once (plain numbers together, vectorised); the analyses of the variant
+            do not check its matrices again.
 
         Examples
         --------

@@ -6,7 +6,8 @@ import cmath
 from pathlib import Path
 from typing import Any
 
-from mechdyn.drivetrain.elements import GearMesh, GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.elements import GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.gear_mesh import GearMesh
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import MechdynError
 from mechdyn.io.save import model_header, written_by

@@ -33,11 +33,11 @@ from mechdyn.drivetrain.elements import (
     MAX_SHAFT_ELEMENTS,
     Disk,
     Element,
-    GearMesh,
     GroundDamper,
     GroundSpring,
     Shaft,
 )
+from mechdyn.drivetrain.gear_mesh import GearMesh
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelFileError, ModelWarning
 from mechdyn.gears.schema import GearTable, pair_from_tables

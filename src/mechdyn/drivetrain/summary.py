@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from mechdyn.drivetrain.elements import GearMesh, GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.elements import GroundDamper, GroundSpring, Shaft
+from mechdyn.drivetrain.gear_mesh import GearMesh
 from mechdyn.results import Table
 from mechdyn.units import convert
 

@@ -6,7 +6,8 @@ file's through :func:`motor_file`), ``[[loads]]`` (:class:`LoadTable`) and ``[si
 (:class:`SimulationTable`); ``mechdyn speed-sweep`` reads ``[speed_sweep]`` (:class:`SpeedSweepTable`).
 The drivetrain file type holds these tables beside its elements (:mod:`mechdyn.gear_dynamics.file`
 extends :mod:`mechdyn.drivetrain.schema` with them); :func:`dynamics_settings` turns them into the
-:class:`DynamicsSettings` that :meth:`GearSystem.from_drivetrain <mechdyn.gear_dynamics.GearSystem.from_drivetrain>` and the torque
+:class:`DynamicsSettings` that
+:meth:`GearSystem.from_drivetrain <mechdyn.gear_dynamics.GearSystem.from_drivetrain>` and the torque
 inputs of :mod:`mechdyn.gear_dynamics.loads` take. Every dimensional value carries its unit.
 """
 

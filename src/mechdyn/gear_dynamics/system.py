@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.checks import check_array, check_count
-from mechdyn.drivetrain.elements import GearMesh
+from mechdyn.drivetrain.gear_mesh import GearMesh
 from mechdyn.drivetrain.model import Drivetrain
 from mechdyn.errors import ModelError
 from mechdyn.gears.mesh import MeshCycle
