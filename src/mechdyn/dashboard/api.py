@@ -152,19 +152,29 @@ def study_pareto(state: DashboardState, request: Request) -> JSONResponse:
 
 def study_importances(state: DashboardState, request: Request) -> JSONResponse:
     """How much each parameter matters to one output: the study's own Sobol indices (SALib) for
-    a Sobol study, else Optuna's PED-ANOVA on a sample."""
+    a Sobol study, a tolerance study's own ranking of its tolerances (a Sobol index from the
+    samples, or a signed rank correlation, as its findings say), else Optuna's PED-ANOVA on a
+    sample."""
     from mechdyn.dashboard.views import importances
 
     st, data, _views, column = _asked_column(state, request, outputs_only=True)
     key = data.columns[column].key
-    if st.kind == "sobol":
+    if st.kind in ("sobol", "tolerance"):
         ready = state.findings(st, state.studies.counts(st.id)["variants"], None)
         indices = (ready and ready.indices) or {}
-        if key in indices:
+        if st.kind == "sobol" and key in indices:
             return JSONResponse(
                 {
                     "method": "Sobol total-order indices (SALib, Saltelli's estimator), every variant",
                     "values": {p: float(v["ST"]) for p, v in indices[key].items()},
+                    "output": data.columns[column].label,
+                }
+            )
+        if st.kind == "tolerance" and indices.get(key, {}).get("measures"):
+            return JSONResponse(
+                {
+                    "method": f"the study's own ranking: {indices[key]['method']}",
+                    "values": {p: float(v) for p, v in indices[key]["measures"].items()},
                     "output": data.columns[column].label,
                 }
             )

@@ -250,7 +250,7 @@ def index(state: DashboardState, request: Request) -> HTMLResponse:
         counts = studies.counts(s.id)
         rows.append(
             {
-                "headline": _study_headline(state, s),
+                "headline": _study_headline(state, s, counts["variants"]),
                 "id": s.id,
                 "name": s.name,
                 "kind": s.kind,
@@ -298,10 +298,16 @@ def _run_headline(r: Any) -> str:
     return lines[0] if lines else ""
 
 
-def _study_headline(state: DashboardState, st: StoredStudy) -> str:
-    """A study's figure in the list: its objective's best (an optimization) or range over the
-    variants that succeeded, in the study file's unit."""
+def _study_headline(state: DashboardState, st: StoredStudy, variants: int | None = None) -> str:
+    """A study's figure in the list: the first line its kind leads with where its findings for its
+    ``variants`` stored variants are worked out and kept (a tolerance study: its first limit's
+    probability), else its objective's best (an optimization) or range over the variants that
+    succeeded, in the study file's unit."""
     from mechdyn.numbers import number_text
+
+    kept = state.kept_findings(st, variants) if variants is not None else None
+    if kept is not None and kept.views is not None and kept.views.headline:
+        return str(kept.views.headline[0])
 
     data = state.study_data(st)
     views = state.study_views(st, data.columns)
@@ -438,6 +444,7 @@ def study_page(state: DashboardState, request: Request) -> HTMLResponse:
         figures=_figure_links(st, ready) if ready else [],
         findings_note=ready.note if ready else "",
         findings_ready=ready is not None,
+        kind_views=ready.views if ready else None,
         study=st,
         counts=counts,
         created=_utc(st.created_at),
@@ -464,7 +471,10 @@ def study_findings(state: DashboardState, request: Request) -> HTMLResponse:
     if ready is None:
         return HTMLResponse("", status_code=202)
     html = state.templates.get_template("findings.html.j2").render(
-        findings=ready.tables, figures=_figure_links(st, ready), findings_note=ready.note
+        findings=ready.tables,
+        figures=_figure_links(st, ready),
+        findings_note=ready.note,
+        kind_views=ready.views,
     )
     return HTMLResponse(html)
 

@@ -39,8 +39,9 @@ class Findings(NamedTuple):
     tables: list[Any]  # its kind's tables (HtmlTable)
     figures: list[Any]  # its pictures (Figure: caption, base64 data, mime type)
     note: str  # why there are none yet, or ""
-    indices: dict[str, Any]  # a Sobol study's indices by output, else {}
+    indices: dict[str, Any]  # a Sobol study's indices, a tolerance study's rankings, by output; else {}
     variants: int  # the number of stored variants they were worked out for
+    views: Any = None  # what its kind leads with (mechdyn.reports.html.StudyViews), if any
 
 
 @dataclass(frozen=True)
@@ -274,7 +275,7 @@ class DashboardState:
 
     def _work_out_findings(self, st: StoredStudy, n_variants: int) -> Findings:
         from mechdyn.errors import MechdynError
-        from mechdyn.reports.html import figures_of, study_tables
+        from mechdyn.reports.html import figures_of, study_tables, study_views
         from mechdyn.studies.run import stored_result
         from mechdyn.studies.spec import StudyError
 
@@ -283,7 +284,13 @@ class DashboardState:
             self.study_data(st).warm()
             result = stored_result(self.store, st.name)
             indices = result.findings.get("indices", {}) if st.kind == "sobol" else {}
-            return Findings(study_tables(result), figures_of(result.plots()), "", indices, n_variants)
+            if st.kind == "tolerance":  # each output's ranking of the tolerances, for its importances
+                outputs = result.findings.get("outputs", {})
+                indices = {k: d["ranking"] for k, d in outputs.items() if "ranking" in d}
+            views = study_views(result)  # its figures first, then the plots they do not show
+            rest = {k: draw for k, draw in result.plots().items() if k not in views.shown}
+            figures = [*views.figures, *figures_of(rest)]
+            return Findings(study_tables(result), figures, "", indices, n_variants, views)
         except (StudyError, StoreError, MechdynError) as exc:
             note = f"The findings appear when every variant is stored: {exc}"
             return Findings([], [], note, {}, n_variants)

@@ -22,11 +22,13 @@ from mechdyn.cells import Cell, HtmlTable, html_table, table_cell
 
 __all__ = [
     "Report",
+    "StudyViews",
     "figures_of",
     "render",
     "run_report",
     "study_report",
     "study_tables",
+    "study_views",
     "table_cell",
     "toml_text",
     "variant_counts",
@@ -85,15 +87,80 @@ def _png(make: Callable[[], Any]) -> str:
     return base64.b64encode(buf.getvalue()).decode("ascii")
 
 
-def figures_of(plots: Mapping[str, Callable[[], Any]]) -> list[Figure]:
-    """A result's plots drawn as a report's figures (PNG, titled by their file names).
+def figures_of(
+    plots: Mapping[str, Callable[[], Any]], captions: Mapping[str, str] | None = None
+) -> list[Figure]:
+    """A result's plots drawn as a report's figures (PNG, titled by their captions, else by their
+    file names).
 
     Parameters
     ----------
     plots : mapping of str → callable
         File name → a function that draws the plot (``result.plots()``).
+    captions : mapping of str → str, optional
+        File name → the figure's caption in words.
     """
-    return [Figure(Path(name).stem.replace("_", " "), _png(make)) for name, make in plots.items()]
+    captions = captions or {}
+    return [
+        Figure(captions.get(name) or Path(name).stem.replace("_", " "), _png(make))
+        for name, make in plots.items()
+    ]
+
+
+@dataclass
+class StudyViews:
+    """What a study's kind leads with in its report and on its dashboard page (a tolerance study: each
+    limit's probability in words, the sample size and how far to trust it, its histograms, CDFs and
+    rankings); empty for a kind that shows its tables and plots alone.
+
+    Attributes
+    ----------
+    title : str
+        The title of the section that shows them ("" for none).
+    headline : list of str
+        Sentences a reader reads first (a report's header, the top of the dashboard's findings).
+    note : str
+        How far to trust them (a tolerance study: the sample size, the intervals' method).
+    warnings : list of str
+        What limits their validity.
+    figures : list of Figure
+        Their pictures, drawn, each with its caption.
+    shown : frozenset of str
+        The file names of the result's plots among ``figures`` (not drawn again under Plots).
+    """
+
+    title: str = ""
+    headline: list[str] = field(default_factory=list)
+    note: str = ""
+    warnings: list[str] = field(default_factory=list)
+    figures: list[Figure] = field(default_factory=list)
+    shown: frozenset[str] = frozenset()
+
+
+def study_views(result: Any) -> StudyViews:
+    """The views a study's kind defines (``Kind.views(result)``, as
+    :meth:`mechdyn.studies.kinds.tolerance.Tolerance.views`), its figures drawn; an empty
+    :class:`StudyViews` for a kind that defines none.
+
+    Parameters
+    ----------
+    result : StudyResult
+        A run's result, or a stored study's.
+    """
+    from mechdyn.studies.kinds import kind
+
+    got = kind(result.study.kind).views(result)
+    if got is None:
+        return StudyViews()
+    named = [(name, caption) for name, caption, _draw in got["figures"]]
+    return StudyViews(
+        title=got["title"],
+        headline=list(got["headline"]),
+        note=got["note"],
+        warnings=list(got["warnings"]),
+        figures=figures_of({name: draw for name, _c, draw in got["figures"]}, dict(named)),
+        shown=frozenset(name for name, _c in named),
+    )
 
 
 def _animations(result: Any) -> list[Figure]:
@@ -441,15 +508,23 @@ def study_report(result: Any, *, database: str = "", study_text: str | None = No
     else:
         study_note, study_text = "Built in Python: no study file.", None
     variants = variants_table(columns, distinct, MAX_VARIANT_ROWS)
+    views = study_views(result)
+    led = (
+        [Section(views.title, note=views.note, figures=views.figures, items=views.warnings)]
+        if views.title
+        else []
+    )
+    plots = {k: draw for k, draw in result.plots().items() if k not in views.shown}
     sections = [
         Section("Parameters", note=units_note, tables=[params]),
+        *led,
         Section("Findings", tables=study_tables(result)),
-        Section("Plots", figures=figures_of(result.plots())),
+        Section("Plots", figures=figures_of(plots)),
         Section("Variants", note=units_note + rows_note, tables=[variants]),
         Section("Study file", note=study_note, text=study_text),
         Section("Model file", note=st.source.path, text=st.source.text),
     ]
-    return Report(st.name, f"design study: {st.kind} of {st.analysis}", meta, sections)
+    return Report(st.name, f"design study: {st.kind} of {st.analysis}", meta, sections, views.headline)
 
 
 def render(report: Report) -> str:

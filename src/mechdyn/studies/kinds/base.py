@@ -170,6 +170,13 @@ class Kind:
         """The kind's plots: file name → a function that draws it."""
         return {}
 
+    def views(self, result: StudyResult) -> dict[str, Any] | None:
+        """What a report and the dashboard's study page lead with, or None (the findings' tables
+        and plots alone): ``title``, ``headline`` (sentences), ``note``, ``warnings`` and ``figures``
+        ((file name, caption, draw) each), as :meth:`mechdyn.studies.kinds.tolerance.Tolerance.views`
+        gives them."""
+        return None
+
 
 KINDS: dict[str, Kind] = {}
 """Every study kind by name (:func:`register`)."""

@@ -518,3 +518,11 @@ class Tolerance(Kind):
         from mechdyn.studies.kinds.tolerance_show import plots
 
         return plots(result)
+
+    def views(self, result: StudyResult) -> dict[str, Any]:
+        """What a report and the dashboard lead with: each limit's probability in words, the sample
+        size and how far to trust it, each output's histogram and CDF and each limit's ranking as a
+        bar chart (:func:`mechdyn.studies.kinds.tolerance_show.views`)."""
+        from mechdyn.studies.kinds.tolerance_show import views
+
+        return views(result)

@@ -1,6 +1,9 @@
 """How a ``tolerance`` study shows its findings (:mod:`mechdyn.studies.kinds.tolerance`): the scatter
 and its correlations, each output's distribution, each limit's probability (and a rare limit's by
-its small-probability method), the rankings, and each output's histogram with its CDF."""
+its small-probability method), the rankings, and each output's histogram with its CDF; and what a
+report and the dashboard lead with (:func:`views`): each limit's probability in words, the sample
+size and how far to trust it, each output's histogram and CDF and each limit's ranking as a bar
+chart."""
 
 from __future__ import annotations
 
@@ -20,7 +23,7 @@ if TYPE_CHECKING:
     from mechdyn.studies.outputs import Watched
     from mechdyn.studies.result import StudyResult
 
-__all__ = ["distribution_plot", "plots", "tables"]
+__all__ = ["distribution_plot", "headline", "plots", "ranking_plot", "statement", "tables", "views"]
 
 
 def _limit_text(w: Watched, limit: float) -> str:
@@ -181,6 +184,21 @@ def _small_rows(result: StudyResult) -> list[list[Any]]:
     return rows
 
 
+def _event(w: Watched, d: dict[str, Any]) -> str:
+    """A limit's event in words: ``displacement max > 1.30 mm``."""
+    return f"{w.words} {'>' if d['side'] == 'above' else '<'} {_limit_text(w, d['value'])}".strip()
+
+
+def _importance_ranking(importance: dict[str, float]) -> dict[str, Any]:
+    """FORM's importance factors at a rare limit's design point as a ranking."""
+    return {
+        "method": "FORM importance factor α² at the design point (the share of the reliability "
+        "index; with correlated parameters, of their independent parts in order)",
+        "measures": importance,
+        "ranked": sorted(importance, key=lambda k: -importance[k]),
+    }
+
+
 def _rankings(result: StudyResult) -> list[tuple[str, dict[str, Any]]]:
     f, watched = result.findings, {w.key: w for w in result.study.watched}
     out = [
@@ -190,20 +208,11 @@ def _rankings(result: StudyResult) -> list[tuple[str, dict[str, Any]]]:
     ]
     for d in f["limits"]:
         if "ranking" in d:
-            w = watched[d["output"]]
-            side = ">" if d["side"] == "above" else "<"
-            out.append((f"P({w.words} {side} {_limit_text(w, d['value'])})", d["ranking"]))
+            out.append((f"P({_event(watched[d['output']], d)})", d["ranking"]))
         importance = d.get("small_probability", {}).get("importance")
         if importance:
-            w = watched[d["output"]]
-            side = ">" if d["side"] == "above" else "<"
-            ranking = {
-                "method": "FORM importance factor α² at the design point (the share of the reliability "
-                "index; with correlated parameters, of their independent parts in order)",
-                "measures": importance,
-                "ranked": sorted(importance, key=lambda k: -importance[k]),
-            }
-            out.append((f"P({w.words} {side} {_limit_text(w, d['value'])}) at its design point", ranking))
+            event = _event(watched[d["output"]], d)
+            out.append((f"P({event}) at its design point", _importance_ranking(importance)))
     return out
 
 
@@ -248,11 +257,216 @@ def distribution_plot(result: StudyResult, w: Watched, ax: Any = None) -> Any:
             continue
         x = shown.show(d["value"])
         p = d["probability"]
-        label = f"limit {number(x)}: P = {number(p['value'])}"
+        label = f"limit {_limit_text(w, d['value'])}: P = {_p(p['value'])} [{_p(p['low'])}, {_p(p['high'])}]"
         rare = d.get("small_probability", {})
         if "value" in rare:
-            label += f" ({rare['method']}: {number(rare['value'])})"
+            label += f" ({rare['method']}: {_p(rare['value'])})"
         ax.axvline(x, color="C3", ls="--", label=label)
     ax.set_title(f"{w.words}: {result.findings['samples']} samples", fontsize=10)
     legend(ax, fontsize=8)
     return ax
+
+
+# -- what a report and the dashboard lead with ------------------------------------------------------
+
+PROBABILITY_DIGITS = 3
+"""Significant digits of a probability in a sentence: its interval is wider than the fourth."""
+
+
+def _p(x: float | None) -> str:
+    return number(x, PROBABILITY_DIGITS)
+
+
+def _sentence(event: str, p: dict[str, Any], samples: int) -> str:
+    """A probability found by sampling, in words, with its 95 % interval and how it was found."""
+    level = f"{p['level'] * 100:.0f} %"
+    if p.get("failures") == 0:
+        return (
+            f"P({event}) < {_p(p['high'])} ({level} upper bound, {p['method']}: no sample of {samples} "
+            "beyond the limit)"
+        )
+    beyond = (
+        f", {p['failures']} of {samples} samples beyond the limit" if p.get("failures") is not None else ""
+    )
+    return f"P({event}) = {_p(p['value'])} [{_p(p['low'])}, {_p(p['high'])}] ({level}, {p['method']}{beyond})"
+
+
+def _rare_sentence(event: str, s: dict[str, Any]) -> str:
+    """A rare limit's probability by its small-probability method, in words."""
+    if "error" in s:
+        return f"P({event}): {s['method']} found no probability ({s['error']})"
+    cost = f"{s['evaluations']} evaluations"
+    if s.get("interval_method") == "none":
+        return f"P({event}) = {_p(s['value'])} by {s['method']} (no interval: {cost})"
+    level = f"{s['level'] * 100:.0f} %"
+    cov = f", coefficient of variation {_p(s['cov'])}" if s.get("cov") is not None else ""
+    interval = f"[{_p(s['low'])}, {_p(s['high'])}]"
+    return f"P({event}) = {_p(s['value'])} {interval} ({level}, {s['method']}, {cost}{cov})"
+
+
+def headline(result: StudyResult) -> list[str]:
+    """Each limit's exceedance probability in words, as a designer signs it:
+    ``P(displacement max > 1.30 mm) = 0.328 [0.264, 0.392] (95 %, randomized quasi-Monte Carlo, 21 of
+    64 samples beyond the limit)``; a rarely exceeded limit's by its small-probability method
+    (importance sampling, subset simulation or FORM), the samples' upper bound after it.
+
+    Parameters
+    ----------
+    result : StudyResult
+        A tolerance study's result.
+
+    Returns
+    -------
+    list of str
+        One sentence per limit, in the study file's order (probabilities as fractions, three
+        significant digits; the limit in the output's display unit).
+    """
+    f, watched = result.findings, {w.key: w for w in result.study.watched}
+    lines = []
+    for d in f["limits"]:
+        event = _event(watched[d["output"]], d)
+        if "error" in d:
+            lines.append(f"P({event}): no probability ({d['error']})")
+            continue
+        sampled = _sentence(event, d["probability"], f["samples"])
+        rare = d.get("small_probability")
+        lines.append(f"{_rare_sentence(event, rare)}; by the samples: {sampled}" if rare else sampled)
+    return lines
+
+
+def statement(result: StudyResult) -> tuple[str, list[str]]:
+    """How far to trust the probabilities: the sample size, the sampling method and how each interval
+    is made, each estimate's coefficient of variation; then what limits their validity (the
+    warnings of :func:`mechdyn.uncertainty.estimates.validity`, each naming its limit), or that no
+    interval is wider than its probability.
+
+    Parameters
+    ----------
+    result : StudyResult
+        A tolerance study's result.
+
+    Returns
+    -------
+    (str, list of str)
+        The statement, and the warnings (none: an empty list).
+    """
+    f, watched = result.findings, {w.key: w for w in result.study.watched}
+    intervals = list(
+        dict.fromkeys(d["probability"]["interval_method"] for d in f["limits"] if "probability" in d)
+    )
+    text = f"{f['samples']} samples by {f['method']}"
+    if intervals:
+        text += "; 95 % intervals by " + " and ".join(intervals)
+    covs = [
+        f"{_event(watched[d['output']], d)}: {_p(d['probability']['cov'])}"
+        for d in f["limits"]
+        if d.get("probability", {}).get("cov") is not None
+    ]
+    if covs:
+        text += "; coefficient of variation of each estimate: " + ", ".join(covs)
+    warnings = []
+    for d in f["limits"]:
+        event = _event(watched[d["output"]], d)
+        for part in ("probability", "small_probability"):
+            for w in d.get(part, {}).get("warnings", []):
+                warnings.append(f"{event}: {w}")
+        if "error" in d:
+            warnings.append(f"{event}: {d['error']}")
+    if not f["limits"]:
+        text += ". The study gives no limit: no probability to estimate."
+    elif not warnings:
+        text += (
+            ". Every estimate is valid at this sample size: each limit is exceeded by some sample and "
+            "no interval is wider than its probability."
+        )
+    else:
+        text += "."
+    return text, warnings
+
+
+def _limit_ranking(result: StudyResult, index: int) -> dict[str, Any] | None:
+    """The ranking a limit's bar chart shows: the samples' (an indicator's share), else FORM's
+    importance factors at a rare limit's design point; None where neither ranks anything."""
+    d = result.findings["limits"][index]
+    if d.get("ranking", {}).get("ranked"):
+        return dict(d["ranking"])
+    importance = d.get("small_probability", {}).get("importance")
+    return _importance_ranking(importance) if importance else None
+
+
+def ranking_plot(result: StudyResult, index: int, ax: Any = None) -> Any:
+    """The tolerances ranked by their share of one limit's probability, as horizontal bars, the
+    largest share on top (the measure as the ranking table gives it: a Sobol index, a signed
+    Spearman rank correlation or FORM's importance factor; :mod:`mechdyn.studies.kinds.tolerance`).
+
+    Parameters
+    ----------
+    result : StudyResult
+        A tolerance study's result.
+    index : int
+        The limit, its place in ``result.findings["limits"]``.
+    ax : matplotlib Axes, optional
+    """
+    from mechdyn.plotting import new_axes
+
+    d = result.findings["limits"][index]
+    w = next(w for w in result.study.watched if w.key == d["output"])
+    ranking = _limit_ranking(result, index)
+    if ranking is None:
+        raise ValueError(f"limit {index + 1} ({_event(w, d)}) has no ranking to draw")
+    names = list(ranking["ranked"])[::-1]  # the largest share on top
+    measures = [float(ranking["measures"][n]) for n in names]
+    ax = new_axes(ax, figsize=(7.0, 0.8 + 0.45 * max(2, len(names))))
+    ax.barh(names, measures, color=["C0" if m >= 0 else "C3" for m in measures])
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_xlabel(str(ranking["method"]).split(" (")[0])
+    ax.set_title(f"tolerances ranked by their share of P({_event(w, d)})", fontsize=10)
+    ax.tick_params(axis="y", labelsize=8)
+    return ax
+
+
+def views(result: StudyResult) -> dict[str, Any]:
+    """What a report and the dashboard lead with for a tolerance study.
+
+    Parameters
+    ----------
+    result : StudyResult
+        A tolerance study's result.
+
+    Returns
+    -------
+    dict
+        ``title`` (the section's), ``headline`` (:func:`headline`), ``note`` and ``warnings``
+        (:func:`statement`), and ``figures``: (file name, caption, drawing function) per output, its
+        histogram and CDF with its limits drawn (the plot of :func:`plots`, the same file name),
+        followed by a bar chart of the tolerances' ranking (:func:`ranking_plot`) per limit of that
+        output.
+    """
+    f = result.findings
+    drawn = plots(result)
+    figures: list[tuple[str, str, Callable[[], Any]]] = []
+    for w in result.study.watched:
+        name = f"tolerance_{safe(w.key)}.png"
+        if name in drawn:
+            limits = (
+                "each limit dashed with its probability"
+                if any(d["output"] == w.key for d in f["limits"])
+                else "no limit given"
+            )
+            caption = f"{w.words}: histogram and CDF of the {f['samples']} samples, {limits}"
+            figures.append((name, caption, drawn[name]))
+        for i, d in enumerate(f["limits"]):
+            if d["output"] != w.key or (ranking := _limit_ranking(result, i)) is None:
+                continue
+            caption = f"P({_event(w, d)}): the tolerances ranked (measure: {ranking['method']})"
+            figures.append(
+                (f"tolerance_ranking_{i + 1}_{safe(w.key)}.png", caption, partial(ranking_plot, result, i))
+            )
+    note, warnings = statement(result)
+    return {
+        "title": "Probabilities of exceeding the limits",
+        "headline": headline(result),
+        "note": note,
+        "warnings": warnings,
+        "figures": figures,
+    }
