@@ -5,8 +5,10 @@ and a bar chart); numbers with three significant digits at least."""
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import html as htmllib
+import io
 import re
 import time
 import tomllib
@@ -60,10 +62,14 @@ def ran(tmp_path_factory):
     data["study"]["samples"] = SAMPLES
     path, db, report = folder / STUDY.name, str(folder / "r.db"), folder / "report.html"
     path.write_text(toml_text(data), encoding="utf-8")
-    assert main(["study", str(path), "--db", db, "--report", str(report)]) == 0
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        assert main(["study", str(path), "--db", db, "--report", str(report)]) == 0
     with ResultStore(db, read_only=True) as store:
         result = stored_result(store, data["study"]["name"])
-    return SimpleNamespace(db=db, report=report.read_text(encoding="utf-8"), result=result)
+    return SimpleNamespace(
+        db=db, report=report.read_text(encoding="utf-8"), result=result, printed=printed.getvalue()
+    )
 
 
 EVENTS = {  # each limit of the study file in words, the limit in the output's unit
@@ -92,6 +98,11 @@ def _check_sentences(text: str, result) -> None:
             assert written == "0" or _significant(written) >= 3, written  # a zero is written 0
         assert m["method"] == "randomized quasi-Monte Carlo"
         assert low <= p <= high
+
+
+def test_the_command_prints_each_limits_probability_above_its_tables(ran):
+    head = ran.printed.split("\n\n")[0]  # before the first table
+    _check_sentences(head, ran.result)
 
 
 def test_the_report_leads_with_each_limits_probability_and_method_in_words(ran):

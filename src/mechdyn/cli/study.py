@@ -90,10 +90,14 @@ def _run(args: argparse.Namespace) -> int:
         print(json.dumps(jsonable({**doc, "plots": plot_files}), indent=2))
         return _failed(args.file, empty)
     from mechdyn.cli.common import print_table
+    from mechdyn.studies.kinds import kind
 
     for result in results:
         study = result.study
         print(f"study {study.name!r}: {study.kind} of {study.analysis} on {study.source.path}")
+        views = None if result.every_variant_failed else kind(study.kind).views(result)
+        for sentence in views["headline"] if views else ():  # what the report leads with, too
+            print(sentence)
         for t in result.count_tables() if result.every_variant_failed else result.tables():
             print_table(t)
     if len(results) > 1:
