@@ -133,6 +133,7 @@ def _counts(url: str) -> tuple[int, int]:
     return len(variants), sum(v.status != "ok" for v in variants)
 
 
+@pytest.mark.slow  # a study of 7 000 variants, built and drawn in a browser: 10 s and more
 def test_a_large_study_s_scatter_draws_a_part_of_its_sample_then_every_point_and_picks_them(tmp_path):
     from playwright.sync_api import expect, sync_playwright
 
@@ -154,6 +155,9 @@ def test_a_large_study_s_scatter_draws_a_part_of_its_sample_then_every_point_and
         drawn = page.evaluate("document.getElementById('scatter').data[0]")
         assert drawn["type"] == "scatter" and 1_000 <= len(drawn["x"]) <= 3_000
         expect(page.locator("#sample-note")).to_contain_text(f"Drawn: an evenly spread {len(drawn['x'])} of")
+
+        # the findings arrive when worked out and push the scatter down: drag once the page stands still
+        expect(page.locator("#findings")).to_have_attribute("data-ready", "yes")
 
         def box_select() -> list[int]:
             page.locator("#scatter").scroll_into_view_if_needed()

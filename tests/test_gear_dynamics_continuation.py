@@ -103,6 +103,7 @@ def _bisected(monkeypatch, speeds: np.ndarray, direction: str):
     return speed_sweep(_system(), speeds, direction=direction, **KW)
 
 
+@pytest.mark.slow  # a fine natural-parameter sweep, or a second continuation: 10-15 s
 def test_folds_agree_with_a_fine_natural_sweep_and_beat_the_bisection(both, monkeypatch):
     """Each fold located by continuation lies between the last speed a plain natural-parameter
     shooting sweep at steps of 2e-6 ω_n continues the branch to and the next (measured: 0.8748546
@@ -158,6 +159,7 @@ def test_the_middle_branch_is_unstable_the_outer_ones_stable(both):
     plt.close(ax.figure)
 
 
+@pytest.mark.slow  # a fine natural-parameter sweep, or a second continuation: 10-15 s
 def test_the_folds_do_not_depend_on_the_grid(both):
     """Swept up over another grid (seven speeds, none shared with the five of the fixture but the
     ends) the up sweep traces both folds again: each agrees with the fixture's to 1e-6 of the speed

@@ -293,6 +293,7 @@ QUICK_STUDIES: dict[str, dict] = {
     "press_support_influence.toml": {},
     "press_synthesis.toml": {"samples": 1, "population": 4, "options": {"angles": 36}},
     "press_support_tolerance.toml": {"samples": 4},
+    "press_support_robust.toml": {"samples": 4},
     "rp1_sensitivity.toml": {"options": {"angles": 36}},
     "turret_mesh_clocking.toml": {"options": {"points": 4}},
     "turret_kv_tolerance.toml": {"samples": 4, "small_probability": "off", "options": {"points": 4}},
@@ -364,7 +365,14 @@ def test_every_shipped_study_has_a_quick_form_here():
 
 # the studies whose quick form still takes tens of seconds (rp1's pitch-curve check per variant, the
 # synthesis's generations) run in CI's heavy step (pytest -m slow)
-_HEAVY_STUDIES = ("rp1_sensitivity.toml", "press_synthesis.toml")
+# over 10 s each even in their quick form: CI's heavy step runs them (tests/test_studies.py runs the
+# relocation's own checks, tests/test_gear_dynamics_clocking.py the clocking's, in the test command)
+_HEAVY_STUDIES = (
+    "rp1_sensitivity.toml",
+    "press_synthesis.toml",
+    "press_link_relocation.toml",
+    "turret_mesh_clocking.toml",
+)
 _SHIPPED = [
     pytest.param(n, marks=pytest.mark.slow) if n in _HEAVY_STUDIES else n for n in sorted(QUICK_STUDIES)
 ]
