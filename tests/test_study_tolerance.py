@@ -211,3 +211,15 @@ def test_a_tolerance_study_refuses_a_range_a_missing_scatter_and_samples_that_do
     data["study"]["kind"] = "lhs"
     with pytest.raises(StudyError, match="needs a range"):
         study_from_data(str(STUDY), copy.deepcopy(data))
+
+
+@pytest.mark.slow  # a local Dask cluster of two processes: its start alone takes seconds
+def test_a_tolerance_study_on_a_dask_cluster_equals_the_in_process_run(tmp_path):
+    """The samples evaluated by Dask workers (in blocks, out of order) are stored under the same
+    keys: the findings (distributions, probabilities with their intervals, the ranking) are the
+    in-process run's, value for value."""
+    study = replace(_quick(64), chunk=8)  # eight blocks for the two workers
+    on_dask = run_study(study, str(tmp_path / "dask.db"), dask="local")
+    in_process = run_study(study, str(tmp_path / "local.db"))
+    assert on_dask.count == in_process.count == 64
+    assert on_dask.findings == in_process.findings
