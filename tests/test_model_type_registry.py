@@ -90,7 +90,7 @@ def test_every_model_type_has_a_builder_and_a_schema_and_loads_its_examples(file
 def test_the_study_file_is_known_by_its_schema_and_loads_its_examples():
     from mechdyn.studies import load_studies
 
-    assert schema_of("study") is resolve("mechdyn.studies.study:StudyFile")
+    assert schema_of("study") is resolve("mechdyn.studies.study_file:StudyFile")
     examples = sorted((EXAMPLES / "studies").glob("*.toml"))
     assert examples
     for path in examples:

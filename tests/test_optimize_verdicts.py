@@ -304,3 +304,16 @@ def test_an_optimum_along_a_valley_is_said_not_to_be_unique(ends, unique):
         assert f["non_unique"]["spans"]["b"] == pytest.approx([0.4, 0.6])
         assert "no: 2 first-order points as good as the optimum" in text
         assert "a from 0.500 to 0.750" in text  # as given, never fewer than three digits
+
+
+def test_a_constraint_ended_on_by_round_off_holds_and_one_broken_by_a_margin_does_not():
+    """SLSQP ends a few ulps outside an active limit: that optimum keeps its constraint (it was called
+    infeasible and "not converged"); a millionth of the limit outside is a violation."""
+    from mechdyn.studies.outputs import HOLD_TOLERANCE, Constraint, Watched
+
+    c = Constraint(Watched("static_deflection_m", "m", ""), max=3e-3)
+    assert c.scale == 3e-3 and c.holds(3e-3) and c.holds(3e-3 * (1 + 1e-12))
+    assert not c.holds(3e-3 * (1 + 1e-6)) and c.violation(3e-3 * (1 + 1e-12)) > 0
+    band = Constraint(Watched("stroke_m", "m", ""), equals=1.4953, tolerance=1e-3)
+    assert band.scale == 1e-3 and band.holds(1.4963 + 0.1 * HOLD_TOLERANCE * 1e-3)
+    assert not band.holds(1.4964) and not band.holds(None)

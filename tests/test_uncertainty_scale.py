@@ -47,3 +47,18 @@ def test_a_standard_deviation_s_replicate_interval_stays_at_or_above_zero():
     Y = np.array([1.0, 2.0, 10.0, 1.5])
     r = propagate(lambda X: Y, [lognormal("k", median=1.0, cov=0.1)], 4, method="qmc", replicates=2, seed=1)
     assert r.distributions[0].std.low >= 0.0
+
+
+def test_replicates_that_agree_exactly_give_the_pooled_binomial_interval_not_a_point():
+    """Sixteen replicates of eight points each, three beyond the limit in every one: their spread is
+    zero, which says nothing of the error; the interval is the pooled points' Clopper-Pearson one."""
+    import numpy as np
+    from scipy.stats import binomtest
+
+    from mechdyn.uncertainty.estimates import replicate_probability
+
+    p = replicate_probability(np.full(16, 3 / 8), 128, "x > 1")
+    exact = binomtest(48, 128).proportion_ci(confidence_level=0.95, method="exact")
+    assert p.value == 0.375 and p.low < p.value < p.high
+    assert (p.low, p.high) == (exact.low, exact.high) and "agree exactly" in p.interval_method
+    assert p.method == "randomized quasi-Monte Carlo" and p.evaluations == 128

@@ -469,17 +469,24 @@ _STUDY = TemplateExample(
         "outputs": [{"output": "frequencies_hz.1", "unit": "Hz"}],
     },
     hints={
-        "study": {"samples": 64, "population": 20, "boxes": ["±10 %", "±20 %"], "options": {"modes": 3}},
+        "study": {
+            "samples": 64,
+            "population": 20,
+            "boxes": ["±10 %", "±20 %"],
+            "options": {"modes": 3},
+            "scatter_samples": 128,
+        },
         "parameters": {
             "name": "shaft stiffness",
             "range": "±10 %",
             "tie": ["disks.motor.inertia"],
             "scatter": {"distribution": "lognormal", "cov": 0.15},
         },
-        "outputs": {"limit": "150 Hz", "side": "below"},
+        "outputs": {"limit": "150 Hz", "side": "below", "statistic": "p_exceed"},
         "correlations": {"between": ["shaft stiffness", "load inertia"], "coefficient": 0.5},
-        "objectives": {"output": "frequencies_hz.1", "unit": "Hz", "goal": "maximize"},
+        "objectives": {"output": "frequencies_hz.1", "unit": "Hz", "goal": "maximize", "statistic": "q5"},
         "constraints": {
+            "statistic": "q95",
             "output": "frequencies_hz.1",
             "unit": "Hz",
             "max": 300,

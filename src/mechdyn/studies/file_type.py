@@ -12,4 +12,4 @@ from mechdyn.registry import ModelType, register_model_type
 
 __all__: list[str] = []
 
-register_model_type(ModelType("study", builder=None, schema="mechdyn.studies.study:StudyFile"))
+register_model_type(ModelType("study", builder=None, schema="mechdyn.studies.study_file:StudyFile"))

@@ -9,7 +9,15 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Constraint", "Objective", "Watched", "output_problem", "output_value"]
+__all__ = [
+    "Constraint",
+    "Objective",
+    "Statistic",
+    "Watched",
+    "output_problem",
+    "output_value",
+    "statistic_level",
+]
 
 
 @dataclass(frozen=True)
@@ -120,6 +128,79 @@ class Watched:
 
 
 @dataclass(frozen=True)
+class Statistic(Watched):
+    """A statistic of an output over the scatter of an ``optimize`` study with scatter (robust
+    design): its value at each design, estimated from the study's common samples
+    (:mod:`mechdyn.studies.kinds.robust`), stored under ``key`` = ``OUTPUT.STATISTIC``
+    (``displacement_max_m.q95``), its confidence interval's ends under ``KEY_low`` and ``KEY_high``.
+
+    Parameters
+    ----------
+    key, unit, display : str
+        As :class:`Watched`: the stored key, its SI unit (the output's; ``""`` for a probability) and
+        the display unit.
+    of : str
+        The output's summary key.
+    statistic : str
+        ``"mean"``, ``"std"``, ``"qNN"`` (the NN % quantile, e.g. ``"q95"``) or ``"p_exceed"`` (the
+        probability of the output's limit, fraction).
+    bound : str
+        ``""`` for the estimate, ``"low"`` or ``"high"`` for an end of its interval.
+    """
+
+    of: str = ""
+    statistic: str = ""
+    bound: str = ""
+
+    @property
+    def words(self) -> str:
+        """The statistic in words: ``q95 of displacement max``, ``P(exceed) of ...``, with ``(low)``
+        or ``(high)`` for an end of its interval."""
+        name = "P(exceed)" if self.statistic == "p_exceed" else self.statistic
+        tail = f" ({self.bound})" if self.bound else ""
+        return f"{name} of {Watched(self.of, self.unit, '').words}{tail}"
+
+    def with_bound(self, bound: str) -> Statistic:
+        """The companion that holds one end of the estimate's interval.
+
+        Parameters
+        ----------
+        bound : {"low", "high"}
+        """
+        from dataclasses import replace
+
+        return replace(self, key=f"{self.key}_{bound}", bound=bound)
+
+
+def statistic_level(statistic: str) -> float | None:
+    """The probability of a quantile statistic (``"q95"`` → 0.95), None for ``mean``, ``std`` and
+    ``p_exceed``.
+
+    Parameters
+    ----------
+    statistic : str
+        A statistic's name, as :class:`Statistic` takes it.
+
+    Raises
+    ------
+    ValueError
+        For a name that is no statistic, saying which are.
+    """
+    import re
+
+    if statistic in ("mean", "std", "p_exceed"):
+        return None
+    m = re.fullmatch(r"q(\d+(?:\.\d+)?)", statistic)
+    q = float(m.group(1)) / 100.0 if m else math.nan
+    if not 0.0 < q < 1.0:
+        raise ValueError(
+            f"{statistic!r} is not a statistic; give mean, std, p_exceed (with the output's limit) or a "
+            'quantile qNN with 0 < NN < 100 (e.g. "q95", "q5")'
+        )
+    return q
+
+
+@dataclass(frozen=True)
 class Objective:
     """Minimise or maximise an output.
 
@@ -139,11 +220,18 @@ class Objective:
         return 1.0 if self.sense == "minimize" else -1.0
 
 
+#: How far beyond its limit an output may end and its constraint still hold, relative to the
+#: constraint's :attr:`Constraint.scale`: an optimizer's round-off at an active limit (SLSQP ends a few
+#: ulps outside it), far below any engineering margin.
+HOLD_TOLERANCE = 1e-9
+
+
 @dataclass(frozen=True)
 class Constraint:
     """A limit on an output: ``max``, ``min``, or ``equals`` within ``tolerance``, SI.
 
-    :meth:`violation` is ≤ 0 when the constraint holds (Optuna's convention), in the output's unit.
+    :meth:`violation` is ≤ 0 when the constraint holds (Optuna's convention), in the output's unit;
+    :meth:`holds` allows the round-off of an optimizer that ends on the limit (:data:`HOLD_TOLERANCE`).
 
     Parameters
     ----------
@@ -180,6 +268,20 @@ class Constraint:
         if self.equals is not None:
             parts.append(abs(value - self.equals) - (self.tolerance or 0.0))
         return max(parts) if parts else -math.inf
+
+    @property
+    def scale(self) -> float:
+        """The constraint's size, in the output's SI unit: the tolerance of an ``equals``, else the
+        size of its limit (1 for a limit of 0), so that violations of limits in different units
+        compare."""
+        if self.equals is not None and self.tolerance:
+            return float(self.tolerance)
+        limit = next((x for x in (self.equals, self.max, self.min) if x is not None), None)
+        return abs(float(limit)) if limit else 1.0
+
+    def holds(self, value: float | None) -> bool:
+        """Whether ``value`` (SI) keeps the constraint, to :data:`HOLD_TOLERANCE` of its :attr:`scale`."""
+        return self.violation(value) <= HOLD_TOLERANCE * self.scale
 
     def describe(self) -> str:
         """The constraint in words, its limits as the study file gives them, in the output's display

@@ -102,7 +102,12 @@ class Parameter:
         A whole number (a tooth count): levels only, and the file gets whole numbers.
     scatter : mechdyn.uncertainty.Variable or None
         How the value scatters (SI), for a ``tolerance`` study: a study file's ``scatter`` table
-        (:func:`mechdyn.uncertainty.variable_from_dict`); None for a range or levels.
+        (:func:`mechdyn.uncertainty.variable_from_dict`); None for a range or levels. An ``optimize``
+        study's design variable may have both a range and a scatter (robust design): the scatter is
+        then centred on each design's value.
+    scatter_table : tuple of (mapping, str) or None
+        The ``scatter`` table as read and the SI unit it was read in, to centre the scatter on another
+        value (:func:`mechdyn.uncertainty.variable_from_dict` with ``nominal=``).
     """
 
     name: str
@@ -118,6 +123,7 @@ class Parameter:
     choices: tuple[Any, ...] = ()
     integer: bool = False
     scatter: Any = field(default=None, compare=False)
+    scatter_table: Any = field(default=None, compare=False)
 
     # -- construction ------------------------------------------------------------------------
     @classmethod
@@ -132,6 +138,7 @@ class Parameter:
         name: str | None = None,
         where: str = "",
         scatter: Any = None,
+        design_scatter: bool = False,
     ) -> list[Parameter]:
         """The parameter(s) a study file's row names: a vector (``points.C``) gives one parameter
         per component (``points.C.x``, ``points.C.y``).
@@ -159,14 +166,18 @@ class Parameter:
             of :func:`mechdyn.uncertainty.variable_from_dict` (``{distribution = "lognormal", median
             = "2 MN/m", cov = 0.15}``, ``{tolerance = "shore_a_5"}``), the model's value its default
             nominal.
+        design_scatter : bool
+            Take a range and a scatter together (an ``optimize`` study's design variable whose value
+            scatters about each design's: robust design).
         """
         if scatter is not None:
-            if range is not None or levels is not None:
+            if levels is not None or (range is not None and not design_scatter):
                 raise StudyError(
                     f"{where}: give the parameter {path!r} a scatter or a range or levels, not both (a "
-                    "tolerance study takes scatter, the other kinds a range or levels)"
+                    "tolerance study takes scatter, the other kinds a range or levels; an optimize study's "
+                    "design variable may take a range and a scatter)"
                 )
-        elif (range is None) == (levels is None):
+        if scatter is None and (range is None) == (levels is None):
             raise StudyError(f"{where}: give the parameter {path!r} either a range or levels (one of them)")
         locations = tree.resolve(path)
         tied = [loc for p in tie for loc in tree.resolve(p)]
@@ -523,7 +534,7 @@ def _scattered(p: Parameter, spec: Any, groups: int, where: str) -> Parameter:
         variable = variable_from_dict(p.name, spec, si, nominal=p.base)
     except ModelError as exc:
         raise StudyError(f"{where} → scatter: {exc}") from None
-    return replace(p, scatter=variable)
+    return replace(p, scatter=variable, scatter_table=(dict(spec), si))
 
 
 def _bound_problem(bound: Any, value: float, field: str) -> str | None:

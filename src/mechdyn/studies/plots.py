@@ -132,10 +132,7 @@ def history(result: StudyResult, ax: Any = None) -> Any:
     o = o.readable(v.outputs.get(o.key) for v in vs if v.status == "ok")
     y = np.array([o.show(v.outputs.get(o.key)) if v.status == "ok" else None for v in vs], dtype=float)
     feasible = np.array(
-        [
-            v.status == "ok" and all(c.violation(v.outputs.get(c.output.key)) <= 0 for c in st.constraints)
-            for v in vs
-        ]
+        [v.status == "ok" and all(c.holds(v.outputs.get(c.output.key)) for c in st.constraints) for v in vs]
     )
     ax = new_axes(ax)
     n = np.arange(y.size)

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.studies.outputs import HOLD_TOLERANCE
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 __all__ = [
@@ -284,7 +285,8 @@ def polish(
         end = runner.evaluate(x[None, :], objective=objective)[0]
         proof = _kkt(st, x, lambda rows: runner.evaluate(rows, objective=objective))
         _, g = _values(st, end)
-        return end, (proof["measure"] if proof is not None else None), bool(np.all(g >= 0.0))
+        slack = HOLD_TOLERANCE * np.array([scale for *_, scale in _limits(st)])  # SLSQP's round-off
+        return end, (proof["measure"] if proof is not None else None), bool(np.all(g >= -slack))
 
     messages: list[str] = []
     per_start: list[dict[str, Any]] = []

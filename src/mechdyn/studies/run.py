@@ -47,9 +47,13 @@ class Runner:
         check(study)  # a study built in Python gets the study file's checks
         self.study = study
         self.store = store
-        self.evaluator = Evaluator(
+        self.evaluator: Any = Evaluator(
             study.source, study.analysis, study.parameters, [w.key for w in study.watched], study.options
         )
+        if study.robust:  # robust design: each design's statistics over its samples of the scatter
+            from mechdyn.studies.kinds.robust import RobustEvaluator
+
+            self.evaluator = RobustEvaluator(study)
         self._check_outputs()
         tree = study.tree
         self.stored, _ = store.open(
@@ -377,10 +381,16 @@ def recompute(store: Any, variant_id: int, *, batch: bool = True, curves: bool =
     rs = store if isinstance(store, ResultStore) else ResultStore(store)
     v = StudyStore(rs).variant(variant_id)
     study = stored_study(rs, v.study)
+    row = [[v.parameters[p.name] for p in study.parameters]]
+    if study.robust:  # a design's statistics over its samples (curves: its nominal's)
+        from mechdyn.studies.kinds.robust import RobustEvaluator
+
+        robust = RobustEvaluator(study, batch=batch)
+        return robust.one(row[0], curves=True) if curves else robust(row)[0]
     ev = Evaluator(
         study.source, study.analysis, study.parameters, list(v.outputs), study.options, batch=batch
     )
-    return ev([[v.parameters[p.name] for p in study.parameters]], curves=curves)[0]
+    return ev(row, curves=curves)[0]
 
 
 def display_units(store: Any, name: str) -> dict[str, Any]:

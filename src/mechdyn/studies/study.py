@@ -27,166 +27,18 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import ValidationError
 
 from mechdyn.io.modelfile import ModelSource, read
-from mechdyn.store.schema import NAME_LENGTH
 from mechdyn.studies.errors import StudyError
 from mechdyn.studies.outputs import Constraint, Objective, Watched
 from mechdyn.studies.parameters import Parameter
 from mechdyn.studies.paths import ModelTree, PathError
+from mechdyn.studies.study_file import ConstraintRow, OutputRow, StudyFile
 
 __all__ = ["Study", "load_studies", "load_study", "study_from_data"]
-
-
-class _Row(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, use_attribute_docstrings=True)
-
-
-class _StudyTable(_Row):
-    name: str = Field(min_length=1, max_length=NAME_LENGTH - 16)  # room for a box: "NAME ±10 %"
-    """The study's name in the results database; running a study of a stored name resumes it."""
-    kind: str
-    """``oat`` (one at a time), ``factorial``, ``lhs`` (Latin hypercube), ``sobol`` (Sobol indices),
-    ``optimize`` (Optuna), ``synthesis`` (differential evolution to targets) or ``tolerance`` (the
-    parameters' scatter to each output's distribution and each limit's probability): the kinds
-    registered in :mod:`mechdyn.studies.kinds`."""
-
-    @field_validator("kind")
-    @classmethod
-    def _registered(cls, v: str) -> str:
-        from mechdyn.studies.kinds import KINDS
-
-        if v not in KINDS:
-            close = difflib.get_close_matches(v, KINDS, n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
-            raise ValueError(f"{v!r} is not a study kind{hint}; the kinds are {', '.join(map(repr, KINDS))}")
-        return v
-
-    model: str = Field(description="the base model file, relative to the study file")
-    analysis: str = Field(description="a registered analysis (`mechdyn analyses` lists them)")
-    description: str = ""
-    """Free text about the study."""
-    options: dict[str, Any] = Field(default_factory=dict, description="the analysis' options")
-    samples: int | None = Field(
-        default=None,
-        ge=1,
-        le=10_000_000,
-        description="lhs: variants; sobol: base samples N (N·(P+2) variants); optimize: trials; "
-        "synthesis: generations; tolerance: samples (a power of 2 for qmc)",
-    )
-    seed: int = Field(default=1, ge=0, le=2**32 - 1)
-    """Seed of the samplers and optimizers (0 to 2³²−1), so that a study can be repeated."""
-    curves: int = Field(
-        default=20, ge=0, le=1_000_000, description="keep every variant's curves up to this study size"
-    )
-    chunk: int = Field(
-        default=2048, ge=1, le=1_000_000, description="variants per evaluation block (and per Dask task)"
-    )
-    population: int | None = Field(
-        default=None, ge=4, le=100_000, description="synthesis: population per generation"
-    )
-    batch: int = Field(default=16, ge=1, le=100_000, description="optimize: trials asked for at once")
-    sampler: Literal["tpe", "random", "qmc"] = "tpe"
-    """optimize (one objective): the global stage's sampler, Optuna's ``tpe`` (default), ``random`` or
-    ``qmc`` (scrambled Sobol points); a constrained SLSQP polish of its best designs follows."""
-    method: Literal["qmc", "mc"] = "qmc"
-    """tolerance: how the scatter is sampled, ``qmc`` (randomized quasi-Monte Carlo: scrambled Sobol
-    points in up to 16 independent replicates, samples a power of 2) or ``mc`` (Monte Carlo)."""
-    small_probability: Literal["importance", "subset", "form", "sorm", "off"] | None = None
-    """tolerance: the method for a limit the samples exceed rarely (below 1e-3, or never):
-    ``importance`` (FORM, then importance sampling at its design point; the default for continuous
-    scatter), ``subset`` (subset simulation; the default with discrete levels), ``form``, ``sorm``, or
-    ``off``."""
-    boxes: list[str] = Field(
-        default_factory=list,
-        description='one study per box: parameters with range = "box" take each ("±10 %", "±20 %")',
-    )
-
-
-class _ParameterRow(_Row):
-    path: str
-    """The model value, as the model file spells it: ``support.stiffness``, ``points.C.y``,
-    ``bodies.slide.mass``, ``mounts.*.stiffness``; through a referenced file:
-    ``excitation.mechanism.points.C``; a whole number or a choice: ``gear_pairs.*.pinion.teeth``,
-    ``mounts.*.mount.pad.material``, ``mounts.*.mount`` (``mechdyn study --paths MODEL`` lists them)."""
-    name: str | None = Field(default=None, min_length=1, max_length=200)
-    """The parameter's name in tables (default: the path)."""
-    range: str | list[Any] | None = None
-    """Low and high with units (``["1.2 m", "1.6 m"]``), relative (``"±10 %"``), or ``"box"`` (each of the
-    study's ``boxes``); a quantity only (a whole number or a choice takes levels)."""
-    levels: list[Any] | None = None
-    """Levels with units, or relative (``["-10 %", "-20 %"]``), for ``oat`` and ``factorial``; a whole
-    number (a tooth count) takes whole numbers (``[17, 21]``), a choice its names (a material:
-    ``["rubber shore 50", "rubber shore 70"]``; another mount file: ``["wedge_mount.toml"]``)."""
-    tie: list[str] = Field(default_factory=list)
-    """More paths that move with this parameter, each by the same factor from its own value."""
-    scatter: dict[str, Any] | None = None
-    """tolerance: how the value scatters, instead of a range or levels: ``{distribution =
-    "lognormal", median = "2 MN/m", cov = 0.15}``, ``{distribution = "uniform", low = ..., high =
-    ...}`` (also normal, triangular, levels; truncated by lower/upper), or a named tolerance class
-    ``{tolerance = "shore_a_5"}``, ``{tolerance = "band", plus_minus = "20 %"}``; the model's value
-    is the default median, mean or nominal (:func:`mechdyn.uncertainty.variable_from_dict`)."""
-
-
-class _OutputRow(_Row):
-    output: str
-    """A summary key of the analysis, nested with dots (``joint_force_peak_N.F``)."""
-    unit: str = ""
-    """Display unit of the output (default: SI)."""
-    limit: str | float | None = None
-    """tolerance: the limit whose exceedance probability is wanted, with its unit (``"25 um/s"``)."""
-    side: Literal["above", "below"] = "above"
-    """tolerance: the failure is the output ``above`` the limit (default) or ``below`` it."""
-
-
-class _CorrelationRow(_Row):
-    between: list[str] = Field(min_length=2, max_length=2)
-    """tolerance: the two parameters whose scatter is correlated, by their names (the path where a
-    row gives no name)."""
-    coefficient: float
-    """The correlation coefficient, between -1 and 1 (exclusive), dimensionless."""
-    measure: Literal["normal", "spearman"] = "normal"
-    """``normal``: the Gaussian copula's own correlation (default); ``spearman``: a rank correlation,
-    converted exactly (2 sin(π ρ_S / 6))."""
-
-
-class _GoalRow(_Row):
-    output: str
-    """A summary key of the analysis to optimize."""
-    unit: str = ""
-    """Display unit of the output."""
-    goal: Literal["minimize", "maximize"] = "minimize"
-    """``minimize`` or ``maximize``."""
-
-
-class _ConstraintRow(_Row):
-    output: str
-    """A summary key of the analysis."""
-    unit: str = ""
-    """Unit of the limits (default: the output's SI unit)."""
-    max: str | float | None = None
-    """Upper limit."""
-    min: str | float | None = None
-    """Lower limit."""
-    equals: str | float | None = None
-    """Value to hold (with ``tolerance``)."""
-    tolerance: str | float | None = None
-    """Allowed deviation from ``equals``."""
-
-
-class StudyFile(_Row):
-    """Schema of a study file."""
-
-    study: _StudyTable
-    parameters: list[_ParameterRow] = Field(min_length=1)
-    outputs: list[_OutputRow] = Field(default_factory=list)
-    objectives: list[_GoalRow] = Field(default_factory=list)
-    constraints: list[_ConstraintRow] = Field(default_factory=list)
-    targets: list[_ConstraintRow] = Field(default_factory=list)
-    correlations: list[_CorrelationRow] = Field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -242,6 +94,12 @@ class Study:
         measure), the coefficient dimensionless.
     small_probability : str or None
         ``tolerance``: the method for rarely exceeded limits (see the study file's field).
+    scattered : tuple of Parameter
+        ``optimize`` with scatter (robust design): the parameters that scatter about the model's
+        value without being designed (those in ``parameters`` that carry a scatter scatter about each
+        design's value).
+    scatter_samples : int or None
+        ``optimize`` with scatter: samples of the scatter per design (see the study file's field).
     """
 
     name: str
@@ -269,6 +127,15 @@ class Study:
     limits: tuple[Any, ...] = ()
     correlations: tuple[tuple[str, str, float, str], ...] = ()
     small_probability: str | None = None
+    scattered: tuple[Parameter, ...] = ()
+    scatter_samples: int | None = None
+
+    @property
+    def robust(self) -> bool:
+        """An ``optimize`` study with scatter (robust design, :mod:`mechdyn.studies.kinds.robust`)."""
+        return self.kind == "optimize" and (
+            bool(self.scattered) or any(p.scatter is not None for p in self.parameters)
+        )
 
     def starting_from(self, rows: Any) -> Study:
         """The same study, asked to evaluate these parameter rows (SI) first (an optimizer's start).
@@ -304,7 +171,10 @@ class Study:
 
     @property
     def watched(self) -> tuple[Watched, ...]:
-        """Every output the study reads: the outputs, then the objectives', constraints' and targets'."""
+        """Every output the study reads: the outputs, then the objectives', constraints' and targets';
+        a statistic (robust design) followed by the two ends of its interval."""
+        from mechdyn.studies.outputs import Statistic
+
         seen: dict[str, Watched] = {}
         for w in (
             *self.outputs,
@@ -312,6 +182,9 @@ class Study:
             *(c.output for c in (*self.constraints, *self.targets)),
         ):
             seen.setdefault(w.key, w)
+            if isinstance(w, Statistic) and not w.bound:
+                for end in ("low", "high"):
+                    seen.setdefault(f"{w.key}_{end}", w.with_bound(end))
         return tuple(seen.values())
 
     @property
@@ -370,7 +243,7 @@ def _quantity(w: Watched, value: Any, what: str, where: str) -> float | None:
         ) from None
 
 
-def _limit(w: Watched, row: _OutputRow, where: str) -> Any:
+def _limit(w: Watched, row: OutputRow, where: str) -> Any:
     """An output row's limit (``tolerance``) as a :class:`mechdyn.uncertainty.Limit`, SI."""
     from mechdyn.uncertainty import Limit
 
@@ -378,8 +251,13 @@ def _limit(w: Watched, row: _OutputRow, where: str) -> Any:
     return Limit(w.key, float(value), row.side) if value is not None else None
 
 
-def _constraint(analysis: Any, row: _ConstraintRow, where: str, target: bool = False) -> Constraint:
-    w = _watched(analysis, row.output, row.unit, where)
+def _constraint(
+    analysis: Any, row: ConstraintRow, where: str, target: bool = False, limits: tuple[Any, ...] = ()
+) -> Constraint:
+    from mechdyn.studies.kinds.robust import statistic_of
+
+    statistic = getattr(row, "statistic", None)  # a constraint's (robust design), never a target's
+    w = statistic_of(_watched(analysis, row.output, row.unit, where), statistic, limits, where)
     c = Constraint(
         w,
         max=_quantity(w, row.max, "max", where),
@@ -538,6 +416,7 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
                 name=row.name,
                 where=where,
                 scatter=row.scatter,
+                design_scatter=s.kind == "optimize",
             )
         except PathError as exc:
             raise StudyError(f"{where}: {exc}") from None
@@ -570,21 +449,41 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
                 f"{src_path}: [[parameters]]: {loc.path!r} is set by more than one parameter "
                 f"({', '.join(owners)}); a model value can follow one parameter only"
             )
-    outputs = tuple(
+    plain = tuple(
         _watched(analysis, o.output, o.unit, f"{src_path}: [[outputs]] #{i + 1}")
         for i, o in enumerate(f.outputs)
     )
     limits = tuple(
         _limit(w, o, f"{src_path}: [[outputs]] #{i + 1}")
-        for i, (w, o) in enumerate(zip(outputs, f.outputs, strict=True))
+        for i, (w, o) in enumerate(zip(plain, f.outputs, strict=True))
         if o.limit is not None
     )
+    from mechdyn.studies.kinds.robust import check_rows, statistic_of
+
+    designed, scattered = params, []
+    if s.kind == "optimize":  # robust design: scatter without a range is not a design variable
+        designed = [p for p in params if p.scatter is None or p.bounded]
+        scattered = [p for p in params if p.scatter is not None and not p.bounded]
+    check_rows(src_path, s.kind, f, params)
+    outputs = tuple(
+        statistic_of(w, o.statistic, limits, f"{src_path}: [[outputs]] #{i + 1}")
+        for i, (w, o) in enumerate(zip(plain, f.outputs, strict=True))
+    )
     objectives = tuple(
-        Objective(_watched(analysis, o.output, o.unit, f"{src_path}: [[objectives]] #{i + 1}"), o.goal)
+        Objective(
+            statistic_of(
+                _watched(analysis, o.output, o.unit, f"{src_path}: [[objectives]] #{i + 1}"),
+                o.statistic,
+                limits,
+                f"{src_path}: [[objectives]] #{i + 1}",
+            ),
+            o.goal,
+        )
         for i, o in enumerate(f.objectives)
     )
     constraints = tuple(
-        _constraint(analysis, c, f"{src_path}: [[constraints]] #{i + 1}") for i, c in enumerate(f.constraints)
+        _constraint(analysis, c, f"{src_path}: [[constraints]] #{i + 1}", limits=limits)
+        for i, c in enumerate(f.constraints)
     )
     targets = tuple(
         _constraint(analysis, c, f"{src_path}: [[targets]] #{i + 1}", True) for i, c in enumerate(f.targets)
@@ -594,7 +493,7 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
         s.kind,
         base,
         s.analysis,
-        tuple(params),
+        tuple(designed),
         outputs,
         objectives,
         constraints,
@@ -613,6 +512,8 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
         limits=limits,
         correlations=tuple((c.between[0], c.between[1], c.coefficient, c.measure) for c in f.correlations),
         small_probability=s.small_probability,
+        scattered=tuple(scattered),
+        scatter_samples=s.scatter_samples,
     )
     if s.kind != "tolerance" and (f.correlations or s.small_probability is not None):
         given = "[[correlations]]" if f.correlations else "[study] small_probability"

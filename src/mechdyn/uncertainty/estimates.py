@@ -22,7 +22,7 @@ each replicate's order statistic).
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -253,6 +253,17 @@ def replicate_probability(
             )
         )
     se = float(np.std(per_replicate, ddof=1)) / math.sqrt(r)
+    if se == 0.0 and p < 1.0:
+        # every replicate gives the same fraction (few points each: the fraction is resolved to
+        # R/n): their spread says nothing of the error, so the interval is the pooled points'
+        # Clopper-Pearson one, conservative for randomized QMC, never a point
+        pooled = binomial_probability(failures, n, event, level=level)
+        return replace(
+            pooled,
+            value=p,
+            method=method,
+            interval_method=f"Clopper-Pearson of the pooled points (the {r} replicates agree exactly)",
+        )
     half = _t(level, r - 1) * se
     return validity(
         Probability(

@@ -226,7 +226,7 @@ def base_variant(study: Study, variants: Sequence[StoredVariant]) -> StoredVaria
 
 def feasible(study: Study, v: StoredVariant) -> bool:
     """Evaluated, and every constraint of the study holds."""
-    return v.status == "ok" and all(c.violation(v.outputs.get(c.output.key)) <= 0 for c in study.constraints)
+    return v.status == "ok" and all(c.holds(v.outputs.get(c.output.key)) for c in study.constraints)
 
 
 def best(study: Study, variants: Sequence[StoredVariant]) -> StoredVariant | None:
@@ -262,14 +262,8 @@ def least_violation(study: Study, variants: Sequence[StoredVariant]) -> dict[str
     if not study.constraints or any(feasible(study, v) for v in variants):
         return None
 
-    def scale(c: Any) -> float:
-        if c.equals is not None and c.tolerance:
-            return float(c.tolerance)
-        limit = next((x for x in (c.equals, c.max, c.min) if x is not None), None)
-        return abs(float(limit)) if limit else 1.0
-
     def worst(v: StoredVariant) -> float:
-        return max(c.violation(v.outputs.get(c.output.key)) / scale(c) for c in study.constraints)
+        return max(c.violation(v.outputs.get(c.output.key)) / c.scale for c in study.constraints)
 
     evaluated = [v for v in variants if v.status == "ok" and math.isfinite(worst(v))]
     if not evaluated:
@@ -283,7 +277,7 @@ def least_violation(study: Study, variants: Sequence[StoredVariant]) -> dict[str
                 "constraint": c.describe(),
                 "value": nearest.outputs.get(c.output.key),
                 "violation": c.violation(nearest.outputs.get(c.output.key)),
-                "holds": c.violation(nearest.outputs.get(c.output.key)) <= 0,
+                "holds": c.holds(nearest.outputs.get(c.output.key)),
             }
             for c in study.constraints
         ],
@@ -317,7 +311,7 @@ def describe(study: Study, v: StoredVariant) -> dict[str, Any]:
             {
                 "constraint": c.describe(),
                 "value": v.outputs.get(c.output.key),
-                "holds": c.violation(v.outputs.get(c.output.key)) <= 0,
+                "holds": c.holds(v.outputs.get(c.output.key)),
             }
             for c in study.constraints
         ],

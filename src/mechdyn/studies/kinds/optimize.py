@@ -59,13 +59,24 @@ class Optimize(Kind):
     for several, NSGA-II (Deb et al., *IEEE Trans. Evol. Comput.* 6, 2002) and the Pareto front.
     Constraints through ``trial.set_constraint``; a failed variant is infeasible. Trials are asked in
     batches of ``batch``, each batch evaluated as one block; several processes may share the study
-    (:mod:`mechdyn.studies.kinds.liveness`)."""
+    (:mod:`mechdyn.studies.kinds.liveness`). With scatter (robust design), objectives and constraints
+    are statistics over it, each design estimated on common random numbers
+    (:mod:`mechdyn.studies.kinds.robust`)."""
 
     name = "optimize"
     title = "optimization"
 
     def check(self, study: Study) -> None:
         super().check(study)
+        if study.robust:
+            from mechdyn.studies.kinds.robust import sampling
+
+            n, r = sampling(study)
+            if n < 4 or (r > 1 and n & (n - 1)):
+                raise StudyError(
+                    f"{study.path or study.name}: scatter_samples = {n}: give at least 4, a power of 2 "
+                    'for method = "qmc" (e.g. 128)'
+                )
         if not study.objectives:
             raise StudyError(
                 f"{study.path or study.name}: an optimize study needs [[objectives]] (output and goal)"
@@ -120,7 +131,8 @@ class Optimize(Kind):
 
     def confirm(self, runner: Any, found: Found) -> dict[str, Any]:
         """The optimum evaluated again through the analysis itself (not the batch): the objective's
-        relative difference (round-off when both paths agree)."""
+        relative difference (round-off when both paths agree); with scatter, its nominal and a few
+        of its samples (:meth:`mechdyn.studies.kinds.robust.RobustEvaluator.check`)."""
         from mechdyn.studies.evaluate import Evaluator
 
         st = runner.study
@@ -129,6 +141,11 @@ class Optimize(Kind):
             return {}
         key = st.objectives[0].output.key
         x = np.array([[b["parameters"][p.name] for p in st.parameters]])
+        if st.robust:  # its nominal and a few of its samples one by one through the analysis itself
+            from mechdyn.studies.kinds.robust import RobustEvaluator
+
+            checked = RobustEvaluator(st).check(x[0])
+            return {"single_design_check": {**checked, "value": b["outputs"].get(key)}}
         again = Evaluator(st.source, st.analysis, st.parameters, [key], st.options, batch=False)(x)[0]
         y0, y1 = b["outputs"].get(key), again.outputs.get(key)
         diff = abs(y1 - y0) / abs(y0) if y1 is not None and y0 else None
@@ -198,6 +215,10 @@ class Optimize(Kind):
         if chosen is not None and base is not None:
             y0, y1 = value(base, o.output.key), value(chosen, o.output.key)
             out["improvement_percent"] = 100.0 * (y0 - y1) / abs(y0) * o.sign if y0 else None
+        if getattr(study, "robust", False):  # an estimate: samples, interval, gain
+            from mechdyn.studies.kinds.robust import robust_findings
+
+            out["robust"] = robust_findings(study, chosen, base)
         return Found(out, frozenset({chosen.id}) if chosen is not None else frozenset())
 
     # -- showing ------------------------------------------------------------------------------
@@ -308,7 +329,10 @@ def _optimality_table(result: StudyResult) -> Table:
     if f.get("best") is None:
         rows.append(["verdict", f"{NOT_CONVERGED}: no variant keeps every constraint"])
     else:
-        rows.append(["verdict", _verdict_words(f, polished)])
+        estimate = (
+            " (of the estimate on the common random numbers: see its interval)" if f.get("robust") else ""
+        )
+        rows.append(["verdict", _verdict_words(f, polished) + estimate])
         if proof is None:
             rows.append(["first-order optimality", "not shown (no gradient stored at the optimum)"])
         else:
@@ -366,6 +390,9 @@ def _optimality_table(result: StudyResult) -> Table:
                 "constraint)",
             ]
         )
+    from mechdyn.studies.kinds.robust import table_rows
+
+    rows += table_rows(result.study, f)
     rows.append(["variants evaluated in all", f.get("evaluations")])
     check = f.get("single_design_check")
     if check:
@@ -375,7 +402,12 @@ def _optimality_table(result: StudyResult) -> Table:
                 "optimum through the analysis itself",
                 "failed: " + str(check.get("status"))
                 if diff is None
-                else f"agrees to {number(diff, MEASURE_DIGITS)} (relative)",
+                else f"agrees to {number(diff, MEASURE_DIGITS)} (relative)"
+                + (
+                    f", its nominal and {check['samples_checked']} samples of the scatter"
+                    if "samples_checked" in check
+                    else ""
+                ),
             ]
         )
     title = "how good the optimum is" if f.get("best") is not None else "how near the search came"
