@@ -312,8 +312,26 @@ def test_a_constraint_ended_on_by_round_off_holds_and_one_broken_by_a_margin_doe
     from mechdyn.studies.outputs import HOLD_TOLERANCE, Constraint, Watched
 
     c = Constraint(Watched("static_deflection_m", "m", ""), max=3e-3)
-    assert c.scale == 3e-3 and c.holds(3e-3) and c.holds(3e-3 * (1 + 1e-12))
+    assert c.sides() == [("max", 3e-3, 3e-3)] and c.holds(3e-3) and c.holds(3e-3 * (1 + 1e-12))
     assert not c.holds(3e-3 * (1 + 1e-6)) and c.violation(3e-3 * (1 + 1e-12)) > 0
     band = Constraint(Watched("stroke_m", "m", ""), equals=1.4953, tolerance=1e-3)
-    assert band.scale == 1e-3 and band.holds(1.4963 + 0.1 * HOLD_TOLERANCE * 1e-3)
+    assert [scale for *_, scale in band.sides()] == [1e-3, 1e-3]
+    assert band.holds(1.4963 + 0.1 * HOLD_TOLERANCE * 1e-3)
     assert not band.holds(1.4964) and not band.holds(None)
+
+
+def test_each_side_of_a_two_sided_constraint_has_its_own_round_off_allowance():
+    """min 1 mm, max 1 m: half a micrometre below the minimum is a breach (it held, by the
+    maximum's scale), as the polish and the report both say; a limit of 0 scales by 1."""
+    from mechdyn.studies.outputs import Constraint, Watched
+    from mechdyn.studies.polish import _limits
+
+    c = Constraint(Watched("gap_m", "m", ""), min=1e-3, max=1.0)
+    assert not c.holds(1e-3 - 5e-7) and c.holds(1e-3 * (1 - 1e-12)) and c.holds(1.0 * (1 + 1e-12))
+    assert [(side, scale) for side, _, scale in c.sides()] == [("max", 1.0), ("min", 1e-3)]
+    assert [row[1:] for row in _limits(SimpleNamespace(constraints=[c]))] == [
+        ("max", 1.0, 1.0),
+        ("min", 1e-3, 1e-3),
+    ]
+    zero = Constraint(Watched("offset_m", "m", ""), max=0.0)
+    assert zero.sides() == [("max", 0.0, 1.0)] and zero.holds(1e-12) and not zero.holds(1e-6)

@@ -275,3 +275,18 @@ def test_bad_robust_input_is_refused_with_the_field_named(isolator):
     del d["parameters"][0]["scatter"]
     d["objectives"] = d["constraints"] = []
     _refused(isolator, d, "[[outputs]] #1 → statistic", "is for an optimize study with scatter")
+
+
+def test_a_probability_constraint_is_never_called_a_converged_optimum(isolator, tmp_path):
+    """P(δ > 3 mm) ≤ 5 % instead of δ's q95 ≤ 3 mm: the same event, but a probability counts samples,
+    a step function of the design whose zero gradient proves nothing: the verdict says so."""
+    text = isolator.read_text(encoding="utf-8").replace(
+        '[[constraints]]\noutput = "static_deflection_m"\nstatistic = "q95"\nunit = "mm"\nmax = "3 mm"',
+        '[[constraints]]\noutput = "static_deflection_m"\nstatistic = "p_exceed"\nmax = 0.05',
+    )
+    assert 'statistic = "p_exceed"\nmax = 0.05' in text
+    isolator.write_text(text, encoding="utf-8")
+    r = run_study(load_study(isolator), str(tmp_path / "r.db"))
+    assert r.findings["verdict"] == "not converged" and "counts samples" in r.findings["not_judged"]
+    words = [row for t in r.tables() for row in t.rows if row and row[0] == "verdict"]
+    assert words and "step function of the design" in str(words[0][1]), words

@@ -220,8 +220,8 @@ class Objective:
         return 1.0 if self.sense == "minimize" else -1.0
 
 
-#: How far beyond its limit an output may end and its constraint still hold, relative to the
-#: constraint's :attr:`Constraint.scale`: an optimizer's round-off at an active limit (SLSQP ends a few
+#: How far beyond its limit an output may end and its constraint still hold, relative to that side's
+#: scale (:meth:`Constraint.sides`): an optimizer's round-off at an active limit (SLSQP ends a few
 #: ulps outside it), far below any engineering margin.
 HOLD_TOLERANCE = 1e-9
 
@@ -269,19 +269,35 @@ class Constraint:
             parts.append(abs(value - self.equals) - (self.tolerance or 0.0))
         return max(parts) if parts else -math.inf
 
-    @property
-    def scale(self) -> float:
-        """The constraint's size, in the output's SI unit: the tolerance of an ``equals``, else the
-        size of its limit (1 for a limit of 0), so that violations of limits in different units
-        compare."""
-        if self.equals is not None and self.tolerance:
-            return float(self.tolerance)
-        limit = next((x for x in (self.equals, self.max, self.min) if x is not None), None)
-        return abs(float(limit)) if limit else 1.0
+    def sides(self) -> list[tuple[str, float, float]]:
+        """Each side of the constraint as (``"max"`` or ``"min"``, limit, scale), SI: an ``equals``
+        is the two sides of its band. The scale, which sets how far beyond its side a value may end
+        and still hold and compares limits in different units, is the band's tolerance, else the
+        size of that side's limit (1 for a limit of 0)."""
+        out: list[tuple[str, float, float]] = []
+        if self.equals is not None:
+            tol = float(self.tolerance or 0.0)
+            band = tol if tol > 0 else (abs(float(self.equals)) or 1.0)
+            out += [("max", self.equals + tol, band), ("min", self.equals - tol, band)]
+        for side, limit in (("max", self.max), ("min", self.min)):
+            if limit is not None:
+                out.append((side, float(limit), abs(float(limit)) or 1.0))
+        return out
+
+    def relative_violation(self, value: float | None) -> float:
+        """The worst side's violation over its scale (≤ 0 where it holds), dimensionless; infinite for
+        a missing or non-finite value."""
+        if value is None or not math.isfinite(value):
+            return math.inf
+        parts = [
+            (value - limit if side == "max" else limit - value) / scale for side, limit, scale in self.sides()
+        ]
+        return max(parts) if parts else -math.inf
 
     def holds(self, value: float | None) -> bool:
-        """Whether ``value`` (SI) keeps the constraint, to :data:`HOLD_TOLERANCE` of its :attr:`scale`."""
-        return self.violation(value) <= HOLD_TOLERANCE * self.scale
+        """Whether ``value`` (SI) keeps the constraint, each side to :data:`HOLD_TOLERANCE` of its scale
+        (:meth:`sides`)."""
+        return self.relative_violation(value) <= HOLD_TOLERANCE
 
     def describe(self) -> str:
         """The constraint in words, its limits as the study file gives them, in the output's display

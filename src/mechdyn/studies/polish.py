@@ -110,19 +110,10 @@ def stencil(x: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[np.ndarra
 
 
 def _limits(study: Any) -> list[tuple[Any, str, float, float]]:
-    """Each constraint side as (constraint, side, limit, scale), side ``"max"`` or ``"min"``: the
-    constraint function is g = limit − y (max) or y − limit (min), ≥ 0 where it holds."""
-    out = []
-    for c in study.constraints:
-        if c.equals is not None:
-            tol = c.tolerance or 0.0
-            scale = tol if tol > 0 else max(abs(c.equals), 1e-300)
-            out += [(c, "max", c.equals + tol, scale), (c, "min", c.equals - tol, scale)]
-        if c.max is not None:
-            out.append((c, "max", c.max, max(abs(c.max), 1e-300)))
-        if c.min is not None:
-            out.append((c, "min", c.min, max(abs(c.min), 1e-300)))
-    return out
+    """Each constraint side as (constraint, side, limit, scale), side ``"max"`` or ``"min"``
+    (:meth:`~mechdyn.studies.outputs.Constraint.sides`): the constraint function is g = limit − y
+    (max) or y − limit (min), ≥ 0 where it holds."""
+    return [(c, side, limit, scale) for c in study.constraints for side, limit, scale in c.sides()]
 
 
 def target_cost(study: Any, outputs: Mapping[str, Any]) -> float:

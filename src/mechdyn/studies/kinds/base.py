@@ -263,7 +263,7 @@ def least_violation(study: Study, variants: Sequence[StoredVariant]) -> dict[str
         return None
 
     def worst(v: StoredVariant) -> float:
-        return max(c.violation(v.outputs.get(c.output.key)) / c.scale for c in study.constraints)
+        return max(c.relative_violation(v.outputs.get(c.output.key)) for c in study.constraints)
 
     evaluated = [v for v in variants if v.status == "ok" and math.isfinite(worst(v))]
     if not evaluated:

@@ -191,6 +191,9 @@ class Optimize(Kind):
                     chosen, proof = v, shown
                     break
         judged = verdict(proof["measure"]) if chosen is not None and proof is not None else NOT_CONVERGED
+        counted = _counted(study)
+        if counted:  # a step function of the design: a zero gradient there proves nothing
+            judged = NOT_CONVERGED
         twins: list[StoredVariant] = []
         if chosen is not None and judged == CONVERGED:
             twins = [
@@ -208,6 +211,13 @@ class Optimize(Kind):
             "optimality": proof,
             "verdict": judged,
             "converged": judged == CONVERGED,
+            "not_judged": (
+                f"{', '.join(counted)} counts samples beyond a limit: a step function of the design, "
+                "whose first-order measure says nothing of optimality; constrain or minimise a "
+                "quantile instead (the same event, smooth)"
+                if counted
+                else None
+            ),
             "least_violation": least_violation(study, variants) if chosen is None else None,
             "non_unique": _non_unique(study, chosen, twins) if chosen is not None else None,
             "evaluations": len(variants),
@@ -414,10 +424,19 @@ def _optimality_table(result: StudyResult) -> Table:
     return table(f"{result.study.name}: {title}", ["", "value"], rows)
 
 
+def _counted(study: Study) -> list[str]:
+    """The objective or constraints that are a probability (``p_exceed``): counts of samples, flat
+    between the designs where a sample crosses the limit, so no first-order measure judges them."""
+    rows = [*study.objectives[:1], *study.constraints]
+    return [r.output.words for r in rows if getattr(r.output, "statistic", "") == "p_exceed"]
+
+
 def _verdict_words(f: dict[str, Any], polished: dict[str, Any]) -> str:
     """The optimum's verdict in words, with the measure against its tolerance; a run that knows the
     polish start which ended at the optimum ran out of iterations says so."""
     proof = f.get("optimality")
+    if f.get("not_judged"):
+        return f"{NOT_CONVERGED}: {f['not_judged']}"
     if proof is None:
         return f"{NOT_CONVERGED}: its first-order measure cannot be shown (no gradient stored there)"
     measure = f"first-order measure {number(proof['measure'], MEASURE_DIGITS)}"
