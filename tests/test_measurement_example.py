@@ -68,5 +68,8 @@ def test_example_updates_the_mounts_and_predicts_the_floor_force(tmp_path, capsy
     low, median, high = out["floor_force_band_N"]
     assert low < median < high
     assert abs(expected / median - 1) < 0.02
+    # and inside the band (before the identification's refinement removed the LSCF bias of the
+    # well-damped modes, the vertical stiffness came out 1.6 σ low and the value just above it)
+    assert low <= expected <= high
     assert not low <= out["floor_force_designed_N"] <= high
     assert abs(out["floor_force_designed_N"] / expected - 1) > 0.3

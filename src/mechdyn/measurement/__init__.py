@@ -3,7 +3,8 @@
 Read measured FRFs (:func:`read_uff` for Universal File dataset 58, :func:`read_csv`) into a
 :class:`MeasuredFRF` in SI, or identified mode shapes (dataset 55, :func:`read_uff_modes`);
 identify the modes with their scatter and a stabilisation chart (:func:`identify_modes`: LSCF
-poles from sdypy-EMA, LSFD residues); pair them with a model's modes by MAC
+poles from sdypy-EMA, LSFD residues, refined together by nonlinear least squares); read one mode as
+a mount's stiffness and damping (:func:`single_dof`); pair them with a model's modes by MAC
 (:func:`compare_modes`, :func:`mac`; points mapped to model coordinates by
 :func:`observation_matrix`); and update the model's values so that its modes match, with their
 uncertainty and identifiability (:func:`update_model`, a :class:`ModelUpdate`).
@@ -22,6 +23,7 @@ __all__ = attach(
         "MeasuredFRF": "data",
         "ModelUpdate": "update_result",
         "ModeComparison": "compare",
+        "SingleDof": "sdof",
         "StabilisationChart": "identify",
         "TestCorrelation": "correlation_result",
         "compare_modes": "compare",
@@ -33,6 +35,7 @@ __all__ = attach(
         "read_uff": "data",
         "read_uff_modes": "modefile",
         "simulate_frf": "synthetic",
+        "single_dof": "sdof",
         "update_model": "updating",
     },
 )

@@ -299,6 +299,11 @@ def read_csv(path: str | Path) -> MeasuredFRF:
 
     Lines starting with ``#`` are comments.
 
+    The single-FRF form of a mount's calibration file (:func:`mechdyn.mounts.read_frf_csv`) is read
+    too: columns ``frequency_Hz`` and either ``real`` and ``imag`` or ``magnitude`` and
+    ``phase_deg``, in SI, with a comment ``# kind: receptance`` (the default), ``mobility`` or
+    ``accelerance``; its one FRF is the driving point ``mount:z/mount:z``.
+
     Parameters
     ----------
     path : str or Path
@@ -322,6 +327,8 @@ def read_csv(path: str | Path) -> MeasuredFRF:
             name, "file", f"has {len(rows)} non-comment rows; need a header and two or more lines"
         )
     header = rows[0]
+    if header[0].strip() == "frequency_Hz":
+        return _read_single_csv(name, header, rows[1:])
     fm = _FREQ.match(header[0])
     if fm is None:
         raise ModelFileError(
@@ -389,3 +396,37 @@ def read_csv(path: str | Path) -> MeasuredFRF:
         factor, kind = _si_factor(name, label, unit, "unit")
         records.append((out, ref, table[:, 0] * hz, h * factor, kind))
     return _assemble(name, records, "columns")
+
+
+def _read_single_csv(name: str, header: list[str], rows: list[list[str]]) -> MeasuredFRF:
+    """The single-FRF form of a mount calibration file (see :func:`read_csv`), SI, driving point."""
+    kind = "receptance"
+    with open(name, encoding="utf-8") as fh:
+        for line in fh:
+            if line.lstrip().startswith("#") and "kind:" in line:
+                kind = line.split("kind:", 1)[1].strip()
+    if kind not in ("receptance", "mobility", "accelerance"):
+        raise ModelFileError(
+            name, "comment '# kind:'", f"is {kind!r}; write receptance, mobility or accelerance", value=kind
+        )
+    cols = {c.strip(): i for i, c in enumerate(header)}
+    if {"real", "imag"} <= cols.keys():
+        parts = ("real", "imag")
+    elif {"magnitude", "phase_deg"} <= cols.keys():
+        parts = ("magnitude", "phase_deg")
+    else:
+        raise ModelFileError(
+            name,
+            "header",
+            f"has columns {sorted(cols)}; with frequency_Hz give real and imag, or magnitude and phase_deg",
+        )
+    try:
+        table = np.array([[float(r[cols[c]]) for c in ("frequency_Hz", *parts)] for r in rows])
+    except (ValueError, IndexError):
+        raise ModelFileError(
+            name, "data rows", f"must each hold numbers in the columns frequency_Hz, {', '.join(parts)}"
+        ) from None
+    a, b = table[:, 1], table[:, 2]
+    h = a + 1j * b if parts[0] == "real" else a * np.exp(1j * np.deg2rad(b))
+    point = ("mount", "z")
+    return _assemble(name, [(point, point, table[:, 0], h, kind)], "columns")

@@ -286,7 +286,13 @@ class Constraint:
 
     def relative_violation(self, value: float | None) -> float:
         """The worst side's violation over its scale (≤ 0 where it holds), dimensionless; infinite for
-        a missing or non-finite value."""
+        a missing or non-finite value.
+
+        Parameters
+        ----------
+        value : float or None
+            The output's value, SI.
+        """
         if value is None or not math.isfinite(value):
             return math.inf
         parts = [
@@ -295,8 +301,14 @@ class Constraint:
         return max(parts) if parts else -math.inf
 
     def holds(self, value: float | None) -> bool:
-        """Whether ``value`` (SI) keeps the constraint, each side to :data:`HOLD_TOLERANCE` of its scale
-        (:meth:`sides`)."""
+        """Whether the output keeps the constraint, each side to :data:`HOLD_TOLERANCE` of its scale
+        (:meth:`sides`).
+
+        Parameters
+        ----------
+        value : float or None
+            The output's value, SI.
+        """
         return self.relative_violation(value) <= HOLD_TOLERANCE
 
     def describe(self) -> str:
