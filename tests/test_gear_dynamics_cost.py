@@ -63,7 +63,6 @@ def test_the_estimates_count_what_the_docs_say():
     assert s.bytes == pytest.approx(2000 * 8 * (2 * 10 + 4) * 8)
 
 
-
 def test_a_backlash_sweep_is_estimated_at_the_cost_the_docs_state():
     """With backlash, BACKLASH_SECONDS a speed (the docs' "at most 1 s a speed", the continuation
     included: 0.10 s measured on a single pair, 0.71 s on turret C): the shipped turret's 110 speeds
@@ -72,6 +71,7 @@ def test_a_backlash_sweep_is_estimated_at_the_cost_the_docs_state():
     c = sweep_cost(110, 2, 74, 1, 14, 0, False, True)
     assert c.seconds == pytest.approx(110 * _cost.BACKLASH_SECONDS, rel=0.05)
     assert c.seconds < _cost.TIME_WARN
+
 
 def test_a_simulation_of_a_day_is_refused_before_the_work(turret):
     system, motor = turret

@@ -149,6 +149,9 @@ def _variant(tmp_path, old: str, new: str):
             "the data's point(s) '2' map to no model point",
         ),
         ("mounts.*.stiffness.x", "mounts.*.stifness.x", "[[update]] #1 → path", "mounts.*.stifness.x"),
+        # a value of 0, or of both signs, has no logarithm to update: refused as the file is read
+        ("mounts.*.stiffness.x", "mounts.1.position.z", "[[update]] #1 → path", "logarithm of positive"),
+        ("mounts.*.stiffness.x", "mounts.*.position.x", "[[update]] #1 → path", "logarithm of positive"),
     ],
 )
 def test_bad_input_names_the_file_field_value_and_fix(tmp_path, old, new, location, message):

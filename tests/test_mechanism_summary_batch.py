@@ -139,3 +139,22 @@ def test_a_speed_profile_runs_chunk_by_chunk_to_the_same_figures(datum):
     reduced = cycle_summary(mech, 60, points=points, chunk=4)
     assert reduced.failures == full.failures and 5 in reduced.failures
     _same(full.summary(), reduced.summary(), f"profile, datum {datum}")
+
+
+def test_the_model_s_cached_setup_is_not_reached_through_a_result_and_follows_its_drawing():
+    """The dyad path keeps its plan and the design's encoding with the model: a result's arrays are
+    its own (editing them changes no later call), and a drawing edited in place is drawn anew."""
+    from dataclasses import replace
+
+    m = mechdyn.load(EXAMPLES / "press_link_drive.toml").model
+    first = cycle(m, 90)
+    first._body_mass[...] *= 2
+    first._steps.clear()
+    again = cycle(m, 90)
+    np.testing.assert_array_equal(again.driving_torque, first.driving_torque)
+    name = next(iter(m.points))
+    x, y = m.points[name]
+    m.points[name] = (x + 0.01, y)  # not a supported use: a variant is a new model
+    moved = cycle(m, 90)
+    assert np.nanmax(np.abs(moved.driving_torque - again.driving_torque)) > 0
+    np.testing.assert_array_equal(moved.driving_torque, cycle(replace(m), 90).driving_torque)

@@ -305,6 +305,7 @@ def _check_band(source: ModelSource, t: MeasurementTable, measured: Any) -> None
 
 
 def _check_paths(source: ModelSource, rows: list[UpdateRow], tested: Any) -> None:
+    from mechdyn.measurement.updating import _parameters
     from mechdyn.studies.paths import ModelTree
 
     tree = ModelTree(tested.source)
@@ -316,8 +317,10 @@ def _check_paths(source: ModelSource, rows: list[UpdateRow], tested: Any) -> Non
         seen.add(row.path)
         try:
             tree.resolve(row.path)
+            _parameters(tree, [row.path])  # a positive quantity: updated on its logarithm
         except MechdynError as exc:
-            raise ModelFileError(source.path, where, f"{row.path!r}: {exc}", row.path) from None
+            said = str(exc).removeprefix("update_model: ")
+            raise ModelFileError(source.path, where, f"{row.path!r}: {said}", row.path) from None
 
 
 def build(source: ModelSource) -> MeasurementSpec:

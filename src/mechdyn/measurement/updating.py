@@ -84,6 +84,7 @@ def _default_modes(loaded: Any) -> Any:
 
 def _parameters(tree: Any, paths: Sequence[str]) -> list[Any]:
     """One study parameter per path (a vector path moves its components together), positive quantities."""
+    from mechdyn.studies.errors import StudyError
     from mechdyn.studies.parameters import Parameter
 
     if isinstance(paths, str) or not paths:
@@ -95,7 +96,14 @@ def _parameters(tree: Any, paths: Sequence[str]) -> list[Any]:
     for path in paths:
         if tree.nature(tree.resolve(path)[0]).kind != "quantity":
             raise UpdateError(f"update_model: {path!r} is not a quantity; only quantities are updated")
-        p = Parameter.from_spec(tree, path, range="±50 %", name=path)[0]
+        positive = (
+            f"update_model: {path!r} is not positive everywhere in the model; updating works on the "
+            "logarithm of positive values (a stiffness, a damping, a mass): give such a path"
+        )
+        try:  # its range is only the search box of the global start, ±50 % of the model's values
+            p = Parameter.from_spec(tree, path, range="±50 %", name=path)[0]
+        except StudyError:  # a value of 0 has no relative range
+            raise UpdateError(positive) from None
         if not p.base > 0 or any(b <= 0 for b in p.bases):
             raise UpdateError(
                 f"update_model: {path!r} is {p.base!r} in the model; updating works on the logarithm "

@@ -178,10 +178,10 @@ def cycle(
         z,
         body_rates,
         out.dyad_measure,
-        steps,
+        list(steps),  # the result's own: the plan and the setup may be the model's cached ones
         (pos, vel, acc, rates),
-        setup.mass,
-        setup.inertia,
+        setup.mass.copy(),
+        setup.inertia.copy(),
         out.multipliers if store_points else None,
         out.peaks,
         failures,
@@ -239,8 +239,15 @@ class Outputs(NamedTuple):
 def _cache(m: Mechanism) -> dict[Any, Any]:
     """What the dyad path keeps with a model: a model is immutable (a variant is a new object), so
     its plan and its drawing's encoding hold for its lifetime (stored as ``cached_property`` stores,
-    beside the dataclass fields, which equality and ``replace`` ignore)."""
-    return cast(dict[Any, Any], m.__dict__.setdefault("_dyad_cache", {}))
+    beside the dataclass fields, which equality and ``replace`` ignore). Its drawing is a plain dict,
+    though: one edited in place (not a supported use, but an easy one) empties the cache."""
+    cache = cast(dict[Any, Any], m.__dict__.setdefault("_dyad_cache", {}))
+    drawn = cache.get("drawing")
+    if drawn is not None and drawn != m.points:
+        cache.clear()
+    if not cache:
+        cache["drawing"] = dict(m.points)
+    return cache
 
 
 def dyad_plan(m: Mechanism) -> list[Step]:
@@ -279,8 +286,9 @@ def nominal_setup(m: Mechanism, n_angles: int, store_points: bool) -> Setup:
     key = ("setup", n_angles, store_points)
     if key not in cache:
         setup = _setup(m, dyad_plan(m), n_angles, {}, {}, {}, store_points)
-        if len(cache) > 16:  # a model analysed at many resolutions: keep the latest few
-            cache.pop(next(k for k in cache if k != "plan"))
+        setups = [k for k in list(cache) if isinstance(k, tuple)]  # a snapshot: threads may share it
+        if len(setups) > 16:  # a model analysed at many resolutions: keep the latest few
+            cache.pop(setups[0], None)
         cache[key] = setup
     return cast(Setup, cache[key])
 
