@@ -540,8 +540,14 @@ def table_rows(study: Study, f: Mapping[str, Any]) -> list[list[Any]]:
                     else " (the base breaks a constraint the optimum keeps)"
                 )
             elif imp["significant"]:
-                word = "significant"
+                word = (
+                    "beyond both estimates' 95 % half-widths (conservative: on common points the "
+                    "estimates move together)"
+                )
             else:
-                word = "not significant: below the interval (more samples of the scatter would tell)"
+                word = (
+                    "within the estimates' 95 % half-width: not shown (more samples of the scatter "
+                    "would tell)"
+                )
             rows.append(["improvement over the base", f"{said}: {word}"])
     return rows
