@@ -198,3 +198,32 @@ def test_a_test_of_a_drivetrain_maps_its_points_to_disks(tmp_path):
     c = r.before
     assert np.all(np.abs(c.model_hz - c.measured_hz) < 5 * c.measured_scatter_hz + 1e-3 * c.measured_hz)
     assert r.update is None and "updated_values" not in s
+
+
+def test_the_report_and_the_dashboard_show_the_model_against_the_measurement(tmp_path, capsys):
+    """The run's report and its dashboard page: the paired modes (MAC, frequency errors) before and
+    after updating, the updated values, and the four pictures (stabilisation chart, MAC, FRF overlay,
+    frequency errors), with nothing special written for them (the result protocol)."""
+    import re
+    import urllib.request
+
+    from conftest import serving
+    from mechdyn.dashboard.app import create_app
+
+    db, report = str(tmp_path / "r.db"), tmp_path / "test.html"
+    argv = ["modes-from-test", str(TAP_TEST), "--bootstrap", "0", "--starts", "0", "--db", db]
+    assert main([*argv, "--report", str(report)]) == 0
+    capsys.readouterr()
+    html = report.read_text(encoding="utf-8")
+    words = ("model against the test (paired by MAC)", "updated values", "frequency error")
+    for text in words:
+        assert text in html, text
+    assert len(re.findall(r'<img[^>]+src="data:image/png;base64,', html)) >= 4
+    with serving(create_app(db)) as address:
+        with urllib.request.urlopen(address + "/runs/1", timeout=60) as response:
+            page = response.read().decode()
+    assert "modes-from-test" in page and "tap test" in page.lower()
+    assert "frequency error" in page and "updated values" in page
+    # per paired mode, drawn from the stored arrays: the frequency errors and MAC before and after
+    titles = re.findall(r'"title": \{"text": "([^"]+)"\}, "xaxis"', page)
+    assert any("frequency error" in t for t in titles) and any("mac" in t.lower() for t in titles), titles

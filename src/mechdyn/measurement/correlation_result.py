@@ -178,12 +178,20 @@ class TestCorrelation(Result):
         from mechdyn.results import frame_arrays
 
         m = self.modes
-        return frame_arrays(self.to_frame()) | {
-            "identified_frequency_hz": (np.asarray(m.frequencies_hz, float), "Hz"),
-            "identified_frequency_scatter_hz": (np.asarray(m.frequency_scatter_hz, float), "Hz"),
-            "identified_damping_ratio": (np.asarray(m.damping, float), "1"),
-            "identified_damping_scatter_ratio": (np.asarray(m.damping_scatter, float), "1"),
-        }
+        pairs = frame_arrays(self.to_frame())
+        # the model against the measurement first (a dashboard draws the first few against the mode)
+        first = ["measured_mode", "frequency_error_percent", "updated_frequency_error_percent", "mac_ratio"]
+        ordered = {k: pairs[k] for k in [*first, "updated_mac_ratio"] if k in pairs}
+        return (
+            ordered
+            | pairs
+            | {
+                "identified_frequency_hz": (np.asarray(m.frequencies_hz, float), "Hz"),
+                "identified_frequency_scatter_hz": (np.asarray(m.frequency_scatter_hz, float), "Hz"),
+                "identified_damping_ratio": (np.asarray(m.damping, float), "1"),
+                "identified_damping_scatter_ratio": (np.asarray(m.damping_scatter, float), "1"),
+            }
+        )
 
     def tables(self, **display_units: str) -> list[Table]:
         """The summary, the identified modes, the pairs before (and after) updating, the updated values."""
