@@ -202,6 +202,30 @@ def _uff_direction(path: str, where: str, code: Any) -> tuple[str, float]:
     return DIRECTIONS[abs(c) - 1], float(np.sign(c))
 
 
+def uff_sets(name: str) -> list[dict[str, Any]]:
+    """Every dataset of a Universal File as pyuff reads it (a list of dicts, one a dataset).
+
+    Parameters
+    ----------
+    name : str
+        The file's path.
+
+    Raises
+    ------
+    ModelFileError
+        For a file that does not exist or that pyuff cannot read, naming it.
+    """
+    import pyuff  # type: ignore[import-untyped]
+
+    if not Path(name).is_file():
+        raise ModelFileError(name, "file", "does not exist")
+    try:
+        sets = pyuff.UFF(name).read_sets()
+    except Exception as exc:
+        raise ModelFileError(name, "file", f"is not a readable Universal File ({exc})") from None
+    return [sets] if isinstance(sets, dict) else list(sets)
+
+
 def read_uff(path: str | Path, *, units: str | None = None) -> MeasuredFRF:
     """Read the frequency response functions of a Universal File (dataset 58).
 
@@ -225,17 +249,9 @@ def read_uff(path: str | Path, *, units: str | None = None) -> MeasuredFRF:
     ModelFileError
         Naming the file, the dataset and field, the value and what to write instead.
     """
-    import pyuff  # type: ignore[import-untyped]
 
     name = str(path)
-    if not Path(name).is_file():
-        raise ModelFileError(name, "file", "does not exist")
-    try:
-        sets = pyuff.UFF(name).read_sets()
-    except Exception as exc:
-        raise ModelFileError(name, "file", f"is not a readable Universal File ({exc})") from None
-    if isinstance(sets, dict):
-        sets = [sets]
+    sets = uff_sets(name)
     records = []
     for i, s in enumerate(sets):
         if s.get("type") != 58 or int(s.get("func_type", 0)) != 4:

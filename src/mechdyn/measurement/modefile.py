@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.errors import ModelFileError
-from mechdyn.measurement.data import DIRECTIONS
+from mechdyn.measurement.data import DIRECTIONS, uff_sets
 from mechdyn.measurement.identify import IdentifiedModes, StabilisationChart
 
 __all__ = ["read_uff_modes"]
@@ -90,17 +90,9 @@ def read_uff_modes(path: str | Path, *, directions: tuple[str, ...] | None = Non
         For a missing or unreadable file, no mode in it, a dataset that is not a mode or whose shape
         does not fit its nodes, naming the file, the dataset and the field.
     """
-    import pyuff  # type: ignore[import-untyped]
 
     name = str(path)
-    if not Path(name).is_file():
-        raise ModelFileError(name, "file", "does not exist")
-    try:
-        sets = pyuff.UFF(name).read_sets()
-    except Exception as exc:
-        raise ModelFileError(name, "file", f"is not a readable Universal File ({exc})") from None
-    if isinstance(sets, dict):
-        sets = [sets]
+    sets = uff_sets(name)
     modes = [_mode(name, i, s) for i, s in enumerate(sets) if s.get("type") == 55]
     if not modes:
         raise ModelFileError(name, "file", "holds no dataset 55 (data at nodes); write the mode shapes as 55")
