@@ -427,8 +427,8 @@ def _optimality_table(result: StudyResult) -> Table:
 def _counted(study: Study) -> list[str]:
     """The objective or constraints that are a probability (``p_exceed``): counts of samples, flat
     between the designs where a sample crosses the limit, so no first-order measure judges them."""
-    rows = [*study.objectives[:1], *study.constraints]
-    return [r.output.words for r in rows if getattr(r.output, "statistic", "") == "p_exceed"]
+    outputs = [o.output for o in study.objectives[:1]] + [c.output for c in study.constraints]
+    return [w.words for w in outputs if getattr(w, "statistic", "") == "p_exceed"]
 
 
 def _verdict_words(f: dict[str, Any], polished: dict[str, Any]) -> str:
