@@ -126,6 +126,7 @@ def test_folds_agree_with_a_fine_natural_sweep_and_beat_the_bisection(both, monk
     assert all("bisection" not in p for p in both.solve_paths + both.down.solve_paths)
 
 
+@pytest.mark.slow  # the fixture follows both branches of the backlash pair: 10 s
 def test_the_middle_branch_is_unstable_the_outer_ones_stable(both):
     """Along the branch the up sweep followed: stable (every multiplier inside the unit circle, a
     complex pair) up to the first fold; at each fold a real multiplier is +1 (to 1e-3; measured
@@ -173,6 +174,7 @@ def test_the_folds_do_not_depend_on_the_grid(both):
     assert FOLD_RTOL <= 1e-6
 
 
+@pytest.mark.slow  # the fixture follows both branches of the backlash pair: 10 s
 def test_the_band_s_edges_are_the_folds_not_the_grid(both):
     """What issue 43 asks: the jump band's edges are the folds located by continuation. The up sweep
     jumps at the upper fold, the down sweep at the lower; the band the result reports is those two

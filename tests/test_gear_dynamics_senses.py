@@ -75,6 +75,7 @@ def _running_speed(system: GearSystem, motor: MotorTorque) -> float:
     return brentq(lambda w: motor.torque(0.0, w) - reflected, 0.9 * ws, ws * (1 - 1e-12))
 
 
+@pytest.mark.slow  # two long time integrations: 7 s
 def test_the_meshes_turning_opposite_ways_keep_their_cycles_senses_as_in_simulate():
     """Both mesh forces over a period of the steady state (the motor free on its curve) against
     simulate's last period at the same running speed: largest and smallest within 3e-3 of the swing.

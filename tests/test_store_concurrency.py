@@ -191,7 +191,10 @@ def _run(code: str, tmp_path, timeout: float = 180) -> subprocess.CompletedProce
     )
 
 
-@pytest.mark.parametrize("moment", list(_KILL))
+@pytest.mark.parametrize(
+    "moment",  # one moment in the test command; the others (9 s each) in CI's heavy step
+    [m if i == 0 else pytest.param(m, marks=pytest.mark.slow) for i, m in enumerate(_KILL)],
+)
 def test_an_optimization_killed_at_any_moment_resumes_and_counts_only_its_evaluations(
     store_url, tmp_path, moment
 ):

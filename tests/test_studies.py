@@ -682,6 +682,7 @@ def test_every_shipped_study_file_loads():
         assert all(s.parameters for s in load_studies(f))
 
 
+@pytest.mark.slow  # three boxes of a constrained search: 8 s
 def test_the_link_relocation_study_keeps_the_stroke_and_wider_boxes_do_no_worse(tmp_path, capsys):
     """The quick form (40 trials a box): each box starts from the base and the optimum of the box
     inside it, so a wider box never ends worse; every optimum keeps the stroke within 1 mm."""

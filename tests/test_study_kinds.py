@@ -253,6 +253,7 @@ def test_every_kind_states_the_same_findings_after_a_run_and_from_the_database_a
     assert set(ran.plots()) == set(stored.plots())
 
 
+@pytest.mark.slow  # RP-1 one variant at a time beside the batch: 13 s
 def test_a_variant_s_warnings_are_stored_with_it_on_the_batch_and_the_single_design_path(tmp_path):
     """RP-1 with one gear's installation angle off: the idler's two meshes give it two pitch curves,
     which the model warns of as it is built. Every variant of a study of it, evaluated by the batch
