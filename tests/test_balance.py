@@ -291,7 +291,9 @@ def test_the_balance_command_runs_on_a_mechanism_and_on_a_support_file(tmp_path,
         "shaking_force_range",
         "shaking_moment_rms",
         "driving_torque_range",
-        {"shaking_force_rms": 1.0, "driving_torque_rms": 0.5},
+        pytest.param(  # the weighted sum of two: 7 s, in CI's heavy step
+            {"shaking_force_rms": 1.0, "driving_torque_rms": 0.5}, marks=pytest.mark.slow
+        ),
     ],
     ids=str,
 )

@@ -89,13 +89,15 @@ def test_the_synthesis_study_keeps_its_limits_and_nears_the_signature(tmp_path):
     from dataclasses import replace
 
     from mechdyn.studies import load_study, run_study
+    from mechdyn.studies.outputs import HOLD_TOLERANCE
 
     study = load_study(EXAMPLES / "studies" / "press_synthesis.toml")
     result = run_study(replace(study, samples=25, name="synthesis-quick"), str(tmp_path / "r.db"))
     best = result.findings["best"]
     assert result.findings["feasible"] and all(c["holds"] for c in best["constraints"])
-    assert best["outputs"]["output_link_obliquity_max_deg"] <= 15.0
-    assert best["outputs"]["guide_offset_m"] <= 0.3
+    # kept to the round-off an optimizer ends with on an active limit (HOLD_TOLERANCE of the limit)
+    assert best["outputs"]["output_link_obliquity_max_deg"] <= 15.0 * (1 + HOLD_TOLERANCE)
+    assert best["outputs"]["guide_offset_m"] <= 0.3 * (1 + HOLD_TOLERANCE)
     assert result.findings["base"]["constraints"][0]["holds"] is False  # 66°: the reason for the study
     # the evolution's best then polished with the limits as constraints: every published target
     # within its tolerance (300 generations of evolution alone missed two), each with its verdict

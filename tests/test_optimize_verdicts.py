@@ -89,6 +89,7 @@ def _text(result) -> str:
     return "\n".join(str(t) for t in result.tables())
 
 
+@pytest.mark.slow  # two optimizations of the support: 8 s
 def test_the_global_stage_finds_the_optimum_that_a_polish_from_the_base_misses(local_only, with_global):
     """A polish from the base converges, but to the nearer, worse local optimum (18.6 MN/m); the
     sampler finds the basin of the better one (31.3 MN/m), where the polish converges too. Both

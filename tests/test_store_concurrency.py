@@ -90,6 +90,7 @@ def test_processes_opening_one_new_database_and_one_new_study_together(store_url
         assert len(store.runs()) == 8 and len(StudyStore(store).studies()) == 1
 
 
+@pytest.mark.slow  # two processes and an Optuna study between them: 8 s
 def test_two_processes_share_one_optimization(store_url, tmp_path):
     path = _study_file(tmp_path)
     results = run_together(run_study_file, 2, str(path), store_url)
@@ -192,8 +193,8 @@ def _run(code: str, tmp_path, timeout: float = 180) -> subprocess.CompletedProce
 
 
 @pytest.mark.parametrize(
-    "moment",  # one moment in the test command; the others (9 s each) in CI's heavy step
-    [m if i == 0 else pytest.param(m, marks=pytest.mark.slow) for i, m in enumerate(_KILL)],
+    "moment",  # 9 s each: in CI's heavy step (tests/test_studies.py kills a study in the test command)
+    [pytest.param(m, marks=pytest.mark.slow) for m in _KILL],
 )
 def test_an_optimization_killed_at_any_moment_resumes_and_counts_only_its_evaluations(
     store_url, tmp_path, moment

@@ -372,6 +372,7 @@ _HEAVY_STUDIES = (
     "press_synthesis.toml",
     "press_link_relocation.toml",
     "turret_mesh_clocking.toml",
+    "press_sobol.toml",  # 5 s; tests/test_studies.py runs a Sobol study in the test command
 )
 _SHIPPED = [
     pytest.param(n, marks=pytest.mark.slow) if n in _HEAVY_STUDIES else n for n in sorted(QUICK_STUDIES)
