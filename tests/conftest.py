@@ -165,6 +165,24 @@ def patient_browser_checks():
     expect.set_options(timeout=5_000)
 
 
+def pytest_configure(config):
+    """Before the xdist workers start, compile numba's kernels in two processes (one per family,
+    ``tests/warm_kernels.py``): on a clean clone the cache is empty, and each worker, and each
+    command-line subprocess of a test, would compile the same kernels at once. With a warm cache
+    each process finds them cached and exits."""
+    if hasattr(config, "workerinput") or not config.pluginmanager.hasplugin("xdist"):
+        return
+    if not config.getoption("numprocesses", None) or config.getoption("collectonly"):
+        return
+    import subprocess
+    import sys
+
+    script = str(Path(__file__).with_name("warm_kernels.py"))
+    jobs = [subprocess.Popen([sys.executable, script, family]) for family in ("mechanism", "gears")]
+    for job in jobs:
+        job.wait()
+
+
 def pytest_xdist_auto_num_workers(config):
     """``-n auto``: one worker more than the cores. A good part of the suite waits (on subprocesses
     of the command line and the store, a browser, a database server), so a third worker on a

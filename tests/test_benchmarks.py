@@ -62,6 +62,7 @@ def test_small_model_baselines_agree_with_mechdyn():
     assert f["max_rel_diff_torque_vs_bare"] < 1e-10
 
 
+@pytest.mark.slow  # CI's heavy step (issue 48: the test command's minutes)
 def test_frf_speed_baselines_agree_with_mechdyn():
     import frf_speed
 

@@ -248,6 +248,7 @@ def test_display_units_come_from_the_one_registry():
     assert key_unit("iso_c_prime_N_per_mm_um") == "N/(mm*um)" and key_unit("rigid_body_modes") is None
 
 
+@pytest.mark.slow  # CI's heavy step (issue 48: the test command's minutes)
 def test_the_first_run_says_it_compiles_and_later_runs_load_the_cache(tmp_path):
     """With an empty numba cache the first run announces the compile; the second run is silent."""
     code = (

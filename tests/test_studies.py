@@ -509,6 +509,7 @@ output = "transmitted_force_range_N"
 """
 
 
+@pytest.mark.slow  # CI's heavy step (issue 48: the test command's minutes)
 def test_kill_9_loses_nothing_and_the_finished_study_equals_an_uninterrupted_one(tmp_path):
     path = write_study(tmp_path, KILL_STUDY)
     killed, clean = str(tmp_path / "killed.db"), str(tmp_path / "clean.db")

@@ -277,6 +277,7 @@ def test_bad_robust_input_is_refused_with_the_field_named(isolator):
     _refused(isolator, d, "[[outputs]] #1 → statistic", "is for an optimize study with scatter")
 
 
+@pytest.mark.slow  # CI's heavy step (issue 48: the test command's minutes)
 def test_a_probability_constraint_is_never_called_a_converged_optimum(isolator, tmp_path):
     """P(δ > 3 mm) ≤ 5 % instead of δ's q95 ≤ 3 mm: the same event, but a probability counts samples,
     a step function of the design whose zero gradient proves nothing: the verdict says so."""

@@ -79,7 +79,7 @@ def test_harmonic_solve_matches_a_direct_solve_at_every_frequency(n, monkeypatch
     np.testing.assert_allclose(harmonic_solve(K, C, M, rows, w)[7], 8 * X[7], rtol=1e-9)
 
 
-@pytest.mark.parametrize("method", ["modal", "direct"])
+@pytest.mark.parametrize("method", ["modal", pytest.param("direct", marks=pytest.mark.slow)])
 def test_frf_memory_does_not_grow_with_the_number_of_frequencies(method):
     # the (frequencies × n × n) array of the past grew as n_f n²; now only the output grows (n_f n)
     n = 250

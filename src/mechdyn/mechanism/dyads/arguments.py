@@ -17,7 +17,7 @@ import numpy as np
 from mechdyn.mechanism.dyads.decomposition import Step
 from mechdyn.mechanism.model import GROUND, Mechanism, Prismatic
 
-__all__ = ["KernelArgs", "encode", "encode_loads", "motion_only"]
+__all__ = ["KernelArgs", "encode", "encode_loads", "kernel_args", "motion_only"]
 
 
 class KernelArgs(NamedTuple):
@@ -132,6 +132,55 @@ class KernelArgs(NamedTuple):
     applied: np.ndarray
     multipliers: np.ndarray
     peaks: np.ndarray
+
+
+# the arrays the kernel only reads
+_INPUTS = (
+    "drawing",
+    "ops",
+    "op_data",
+    "grounded",
+    "turn",
+    "omega",
+    "alpha",
+    "mass",
+    "inertia",
+    "keep",
+    "load_ops",
+    "load_data",
+    "frame_ops",
+    "frame_data",
+    "joint_kind",
+    "applied",
+)
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    view = a.view()
+    view.flags.writeable = False
+    return view
+
+
+def kernel_args(**fields: Any) -> KernelArgs:
+    """:class:`KernelArgs` with every array the kernel only reads passed as a read-only view (no
+    copy).
+
+    numba compiles one version of a kernel per argument type, and a read-only array is another type
+    than a writable one: the plan kept with a model is read-only, a fresh batch's is not. Passing
+    every input alike makes one signature per kernel, so a first run compiles each kernel once.
+
+    Parameters
+    ----------
+    **fields
+        Every field of :class:`KernelArgs`, by name (units as documented there).
+
+    Returns
+    -------
+    KernelArgs
+    """
+    for name in _INPUTS:
+        fields[name] = _read_only(fields[name])
+    return KernelArgs(**fields)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -368,7 +417,7 @@ def motion_only(
         (1, M, D), written: the sine of each dyad's transmission angle (dimensionless).
     """
     M = turn.size
-    return KernelArgs(
+    return kernel_args(
         drawing=drawing,
         ops=ops,
         op_data=op_data,

@@ -15,7 +15,14 @@ import numpy as np
 
 from mechdyn.checks import check_array
 from mechdyn.errors import ModelError
-from mechdyn.mechanism.dyads.arguments import KernelArgs, _cross, encode, encode_loads, motion_only
+from mechdyn.mechanism.dyads.arguments import (
+    KernelArgs,
+    _cross,
+    encode,
+    encode_loads,
+    kernel_args,
+    motion_only,
+)
 from mechdyn.mechanism.dyads.decomposition import Step, plan
 from mechdyn.mechanism.dyads.results import CycleBatch
 from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, check_angles, crank_angles
@@ -402,7 +409,7 @@ def run_block(
 
     def run(loads: np.ndarray, applied: np.ndarray) -> None:
         w, a = (np.ascontiguousarray(x, dtype=float) for x in (omega_k, alpha_k))
-        args = KernelArgs(
+        args = kernel_args(
             drawing=dz,
             ops=s.ops,
             op_data=fdata,

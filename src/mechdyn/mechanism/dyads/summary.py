@@ -263,7 +263,7 @@ def _lanes(
     import numba
 
     from mechdyn.mechanism.dyads._reduce import run_lanes
-    from mechdyn.mechanism.dyads.arguments import KernelArgs
+    from mechdyn.mechanism.dyads.arguments import kernel_args
     from mechdyn.mechanism.screening import SCREEN
 
     m, V, N = s.m, s.V, s.N
@@ -285,7 +285,7 @@ def _lanes(
         multipliers=np.empty((0, 0, 0)),
         peaks=peaks,
     )
-    args = KernelArgs(
+    args = kernel_args(
         drawing=s.dz,
         ops=s.ops,
         op_data=s.fdata,
