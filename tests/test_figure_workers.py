@@ -276,7 +276,7 @@ def test_the_command_draws_the_same_plots_whether_a_core_is_free_or_not(tmp_path
         assert (tmp_path / "plots" / name).read_bytes() == (tmp_path / "one" / name).read_bytes(), name
     # the analysis' module, its plots and what the analysis imports where it runs (its result's class)
     analysis = ("mechdyn.support.analyses", "mechdyn.support.plots")
-    assert started[0] == (*analysis, "mechdyn.errors", "mechdyn.support.result")
+    assert started[0] == (*analysis, "mechdyn.errors", "mechdyn.support.result", "mechdyn.support.floor")
     assert bool(expected) == free
     if free:
         assert "mechdyn.support.model" in expected[0] and "mechdyn.support.schema" not in expected[0]

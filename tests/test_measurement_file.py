@@ -96,7 +96,10 @@ def test_the_command_line_plots_stores_and_writes_the_updated_model(tmp_path, ca
     doc = json.loads(capsys.readouterr().out)
     assert doc["analysis"] == "modes-from-test" and doc["updated_model_file"] == str(written)
     names = {p.rsplit("/", 1)[-1] for p in doc["plots"]}
-    assert names == {"stabilisation.png", "mac.png", "frf_overlay.png", "frequency_errors.png"}
+    # the file's [predict] table adds the prediction's plot (tests/test_measurement_predict.py)
+    assert names == {"stabilisation.png", "mac.png", "frf_overlay.png", "frequency_errors.png"} | {
+        "prediction.png"
+    }
     machine = mechdyn.load(written).model
     for mount in machine.mounts:
         stiffness = [doc["updated_values"][f"mounts.*.stiffness.{a}"]["updated_N_per_m"] for a in "xyz"]

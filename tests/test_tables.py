@@ -294,6 +294,8 @@ QUICK_STUDIES: dict[str, dict] = {
     "press_synthesis.toml": {"samples": 1, "population": 4, "options": {"angles": 36}},
     "press_support_tolerance.toml": {"samples": 4},
     "press_support_robust.toml": {"samples": 4},
+    "press_mounts_floor_tolerance.toml": {"samples": 4},
+    "press_support_tolerance_from_model.toml": {"samples": 4},
     "rp1_sensitivity.toml": {"options": {"angles": 36}},
     "turret_mesh_clocking.toml": {"options": {"points": 4}},
     "turret_kv_tolerance.toml": {"samples": 4, "small_probability": "off", "options": {"points": 4}},

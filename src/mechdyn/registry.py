@@ -549,3 +549,15 @@ class LoadedModel:
     @property
     def name(self) -> str:
         return str(getattr(self.model, "name", "") or getattr(self.settings, "name", ""))
+
+    @property
+    def scatter(self) -> Any:
+        """How the file says its values scatter: its ``[[scatter]]`` and ``[[correlations]]`` rows as
+        a :class:`mechdyn.io.scatter.ModelScatter` (``.space`` is their
+        :class:`mechdyn.uncertainty.InputSpace`); None for a file without them or a model built in
+        Python. No analysis reads it; a ``tolerance`` study on the file takes it as its default."""
+        if self.source is None:
+            return None
+        from mechdyn.io.scatter import read_scatter
+
+        return read_scatter(self.source)

@@ -37,6 +37,7 @@ __all__ = [  # noqa: F822
     "readable_unit",
     "show",
     "si_field",
+    "si_unit",
     "to_si",
     "ureg",
 ]
@@ -491,8 +492,13 @@ def key_label(key: str) -> tuple[str, str]:
             shown = SHOWN_UNITS.get(unit, unit)
             if unit == "1":  # a ratio keeps its word
                 stem = key
-            return stem.replace("_", " "), shown
-    return key.replace("_", " "), ""
+            return _words(stem), shown
+    return _words(key), ""
+
+
+def _words(stem: str) -> str:
+    """A key's words: underscores as spaces, a floor criterion's name as written (VC-B, not vc b)."""
+    return re.sub(r"\bvc ([a-e])\b", lambda m: f"VC-{m.group(1).upper()}", stem.replace("_", " "))
 
 
 def show(value: float, unit: str, display: str, spec: str = "g") -> str:
@@ -525,6 +531,59 @@ _READABLE: dict[str, list[tuple[float, str, str]]] = {
     "m/s": [(10.0, "m/s", "m/s"), (0.0, "mm/s", "mm/s")],  # a vibration velocity is read in mm/s
     "N·s/m": [(1e6, "kN*s/mm", "kN·s/mm"), (1e3, "kN*s/m", "kN·s/m"), (0.0, "N*s/m", "N·s/m")],
 }
+
+
+# the SI units a value is named in, first match wins (pint's base units where none matches)
+_NAMED_SI = (
+    "m",
+    "kg",
+    "s",
+    "rad",
+    "N",
+    "N*m",
+    "N/m",
+    "N*s/m",
+    "N*m/rad",
+    "N*m*s/rad",
+    "Pa",
+    "W",
+    "kg*m^2",
+    "kg/m^3",
+    "m/s",
+    "m/s^2",
+    "rad/s",
+    "rad/s^2",
+    "1/s",
+    "K",
+)
+
+
+def si_unit(unit: str) -> str:
+    """The SI unit a value given in ``unit`` is held in, by its name where SI has one: ``"MPa"`` →
+    ``"Pa"``, ``"kN/mm"`` → ``"N/m"``, ``"rpm"`` → ``"rad/s"``, ``"kN*m/rad"`` → ``"N*m/rad"``
+    (pint's radian is a base unit, so a torsional stiffness is not a moment); a unit none of the
+    named ones matches is pint's base units (``"kg*m/s"``).
+
+    Parameters
+    ----------
+    unit : str
+        A unit pint reads (``""``: dimensionless).
+
+    Returns
+    -------
+    str
+        The SI unit's text, ``""`` for a dimensionless value.
+    """
+    if not unit:
+        return ""
+    ureg = registry()
+    base = ureg.Quantity(1.0, unit).to_base_units().units
+    if base == ureg.dimensionless:
+        return ""
+    for name in _NAMED_SI:
+        if ureg.Quantity(1.0, name).to_base_units().units == base:
+            return name
+    return str(base)
 
 
 def readable_unit(value: float, unit: str) -> tuple[str, str]:

@@ -1,7 +1,8 @@
 """The dashboard's JSON and picture API, which a study's page reads: its count, a page of its table,
 the sample of points its plots draw, its history, Pareto front and importances, the findings'
 pictures, a what-if design evaluated (and, where the dashboard was started to keep designs, kept),
-and the Plotly.js bundle shipped in the package.
+and the Plotly.js bundle shipped in the package; and a stored test's FRF overlay, which its run page
+shows.
 
 Each is a plain function of the shared :class:`~mechdyn.dashboard.state.DashboardState` and the
 request, run in Starlette's thread pool. A request reaches the database only as integer ids and
@@ -17,7 +18,7 @@ from typing import Any
 import numpy as np
 from starlette.exceptions import HTTPException
 from starlette.requests import Request
-from starlette.responses import FileResponse, JSONResponse, Response
+from starlette.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 
 from mechdyn.dashboard.state import DashboardState
 from mechdyn.dashboard.study_data import PAGE_SIZE, StudyData
@@ -25,6 +26,7 @@ from mechdyn.reports.html import table_cell
 from mechdyn.studies.storage import StoredStudy
 
 __all__ = [
+    "run_overlay",
     "static_plotly",
     "study_count",
     "study_figure",
@@ -243,6 +245,33 @@ def study_keep(state: DashboardState, request: Request) -> JSONResponse:
     st, w, row = asked
     variant, status = state.keep_design(st, w, row)
     return JSONResponse({"variant": variant, "status": status})
+
+
+def run_overlay(state: DashboardState, request: Request) -> Response:
+    """A stored test's FRF overlay (measured, the model before and after updating), drawn from the
+    files the run names and kept (:meth:`DashboardState.overlay`); 404 for a run that is not a
+    ``modes-from-test`` run, and 404 with the reason in words where it cannot be drawn (its data file
+    is not found)."""
+    from mechdyn.dashboard.measured import ANALYSIS
+    from mechdyn.dashboard.state import MAX_ID
+    from mechdyn.store.store import StoreError
+
+    run_id = request.path_params["run_id"]
+    try:
+        run = state.store.get(run_id) if run_id <= MAX_ID else None
+    except StoreError:
+        run = None
+    if run is None or run.analysis != ANALYSIS:
+        raise HTTPException(404)
+    figure, why = state.overlay(run)
+    if figure is None:
+        return PlainTextResponse(f"The FRF overlay is not drawn: {why}.", status_code=404)
+    return Response(
+        base64.b64decode(figure.data),
+        media_type=figure.mime,
+        # its address names the files' state it was drawn from: a picture at one address never changes
+        headers={"Cache-Control": "private, max-age=3600"},
+    )
 
 
 def static_plotly(state: DashboardState, request: Request) -> FileResponse:

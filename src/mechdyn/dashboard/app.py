@@ -9,7 +9,9 @@ browser takes seconds to read before it draws anything.
 - The database is opened read-only, and checked at start (a mechdyn database of this schema).
 - A request reaches it only as integer ids and filter values bound as SQL parameters, never as a
   file path; every value from the database is escaped by the templates; a missing run or study,
-  or an id no database column can hold, is a 404 page.
+  or an id no database column can hold, is a 404 page. The only files read besides the database
+  are those a stored test's measurement file names (its data and tested model, for its FRF
+  overlay), found from the path the run recorded.
 - Requests are answered only for trusted host names (loopback by default), so a page that rebinds
   its DNS name to this machine cannot read it; pages name the database, never its location.
 - The handlers are plain functions, run in Starlette's thread pool: a slow page never stalls the
@@ -98,6 +100,7 @@ def create_app(
         routes=[
             route("/", pages.index),
             route("/runs/{run_id:int}", pages.run_page),
+            route("/runs/{run_id:int}/overlay.png", api.run_overlay),
             route("/compare", pages.compare),
             route("/studies/{study_id:int}", pages.study_page),
             route("/api/studies/{study_id:int}/count", api.study_count),

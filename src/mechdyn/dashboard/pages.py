@@ -327,7 +327,8 @@ def _study_headline(state: DashboardState, st: StoredStudy, variants: int | None
 
 
 def run_page(state: DashboardState, request: Request) -> HTMLResponse:
-    """A run's page: its figures in words and units, its warnings, its curves."""
+    """A run's page: its figures in words and units, its warnings, its curves; for a test
+    (``modes-from-test``), the model against the measurement (:mod:`mechdyn.dashboard.measured`)."""
     run_id = request.path_params["run_id"]
     if run_id > MAX_ID:
         return _missing(state, f"There is no run {run_id} in this database.")
@@ -359,7 +360,33 @@ def run_page(state: DashboardState, request: Request) -> HTMLResponse:
         summary=summary,
         warnings=run.scalars.get("warnings") or [],
         figures=figures,
+        measured=_measured(state, run),
     )
+
+
+def _measured(state: DashboardState, run: Any) -> dict[str, Any] | None:
+    """A stored test's model against its measurement as its page shows it: a link to the FRF overlay
+    (drawn once the browser asks for it, :func:`mechdyn.dashboard.api.run_overlay`; its address
+    names the state of the files it is drawn from, and its size in pixels is given once drawn), the
+    note, and the pairing table's cells; None for a run of another analysis."""
+    import hashlib
+
+    from mechdyn.dashboard.measured import files_key
+
+    view = state.measured_view(run)
+    if view is None:
+        return None
+    key = files_key(run)
+    kept = state.kept_overlay(run, key)
+    stamp = hashlib.sha256(repr(key).encode()).hexdigest()[:16]
+    return {
+        "url": f"/runs/{run.id}/overlay.png?files={stamp}" if view.drawn else None,
+        "caption": view.caption,
+        "size": _png_size(base64.b64decode(kept.data[:64])) if kept is not None else None,
+        "note": view.note,
+        "columns": [f"{h} ({u})" if u else h for h, u in view.columns],
+        "rows": [[table_cell(v) for v in row] for row in view.rows],
+    }
 
 
 def compare(state: DashboardState, request: Request) -> HTMLResponse:

@@ -5,8 +5,10 @@ Kept, per study: its columns as shown and what its views start from (from its de
 not change), its what-if evaluator and its best design (evaluated again when another variant becomes
 the best), and its findings (its kind's tables and pictures, worked out in one background thread for
 the number of variants stored when asked, and worked out again once that number changes); per
-variant: its curves recomputed from its stored inputs. Each is a least-recently-used cache of a few
-entries (:class:`CacheLimits`), the pictures and curves bounded in bytes as well.
+variant: its curves recomputed from its stored inputs; per stored test (a ``modes-from-test`` run): its
+model against the measurement, the FRF overlay drawn again from the files it names. Each is a
+least-recently-used cache of a few entries (:class:`CacheLimits`), the pictures and curves bounded in
+bytes as well.
 """
 
 from __future__ import annotations
@@ -62,6 +64,11 @@ class CacheLimits:
         Variants whose curves, recomputed from their stored inputs, are kept.
     curves_bytes : int
         Bytes of recomputed curves (their arrays) kept at most, over every variant.
+    tests : int
+        Stored tests (``modes-from-test`` runs) whose FRF overlay, recomputed from the files they
+        name, is kept.
+    tests_bytes : int
+        Bytes of those overlays (base64 PNG) kept at most, over every run.
     """
 
     studies: int = 1024
@@ -70,6 +77,8 @@ class CacheLimits:
     findings_bytes: int = 64 * MiB
     curves: int = 64
     curves_bytes: int = 64 * MiB
+    tests: int = 16
+    tests_bytes: int = 16 * MiB
 
 
 def _findings_bytes(entry: tuple[int, Future[Findings]]) -> int:
@@ -83,6 +92,11 @@ def _findings_bytes(entry: tuple[int, Future[Findings]]) -> int:
 def _curves_bytes(entry: tuple[dict[str, Any], str | None]) -> int:
     """The bytes of a variant's recomputed curves (their arrays)."""
     return sum(np.asarray(curve[0]).nbytes for curve in entry[0].values())
+
+
+def _overlay_bytes(entry: tuple[Any, str | None]) -> int:
+    """The bytes of a kept test's overlay (its base64 PNG; 0 for none)."""
+    return len(entry[0].data) if entry[0] is not None else 0
 
 
 class DashboardState:
@@ -135,9 +149,13 @@ class DashboardState:
         self.curves: BoundedCache[int, tuple[dict[str, Any], str | None]] = BoundedCache(
             lim.curves, lim.curves_bytes, _curves_bytes
         )
+        self.tests: BoundedCache[tuple[int, tuple[Any, ...]], tuple[Any, str | None]] = BoundedCache(
+            lim.tests, lim.tests_bytes, _overlay_bytes
+        )
         self._findings_pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="mechdyn-findings")
         self._findings_lock = threading.Lock()
         self._curves_lock = threading.Lock()  # one recomputation at a time, each variant's once
+        self._tests_lock = threading.Lock()  # one overlay drawn at a time, each test's once
 
     def close(self) -> None:
         """Stop working out findings (a server that stops works out nothing more)."""
@@ -325,6 +343,62 @@ class DashboardState:
                     kept = ({}, str(exc))
                 self.curves.put(variant_id, kept)
             return kept
+
+    # -- a stored test's model against its measurement -------------------------------------------
+    def measured_view(self, run: Any) -> Any:
+        """A stored ``modes-from-test`` run's model against its measurement as its page shows it,
+        found without drawing (:func:`mechdyn.dashboard.measured.measured_view`); None for a run of
+        another analysis.
+
+        Parameters
+        ----------
+        run : StoredRun
+            The stored run, with its arrays.
+        """
+        from mechdyn.dashboard import measured
+
+        return measured.measured_view(run) if run.analysis == measured.ANALYSIS else None
+
+    def overlay(self, run: Any) -> tuple[Any, str | None]:
+        """A stored test's FRF overlay (:func:`mechdyn.dashboard.measured.overlay_figure`), drawn once
+        and kept until the files it is drawn from change (:func:`~mechdyn.dashboard.measured.files_key`).
+
+        Parameters
+        ----------
+        run : StoredRun
+            A stored ``modes-from-test`` run.
+
+        Returns
+        -------
+        (Figure or None, str or None)
+            The picture (caption, base64 PNG), and why there is none (None where there is).
+        """
+        from mechdyn.dashboard import measured
+
+        key = (run.id, measured.files_key(run))
+        with self._tests_lock:
+            kept = self.tests.get(key)
+            if kept is None:
+                try:
+                    kept = (measured.overlay_figure(run), None)
+                except measured.OverlayError as exc:
+                    kept = (None, str(exc))
+                self.tests.put(key, kept)
+            return kept
+
+    def kept_overlay(self, run: Any, files: tuple[Any, ...]) -> Any:
+        """A stored test's FRF overlay if it is drawn and kept for this state of its files, else
+        None; draws nothing.
+
+        Parameters
+        ----------
+        run : StoredRun
+            A stored ``modes-from-test`` run.
+        files : tuple
+            The state of the files it is drawn from (:func:`mechdyn.dashboard.measured.files_key`).
+        """
+        kept = self.tests.get((run.id, files))
+        return kept[0] if kept is not None else None
 
     # -- what if -----------------------------------------------------------------------------------
     def what_if(self, st: StoredStudy) -> Any:

@@ -252,8 +252,17 @@ def load_model(path: str | Path) -> LoadedModel:
     Returns
     -------
     LoadedModel
+
+    Raises
+    ------
+    ModelFileError
+        As :func:`load`.
     """
-    return load_source(read(path))
+    from mechdyn.io.scatter import read_scatter
+
+    loaded = load_source(read(path))
+    read_scatter(loaded.source)  # the file's [[scatter]] checked: a path of this model, a valid table
+    return loaded
 
 
 def load_source(source: ModelSource) -> LoadedModel:
@@ -286,12 +295,16 @@ def load(path: str | Path) -> LoadedModel:
     LoadedModel
         ``.model`` is what the analyses run on (a :class:`mechdyn.drivetrain.Drivetrain`, a
         :class:`mechdyn.mechanism.Mechanism`, a :class:`mechdyn.support.MountedMachine`, ...);
-        ``.settings`` is the rest of the file; ``.source`` the file itself; ``.type`` its type.
+        ``.settings`` is the rest of the file; ``.source`` the file itself; ``.type`` its type;
+        ``.scatter`` how the file says its values scatter (its ``[[scatter]]`` rows, a
+        :class:`mechdyn.io.scatter.ModelScatter`, or None), which no analysis reads and a
+        ``tolerance`` study takes as its default.
 
     Raises
     ------
     ModelFileError
-        With the file, the table and field, the bad value and what was expected.
+        With the file, the table and field, the bad value and what was expected (a ``[[scatter]]``
+        row's too: :func:`mechdyn.io.scatter.read_scatter`).
 
     Examples
     --------
@@ -380,9 +393,14 @@ def _known_fields(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> list[s
 
 def validate(schema: type[M], source: ModelSource) -> M:
     """Validate parsed TOML against a schema, turning pydantic errors into a ModelFileError that
-    lists every problem of the file, each with its table, field, value and what was expected."""
-    try:
-        return schema.model_validate(source.data)
+    lists every problem of the file, each with its table, field, value and what was expected.
+
+    A model file's ``[[scatter]]`` and ``[[correlations]]`` (:mod:`mechdyn.io.scatter`) are left out:
+    every model type takes them, :func:`load_model` checks them."""
+    from mechdyn.io.scatter import strip
+
+    try:  # the scatter tables of a model file are every type's, read by mechdyn.io.scatter
+        return schema.model_validate(strip(source.data))
     except ValidationError as exc:
         problems = _problems(exc.errors(), source, schema)
         location, message, value = problems[0]

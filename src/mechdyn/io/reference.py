@@ -352,7 +352,9 @@ def _md_default(default: str) -> str:
 
 def markdown(file_type: str) -> str:
     """The reference of one file type as a Markdown page: every table with each field's type and unit,
-    default and meaning (what ``mechdyn fields TYPE`` prints and the built site shows).
+    default and meaning (what ``mechdyn fields TYPE`` prints and the built site shows), and for a model
+    type the ``[[scatter]]`` and ``[[correlations]]`` every model file may hold
+    (:func:`mechdyn.io.scatter.reference_tables`).
 
     Parameters
     ----------
@@ -366,6 +368,10 @@ def markdown(file_type: str) -> str:
         writes every type's.
     """
     tables, _ = reference(file_type)
+    if file_type != "study":  # every model file may say how its values scatter (mechdyn.io.scatter)
+        from mechdyn.io.scatter import reference_tables
+
+        tables += reference_tables()
     title = TITLES.get(file_type, f"{file_type} files")
     first = "a `[study]` table" if file_type == "study" else f'`[model] type = "{file_type}"`'
     lines = [

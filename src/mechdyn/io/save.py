@@ -97,7 +97,7 @@ def dumps(model: Any, *, path: str | Path | None = None, **options: Any) -> str:
     ----------
     model : Drivetrain, Mechanism, MountedMachine, GearPair or LoadedModel
         A model built in Python, or a loaded model file (:func:`mechdyn.load`; its analysis settings
-        are written too).
+        and its ``[[scatter]]`` are written too).
     path : str or Path, optional
         Where the file will be: a file it refers to (a support's mechanism) is named relative to it.
     **options
@@ -123,7 +123,22 @@ def dumps(model: Any, *, path: str | Path | None = None, **options: Any) -> str:
     writer = _writer(model)
     target = Path(path) if path is not None else Path("model.toml")
     text = writer(model, settings, path=target, source=source, **options)
-    return text
+    return text + _scatter(text, target if path is not None else None, source)
+
+
+def _scatter(text: str, target: Path | None, source: Any) -> str:
+    """The loaded file's ``[[scatter]]`` and ``[[correlations]]`` (:mod:`mechdyn.io.scatter`), to be
+    written after the model's own tables, checked against the file written (when its place is known:
+    the files it refers to are named relative to it)."""
+    from mechdyn.io.scatter import check_written, scatter_text
+
+    extra = scatter_text(source)
+    if not extra:
+        return ""
+    extra = "\n" + extra
+    if target is not None:
+        check_written(text + extra, str(target), source)
+    return extra
 
 
 def save(model: Any, path: str | Path, **options: Any) -> Path:
@@ -141,7 +156,8 @@ def save(model: Any, path: str | Path, **options: Any) -> Path:
         :class:`mechdyn.support.MountedMachine` with its ``load``; a :class:`mechdyn.gears.GearPair`;
         or a model file loaded with :func:`mechdyn.load`, whose analysis settings (a drivetrain's
         ``[campbell]`` and ``[response]``, a mechanism's angles and traced points, a support's
-        excitation and ``[analysis]``, a gear pair's ``[mesh]``) are written too.
+        excitation and ``[analysis]``, a gear pair's ``[mesh]``) are written too, and its
+        ``[[scatter]]`` and ``[[correlations]]`` as the file gives them.
     path : str or Path
         The model file to write (TOML).
     **options
@@ -160,7 +176,7 @@ def save(model: Any, path: str | Path, **options: Any) -> Path:
         mechanism's part given as a Python function (a process force, a speed profile, a pitch curve
         of its own) that no table of the file can hold; for a model the file format cannot hold (a
         support load with horizontal components that came from no mechanism file, say), saying what
-        it can hold.
+        it can hold; for a ``[[scatter]]`` row whose value the saved file writes in another form.
 
     Examples
     --------

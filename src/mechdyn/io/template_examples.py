@@ -291,6 +291,8 @@ _SUPPORT = TemplateExample(
     hints={
         "model": {"source": "the drawing"},
         "support": {"stiffness": "1.6e7 N/m", "damping_ratio": 0.05},
+        "foundation": {"size": ["3 m", "2 m", "1 m"], "density": "2400 kg/m^3"},
+        "foundation.soil": {"shear_modulus": "60 MPa", "poisson_ratio": 0.33, "density": "1900 kg/m^3"},
         "mounts": {
             "mount": "pad.toml",
             "estimate": {"pad": {"shore_a": 60, "diameter": "100 mm", "thickness": "12.5 mm"}},
@@ -562,6 +564,10 @@ _MEASUREMENT = TemplateExample(
         "measurement": {"units": "m/s^2/N"},
         "points": {"location": ["1.2 m", "0.8 m", "0 m"], "disk": "motor"},
         "updating": {"damping_error": 0.05},
+        "predict": {
+            "analysis": "support",
+            "outputs": ["transmitted_force_max_N", {"output": "natural_frequencies_hz.1", "unit": "Hz"}],
+        },
     },
     notes={
         "points": "Each point of the data file mapped to a model point: a mount of a support by name, a "

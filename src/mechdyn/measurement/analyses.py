@@ -1,5 +1,6 @@
 """The measurement's file type and analysis in the registry: ``modes-from-test`` (the modes identified
-from a measured test, paired with the tested model's by MAC, and the model updated)."""
+from a measured test, paired with the tested model's by MAC, the model updated, and the file's
+``[predict]`` analysis run on the updated model with its band)."""
 
 from __future__ import annotations
 
@@ -31,7 +32,8 @@ register(
         "modes-from-test",
         ("measurement",),
         _modes_from_test,
-        "modes identified from a measured test, paired with the model's by MAC; the model updated",
+        "modes identified from a measured test, paired with the model's by MAC; the model updated, and "
+        "an analysis of it predicted with the band the test leaves",
         model_noun="measurement",
         headline=("identified_modes", "frequency_error_max_percent", "updated_frequency_error_max_percent"),
         options=(
@@ -45,6 +47,12 @@ register(
                 "write the updated model file (TOML) to this path",
                 metavar="PATH",
                 writes=True,
+            ),
+            Option(
+                "samples",
+                "int",
+                "samples of the [predict] band (default: the file's [predict] samples)",
+                minimum=8,
             ),
         ),
         outputs=(
@@ -80,7 +88,26 @@ register(
             Output(
                 "updated_values", "each updated value (SI) with its 95 % interval and identifiability", ""
             ),
+            Output(
+                "posterior_method",
+                "how the updated values' uncertainty was found: linear (Laplace covariance) or sampling",
+                "",
+            ),
+            Output(
+                "posterior_diagnostics",
+                "with posterior = sampling: effective sample size, Pareto k, validity in words",
+                "",
+            ),
             Output("updated_model_file", "the updated model file written (with --write-updated)", ""),
+            Output("prediction_analysis", "the analysis of the tested model the [predict] table runs", ""),
+            Output("prediction_samples", "model evaluations of the prediction's band (0: no band)", ""),
+            Output(
+                "predicted",
+                "each [predict] output (SI): the tested model's and the updated model's value, the median "
+                "and the 95 % band (2.5 % and 97.5 % quantiles) over the updated values' posterior with "
+                "the confidence interval of each end, and whether a band is claimed",
+                "",
+            ),
         ),
         examples=(
             "mechdyn modes-from-test examples/measured/tap_test.toml --plots plots",

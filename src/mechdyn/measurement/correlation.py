@@ -2,7 +2,8 @@
 the model updated where the file asks, and the FRFs of both at the measured points.
 
 One function over the pieces of :mod:`mechdyn.measurement` (:func:`identify_modes`,
-:func:`compare_modes`, :func:`update_model`, :func:`simulate_frf` without noise for the model's FRFs),
+:func:`compare_modes`, :func:`update_model`, :func:`simulate_frf` without noise for the model's FRFs,
+and :func:`mechdyn.measurement.prediction.predict` for the file's ``[predict]`` table),
 read from a measurement file (:mod:`mechdyn.measurement.schema`); its result
 (:class:`TestCorrelation`) follows the result protocol, so the command line, the results database,
 the run report and the dashboard show it as they show any analysis.
@@ -64,8 +65,10 @@ def modes_from_test(
     starts: int | None = None,
     no_update: bool = False,
     write_updated: str | Path | None = None,
+    samples: int | None = None,
 ) -> TestCorrelation:
-    """Identify a test's modes, pair them with the tested model's, and update the model.
+    """Identify a test's modes, pair them with the tested model's, update the model, and predict the
+    file's ``[predict]`` outputs with the band the test leaves.
 
     Parameters
     ----------
@@ -81,6 +84,9 @@ def modes_from_test(
         Identify and compare only, even when the file has ``[[update]]`` rows.
     write_updated : str or Path, optional
         Write the updated model file here (with its analysis settings); only with ``[[update]]`` rows.
+    samples : int, optional
+        Samples of the prediction's band (default: the file's ``[predict]`` samples); checked as the
+        file's are.
 
     Returns
     -------
@@ -91,6 +97,9 @@ def modes_from_test(
     mechdyn.measurement.updating.UpdateError
         When the file asks for an update and no measured mode pairs with a model mode, or
         ``write_updated`` is given without anything to update.
+    mechdyn.errors.ModelFileError
+        When a ``[predict]`` output names no number of its analysis' summary, or ``samples`` is too
+        few.
     """
     from mechdyn.measurement.compare import compare_modes
     from mechdyn.measurement.identify import identify_modes
@@ -123,6 +132,8 @@ def modes_from_test(
             min_mac=ident.min_mac,
             model_error=u.model_error,
             damping_error=u.damping_error,
+            posterior=u.posterior,
+            samples=u.samples,
         )
         frf_after = model_frf(update.load().model, spec.measured, spec.mapping)
         if write_updated is not None:
@@ -130,6 +141,7 @@ def modes_from_test(
     elif write_updated is not None:
         why = "--no-update is given" if spec.parameters else "the file has no [[update]] rows"
         raise UpdateError(f"write_updated={str(write_updated)!r}: nothing is updated ({why})")
+    prediction = _prediction(spec, update, samples)
     return TestCorrelation(
         name=spec.name,
         data_file=spec.data_file,
@@ -143,4 +155,23 @@ def modes_from_test(
         update=update,
         updated_frf=frf_after,
         written=written,
+        prediction=prediction,
     )
+
+
+def _prediction(spec: Any, update: Any, samples: int | None) -> Any:
+    """The file's ``[predict]`` analysis on the tested and the updated model, with its band."""
+    from dataclasses import replace
+
+    from mechdyn.measurement.prediction import check_samples, predict
+    from mechdyn.measurement.updating import UpdateError
+
+    p = spec.predict
+    if p is None:
+        if samples is not None:
+            raise UpdateError(f"samples={samples!r}: the file has no [predict] table, nothing is predicted")
+        return None
+    if samples is not None:
+        check_samples(p.path, samples, p.method, where="samples (the command's --samples)")
+        p = replace(p, samples=int(samples))
+    return predict(p, spec.tested, update)

@@ -1,5 +1,6 @@
 """The result of ``modes-from-test``: identified modes, the model against the test (MAC, frequency and
-damping errors) before and after updating, the updated values, and the FRF overlays."""
+damping errors) before and after updating, the updated values, the FRF overlays, and the prediction
+of another analysis with the band the test leaves."""
 
 from __future__ import annotations
 
@@ -12,13 +13,12 @@ import numpy as np
 from mechdyn.measurement.compare import ModeComparison
 from mechdyn.measurement.data import MeasuredFRF
 from mechdyn.measurement.identify import IdentifiedModes
+from mechdyn.measurement.prediction import Prediction
 from mechdyn.measurement.update_result import ModelUpdate
 from mechdyn.results import Result, Table, summary_table
 
 __all__ = ["TestCorrelation"]
 
-# at most this many FRFs in the overlay: the driving points first, then the strongest
-OVERLAY_CHANNELS = 4
 _PAIR_COLUMNS = [
     "measured mode",
     "model mode",
@@ -71,6 +71,9 @@ class TestCorrelation(Result):
         The updated model's FRFs at the measured points.
     written : str or None
         The updated model file, when written.
+    prediction : Prediction or None
+        The file's ``[predict]`` analysis on the tested and the updated model, with its band (None:
+        the file asks for none).
     """
 
     __test__ = False  # not a pytest class, whatever its name
@@ -87,6 +90,7 @@ class TestCorrelation(Result):
     update: ModelUpdate | None = field(default=None, compare=False)
     updated_frf: MeasuredFRF | None = field(default=None, compare=False)
     written: str | None = None
+    prediction: Prediction | None = field(default=None, compare=False)
 
     @property
     def after(self) -> ModeComparison | None:
@@ -133,9 +137,19 @@ class TestCorrelation(Result):
                 "chi2_after": float(u.chi2_after),
                 "birge_ratio": float(u.birge_ratio),
                 "updated_values": {name: _value_entry(u, i) for i, name in enumerate(u.names)},
+                "posterior_method": u.posterior_method,
             }
+            if u.posterior is not None:
+                out["posterior_diagnostics"] = u.posterior.diagnostics()
         if self.written is not None:
             out["updated_model_file"] = self.written
+        p = self.prediction
+        if p is not None:
+            out |= {
+                "prediction_analysis": p.spec.analysis,
+                "prediction_samples": p.spec.samples if p.band is not None else 0,
+                "predicted": p.summary(),
+            }
         return out
 
     def to_frame(self) -> Any:
@@ -230,12 +244,15 @@ class TestCorrelation(Result):
         if u is not None:
             tables.append(_pair_table("updated model against the test", u.after, "the updated model"))
             tables.append(_values_table(u))
+        if self.prediction is not None:
+            tables.append(self.prediction.table(**display_units))
         return tables
 
     def plots(self, **display_units: str) -> dict[str, Callable[[], Any]]:
         """The stabilisation chart, the MAC matrix (before and after updating), the FRF overlay
         (measured against the model before and after updating) and, when updated, the frequency
-        errors before and after."""
+        errors before and after, and the prediction (each output before and after updating, with its
+        band)."""
         out: dict[str, Callable[[], Any]] = {
             "stabilisation.png": lambda: self.modes.chart.plot(modes=self.modes),
             "mac.png": self.plot_mac,
@@ -243,11 +260,14 @@ class TestCorrelation(Result):
         }
         if self.update is not None:
             out["frequency_errors.png"] = self.update.plot
+        if self.prediction is not None:
+            out["prediction.png"] = self.prediction.plot
         return out
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """Measured modes left unpaired, values not identifiable, and the updating's warnings."""
+        """Measured modes left unpaired, values not identifiable, the updating's warnings, and a
+        prediction without a band or with a loose one."""
         notes: list[str] = []
         unpaired = self.modes.omega.size - len(self.before.pairs)
         if unpaired:
@@ -263,6 +283,8 @@ class TestCorrelation(Result):
                     notes.append(
                         f"{name} is not identifiable from these modes ({why}); held at its model value"
                     )
+        if self.prediction is not None:
+            notes.extend(self.prediction.warnings)
         return tuple(notes)
 
     # -- plots ----------------------------------------------------------------------------------------
@@ -293,48 +315,19 @@ class TestCorrelation(Result):
 
     def plot_frf(self) -> Any:
         """Measured FRFs against the model's at the same points, before and after updating (magnitude,
-        log scale): the driving points first, then the strongest, at most four.
+        log scale): the driving points first, then the strongest, at most four
+        (:func:`mechdyn.measurement.plots.plot_frf_overlay`).
 
         Returns
         -------
         matplotlib Axes
             The first panel.
         """
-        import matplotlib.pyplot as plt
+        from mechdyn.measurement.plots import plot_frf_overlay
 
-        meas = self.measured
-        channels = _overlay_channels(meas)
-        n = len(channels)
-        cols = 2 if n > 1 else 1
-        rows = -(-n // cols)
-        _, axes = plt.subplots(rows, cols, figsize=(6 * cols, 3.2 * rows), squeeze=False, sharex=True)
-        f = meas.frequencies_hz
-        unit = {"receptance": "m/N", "mobility": "m/(s·N)", "accelerance": "m/(s²·N)"}[meas.kind]
-        for ax, (o, r) in zip(axes.flat, channels, strict=False):
-            ax.semilogy(f, np.abs(meas.H[:, o, r]), color="0.3", lw=1.0, label="measured")
-            ax.semilogy(f, np.abs(self.model_frf.H[:, o, r]), "--", color="C0", lw=1.0, label="model")
-            if self.updated_frf is not None:
-                ax.semilogy(f, np.abs(self.updated_frf.H[:, o, r]), color="C1", lw=1.0, label="updated model")
-            ax.axvspan(self.f_min_hz, self.f_max_hz, color="0.93", zorder=0)
-            (po, do), (pr, dr) = meas.outputs[o], meas.references[r]
-            ax.set_title(f"{po}:{do} / {pr}:{dr}", fontsize="small")
-            ax.set_ylabel(f"|H| ({unit})")
-        for ax in axes.flat[n:]:
-            ax.set_visible(False)
-        for ax in axes[-1]:
-            ax.set_xlabel("frequency (Hz)")
-        axes[0, 0].legend(fontsize="small")
-        return axes[0, 0]
-
-
-def _overlay_channels(meas: MeasuredFRF) -> list[tuple[int, int]]:
-    """(output, reference) indices of the FRFs to overlay: driving points, then by peak magnitude."""
-    peak = np.abs(meas.H).max(axis=0)
-    order = sorted(
-        ((o, r) for o in range(peak.shape[0]) for r in range(peak.shape[1])),
-        key=lambda c: (meas.outputs[c[0]] != meas.references[c[1]], -peak[c]),
-    )
-    return order[:OVERLAY_CHANNELS]
+        return plot_frf_overlay(
+            self.measured, self.model_frf, self.updated_frf, band_hz=(self.f_min_hz, self.f_max_hz)
+        )
 
 
 def _pair_table(title: str, c: ModeComparison, against: str) -> Table:
@@ -380,6 +373,10 @@ def _value_entry(u: ModelUpdate, i: int) -> dict[str, Any]:
     if u.identifiable[i]:
         entry[f"standard_uncertainty{sfx}"] = float(u.standard_uncertainty[i])
         entry[f"low_95{sfx}"], entry[f"high_95{sfx}"] = (float(v) for v in u.interval_95[i])
+        if u.posterior is not None:  # the sample's own figures (its arrays hold the identifiable values)
+            j = int(np.count_nonzero(u.identifiable[:i]))
+            entry[f"posterior_mean{sfx}"] = float(u.posterior.mean[j])
+            entry[f"posterior_median{sfx}"] = float(u.posterior.median[j])
     entry["identifiable"] = bool(u.identifiable[i])
     return entry
 
@@ -404,9 +401,10 @@ def _values_table(u: ModelUpdate) -> Table:
             ]
         )
     held = [f"{n}: {why}" for n, ok, why in zip(u.names, u.identifiable, u.reasons, strict=True) if not ok]
-    note = (
-        f"χ² {u.chi2_before:.4g} before, {u.chi2_after:.4g} after (Birge ratio {u.birge_ratio:.3g}); "
-        "95 % intervals from the residuals' covariance"
+    note = f"χ² {u.chi2_before:.4g} before, {u.chi2_after:.4g} after (Birge ratio {u.birge_ratio:.3g}); " + (
+        "95 % credible intervals of the sampled posterior; " + u.posterior.statement
+        if u.posterior is not None
+        else "95 % intervals from the residuals' covariance"
     )
     if held:
         note += "; not identifiable, held at the model's value: " + "; ".join(held)

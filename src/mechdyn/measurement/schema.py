@@ -5,8 +5,9 @@ or CSV, relative to this file), the model file (a support or a drivetrain, relat
 the band the modes are identified in; ``[[points]]`` maps each measurement point (node) of the data to
 a model point (a mount of a support by name, a location x, y, z in the machine's coordinates, or a
 drivetrain disk by name); optional ``[[update]]`` rows name the model values to update (study paths,
-``mounts.*.stiffness.z``) with their prior scatter, and ``[updating]`` the updating's settings. See
-``examples/measured/tap_test.toml``.
+``mounts.*.stiffness.z``) with their prior scatter, ``[updating]`` the updating's settings, and an
+optional ``[predict]`` table names an analysis of the tested model to run on the updated one with the band
+the test leaves (:mod:`mechdyn.measurement.prediction`). See ``examples/measured/tap_test.toml``.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from pydantic import Field, model_validator
 from mechdyn.errors import MechdynError, ModelFileError
 from mechdyn.io.fields import Check, FileModel, Frequency, Length, ModelTableBase
 from mechdyn.io.modelfile import ModelSource, reference_path, referenced, validate
+from mechdyn.measurement.prediction import PredictTable, build_predict
 
 __all__ = ["MeasurementFile", "MeasurementSpec", "build"]
 
@@ -110,6 +112,11 @@ class UpdatingTable(FileModel):
     """Factor of the global search box around the model's values (2: half to twice)."""
     max_uncertainty: Annotated[float, Check("", positive=True)] = 0.5
     """A value whose data-only scatter of its logarithm exceeds this is not identifiable."""
+    posterior: Literal["linear", "sampling"] = "linear"
+    """The updated values' uncertainty: "linear", the Laplace covariance of the residuals, or
+    "sampling", the Bayesian posterior sampled (importance sampling, with its diagnostics stated)."""
+    samples: int = Field(default=1000, ge=50, le=100_000)
+    """Draws of the posterior, with posterior = "sampling"."""
 
 
 class MeasurementFile(FileModel):
@@ -120,6 +127,8 @@ class MeasurementFile(FileModel):
     points: list[PointTable] = Field(default_factory=list)
     update: list[UpdateRow] = Field(default_factory=list)
     updating: UpdatingTable = UpdatingTable()
+    predict: PredictTable | None = None
+    """An analysis of the tested model to predict with the band the test leaves (optional)."""
 
 
 @dataclass(frozen=True)
@@ -148,6 +157,10 @@ class MeasurementSpec:
         The file's ``[updating]`` table.
     data_file, model_file : str
         The data and model files as the file names them (relative).
+    point_names : tuple of str
+        The measurement points as the file's ``[[points]]`` list them.
+    predict : PredictSpec or None
+        The file's ``[predict]`` table as checked (None: no prediction).
     """
 
     name: str
@@ -163,6 +176,7 @@ class MeasurementSpec:
     data_file: str
     model_file: str
     point_names: tuple[str, ...] = field(default=())
+    predict: Any = None
 
 
 def _read_data(source: ModelSource, t: MeasurementTable) -> Any:
@@ -340,7 +354,8 @@ def build(source: ModelSource) -> MeasurementSpec:
     ------
     ModelFileError
         Naming the file, the table and field, the value and the fix (a missing data or model file,
-        an unknown mount or disk, an unmapped point, a band outside the data, an unknown path).
+        an unknown mount or disk, an unmapped point, a band outside the data, an unknown path, an
+        analysis, output or option ``[predict]`` cannot run, too few samples).
     """
     f = validate(MeasurementFile, source)
     t = f.measurement
@@ -349,6 +364,7 @@ def build(source: ModelSource) -> MeasurementSpec:
     tested = _tested(source, t)
     mapping = _mapping(source, f.points, tested, measured)
     _check_paths(source, f.update, tested)
+    predict = None if f.predict is None else build_predict(str(source.path), f.predict, tested.type)
     return MeasurementSpec(
         name=f.model.name,
         measured=measured,
@@ -363,4 +379,5 @@ def build(source: ModelSource) -> MeasurementSpec:
         data_file=t.data,
         model_file=t.model,
         point_names=tuple(p.point for p in f.points),
+        predict=predict,
     )

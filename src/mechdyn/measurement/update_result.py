@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from mechdyn.measurement.compare import ModeComparison
+from mechdyn.measurement.posterior import SampledPosterior
 
 __all__ = ["ModelUpdate"]
 
@@ -28,16 +29,18 @@ class ModelUpdate:
         (n,) the model's values and the updated ones, SI (a parameter not identifiable: its model
         value).
     log_std : ndarray
-        (n,) standard uncertainty of ln p after the update, dimensionless (NaN: not identifiable).
+        (n,) standard uncertainty of ln p after the update, dimensionless (NaN: not identifiable):
+        the Laplace one, or the sampled posterior's standard deviation when sampled.
     interval_95 : ndarray
-        (n, 2) 95 % interval, p·exp(±1.96 σ), SI (NaN: not identifiable).
+        (n, 2) 95 % interval, SI (NaN: not identifiable): p·exp(±1.96 σ) (linear), or the sampled
+        posterior's 2.5 % and 97.5 % quantiles (a credible interval).
     identifiable : ndarray
         (n,) bool, dimensionless: whether the measured modes pin the parameter down.
     reasons : tuple of str
         Why a parameter is not identifiable (empty for one that is).
     covariance_log : ndarray
         (n, n) posterior covariance of ln p, dimensionless (NaN rows for parameters held at their
-        model values).
+        model values): the Laplace one, or the sampled posterior's.
     singular_values : ndarray
         Singular values of the weighted sensitivity matrix at the model's values, columns scaled to
         unit length, divided by the largest: a value near 0 means a combination of parameters the
@@ -58,6 +61,11 @@ class ModelUpdate:
         What the model warned of as the variants were built.
     variant : callable
         (n,) parameter values, SI → the model file with them, in memory.
+    posterior_method : {"linear", "sampling"}
+        Where the uncertainty comes from: the Laplace covariance or the sampled posterior.
+    posterior : SampledPosterior or None
+        The sampled posterior of the identifiable parameters' ln p with its diagnostics
+        (:mod:`mechdyn.measurement.posterior`; None: linear).
     """
 
     names: tuple[str, ...]
@@ -80,11 +88,51 @@ class ModelUpdate:
     source: Any = field(compare=False)
     warnings: tuple[str, ...] = ()
     variant: Callable[[np.ndarray], Any] | None = field(default=None, compare=False)
+    posterior_method: str = "linear"
+    posterior: SampledPosterior | None = field(default=None, compare=False)
 
     @property
     def standard_uncertainty(self) -> np.ndarray:
         """(n,) standard uncertainty of each value, SI (first order, p·σ of ln p; NaN: not identifiable)."""
         return self.value * self.log_std
+
+    @property
+    def posterior_samples(self) -> np.ndarray | None:
+        """(S, n) the sampled posterior's draws of every parameter, SI (those not identifiable at
+        their model value), weighted by ``posterior.weights``; None when not sampled."""
+        if self.posterior is None:
+            return None
+        out = np.tile(self.value, (self.posterior.size, 1))
+        out[:, self.identifiable] = np.exp(self.posterior.samples_log)
+        return out
+
+    def posterior_draw(self, u: Any) -> np.ndarray:
+        """Parameter values resampled from the sampled posterior by inverse-CDF resampling of its
+        weights (:meth:`SampledPosterior.draw`).
+
+        Parameters
+        ----------
+        u : array_like
+            (N,) numbers in [0, 1) (uniform: multinomial resampling; stratified: stratified).
+
+        Returns
+        -------
+        ndarray
+            (N, n) values of every parameter, SI (those not identifiable at their model value).
+
+        Raises
+        ------
+        ValueError
+            When the posterior was not sampled (``posterior="sampling"`` in :func:`update_model`).
+        """
+        if self.posterior is None:
+            raise ValueError(
+                "this update's posterior was not sampled; give update_model(..., posterior='sampling')"
+            )
+        u = np.atleast_1d(np.asarray(u, dtype=float))
+        out = np.tile(self.value, (u.size, 1))
+        out[:, self.identifiable] = np.exp(self.posterior.draw(u))
+        return out
 
     @property
     def correlation(self) -> np.ndarray:
@@ -116,19 +164,32 @@ class ModelUpdate:
         return save(self.load(), path)
 
     def input_space(self) -> Any:
-        """The identifiable parameters' posterior as uncertain inputs: lognormal (median the updated
-        value, σ of ln p its standard uncertainty) with the posterior's correlation (Gaussian copula),
-        for :func:`mechdyn.uncertainty.propagate`; the others are held at their values.
+        """The identifiable parameters' posterior as uncertain inputs for
+        :func:`mechdyn.uncertainty.propagate`; the others are held at their values.
+
+        Linear: lognormal variables (median the updated value, σ of ln p its standard uncertainty)
+        with the posterior's correlation (Gaussian copula), one per identifiable parameter.
+        Sampled: one variable ``posterior_draw``, uniform on [0, 1), that
+        :meth:`posterior_draw` turns into a draw of all the parameters (resampling the weighted
+        sample keeps its joint shape, which no copula of marginals would).
 
         Returns
         -------
         mechdyn.uncertainty.InputSpace
         """
-        from mechdyn.uncertainty import InputSpace, lognormal
+        from mechdyn.uncertainty import InputSpace, lognormal, uniform
 
         idx = np.flatnonzero(self.identifiable)
         if not idx.size:
             raise ValueError("no parameter is identifiable from these modes: nothing to carry through")
+        if self.posterior is not None:
+            draw = uniform(
+                "posterior_draw",
+                0.0,
+                1.0,
+                source="resampling of the sampled posterior of " + ", ".join(self.names[i] for i in idx),
+            )
+            return InputSpace((draw,))
         variables = [
             lognormal(self.names[i], median=float(self.value[i]), sigma_ln=float(self.log_std[i]))
             for i in idx
@@ -182,8 +243,11 @@ class ModelUpdate:
         def f(X: np.ndarray) -> np.ndarray:
             rows = []
             for x in X:
-                values = self.value.copy()
-                values[idx] = x
+                if self.posterior is not None:
+                    values = self.posterior_draw(x[:1])[0]
+                else:
+                    values = self.value.copy()
+                    values[idx] = x
                 rows.append(np.asarray(analysis(load_source(variant(values))), dtype=np.float64))
             return np.array(rows)
 
@@ -192,13 +256,29 @@ class ModelUpdate:
         )
 
     def summary(self) -> dict[str, Any]:
-        """Updated values with their 95 % intervals (in the file's units), identifiability, χ²."""
+        """Updated values with their 95 % intervals (in the file's units), identifiability, χ², and
+        where the uncertainty comes from (``posterior_method``; with the sampling's diagnostics, its
+        validity and the posterior mean, median, standard deviation and correlation when sampled)."""
+        post = self.posterior
         out: dict[str, Any] = {
             "chi2_before": self.chi2_before,
             "chi2_after": self.chi2_after,
             "birge_ratio": self.birge_ratio,
             "paired_modes": len(self.after.pairs),
+            "posterior_method": (
+                "linear: Laplace (Gauss–Newton) covariance of ln p, Birge-scaled; 95 % intervals "
+                "p·exp(±1.96 σ)"
+                if post is None
+                else f"sampling: {post.method}; 95 % credible intervals from the weighted sample"
+            ),
         }
+        if post is not None:
+            out["posterior"] = post.diagnostics()
+            out["posterior_correlation"] = {
+                "parameters": list(post.names),
+                "matrix": post.correlation.round(6).tolist(),
+            }
+        j = 0
         for i, name in enumerate(self.names):
             f, u = self.factors[i], self.units[i]
             entry: dict[str, Any] = {
@@ -210,17 +290,27 @@ class ModelUpdate:
             if self.identifiable[i]:
                 entry["standard_uncertainty"] = float(self.standard_uncertainty[i] / f)
                 entry["interval_95"] = [float(v / f) for v in self.interval_95[i]]
+                if post is not None:
+                    entry["posterior_mean"] = float(post.mean[j] / f)
+                    entry["posterior_median"] = float(post.median[j] / f)
+                    entry["posterior_std"] = float(post.std[j] / f)
+                    entry["posterior_log_std"] = float(post.std_log[j])
+                    entry["mcse_log_mean"] = float(post.mcse_log[j])
+                    j += 1
             else:
                 entry["note"] = f"not identifiable from these modes: {self.reasons[i]}; held at its prior"
+                if post is not None:
+                    entry["note"] += " (not sampled: its posterior is its prior)"
             out[name] = entry
         return out
 
     def to_frame(self) -> Any:
-        """One row per parameter, in the model file's units."""
+        """One row per parameter, in the model file's units (with the posterior mean and median when
+        sampled)."""
         import pandas as pd
 
         f = self.factors
-        return pd.DataFrame(
+        table = pd.DataFrame(
             {
                 "parameter": list(self.names),
                 "unit": list(self.units),
@@ -233,6 +323,15 @@ class ModelUpdate:
                 "note": [r if r else "" for r in self.reasons],
             }
         )
+        if self.posterior is not None:  # the sampled posterior's mean and median beside the optimum
+            for at, column, v in (
+                (4, "posterior_mean", self.posterior.mean),
+                (5, "posterior_median", self.posterior.median),
+            ):
+                full = np.full(len(self.names), np.nan)
+                full[self.identifiable] = v
+                table.insert(at, column, full / f)
+        return table
 
     def plot(self, ax: Any = None) -> Any:
         """The paired modes' frequency errors before and after the update, %.

@@ -520,7 +520,7 @@ def _scattered(p: Parameter, spec: Any, groups: int, where: str) -> Parameter:
 
     from mechdyn.errors import ModelError
     from mechdyn.uncertainty import variable_from_dict
-    from mechdyn.units import ureg
+    from mechdyn.units import si_unit
 
     if p.discrete or p.apply is not None or groups > 1:
         what = "a point" if groups > 1 else ("a whole number" if p.integer else "a choice")
@@ -529,7 +529,7 @@ def _scattered(p: Parameter, spec: Any, groups: int, where: str) -> Parameter:
             'give each coordinate a row of its own, e.g. path = "points.C.x")'
         )
     # the unit the file writes where it is SI already (N/m, not kg/s²): errors then speak the file's
-    si = p.unit if p.factor == 1.0 else str(ureg.Quantity(1.0, p.unit).to_base_units().units)
+    si = p.unit if p.factor == 1.0 else si_unit(p.unit)
     try:
         variable = variable_from_dict(p.name, spec, si, nominal=p.base)
     except ModelError as exc:

@@ -426,6 +426,13 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
 
         kind(s.kind).refuse_discrete(made, where)
         params.extend(made)
+    correlations: tuple[tuple[str, str, float, str], ...] = tuple(
+        (c.between[0], c.between[1], c.coefficient, c.measure) for c in f.correlations
+    )
+    if s.kind == "tolerance":  # the model file's [[scatter]]: the default of the values it names
+        from mechdyn.studies.kinds.tolerance_model import with_model_scatter
+
+        params, correlations = with_model_scatter(tree, params, correlations, src_path)
     if tree.alternatives:  # model files a choice names: the variants read them, the study stores them
         from dataclasses import replace as _replace
 
@@ -510,7 +517,7 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
         src_path,
         method=s.method,
         limits=limits,
-        correlations=tuple((c.between[0], c.between[1], c.coefficient, c.measure) for c in f.correlations),
+        correlations=correlations,
         small_probability=s.small_probability,
         scattered=tuple(scattered),
         scatter_samples=s.scatter_samples,

@@ -181,7 +181,10 @@ class StudyFile(_Row):
     """Schema of a study file."""
 
     study: _StudyTable
-    parameters: list[_ParameterRow] = Field(min_length=1)
+    parameters: list[_ParameterRow] = Field(default_factory=list)
+    """The values the study varies, at least one; a tolerance study may leave them out, and then
+    samples the scatter its model file's ``[[scatter]]`` gives (those rows are the default of a
+    tolerance study's parameters)."""
     outputs: list[_OutputRow] = Field(default_factory=list)
     objectives: list[_GoalRow] = Field(default_factory=list)
     constraints: list[_LimitRow] = Field(default_factory=list)

@@ -17,6 +17,10 @@ __all__ = attach(
     {
         "CHANNELS": "excitation",
         "DOFS": "model",
+        "Foundation": "foundation",
+        "FoundationSystem": "coupled",
+        "Soil": "foundation",
+        "floor_vibration": "floor",
         "Mount": "model",
         "MountedMachine": "model",
         "PLANAR": "model",

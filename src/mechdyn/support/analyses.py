@@ -31,7 +31,7 @@ def _support(
                 "database (--db URL, or the default mechdyn.db)"
             )
         machine, applied = spec.calibrated(store)
-    return support_analysis(
+    result = support_analysis(
         machine,
         spec.load,
         cycles=cycles or s.start_up_cycles,
@@ -44,10 +44,19 @@ def _support(
         points=s.vibration_points,
         separation_margin=s.separation_margin,
     )
+    if spec.foundation is None:
+        return result
+    from mechdyn.support.floor import with_floor
+
+    return with_floor(result, spec.foundation, spec.floor_points)
 
 
 def _support_batch(loaded: Any, columns: Any, keys: Any, **options: Any) -> Any:
+    from mechdyn.registry import NotBatchable
     from mechdyn.support.batch import support_batch
+
+    if getattr(loaded.settings, "foundation", None) is not None:
+        raise NotBatchable("the batch takes a support on rigid ground, not on a foundation block")
 
     return support_batch(loaded, columns, keys, **options)
 
@@ -176,6 +185,59 @@ register(
             Output(
                 "floor_vibration_verdict", "the floor against the vibration criteria curves, in words", ""
             ),
+            Output(
+                "floor_velocity_point", "on a foundation: the block's point of the worst floor vibration", ""
+            ),
+            Output("floor_velocity_direction", "on a foundation: its direction (x, y or z)", ""),
+            Output(
+                "floor_velocity_band_centre_hz", "on a foundation: the one-third-octave bands, 1 to 80 Hz"
+            ),
+            Output(
+                "floor_velocity_band_m_per_s",
+                "on a foundation: the floor's RMS velocity in each band, at its worst point and direction",
+            ),
+            Output("floor_velocity_band_max_m_per_s", "on a foundation: the floor's largest band velocity"),
+            Output("floor_velocity_rms_m_per_s", "on a foundation: the floor's RMS velocity, all harmonics"),
+            Output(
+                "floor_velocity_band_max_at_points_m_per_s",
+                "on a foundation: each floor point's largest band velocity",
+            ),
+            Output(
+                "floor_criteria_band_ratio",
+                "on a foundation: each criterion's largest band over its curve (VC-A … VC-E, ISO)",
+                "1",
+            ),
+            Output(
+                "floor_vc_b_ratio", "on a foundation: the floor's largest band over VC-B (above 1: exceeded)"
+            ),
+            Output("floor_vc_b_met", "on a foundation: whether the floor meets VC-B", ""),
+            Output("floor_strictest_criterion_met", "on a foundation: the strictest floor criterion met", ""),
+            Output(
+                "floor_strictest_vc_met", "on a foundation: the strictest VC curve met (None: not VC-A)", ""
+            ),
+            Output(
+                "foundation_natural_frequencies_hz",
+                "on a foundation: natural frequencies of machine, mounts, block and soil together",
+            ),
+            Output(
+                "soil_force_amplitude_N",
+                "on a foundation: largest harmonic amplitude of the force on the soil",
+            ),
+            Output("foundation_mass_kg", "on a foundation: the block's mass"),
+            Output("foundation_center_of_mass_m", "on a foundation: the block's centre of mass"),
+            Output("soil_stiffness_N_per_m", "on a foundation: the soil's springs along x, y, z"),
+            Output(
+                "soil_rotational_stiffness_Nm_per_rad", "on a foundation: the soil's springs about x, y, z"
+            ),
+            Output("soil_damping_N_s_per_m", "on a foundation: the soil's dashpots along x, y, z"),
+            Output(
+                "soil_rotational_damping_Nm_s_per_rad", "on a foundation: the soil's dashpots about x, y, z"
+            ),
+            Output("soil_springs_from", "on a foundation: given, or the half-space's closed forms", ""),
+            Output("soil_shear_modulus_Pa", "on a foundation over a half-space: the soil's shear modulus"),
+            Output(
+                "soil_shear_wave_speed_m_per_s", "on a foundation over a half-space: its shear-wave speed"
+            ),
             Output("mode_nearest_harmonic", "each mode's nearest exciting harmonic order", ""),
             Output("mode_separation_margin_percent", "each mode's distance from it, (f − h f0)/(h f0)"),
             Output("mode_driven_by_harmonic", "whether that harmonic drives the mode", ""),
@@ -195,6 +257,7 @@ register(
             "mechdyn support examples/press_driven_on_mounts.toml --plots plots",
             "mechdyn support examples/press_on_pads.toml --plots plots",
             "mechdyn support examples/pump_set_unbalance.toml --plots plots",
+            "mechdyn support examples/press_on_mounts_foundation.toml",
         ),
     )
 )

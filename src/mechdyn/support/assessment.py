@@ -82,6 +82,9 @@ class VibrationVerdicts:
         (N/√kg for a translation).
     margin : float
         The separation margin flagged, a ratio.
+    floor : FloorVibration or None
+        The floor's vibration on a foundation block (:func:`mechdyn.support.floor.floor_vibration`);
+        None when the mounts stand on rigid ground.
     """
 
     running_speed: float
@@ -104,6 +107,7 @@ class VibrationVerdicts:
     mode_coordinates: tuple[str, ...]
     modal_force: np.ndarray
     margin: float = v.SEPARATION_MARGIN
+    floor: Any = None
 
     # -- ISO 20816-3 ---------------------------------------------------------------------------------
     @property
@@ -282,7 +286,10 @@ class VibrationVerdicts:
     # -- the floor --------------------------------------------------------------------------------------
     @property
     def floor_verdict(self) -> str:
-        """Why the floor's vibration is not set against the criteria curves: the model has no floor."""
+        """The floor's vibration against the criteria curves (on a foundation block), or why it is not
+        set against them (the mounts stand on rigid ground: the model has no floor)."""
+        if self.floor is not None:
+            return self.floor.verdict
         return (
             "The floor is not modelled (the mounts stand on rigid ground), so its vibration cannot be set "
             "against the VC-A … VC-E curves (Gordon; IEST-RP-CC012) or the ISO 2631-2/ASHRAE workshop, "
@@ -324,7 +331,7 @@ class VibrationVerdicts:
             "mode_close_to_harmonic": [r["close"] for r in sep],
             "mode_separation_limit_percent": float(100 * self.margin),
             "mode_separation_verdict": self.separation_verdict,
-        }
+        } | ({} if self.floor is None else self.floor.summary())
 
     def tables(self, **display_units: str) -> list[Table]:
         """The frame's vibration at each point (the ISO 20816-3 verdict under it), the isolation by
@@ -381,7 +388,10 @@ class VibrationVerdicts:
                 ]
                 for h, t in zip(self.orders, T, strict=True)
             ],
-            f"{self.isolation_verdict} {self.floor_verdict}",
+            # on a foundation the floor's verdict stands under its own table
+            self.isolation_verdict
+            if self.floor is not None
+            else f"{self.isolation_verdict} {self.floor_verdict}",
         )
         modes = Table(
             "modes against the running speed's harmonics",
@@ -401,7 +411,7 @@ class VibrationVerdicts:
             ],
             self.separation_verdict,
         )
-        return [frame, iso, modes]
+        return [frame, iso, modes] + ([] if self.floor is None else [self.floor.table()])
 
 
 def vibration_verdicts(

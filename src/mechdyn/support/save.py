@@ -186,6 +186,48 @@ def _mechanism(doc: TomlDocument, e: Any, path: Path) -> None:
     )
 
 
+def _foundation(doc: TomlDocument, foundation: Any, floor_points: Any) -> None:
+    """``[foundation]`` and ``[foundation.soil]``: the block by its mass, centre of mass, inertia and
+    base (exactly), the soil as the half-space it came from or as its springs and dashpots."""
+    block = foundation.block
+    J = np.asarray(block.inertia, dtype=float)
+    if np.any(J != np.diag(np.diag(J))):
+        raise MechdynError(
+            "mechdyn.save: a foundation block with products of inertia cannot be written: [foundation] "
+            "takes its three moments about axes parallel to x, y, z"
+        )
+    table: dict[str, Any] = {
+        "mass": _q(block.mass, "kg"),
+        "center_of_mass": _vector(block.center_of_mass, "m"),
+        "inertia": _vector(np.diag(J), "kg*m^2"),
+        "base": _vector(foundation.base, "m"),
+        "footprint": None if foundation.footprint is None else _vector(foundation.footprint, "m"),
+        "floor_points": None if floor_points is None else [_vector(p, "m") for p in floor_points],
+    }
+    doc.table("foundation", table)
+    soil = foundation.soil
+    if soil is not None:
+        doc.table(
+            "foundation.soil",
+            {
+                "shear_modulus": _q(soil.shear_modulus, "Pa"),
+                "poisson_ratio": float(soil.poisson_ratio),
+                "density": _q(soil.density, "kg/m^3"),
+            },
+        )
+        return
+    K, C = foundation.soil_stiffness, foundation.soil_damping
+    doc.table(
+        "foundation.soil",
+        {
+            "stiffness": _vector(K[:3], "N/m"),
+            "rotational_stiffness": _vector(K[3:], "N*m/rad"),
+            "damping": _vector(C[:3], "N*s/m"),
+            "rotational_damping": _vector(C[3:], "N*m*s/rad"),
+        },
+    )
+
+
 def to_toml(
     model: MountedMachine, settings: Any = None, *, path: Path, source: Any = None, load: Any = None
 ) -> str:
@@ -294,4 +336,6 @@ def to_toml(
             analysis["separation_margin"] = float(table.separation_margin)
     analysis["gravity"] = _q(model.gravity, "m/s^2")
     doc.table("analysis", analysis)
+    if getattr(settings, "foundation", None) is not None:
+        _foundation(doc, settings.foundation, getattr(settings, "floor_points", None))
     return doc.text()

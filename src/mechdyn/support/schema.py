@@ -9,7 +9,8 @@ the shaking at the drive's real, fluctuating speed, sampled uniformly in time ov
 vertical force over one ``period`` given as samples or
 harmonics, or unbalanced rotors (``[[excitation.rotors]]``, with an optional ``speed_range`` to sweep).
 ``[analysis]`` picks the planar or spatial model, the start-up cycles and the factors of
-the stiffness and damping study. See ``examples/press_on_support.toml``,
+the stiffness and damping study. An optional ``[foundation]`` puts a foundation block on soil under
+the mounts (:mod:`mechdyn.support.foundation_schema`). See ``examples/press_on_support.toml``,
 ``examples/press_on_mounts.toml``, ``examples/press_driven_on_mounts.toml`` and
 ``examples/pump_set_unbalance.toml``.
 """
@@ -49,6 +50,7 @@ from mechdyn.io.modelfile import (
     validate,
 )
 from mechdyn.support.excitation import PeriodicLoad, Placement
+from mechdyn.support.foundation_schema import FoundationTable, build_foundation
 from mechdyn.support.model import PLANAR, SPATIAL, Mount, MountedMachine, RigidBody
 from mechdyn.support.spec import DriveExcitation, MechanismExcitation, PlacedEstimate, SupportSpec
 from mechdyn.support.unbalance import Rotor, frequency_given_as_speed
@@ -307,6 +309,9 @@ class SupportFile(FileModel):
     mounts: list[MountTable] | None = None
     excitation: ExcitationTable
     analysis: AnalysisTable = AnalysisTable()
+    foundation: FoundationTable | None = None
+    """A foundation block on soil under the mounts (:mod:`mechdyn.support.foundation_schema`);
+    without it the mounts stand on rigid ground."""
 
     @model_validator(mode="after")
     def _one_support(self) -> SupportFile:
@@ -408,6 +413,8 @@ def build(source: ModelSource) -> SupportSpec:
         f.analysis,
         estimates=estimates,
         speed_range=f.excitation.speed_range,
+        foundation=None if f.foundation is None else build_foundation(f.foundation, source),
+        floor_points=None if f.foundation is None else f.foundation.floor_points,
     )
 
 

@@ -184,6 +184,11 @@ class SupportSpec:
     speed_range: tuple[float, float] | None = None
     """The first rotor's speeds to sweep, rad/s, when the load is unbalanced rotors and the file gives
     them (else the sweep's default, 0 to 1.2 times the running speed)."""
+    foundation: Any = None
+    """The foundation block on soil under the mounts (a :class:`mechdyn.support.foundation.Foundation`),
+    or None: the mounts stand on rigid ground."""
+    floor_points: Any = None
+    """The block's points whose vibration is judged, m (None: the mounts' feet)."""
 
     def sweep_speeds(self) -> np.ndarray | None:
         """The speeds of the unbalance sweep, rad/s: :data:`~mechdyn.support.sweep.DEFAULT_SPEED_STEPS`

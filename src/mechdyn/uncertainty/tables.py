@@ -36,7 +36,7 @@ from mechdyn.uncertainty.distributions import (
 )
 from mechdyn.uncertainty.tolerances import tolerance
 
-__all__ = ["DISTRIBUTION_KEYS", "variable_from_dict"]
+__all__ = ["DISTRIBUTION_KEYS", "TOLERANCE_KEYS", "variable_from_dict"]
 
 _TRUNCATION = ("lower", "upper")
 DISTRIBUTION_KEYS: dict[str, tuple[str, ...]] = {
@@ -49,6 +49,8 @@ DISTRIBUTION_KEYS: dict[str, tuple[str, ...]] = {
 """The keys each distribution accepts besides ``distribution`` (``lower``/``upper`` truncate)."""
 
 _TOLERANCE_KEYS = ("nominal", "shape", "plus_minus", "grade", "d", "m_n", "cov", "magnitude")
+TOLERANCE_KEYS = _TOLERANCE_KEYS
+"""The keys a tolerance table accepts besides ``tolerance`` (the model-file reference lists them)."""
 
 
 def _unknown(name: str, key: str, allowed: tuple[str, ...], what: str) -> ModelError:

@@ -19,6 +19,11 @@ the conditional means over √n classes of equal count, corrected for the bias o
 scatter); with fewer, Spearman's rank correlation (its square as the share). Each ranking says
 which it is.
 
+The model file's own ``[[scatter]]`` (and ``[[correlations]]``, :mod:`mechdyn.io.scatter`) is the
+default: each of its rows whose values the study's ``[[parameters]]`` do not name is a parameter too,
+after the study's, so that a study with no parameters samples the scatter the model file gives
+(:func:`mechdyn.studies.kinds.tolerance_model.with_model_scatter`).
+
 Parameters may be correlated (``[[correlations]]``: two parameters and a coefficient, the Gaussian
 copula's own or Spearman's rank correlation), checked as a whole: each name a parameter, each pair
 once, each coefficient in (−1, 1), the matrix positive definite.

@@ -16,6 +16,7 @@ import numpy as np
 from mechdyn.results import Table
 from mechdyn.studies.cells import given, number, table, unit_text
 from mechdyn.studies.kinds.base import safe, value
+from mechdyn.units import readable
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -44,6 +45,22 @@ def _scatter_text(d: dict[str, Any]) -> str:
     return f"{d['distribution']} (" + ", ".join(f"{k} {shown(x)}" for k, x in d["parameters"].items()) + ")"
 
 
+# a scatter's parameters that carry its unit (cov, sigma_ln and probabilities are dimensionless)
+_IN_UNIT = frozenset({"mean", "std", "median", "low", "high", "mode", "lower", "upper", "values"})
+
+
+def _scatter_row(name: str, d: dict[str, Any]) -> list[Any]:
+    """A parameter's scatter in the unit a designer reads its mean in (MPa, not 3.2e8 Pa)."""
+    mean, shown = readable(d["mean"], unit_text(d["unit"]))
+    factor = mean / d["mean"] if d["mean"] else 1.0
+    params = {
+        k: ([x * factor for x in v] if isinstance(v, list) else v * factor) if k in _IN_UNIT else v
+        for k, v in d["parameters"].items()
+    }
+    scatter = _scatter_text({**d, "parameters": params})
+    return [name, shown, scatter, d["mean"] * factor, d["std"] * factor]
+
+
 def tables(result: StudyResult) -> list[Table]:
     """The scatter and its correlations; each output's distribution (95 % intervals) in its unit;
     each limit's probability with its interval, and a rare limit's by its small-probability
@@ -54,10 +71,7 @@ def tables(result: StudyResult) -> list[Table]:
         table(
             f"{st.name}: scatter of the parameters ({f['samples']} samples, {f['method']})",
             ["parameter", "unit", "scatter", "mean", "standard deviation"],
-            [
-                [name, unit_text(d["unit"]), _scatter_text(d), d["mean"], d["std"]]
-                for name, d in f["scatter"].items()
-            ],
+            [_scatter_row(name, d) for name, d in f["scatter"].items()],
         )
     ]
     if f.get("correlations"):
