@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 import uuid
 import warnings
 from contextlib import contextmanager
@@ -21,6 +22,13 @@ from mechdyn.errors import ModelWarning
 settings.register_profile("ci", derandomize=True, database=None)
 settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+# Python's bytecode caches (and pytest's of the rewritten test modules) are written for the run even
+# where the shell asks for none (PYTHONDONTWRITEBYTECODE, as some containers set it): without them each
+# worker and each command-line subprocess compiles every module from source again. They go where
+# Python puts them, __pycache__ folders the checkout ignores.
+if os.environ.pop("PYTHONDONTWRITEBYTECODE", None) is not None:
+    sys.dont_write_bytecode = False
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
@@ -166,7 +174,7 @@ def patient_browser_checks():
 
 
 def pytest_configure(config):
-    """Before the xdist workers start, compile numba's kernels in two processes (one per family,
+    """Before the xdist workers start, compile numba's kernels in three processes (one per family,
     ``tests/warm_kernels.py``): on a clean clone the cache is empty, and each worker, and each
     command-line subprocess of a test, would compile the same kernels at once. With a warm cache
     each process finds them cached and exits."""
@@ -175,10 +183,9 @@ def pytest_configure(config):
     if not config.getoption("numprocesses", None) or config.getoption("collectonly"):
         return
     import subprocess
-    import sys
 
     script = str(Path(__file__).with_name("warm_kernels.py"))
-    jobs = [subprocess.Popen([sys.executable, script, family]) for family in ("mechanism", "gears")]
+    jobs = [subprocess.Popen([sys.executable, script, family]) for family in ("cycle", "summary", "gears")]
     for job in jobs:
         job.wait()
 

@@ -922,6 +922,7 @@ def test_a_stored_study_gives_its_findings_from_the_database_alone(tmp_path):
     assert all(c["holds"] for c in stored.findings["best"]["constraints"])
 
 
+@pytest.mark.slow  # CI's heavy step (issue 48: the test command's minutes)
 def test_a_study_shows_a_progress_bar_with_its_eta_on_a_terminal(tmp_path):
     """rich draws the bar (name, bar, %, time remaining) when the output is a terminal (forced here);
     `mechdyn study --json` prints JSON alone (see the command-line test)."""

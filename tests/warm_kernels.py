@@ -2,8 +2,9 @@
 
 On a clean clone numba's on-disk cache is empty: without this, each pytest-xdist worker, and every
 command-line subprocess a test starts before the cache is written, compiles the same kernels at the
-same time. Two processes compile here together, one per family of kernels: ``python
-tests/warm_kernels.py mechanism`` and ``python tests/warm_kernels.py gears``. Each runs the smallest
+same time. Three processes compile here together, one per family of kernels (``python
+tests/warm_kernels.py cycle``, ``summary``, ``gears``; the first two are the dyad kernel with its
+two argument layouts, which numba compiles apart, and the largest share). Each runs the smallest
 cases that reach every signature the suite uses; a kernel missed here is still compiled where a test
 first needs it, so this only saves time and never decides a result.
 """
@@ -13,6 +14,7 @@ from __future__ import annotations
 import sys
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -29,29 +31,41 @@ def _quietly(job) -> None:
             pass
 
 
-def mechanism() -> None:
-    """The dyad path (one design, a batch in threads, the summary-only batch with and without a
-    failed variant, process forces) and the Newton path of a geared mechanism."""
+def _press(name: str) -> Any:
     import mechdyn
-    from mechdyn.mechanism import cycle
+
+    return mechdyn.load(EXAMPLES / name).model
+
+
+def _columns(m: Any, n: int = 16) -> dict[tuple[str, str, int], np.ndarray]:
+    return {("points", "D", 0): m.points["D"][0] + np.linspace(-0.01, 0.01, n)}
+
+
+def cycle() -> None:
+    """The dyad kernel on one design (serially) and on a batch (in threads), curves kept."""
+    from mechdyn.mechanism import cycle as one_cycle
+    from mechdyn.mechanism.batch import cycle_columns
+
+    press = _press("press_link_drive.toml")
+    _quietly(lambda: one_cycle(press, 36))
+    _quietly(lambda: cycle_columns(press, _columns(press), 36))
+
+
+def summary() -> None:
+    """The summary-only batch: in lanes, chunk by chunk with process forces, a variant that fails;
+    and the Newton path of a geared mechanism."""
+    import mechdyn
     from mechdyn.mechanism.batch import cycle_columns
     from mechdyn.registry import get
 
     for name in ("press_link_drive.toml", "press_tonnage.toml"):
-        m = mechdyn.load(EXAMPLES / name).model
-        _quietly(lambda m=m: cycle(m, 36))
-        D = m.points["D"][0] + np.linspace(-0.01, 0.01, 16)
-        failing = D.copy()
-        failing[3] = 1e3  # a variant that does not assemble
-        for summary_only in (False, True):
-            for column in (D, D[:1], failing):
-                _quietly(
-                    lambda c=column, s=summary_only, m=m: cycle_columns(
-                        m, {("points", "D", 0): c}, 36, summary_only=s
-                    )
-                )
-    for name in ("transplanter_rp1.toml", "fourbar.toml"):
-        _quietly(lambda name=name: get("mechanism").run(mechdyn.load(EXAMPLES / name)))
+        m = _press(name)
+        columns = _columns(m)
+        failing = {k: v.copy() for k, v in columns.items()}
+        failing[("points", "D", 0)][3] = 1e3  # a variant that does not assemble
+        for c in (columns, failing):
+            _quietly(lambda m=m, c=c: cycle_columns(m, c, 36, summary_only=True))
+    _quietly(lambda: get("mechanism").run(mechdyn.load(EXAMPLES / "transplanter_rp1.toml")))
 
 
 def gears() -> None:
@@ -87,14 +101,22 @@ def gears() -> None:
         steady_state(system, 300.0, reference="pinion", drive="speed", load={"gear": 10.0})
 
 
+FAMILIES = {"cycle": cycle, "summary": summary, "gears": gears}
+"""The families of kernels, one process each (the dyad kernel's two argument layouts compile apart)."""
+
+
 def _cached(family: str) -> bool:
     """Whether the family's main kernels are in numba's cache already (then there is nothing to do)."""
     from mechdyn._compiled import is_cached
 
-    if family == "mechanism":
-        from mechdyn.mechanism.dyads import _kernel, _reduce
+    if family == "cycle":
+        from mechdyn.mechanism.dyads import _kernel
 
-        kernels = (_kernel.run_serial, _kernel.run_parallel, _reduce.run_lanes)
+        kernels = (_kernel.run_serial, _kernel.run_parallel)
+    elif family == "summary":
+        from mechdyn.mechanism.dyads import _reduce
+
+        kernels = (_reduce.run_lanes, _reduce.run_and_summarise)
     else:
         from mechdyn.gear_dynamics import _contact
         from mechdyn.gear_dynamics import _kernel as gear_kernel
@@ -106,4 +128,4 @@ def _cached(family: str) -> bool:
 if __name__ == "__main__":
     family = sys.argv[1]
     if not _cached(family):
-        {"mechanism": mechanism, "gears": gears}[family]()
+        FAMILIES[family]()
