@@ -317,6 +317,11 @@ def test_more_mode_shapes_than_a_run_can_keep_are_refused_before_the_work(tmp_pa
     out, err = capsys.readouterr()
     assert "1000 modes of a 2000-disk model are 2,000,000 shape values" in err and "at most 500" in err
     assert out == ""
+
+
+@pytest.mark.slow  # CI's heavy step: 500 modes of 2000 disks solved and stored (issue 48)
+def test_as_many_mode_shapes_as_a_run_can_keep_are_solved_and_stored(tmp_path, capsys):
+    path = _chain(tmp_path / "chain.toml", 2000)
     assert main(["modal", str(path), "--modes", "500", "--db", str(tmp_path / "r.db"), "--json"]) == 0
     assert len(json.loads(capsys.readouterr().out)["frequencies_hz"]) == 500
 
