@@ -175,10 +175,9 @@ def patient_browser_checks():
 
 def pytest_configure(config):
     """Before the xdist workers start, compile numba's kernels in three processes (one per family,
-    ``tests/warm_kernels.py``) and collect the tests in a fourth: on a clean clone the caches are
-    empty, and each worker, and each command-line subprocess of a test, would compile the same
-    kernels and rewrite the same test modules at once. With warm caches each process finds them
-    cached and exits."""
+    ``tests/warm_kernels.py``): on a clean clone the cache is empty, and each worker, and each
+    command-line subprocess of a test, would compile the same kernels at once. With a warm cache
+    each process finds them cached and exits."""
     if hasattr(config, "workerinput") or not config.pluginmanager.hasplugin("xdist"):
         return
     if not config.getoption("numprocesses", None) or config.getoption("collectonly"):
@@ -187,19 +186,6 @@ def pytest_configure(config):
 
     script = str(Path(__file__).with_name("warm_kernels.py"))
     jobs = [subprocess.Popen([sys.executable, script, family]) for family in ("cycle", "summary", "gears")]
-    # and the test modules rewritten once (pytest's cached assertion rewriting), not by every worker
-    collect = [
-        sys.executable,
-        "-m",
-        "pytest",
-        "--collect-only",
-        "-q",
-        "-n",
-        "0",
-        "-p",
-        "no:cacheprovider",
-    ]
-    jobs.append(subprocess.Popen([*collect, str(ROOT / "tests")], cwd=ROOT, stdout=subprocess.DEVNULL))
     for job in jobs:
         job.wait()
 

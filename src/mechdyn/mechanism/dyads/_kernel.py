@@ -32,6 +32,7 @@ def variant(v, args, lane):
     # the fields by the short names of the formulas below
     dz, ops, fdata, grounded = args.drawing, args.ops, args.op_data, args.grounded
     turn, omega, alpha = args.turn, args.omega, args.alpha
+    vw = np.int64(v) if omega.shape[0] > 1 else np.int64(0)  # one row of rates: every variant
     mass, inertia, grav = args.mass, args.inertia, args.gravity
     keep, out_slot, u_out = args.keep, args.output_slot, args.output_axis
     pos_out, vel_out, acc_out, rate_out = args.pos, args.vel, args.acc, args.rates
@@ -70,8 +71,8 @@ def variant(v, args, lane):
             if kind == 0:  # crank: turned by step × k from the drawing
                 rot[b] = turn[k]
                 ph[b] = np.angle(turn[k]) if rates else 0.0
-                w[b] = omega[v, k]
-                al[b] = alpha[v, k]
+                w[b] = omega[vw, k]
+                al[b] = alpha[vw, k]
             elif kind == 1:  # rigid body from two known points
                 dn = pos[k2] - pos[k1]
                 dd = dz[v, k2] - dz[v, k1]
@@ -271,7 +272,7 @@ def variant(v, args, lane):
 def run_parallel(args):
     """Every variant (the leading axis of the arrays in ``args``) in parallel threads."""
     for v in numba.prange(args.drawing.shape[0]):
-        variant(v, args, v)
+        variant(np.int64(v), args, np.int64(v))  # prange's index is unsigned: one signature of variant
 
 
 @numba.njit(cache=True, error_model="numpy")

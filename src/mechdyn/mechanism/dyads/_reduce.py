@@ -321,7 +321,7 @@ def run_and_summarise(args, step, deg, bdc, axis, ends, out):
     (the screening follows, and a chunk with a failure is summarised again)."""
     failed = np.zeros(args.drawing.shape[0], dtype=np.bool_)
     for v in numba.prange(args.drawing.shape[0]):
-        variant(v, args, v)
+        variant(np.int64(v), args, np.int64(v))  # prange's index is unsigned: one signature of variant
         if bdc and args.stroke.shape[0] > 0:
             _bdc_row(args.stroke[v], step, deg[v])
         _summarise_one(
@@ -370,7 +370,7 @@ def run_lanes(args, step, bdc, offsets, axis, ends, screen_tol, deg, out, suspec
     failed = np.zeros(L, dtype=np.bool_)
     for lane in numba.prange(L):
         for v in range(lane, V, L):
-            variant(v, args, lane)
+            variant(v, args, np.int64(lane))
             flag = False
             for k in range(N):
                 for j in range(D):

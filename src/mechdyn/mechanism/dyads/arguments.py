@@ -46,7 +46,8 @@ class KernelArgs(NamedTuple):
         (N,) complex: the crank's rotation from the drawing at each angle, dimensionless (unit
         modulus).
     omega, alpha : ndarray
-        (V, N) crank speed θ̇ (rad/s) and acceleration θ̈ (rad/s²) at each angle.
+        (V, N) crank speed θ̇ (rad/s) and acceleration θ̈ (rad/s²) at each angle, or (1, N): the same
+        for every variant.
     mass, inertia : ndarray
         (V, nb) body masses, kg, and moments of inertia about the centres of mass, kg·m².
     gravity : complex

@@ -269,8 +269,8 @@ def _lanes(
     m, V, N = s.m, s.V, s.N
     L = min(V, numba.get_num_threads())
     w, a = m.driver.rates(np.zeros(1))  # a constant speed: the same at every angle and variant
-    omega = np.lib.stride_tricks.as_strided(np.full(N, float(w[0])), (V, N), (0, 8))
-    alpha = np.lib.stride_tricks.as_strided(np.full(N, float(a[0])), (V, N), (0, 8))
+    # one row for every variant (a row each would be V × N floats): the kernel reads row 0
+    omega, alpha = np.full((1, N), float(w[0])), np.full((1, N), float(a[0]))
     out = Outputs(
         pos=np.empty((L, N, s.keep.size), dtype=complex),
         vel=np.empty((0, 0, 0), dtype=complex),
