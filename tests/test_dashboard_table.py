@@ -59,14 +59,18 @@ def _json(url: str):
         return json.loads(r.read())
 
 
-def _expected(url: str, column: str | None, descending: bool) -> list[int]:
-    """The study's variant ids sorted as the table sorts them, worked out here from every stored
-    variant: by the column (missing last either way), ties by id."""
+def _stored(url: str) -> list:
+    """Every stored variant of the study, read once for a check of every sort."""
     from mechdyn.store import ResultStore
     from mechdyn.studies.storage import StudyStore
 
     with ResultStore(url, read_only=True) as store:
-        variants = StudyStore(store).variants("support-lhs")
+        return StudyStore(store).variants("support-lhs")
+
+
+def _expected(variants: list, column: str | None, descending: bool) -> list[int]:
+    """The study's variant ids sorted as the table sorts them, worked out here from every stored
+    variant: by the column (missing last either way), ties by id."""
 
     def value(v):
         if column is None:
@@ -88,9 +92,10 @@ def _check_every_sort(address: str, url: str, n: int, failed: int) -> None:
 
     last = -(-n // PAGE_SIZE)
     columns = {"id": None, "status": "status", "1": "support.damping_ratio", "3": "transmitted_force_range_N"}
+    variants = _stored(url)
     for sort, column in columns.items():
         for order in ("asc", "desc"):
-            expected = _expected(url, column, order == "desc")
+            expected = _expected(variants, column, order == "desc")
             for number in (1, last // 2, last, last + 1):
                 d = _json(f"{address}/api/studies/1/variants?sort={sort}&order={order}&page={number}")
                 assert (d["variants"], d["failed"]) == (n, failed)
