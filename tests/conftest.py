@@ -130,7 +130,10 @@ def serving(app):
         yield f"http://127.0.0.1:{port}"
     finally:
         srv.should_exit = True
-        thread.join(10)
+        thread.join(60)  # uvicorn lets the requests in flight finish first
+        # no thread of the dashboard outlives the test: the warnings filters are one per process,
+        # and a findings job still drawing would change them under the next test
+        app.state.dashboard.close(wait=True)
         app.state.store.close()
         for kept in getattr(app.state, "keeper", ()):  # the connection that keeps designs, if opened
             kept.close()

@@ -181,19 +181,11 @@ def _updated_values(run: Any) -> dict[str, float]:
 
 
 def _updated_model(tested: Any, values: dict[str, float]) -> Any:
-    """The tested model with the updated values set (as the updating set them: each path's
-    locations moved by the same factor from the model's values), loaded."""
+    """The tested model with the updated values set (as the updating set them), loaded."""
     from mechdyn.io.modelfile import load_source
-    from mechdyn.studies.parameters import Parameter
-    from mechdyn.studies.paths import ModelTree
+    from mechdyn.measurement.updating import updated_source
 
-    tree = ModelTree(tested.source)
-    file_values: dict[Any, Any] = {}
-    for name, value in values.items():
-        # the range is not used: the parameter's locations and base values are
-        p = Parameter.from_spec(tree, name, range="±50 %", name=name)[0]
-        file_values.update(p.file_values(value))
-    return load_source(tree.variant(file_values)).model
+    return load_source(updated_source(tested.source, values)).model
 
 
 class Overlay(NamedTuple):

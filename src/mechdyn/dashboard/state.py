@@ -157,9 +157,16 @@ class DashboardState:
         self._curves_lock = threading.Lock()  # one recomputation at a time, each variant's once
         self._tests_lock = threading.Lock()  # one overlay drawn at a time, each test's once
 
-    def close(self) -> None:
-        """Stop working out findings (a server that stops works out nothing more)."""
-        self._findings_pool.shutdown(wait=False, cancel_futures=True)
+    def close(self, wait: bool = False) -> None:
+        """Stop working out findings (a server that stops works out nothing more).
+
+        Parameters
+        ----------
+        wait : bool
+            Also wait for the findings being worked out now to finish (a process that goes on after
+            the server, such as a test run, then has no thread of the dashboard left running).
+        """
+        self._findings_pool.shutdown(wait=wait, cancel_futures=True)
 
     # -- a study and what is kept of it ----------------------------------------------------------
     def study(self, study_id: int) -> StoredStudy | None:

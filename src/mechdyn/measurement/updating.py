@@ -45,7 +45,7 @@ from mechdyn.measurement.compare import ModeComparison, Target, compare_modes
 from mechdyn.measurement.identify import IdentifiedModes
 from mechdyn.measurement.update_result import ModelUpdate
 
-__all__ = ["ModelUpdate", "update_model"]
+__all__ = ["ModelUpdate", "update_model", "updated_source"]
 
 _Z95 = 1.959963984540054  # two-sided 95 % quantile of the standard normal distribution
 _COLLINEAR = 1e-6  # smallest over largest singular value of the scaled sensitivities: columns dependent
@@ -117,6 +117,31 @@ def _parameters(tree: Any, paths: Sequence[str]) -> list[Any]:
             )
         found.append(p)
     return found
+
+
+def updated_source(source: Any, values: Mapping[str, float]) -> Any:
+    """A model file with updated values set as the updating sets them: each path's locations moved
+    by the same factor from the model's values (a vector path moves its components together).
+
+    Parameters
+    ----------
+    source : ModelSource
+        The tested model file.
+    values : mapping of str to float
+        Path → its updated value, SI (the paths :func:`update_model` took).
+
+    Returns
+    -------
+    ModelSource
+        The file with the values, in memory (:func:`mechdyn.io.modelfile.load_source` loads it).
+    """
+    from mechdyn.studies.paths import ModelTree
+
+    tree = ModelTree(source)
+    file_values: dict[Any, Any] = {}
+    for p, value in zip(_parameters(tree, list(values)), values.values(), strict=True):
+        file_values.update(p.file_values(float(value)))
+    return tree.variant(file_values)
 
 
 class _Problem:
