@@ -32,12 +32,20 @@ _LAYOUT = """() => {
 }"""
 
 
+SLOW = pytest.mark.slow
+
+
 @pytest.mark.parametrize(
     ("argv", "name", "figures"),
     [
         (["mechanism", str(EXAMPLES / "press_link_drive.toml"), "--angles", "90"], "press", None),
-        (["support", str(EXAMPLES / "press_on_mounts.toml"), "--cycles", "2"], "mounts", None),
-        (["study", str(EXAMPLES / "studies" / "press_support_influence.toml")], "study", 1),
+        # the support's and the study's reports in CI's heavy step (the same page and checks)
+        pytest.param(
+            ["support", str(EXAMPLES / "press_on_mounts.toml"), "--cycles", "2"], "mounts", None, marks=SLOW
+        ),
+        pytest.param(
+            ["study", str(EXAMPLES / "studies" / "press_support_influence.toml")], "study", 1, marks=SLOW
+        ),
     ],
     ids=["mechanism", "support", "study"],
 )
