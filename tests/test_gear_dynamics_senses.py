@@ -104,7 +104,7 @@ def test_the_meshes_turning_opposite_ways_keep_their_cycles_senses_as_in_simulat
         assert abs(f.min() - s.mesh_force[:, j].min()) <= 3e-3 * swing
 
 
-@pytest.mark.parametrize("ratio", [1.0, 2.5])
+@pytest.mark.parametrize("ratio", [pytest.param(1.0, marks=pytest.mark.slow), 2.5])
 def test_a_motor_behind_a_ratio_runs_where_its_torque_times_the_ratio_carries_the_load(ratio):
     """simulate from rest settles at the speed of Kloss's formula with the ratio on both speed and
     torque; the steady state's motor needs the load over the ratio at its shaft."""

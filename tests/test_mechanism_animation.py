@@ -191,6 +191,7 @@ def _gifs(html: str) -> list[bytes]:
     return [base64.b64decode(m) for m in re.findall(r'src="data:image/gif;base64,([^"]+)"', html)]
 
 
+@pytest.mark.slow  # CI's heavy step (issue 48: the test command's minutes)
 def test_a_mechanism_report_shows_the_animation_and_a_support_report_does_not(tmp_path, capsys):
     db = str(tmp_path / "r.db")
     assert main(["mechanism", str(EXAMPLES / "press_link_drive.toml"), "--db", db, "--angles", "72"]) == 0

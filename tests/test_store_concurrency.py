@@ -235,6 +235,7 @@ def test_an_optimization_killed_at_any_moment_resumes_and_counts_only_its_evalua
     assert len(vs) == len({v.key for v in vs})
 
 
+@pytest.mark.slow  # CI's heavy step (issue 48: the test command's minutes)
 def test_deleting_an_optimization_deletes_its_trials(store_url, tmp_path, capsys):
     path = _study_file(tmp_path, samples=6, batch=3)
     assert main(["study", str(path), "--db", store_url, "--json"]) == 0

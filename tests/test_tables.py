@@ -381,7 +381,13 @@ _SHIPPED = [
 ]
 
 
-@pytest.mark.parametrize("name", _SHIPPED)
+# the two heaviest quick forms (a robust optimization, a speed sweep per sample) in CI's heavy step
+_HEAVY_QUICK = ("press_support_robust.toml", "turret_kv_tolerance.toml")
+
+
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n in _HEAVY_QUICK else n for n in _SHIPPED]
+)
 def test_every_shipped_study_reads_in_words_and_counts_alike(name, tmp_path):
     """One run of each shipped study's quick form (once: parametrized tests go to different workers),
     its tables, JSON and report checked for both rules below."""
