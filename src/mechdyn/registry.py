@@ -223,6 +223,42 @@ class Analysis:
         """Summary key → unit."""
         return {o.key: o.unit or "" for o in self.outputs}
 
+    def output_unit(self, key: str) -> str:
+        """The SI unit of one of the analysis' outputs, by its key: a registered output, or a value
+        inside one named with dots (``joint_force_peak_N.F``, ``natural_frequencies_hz.1``), whose
+        own key suffix names its unit where it has one.
+
+        Parameters
+        ----------
+        key : str
+            The output's key.
+
+        Returns
+        -------
+        str
+            The unit's text (``"N"``, ``"Hz"``), ``""`` for a number without unit.
+
+        Raises
+        ------
+        LookupError
+            A key whose head is not a registered output (naming the nearest and listing them all).
+        """
+        import difflib
+
+        from mechdyn.units import key_unit
+
+        outputs = self.output_units
+        head = key.split(".")[0]
+        if head not in outputs:
+            near = difflib.get_close_matches(head, list(outputs), n=3)
+            raise LookupError(
+                f"{key!r} is not an output of the {self.name} analysis"
+                + (f"; did you mean {', '.join(near)}?" if near else "")
+                + f" Its outputs: {', '.join(outputs)}"
+            )
+        si = key_unit(key.split(".")[-1]) or outputs[head] or ""
+        return "" if si == "1" else si
+
     def run(self, model: Any, **options: Any) -> Any:
         """Run the analysis with the given options (None means "not given").
 

@@ -13,7 +13,6 @@ the order statistics) of every output.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Annotated, Any, Literal
@@ -203,23 +202,14 @@ def _fail(path: str, where: str, message: str, value: Any) -> ModelFileError:
 
 def _output(analysis: Any, row: str | PredictOutputRow, i: int, path: str) -> PredictOutput:
     """An output of the analysis, checked against its registered outputs and its display unit."""
-    from mechdyn.units import UnitError, convert, key_unit
+    from mechdyn.units import UnitError, convert
 
     key, unit = (row, "") if isinstance(row, str) else (row.output, row.unit)
-    outputs = analysis.output_units
-    head = key.split(".")[0]
-    if head not in outputs:
-        near = difflib.get_close_matches(head, list(outputs), n=3)
-        raise _fail(
-            path,
-            f"outputs #{i + 1}",
-            f"{key!r} is not an output of the {analysis.name} analysis"
-            + (f"; did you mean {', '.join(near)}?" if near else "")
-            + f" Its outputs: {', '.join(outputs)} (nested values with dots: floor_force_range_N.3)",
-            key,
-        )
-    si = key_unit(key.split(".")[-1]) or outputs[head] or ""
-    si = "" if si == "1" else si
+    try:
+        si = analysis.output_unit(key)
+    except LookupError as exc:
+        message = f"{exc.args[0]} (nested values with dots: floor_force_range_N.3)"
+        raise _fail(path, f"outputs #{i + 1}", message, key) from None
     if unit:
         try:
             convert(1.0, si or "", unit)
@@ -237,7 +227,7 @@ def _output(analysis: Any, row: str | PredictOutputRow, i: int, path: str) -> Pr
 def _options(analysis: Any, given: Mapping[str, Any], path: str) -> dict[str, Any]:
     """The analysis' options from the file, checked as a design study checks its ``options``."""
     from mechdyn.studies.errors import StudyError
-    from mechdyn.studies.study import _options as study_options
+    from mechdyn.studies.study import analysis_options
 
     known = {o.name: o for o in analysis.options}
     for k in given:
@@ -251,7 +241,7 @@ def _options(analysis: Any, given: Mapping[str, Any], path: str) -> dict[str, An
                 given[k],
             )
     try:
-        return study_options(analysis, given, "")
+        return analysis_options(analysis, given, "")
     except StudyError as exc:
         said = str(exc).split("[study] → options → ", 1)[-1]
         name, _, why = said.partition(": ")

@@ -22,7 +22,6 @@ built in Python with :class:`Study`. Every error names the study file and the fi
 
 from __future__ import annotations
 
-import difflib
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -38,7 +37,7 @@ from mechdyn.studies.parameters import Parameter
 from mechdyn.studies.paths import ModelTree, PathError
 from mechdyn.studies.study_file import ConstraintRow, OutputRow, StudyFile
 
-__all__ = ["Study", "load_studies", "load_study", "study_from_data"]
+__all__ = ["Study", "analysis_options", "load_studies", "load_study", "study_from_data"]
 
 
 @dataclass(frozen=True)
@@ -207,19 +206,12 @@ def _validation_error(path: str, exc: ValidationError) -> StudyError:
 
 def _watched(analysis: Any, key: str, unit: str, where: str) -> Watched:
     """An output of the analysis, checked against what its summary holds."""
-    from mechdyn.units import UnitError, convert, key_unit
+    from mechdyn.units import UnitError, convert
 
-    outputs = analysis.output_units
-    head = key.split(".")[0]
-    if head not in outputs:
-        near = difflib.get_close_matches(key, list(outputs), n=3)
-        raise StudyError(
-            f"{where}: {key!r} is not an output of the {analysis.name} analysis"
-            + (f"; did you mean {', '.join(near)}?" if near else "")
-            + f" Its outputs: {', '.join(outputs)} (nested values with dots: joint_force_peak_N.F)"
-        )
-    si = key_unit(key.split(".")[-1]) or outputs[head] or ""
-    si = "" if si == "1" else si
+    try:
+        si = analysis.output_unit(key)
+    except LookupError as exc:
+        raise StudyError(f"{where}: {exc.args[0]} (nested values with dots: joint_force_peak_N.F)") from None
     if unit:
         try:
             convert(1.0, si or "", unit)
@@ -401,7 +393,7 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
             f"{src_path}: [study] → analysis: {s.analysis!r} runs on "
             f"{', '.join(analysis.model_types)} models; {s.model} is a {base.model_type!r} model"
         )
-    options = _options(analysis, s.options, src_path)
+    options = analysis_options(analysis, s.options, src_path)
     tree = ModelTree(base)
     params: list[Parameter] = []
     for i, row in enumerate(f.parameters):
@@ -529,8 +521,30 @@ def study_from_data(path: str, data: Mapping[str, Any], base: ModelSource | None
     return study
 
 
-def _options(analysis: Any, given: Mapping[str, Any], where: str) -> dict[str, Any]:
-    """The analysis' options from a study file (quantities with units), SI."""
+def analysis_options(analysis: Any, given: Mapping[str, Any], where: str) -> dict[str, Any]:
+    """An analysis' options as a file gives them (quantities with their units), checked and in SI.
+
+    Parameters
+    ----------
+    analysis : mechdyn.registry.Analysis
+        The analysis whose options they are.
+    given : mapping
+        Option name → value as the file writes it (a quantity as text with its unit, a list for an
+        option of several values).
+    where : str
+        The file, for errors.
+
+    Returns
+    -------
+    dict
+        Option name → value, SI.
+
+    Raises
+    ------
+    StudyError
+        An option the analysis does not have, or a value it does not take (naming ``[study] →
+        options → NAME``).
+    """
     from mechdyn.units import UnitError, to_si
 
     known = {o.name: o for o in analysis.options}
