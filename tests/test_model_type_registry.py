@@ -29,7 +29,7 @@ from mechdyn.errors import MechdynError, ModelFileError, ModelWarning
 from mechdyn.io.modelfile import file_types, read_toml, schema_of, validate
 from mechdyn.registry import ModelType, extend_model_type, model_types, register_model_type, resolve
 
-CAPABILITY_PACKAGES = ("drivetrain", "mechanism", "support", "gears", "mounts", "studies")
+CAPABILITY_PACKAGES = tuple(m.split(".")[1] for m in registry.CAPABILITIES)  # those that register types
 TYPES = model_types()
 MODEL_TYPES = sorted(name for name, t in TYPES.items() if t.loads)
 
@@ -322,7 +322,10 @@ def _capability_imports_and_names(path: Path) -> list[str]:
     return found
 
 
-@pytest.mark.parametrize("module", ["modelfile.py", "save.py", "__init__.py"])
+IO_MODULES = sorted(p.name for p in (ROOT / "src" / "mechdyn" / "io").glob("*.py"))
+
+
+@pytest.mark.parametrize("module", IO_MODULES)
 def test_io_imports_and_names_no_capability(module):
     path = ROOT / "src" / "mechdyn" / "io" / module
     assert _capability_imports_and_names(path) == []

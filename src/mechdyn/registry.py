@@ -36,6 +36,7 @@ __all__ = [
     "analyses",
     "extend_model_type",
     "get",
+    "model_scatter",
     "model_types",
     "register",
     "register_model_type",
@@ -373,6 +374,34 @@ def resolve(reference: str) -> Any:
     return obj
 
 
+SCATTER_READER = "mechdyn.studies.model_scatter:read_scatter"
+"""Who reads a model file's ``[[scatter]]`` and ``[[correlations]]``: the studies, whose path resolver
+and parameter reader make the rows' variables (:mod:`mechdyn.io.scatter` describes and writes the
+tables). Named here, as the capabilities are, so that the files beneath the studies reach it."""
+
+
+def model_scatter(source: Any) -> Any:
+    """The scatter a model file gives its values, checked (:data:`SCATTER_READER`); None without
+    ``[[scatter]]`` rows.
+
+    Parameters
+    ----------
+    source : mechdyn.io.modelfile.ModelSource
+        The parsed model file.
+
+    Returns
+    -------
+    mechdyn.studies.model_scatter.ModelScatter or None
+
+    Raises
+    ------
+    ModelFileError
+        Naming the file, the row and field, the value and the fix
+        (:func:`mechdyn.studies.model_scatter.read_scatter`).
+    """
+    return resolve(SCATTER_READER)(source)
+
+
 def _check_reference(owner: str, field: str, value: str | None) -> None:
     if value is not None:
         module, sep, name = value.partition(":")
@@ -589,11 +618,9 @@ class LoadedModel:
     @property
     def scatter(self) -> Any:
         """How the file says its values scatter: its ``[[scatter]]`` and ``[[correlations]]`` rows as
-        a :class:`mechdyn.io.scatter.ModelScatter` (``.space`` is their
+        a :class:`mechdyn.studies.model_scatter.ModelScatter` (``.space`` is their
         :class:`mechdyn.uncertainty.InputSpace`); None for a file without them or a model built in
         Python. No analysis reads it; a ``tolerance`` study on the file takes it as its default."""
         if self.source is None:
             return None
-        from mechdyn.io.scatter import read_scatter
-
-        return read_scatter(self.source)
+        return model_scatter(self.source)

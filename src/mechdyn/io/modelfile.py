@@ -258,10 +258,10 @@ def load_model(path: str | Path) -> LoadedModel:
     ModelFileError
         As :func:`load`.
     """
-    from mechdyn.io.scatter import read_scatter
+    from mechdyn.registry import model_scatter
 
     loaded = load_source(read(path))
-    read_scatter(loaded.source)  # the file's [[scatter]] checked: a path of this model, a valid table
+    model_scatter(loaded.source)  # the file's [[scatter]] checked: a path of this model, a valid table
     return loaded
 
 
@@ -297,14 +297,14 @@ def load(path: str | Path) -> LoadedModel:
         :class:`mechdyn.mechanism.Mechanism`, a :class:`mechdyn.support.MountedMachine`, ...);
         ``.settings`` is the rest of the file; ``.source`` the file itself; ``.type`` its type;
         ``.scatter`` how the file says its values scatter (its ``[[scatter]]`` rows, a
-        :class:`mechdyn.io.scatter.ModelScatter`, or None), which no analysis reads and a
+        :class:`mechdyn.studies.model_scatter.ModelScatter`, or None), which no analysis reads and a
         ``tolerance`` study takes as its default.
 
     Raises
     ------
     ModelFileError
         With the file, the table and field, the bad value and what was expected (a ``[[scatter]]``
-        row's too: :func:`mechdyn.io.scatter.read_scatter`).
+        row's too: :func:`mechdyn.studies.model_scatter.read_scatter`).
 
     Examples
     --------

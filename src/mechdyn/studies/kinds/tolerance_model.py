@@ -28,7 +28,7 @@ def with_model_scatter(
     where: str,
 ) -> tuple[list[Parameter], tuple[tuple[str, str, float, str], ...]]:
     """A tolerance study's parameters and correlations with its model file's scatter as their default
-    (the file's ``[[scatter]]`` and ``[[correlations]]``, :func:`mechdyn.io.scatter.read_scatter`).
+    (the file's ``[[scatter]]`` and ``[[correlations]]``, :func:`mechdyn.studies.model_scatter.read_scatter`).
 
     The study's own parameters come first, in its order; then each of the file's rows whose values
     the study does not name, in the file's order, made as the same row in the study's
@@ -59,7 +59,7 @@ def with_model_scatter(
         scatter.
     """
     from mechdyn.errors import ModelFileError
-    from mechdyn.io.scatter import read_scatter
+    from mechdyn.studies.model_scatter import read_scatter
 
     try:
         found = read_scatter(tree.source, tree)
