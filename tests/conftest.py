@@ -176,21 +176,63 @@ def patient_browser_checks():
     expect.set_options(timeout=5_000)
 
 
+_KERNELS_READY = "MECHDYN_TEST_KERNELS_READY"
+"""The environment variable that names a file the test command writes once numba's kernels are
+compiled (:func:`pytest_configure`); each worker waits for it before its first test."""
+_WARMING = pytest.StashKey()  # the controller's thread that waits for the compiling processes
+
+
 def pytest_configure(config):
-    """Before the xdist workers start, compile numba's kernels in three processes (one per family,
-    ``tests/warm_kernels.py``): on a clean clone the cache is empty, and each worker, and each
+    """Before the xdist workers start, start compiling numba's kernels in three processes (one per
+    family, ``tests/warm_kernels.py``): on a clean clone the cache is empty, and each worker, and each
     command-line subprocess of a test, would compile the same kernels at once. With a warm cache
-    each process finds them cached and exits."""
+    each process finds them cached and exits. The workers collect the tests meanwhile (a core is
+    idle while the largest family compiles) and wait for the kernels before their first test
+    (:func:`pytest_collection_finish`)."""
     if hasattr(config, "workerinput") or not config.pluginmanager.hasplugin("xdist"):
         return
     if not config.getoption("numprocesses", None) or config.getoption("collectonly"):
         return
     import subprocess
+    import tempfile
+    import threading
 
     script = str(Path(__file__).with_name("warm_kernels.py"))
     jobs = [subprocess.Popen([sys.executable, script, family]) for family in ("cycle", "summary", "gears")]
-    for job in jobs:
-        job.wait()
+    ready = Path(tempfile.mkdtemp(prefix="mechdyn-kernels-")) / "ready"
+    os.environ[_KERNELS_READY] = str(ready)  # the workers, started after this hook, inherit it
+
+    def wait_for_them() -> None:
+        for job in jobs:
+            job.wait()
+        ready.touch()
+
+    config.stash[_WARMING] = threading.Thread(target=wait_for_them, daemon=True)
+    config.stash[_WARMING].start()
+
+
+def pytest_collection_finish(session):
+    """In an xdist worker, after collecting: wait until the kernels are compiled (the file named by
+    :data:`_KERNELS_READY` exists), however long that takes within the run's own timeout."""
+    import time
+
+    ready = os.environ.get(_KERNELS_READY)
+    if not ready or not hasattr(session.config, "workerinput"):
+        return
+    deadline = time.monotonic() + 900
+    while not os.path.exists(ready) and time.monotonic() < deadline:
+        time.sleep(0.05)
+
+
+def pytest_unconfigure(config):
+    """The controller waits for the compiling processes (a short run may end first) and removes the
+    file that said the kernels were ready, and its folder."""
+    warming = config.stash.get(_WARMING, None)
+    if warming is not None:
+        import shutil
+
+        warming.join()
+        shutil.rmtree(Path(os.environ[_KERNELS_READY]).parent, ignore_errors=True)
 
 
 def pytest_xdist_auto_num_workers(config):
