@@ -130,7 +130,8 @@ def _frf(
 ) -> Any:
     import numpy as np
 
-    from mechdyn.drivetrain.response import ModalDamping, frf
+    from mechdyn.drivetrain.damping import ModalDamping
+    from mechdyn.drivetrain.response import frf
 
     model = loaded.model
     _, resp = _file_settings(loaded)

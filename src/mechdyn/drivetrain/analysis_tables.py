@@ -16,7 +16,7 @@ from typing import Annotated, Any
 
 from pydantic import Field, model_validator
 
-from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
+from mechdyn.drivetrain.damping import ModalDamping, RayleighDamping
 from mechdyn.io.fields import Angle, AngularSpeed, FileModel, Frequency, PerSecond, Time, Torque
 
 __all__ = [

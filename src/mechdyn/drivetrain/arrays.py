@@ -12,15 +12,13 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from mechdyn.checks import check_array
+from mechdyn.drivetrain.structure import BlockGroup
 from mechdyn.errors import ModelError
-
-if TYPE_CHECKING:
-    from mechdyn.drivetrain.model import Drivetrain
 
 __all__ = ["chain", "si_array", "trusted"]
 
@@ -110,7 +108,11 @@ def _names(owner: str, field: str, given: Sequence[str] | None, prefix: str, cou
     return out
 
 
+_Model = TypeVar("_Model")
+
+
 def chain(
+    model: type[_Model],
     inertias: Any,
     stiffnesses: Any,
     *,
@@ -118,10 +120,23 @@ def chain(
     name: str = "drivetrain",
     disk_names: Sequence[str] | None = None,
     shaft_names: Sequence[str] | None = None,
-) -> Drivetrain:
-    """A chain of disks joined by shafts, built from arrays (see :meth:`Drivetrain.chain`)."""
+) -> _Model:
+    """A chain of disks joined by shafts, built from arrays (see :meth:`Drivetrain.chain`).
+
+    Parameters
+    ----------
+    model : type
+        The model class to build, :class:`~mechdyn.drivetrain.Drivetrain` (its checks skipped: the
+        values are checked here, vectorised).
+    inertias, stiffnesses, damping, name, disk_names, shaft_names
+        As :meth:`Drivetrain.chain` takes them (kg·m², N·m/rad, N·m·s/rad).
+
+    Returns
+    -------
+    Drivetrain
+        The chain, with what the analyses derive from its elements made as arrays.
+    """
     from mechdyn.drivetrain.elements import Disk, Shaft
-    from mechdyn.drivetrain.model import BlockGroup, Drivetrain
 
     J = si_array(name, "inertias", inertias, "kg*m^2", positive=True)
     n = J.size
@@ -161,7 +176,7 @@ def chain(
         )
         for s, ab, kk, cc in zip(shaft_list, ends, kl, cl, strict=True)
     )
-    dt = trusted(Drivetrain, disks=disks, elements=shafts, name=name, provenance={})
+    dt = trusted(model, disks=disks, elements=shafts, name=name, provenance={})
     # what the analyses derive from the elements, as arrays: the same values the element walk gives
     index = {d: i for i, d in enumerate(disk_list)}
     at = np.arange(n, dtype=np.intp)

@@ -14,22 +14,26 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Generic, TypeVar
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
-from mechdyn.drivetrain.model import Drivetrain
+from mechdyn.drivetrain.structure import DrivetrainLike
 from mechdyn.errors import ModelCheckError, ModelError
 
 __all__ = ["Assembly", "assemble"]
 
 _TOL = 1e-10
 
+#: The model an assembly was made from (:class:`~mechdyn.drivetrain.Drivetrain`).
+_Model = TypeVar("_Model", bound=DrivetrainLike)
+
 
 @dataclass(frozen=True)
-class Assembly:
+class Assembly(Generic[_Model]):
     """The assembled drivetrain.
 
     Attributes
@@ -51,7 +55,7 @@ class Assembly:
         The diagonal of M, kg·m², where M is diagonal (no consistent shaft inertia); else None.
     """
 
-    drivetrain: Drivetrain
+    drivetrain: _Model
     T: sp.csr_array
     coordinate_names: tuple[str, ...]
     M: sp.csr_array
@@ -176,7 +180,7 @@ def _diagonal(values: np.ndarray) -> sp.csr_array:
     return sp.csr_array((np.asarray(values, dtype=float), at[:-1], at), shape=(n, n))
 
 
-def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
+def _scatter(drivetrain: DrivetrainLike, which: str) -> sp.csr_array:
     n = len(drivetrain.dof_names)
     rows, cols, vals = [], [], []
     for g in drivetrain.block_groups(which):
@@ -189,7 +193,7 @@ def _scatter(drivetrain: Drivetrain, which: str) -> sp.csr_array:
     return _csr(np.concatenate(rows), np.concatenate(cols), np.concatenate(vals), (n, n))
 
 
-def _reduction(drivetrain: Drivetrain) -> tuple[sp.csr_array, tuple[str, ...]]:
+def _reduction(drivetrain: DrivetrainLike) -> tuple[sp.csr_array, tuple[str, ...]]:
     """θ = T q for the rigid-mesh constraints; each disk follows its group's first disk."""
     n = len(drivetrain.dof_names)
     links = []
@@ -218,7 +222,7 @@ def _reduce(T: sp.csr_array, A: sp.csr_array, reduced: bool) -> sp.csr_array:
     return sp.csr_array(T.T @ A @ T) if reduced else A
 
 
-def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
+def assemble(drivetrain: _Model, *, check: bool = True) -> Assembly[_Model]:
     """Assemble the reduced mass, stiffness and damping matrices of a drivetrain.
 
     Parameters
@@ -251,7 +255,7 @@ def assemble(drivetrain: Drivetrain, *, check: bool = True) -> Assembly:
     return drivetrain.assembly if check else _assemble(drivetrain, check=False)
 
 
-def _mass_diagonal(drivetrain: Drivetrain) -> np.ndarray | None:
+def _mass_diagonal(drivetrain: DrivetrainLike) -> np.ndarray | None:
     """The diagonal of the full mass matrix where every mass block is diagonal, else None.
 
     Disks only: their inertias, exactly (the fast path every model without shaft inertia takes).
@@ -267,7 +271,7 @@ def _mass_diagonal(drivetrain: Drivetrain) -> np.ndarray | None:
     return J
 
 
-def _assemble(drivetrain: Drivetrain, *, check: bool) -> Assembly:
+def _assemble(drivetrain: _Model, *, check: bool) -> Assembly[_Model]:
     T, names = _reduction(drivetrain)
     reduced = T.shape[0] != T.shape[1]
     J = _mass_diagonal(drivetrain)
@@ -339,11 +343,11 @@ def _check_mass(asm: Assembly) -> None:
         ) from None
 
 
-def _element_name(drivetrain: Drivetrain, position: int) -> str:
+def _element_name(drivetrain: DrivetrainLike, position: int) -> str:
     return drivetrain.element_blocks[position][0].name
 
 
-def _check_elements(drivetrain: Drivetrain) -> None:
+def _check_elements(drivetrain: DrivetrainLike) -> None:
     for which in ("mass", "stiffness", "damping"):
         for g in drivetrain.block_groups(which):
             B = g.blocks

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from mechdyn.drivetrain.assembly import Assembly
 from mechdyn.drivetrain.banded import band_form, direct_response, static_flexible
+from mechdyn.drivetrain.damping import RayleighDamping
 from mechdyn.drivetrain.truncation import chain_form, modes_below, rigid_modes, truncation_factor
 from mechdyn.errors import ModelError
 from mechdyn.units import convert
@@ -167,7 +168,6 @@ def full_basis(
     orthonormal would give a wrong sum) at O(n²) cost; the model's own dampers are carried to the modes
     and must come out diagonal.
     """
-    from mechdyn.drivetrain.response import RayleighDamping
 
     n, n_rb = asm.n, asm.n_rigid_body
     if modes.omega.size + n_rb != n:
@@ -279,7 +279,6 @@ def respond(
         ``theta`` already scaled by ``amps``.
     """
     from mechdyn.drivetrain.modal import modal
-    from mechdyn.drivetrain.response import RayleighDamping
 
     n = asm.n
     rayleigh = isinstance(damping, RayleighDamping)
@@ -412,7 +411,6 @@ def _truncated(
     cutoff: float,
 ) -> Response:
     """Every mode up to ``cutoff`` × the top frequency, and the others' static response."""
-    from mechdyn.drivetrain.response import RayleighDamping
 
     n, n_rb = asm.n, asm.n_rigid_body
     M = asm.mass_operator()

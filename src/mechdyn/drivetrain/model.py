@@ -13,28 +13,10 @@ import numpy as np
 
 from mechdyn.drivetrain.elements import Disk, Element, ElementBlocks, Shaft
 from mechdyn.drivetrain.gear_mesh import GearMesh
+from mechdyn.drivetrain.structure import BlockGroup
 from mechdyn.errors import ModelError
 
 __all__ = ["BlockGroup", "Drivetrain"]
-
-
-@dataclass(frozen=True)
-class BlockGroup:
-    """Blocks of equal size from several elements, stacked for vectorised work.
-
-    Attributes
-    ----------
-    elements : ndarray
-        (m,) positions in :attr:`Drivetrain.element_blocks`.
-    dofs : ndarray
-        (m, k) degree-of-freedom indices (:attr:`Drivetrain.dof_names`) of each block.
-    blocks : ndarray
-        (m, k, k) the blocks.
-    """
-
-    elements: np.ndarray
-    dofs: np.ndarray
-    blocks: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -162,7 +144,13 @@ class Drivetrain:
         from mechdyn.drivetrain.arrays import chain
 
         return chain(
-            inertias, stiffnesses, damping=damping, name=name, disk_names=disk_names, shaft_names=shaft_names
+            cls,
+            inertias,
+            stiffnesses,
+            damping=damping,
+            name=name,
+            disk_names=disk_names,
+            shaft_names=shaft_names,
         )
 
     def to_frame(self) -> Any:

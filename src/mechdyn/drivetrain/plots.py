@@ -3,26 +3,159 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
+from mechdyn.drivetrain.elements import Disk, Element, ElementBlocks
 from mechdyn.plotting import legend, new_axes
 from mechdyn.units import convert
 
-if TYPE_CHECKING:
-    from mechdyn.drivetrain.campbell import CampbellResult
-    from mechdyn.drivetrain.modal import ModalResult
-    from mechdyn.drivetrain.response import FRFResult
-
 __all__ = ["plot_campbell", "plot_frf", "plot_frf_loads", "plot_mode_shapes"]
+
+
+class _DrawnModel(Protocol):
+    """What the figures read of the model: its name (titles) and its elements with their blocks."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def element_blocks(self) -> tuple[tuple[Element | Disk, ElementBlocks], ...]: ...
+
+
+class ModeShapes(Protocol):
+    """What :func:`plot_mode_shapes` reads of the modes (:class:`.modal.ModalResult`): the result is
+    passed as it is.
+
+    Attributes
+    ----------
+    drivetrain : Drivetrain
+        The model (its name; its elements, whose ratios break the lines and whose inner nodes are
+        drawn between their disks).
+    disk_names : tuple of str
+        The rows of the shapes: the disks, then the nodes inside divided shafts.
+    omega : ndarray
+        (n_modes,) natural circular frequencies of the flexible modes, rad/s.
+    frequencies_hz : ndarray
+        (n_modes,) the same in Hz.
+    unit_shapes : ndarray
+        (n_dofs, n_modes) the mode shapes, largest angle +1 (rad per rad).
+    rigid_gears : bool
+        Whether the meshes were taken as rigid constraints (the title).
+    dominant_element : callable
+        ``dominant_element(mode)``: the element with the largest share of mode ``mode``'s strain
+        energy (0-based) and that share (a fraction).
+    """
+
+    @property
+    def drivetrain(self) -> _DrawnModel: ...
+    @property
+    def disk_names(self) -> tuple[str, ...]: ...
+    @property
+    def omega(self) -> np.ndarray: ...
+    @property
+    def frequencies_hz(self) -> np.ndarray: ...
+    @property
+    def unit_shapes(self) -> np.ndarray: ...
+    @property
+    def rigid_gears(self) -> bool: ...
+    def dominant_element(self, mode: int) -> tuple[str, float]: ...
+
+
+class _Excitation(Protocol):
+    """An excitation line of a Campbell diagram (:class:`.campbell.ExcitationLine`)."""
+
+    @property
+    def label(self) -> str: ...
+    @property
+    def kind(self) -> str: ...
+    def frequency_hz(self, speed_rad_s: np.ndarray | float) -> np.ndarray: ...
+
+
+class _NaturalFrequencies(Protocol):
+    """The modes of a Campbell diagram: their frequencies (Hz) and the model (its name)."""
+
+    @property
+    def frequencies_hz(self) -> np.ndarray: ...
+    @property
+    def drivetrain(self) -> _DrawnModel: ...
+
+
+class CampbellChart(Protocol):
+    """What :func:`plot_campbell` reads of a Campbell diagram (:class:`.campbell.CampbellResult`): the
+    result is passed as it is.
+
+    Attributes
+    ----------
+    modal : ModalResult
+        The modes: natural frequencies (Hz) and the model's name.
+    reference : str
+        The disk whose speed is the abscissa.
+    speed_range : (float, float)
+        Reference speeds, rad/s.
+    lines : sequence of ExcitationLine
+        The excitations: label, kind (``"shaft"`` or ``"mesh"``) and frequency (Hz) at a speed (rad/s).
+    crossings : list of dict
+        Each crossing's ``frequency_hz`` (Hz) and ``speed_rpm`` (rpm).
+    """
+
+    @property
+    def modal(self) -> _NaturalFrequencies: ...
+    @property
+    def reference(self) -> str: ...
+    @property
+    def speed_range(self) -> tuple[float, float]: ...
+    @property
+    def lines(self) -> Sequence[_Excitation]: ...
+    @property
+    def crossings(self) -> list[dict[str, Any]]: ...
+
+
+class FrequencyCurves(Protocol):
+    """What :func:`plot_frf` and :func:`plot_frf_loads` read of a frequency response
+    (:class:`.response.FRFResult`): the result is passed as it is.
+
+    Attributes
+    ----------
+    frequencies_hz : ndarray
+        (n_f,) excitation frequencies, Hz.
+    disk_names : tuple of str
+        The columns of ``angles``.
+    angles : ndarray
+        (n_f, n_dofs) complex angle amplitudes, rad.
+    element_names, element_units : tuple of str
+        The columns of ``element_loads`` and their units (``"N*m"``, ``"N"``).
+    element_loads : ndarray
+        (n_f, n_elements) complex loads, N·m or N.
+    natural_frequencies_hz : ndarray
+        Natural frequencies, Hz, marked on the curves.
+    model_name : str
+        For the titles.
+    """
+
+    @property
+    def frequencies_hz(self) -> np.ndarray: ...
+    @property
+    def disk_names(self) -> tuple[str, ...]: ...
+    @property
+    def angles(self) -> np.ndarray: ...
+    @property
+    def element_names(self) -> tuple[str, ...]: ...
+    @property
+    def element_units(self) -> tuple[str, ...]: ...
+    @property
+    def element_loads(self) -> np.ndarray: ...
+    @property
+    def natural_frequencies_hz(self) -> np.ndarray: ...
+    @property
+    def model_name(self) -> str: ...
 
 
 def _hz(f: float) -> str:
     return f"{f:.0f} Hz" if f >= 100 else f"{f:.4g} Hz"
 
 
-def _dof_order(result: ModalResult) -> list[int]:
+def _dof_order(result: ModeShapes) -> list[int]:
     """The degrees of freedom in the order they are drawn: the disks as given, each divided shaft's
     nodes between its two disks where those are neighbours (else after the disks)."""
     names = list(result.disk_names)
@@ -44,7 +177,7 @@ def _dof_order(result: ModalResult) -> list[int]:
     return order
 
 
-def _segments(result: ModalResult, names: Sequence[str]) -> tuple[list[list[int]], dict[int, str]]:
+def _segments(result: ModeShapes, names: Sequence[str]) -> tuple[list[list[int]], dict[int, str]]:
     """The degrees of freedom in drawing order (``names``), split where neighbours are not joined at
     ratio 1 (a gear mesh between them, or nothing): runs to draw as one line, and a label for each
     break (the elements that change the ratio there, e.g. ``mesh 1 (ratio 4.32)``)."""
@@ -74,7 +207,7 @@ def _segments(result: ModalResult, names: Sequence[str]) -> tuple[list[list[int]
     return runs, breaks
 
 
-def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax: Any = None) -> Any:
+def plot_mode_shapes(result: ModeShapes, modes: Sequence[int] | None = None, ax: Any = None) -> Any:
     """Unit-scaled flexible mode shapes, one panel per mode (disk angle against disk).
 
     A gear mesh changes the angle by its ratio, so the line breaks there (a dotted separator named
@@ -83,7 +216,7 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
     Parameters
     ----------
     result : ModalResult
-        The modes.
+        The modes (or anything with what :class:`ModeShapes` names).
     modes : sequence of int, optional
         Modes to draw, 1-based (default: the lowest six).
     ax : matplotlib.axes.Axes, optional
@@ -154,8 +287,24 @@ def plot_mode_shapes(result: ModalResult, modes: Sequence[int] | None = None, ax
     return first
 
 
-def plot_campbell(result: CampbellResult, ax: Any = None, max_frequency_hz: float | None = None) -> Any:
-    """Excitation lines against reference speed (rpm), natural frequencies as horizontal lines."""
+def plot_campbell(result: CampbellChart, ax: Any = None, max_frequency_hz: float | None = None) -> Any:
+    """Excitation lines against reference speed (rpm), natural frequencies as horizontal lines.
+
+    Parameters
+    ----------
+    result : CampbellResult
+        The diagram (or anything with what :class:`CampbellChart` names).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on (default: a new figure).
+    max_frequency_hz : float, optional
+        Top of the frequency axis, Hz (default: a little above the highest excitation, and at least
+        past the lowest natural frequency).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+    """
     ax = new_axes(ax, figsize=(9.5, 4.8))
     lo, hi = result.speed_range
     rpm = convert(np.linspace(lo, hi, 2), "rad/s", "rpm")
@@ -183,7 +332,7 @@ def plot_campbell(result: CampbellResult, ax: Any = None, max_frequency_hz: floa
     return ax
 
 
-def _bode(result: FRFResult, curves: dict[str, np.ndarray], unit: str, ax: Any) -> Any:
+def _bode(result: FrequencyCurves, curves: dict[str, np.ndarray], unit: str, ax: Any) -> Any:
     """Magnitude (log-log) of each complex curve in ``unit`` and, on a new figure, its phase under it."""
     import matplotlib.pyplot as plt
 
@@ -226,12 +375,13 @@ def overlaid_complex(curves: dict[str, np.ndarray]) -> list[tuple[str, np.ndarra
     return [(label, first[label]) for label, _ in kept]
 
 
-def plot_frf(result: FRFResult, outputs: Sequence[str] | None = None, ax: Any = None) -> Any:
+def plot_frf(result: FrequencyCurves, outputs: Sequence[str] | None = None, ax: Any = None) -> Any:
     """Disk angles per unit excitation against frequency: magnitude (log-log) and phase (deg).
 
     Parameters
     ----------
     result : FRFResult
+        The response (or anything with what :class:`FrequencyCurves` names).
     outputs : sequence of str, optional
         Disks to draw (default: every disk).
     ax : matplotlib.axes.Axes, optional
@@ -250,13 +400,14 @@ def plot_frf(result: FRFResult, outputs: Sequence[str] | None = None, ax: Any = 
     return ax
 
 
-def plot_frf_loads(result: FRFResult, unit: str = "N*m", ax: Any = None) -> Any:
+def plot_frf_loads(result: FrequencyCurves, unit: str = "N*m", ax: Any = None) -> Any:
     """Shaft torques (``unit="N*m"``) or mesh forces (``unit="N"``) against frequency: magnitude
     (log-log, in kN·m or kN where large) and phase (deg), per unit excitation.
 
     Parameters
     ----------
     result : FRFResult
+        The response (or anything with what :class:`FrequencyCurves` names).
     unit : {"N*m", "N"}
         Which loads: those of shafts and grounded springs (N·m), or of flexible meshes (N).
     ax : matplotlib.axes.Axes, optional

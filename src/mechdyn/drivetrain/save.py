@@ -205,7 +205,7 @@ def _simulation_tables(doc: TomlDocument, d: Any) -> None:
 
 
 def _response(doc: TomlDocument, r: Any) -> None:
-    from mechdyn.drivetrain.response import ModalDamping, RayleighDamping
+    from mechdyn.drivetrain.damping import ModalDamping, RayleighDamping
 
     modal = None
     if isinstance(r.damping, ModalDamping):

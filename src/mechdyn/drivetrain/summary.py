@@ -8,13 +8,12 @@ from typing import TYPE_CHECKING, Any
 
 from mechdyn.drivetrain.elements import GroundDamper, GroundSpring, Shaft
 from mechdyn.drivetrain.gear_mesh import GearMesh
+from mechdyn.drivetrain.structure import DrivetrainLike
 from mechdyn.results import Table
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
     import pandas as pd
-
-    from mechdyn.drivetrain.model import Drivetrain
 
 __all__ = ["model_frame", "model_table"]
 
@@ -36,7 +35,7 @@ def _shown(rows: list[list[Any]]) -> list[list[Any]]:
 _SHOWN = {"kg*m^2": "kg·m²", "N*m/rad": "N·m/rad", "N*m*s/rad": "N·m·s/rad", "N*s/m": "N·s/m"}
 
 
-def _rows(drivetrain: Drivetrain) -> list[list[Any]]:
+def _rows(drivetrain: DrivetrainLike) -> list[list[Any]]:
     said = drivetrain.provenance
     rows: list[list[Any]] = []
     for d in drivetrain.disks:
@@ -76,7 +75,7 @@ def _rows(drivetrain: Drivetrain) -> list[list[Any]]:
     return rows
 
 
-def model_table(drivetrain: Drivetrain) -> Table:
+def model_table(drivetrain: DrivetrainLike) -> Table:
     """The model as assembled: inertias (kg·m²), stiffnesses (N·m/rad; meshes N/m), dampings, and
     where each came from.
 
@@ -103,7 +102,7 @@ def model_table(drivetrain: Drivetrain) -> Table:
     )
 
 
-def model_frame(drivetrain: Drivetrain) -> pd.DataFrame:
+def model_frame(drivetrain: DrivetrainLike) -> pd.DataFrame:
     """:func:`model_table` as a DataFrame: one row per disk and element, values in SI.
 
     Parameters

@@ -23,7 +23,7 @@ import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import Any, TypeVar
 
 import numpy as np
 import scipy.sparse as sp
@@ -31,14 +31,14 @@ import scipy.sparse as sp
 from mechdyn.checks import magnitude_limit, smallest_positive
 from mechdyn.drivetrain.arrays import trusted
 from mechdyn.drivetrain.assembly import _DENSE_STIFFNESS, Assembly
+from mechdyn.drivetrain.structure import DrivetrainLike
 from mechdyn.errors import ModelError
-
-if TYPE_CHECKING:
-    from mechdyn.drivetrain.model import Drivetrain
 
 __all__ = ["ValueLayout", "value_layout", "variant_items", "with_values"]
 
 _LINEAR_TOL = 1e-12
+#: The model a variant is made of, and made as (:class:`~mechdyn.drivetrain.Drivetrain`).
+_Model = TypeVar("_Model", bound=DrivetrainLike)
 #: What the variant shares with its base model: everything that does not depend on the values.
 _STRUCTURE = (
     "disk_names",
@@ -138,7 +138,7 @@ class ValueLayout:
     item_of: tuple[int, ...]
 
 
-def value_layout(dt: Drivetrain) -> ValueLayout | None:
+def value_layout(dt: DrivetrainLike) -> ValueLayout | None:
     """The layout of a built model, or None where some element's blocks are not linear in its values
     (no element today).
 
@@ -268,7 +268,7 @@ class _ValueAssembly(Assembly):
         return self.layout.K.shape[0]
 
 
-def variant_assembly(dt: Drivetrain, layout: ValueLayout, values: np.ndarray) -> Assembly:
+def variant_assembly(dt: DrivetrainLike, layout: ValueLayout, values: np.ndarray) -> Assembly:
     """The assembly of a variant made by :func:`with_values`, on its base's structure (no checks: see
     the module's notes).
 
@@ -318,12 +318,10 @@ def _checked(name: str, field: str, value: Any, unit: str, rule: str) -> float:
 _PLAIN = frozenset({float, int, np.float64})
 
 
-def _on_structure(dt: Drivetrain, layout: ValueLayout, changes: Mapping[str, Any]) -> Drivetrain | None:
+def _on_structure(dt: _Model, layout: ValueLayout, changes: Mapping[str, Any]) -> _Model | None:
     """The variant on ``dt``'s structure when every value given is a plain positive number of a value
     the layout holds; None otherwise (then :func:`with_values` takes the general path, which also
     words the errors). The numbers are checked here, vectorised, against the elements' bounds."""
-    from mechdyn.drivetrain.model import Drivetrain
-
     at: list[int] = []
     given: list[Any] = []
     for field, values in changes.items():
@@ -355,7 +353,7 @@ def _on_structure(dt: Drivetrain, layout: ValueLayout, changes: Mapping[str, Any
     # the disk and element objects are built when first read (Drivetrain.__getattr__, variant_items):
     # the variant's analyses need its structure and values alone
     variant = trusted(
-        Drivetrain,
+        type(dt),
         name=dt.name,
         provenance=_provenance(dt, _changed_items(layout, at)) if dt.provenance else dt.provenance,
     )
@@ -409,7 +407,7 @@ def variant_items(layout: ValueLayout, values: np.ndarray) -> tuple[tuple[Any, .
     return tuple(items[:n_disks]), tuple(items[n_disks:])
 
 
-def _provenance(dt: Drivetrain, new: Mapping[int, Any]) -> dict[str, str]:
+def _provenance(dt: DrivetrainLike, new: Mapping[int, Any]) -> dict[str, str]:
     """``dt``'s provenance less the entries of the values changed (where they came from no longer holds)."""
     stale = set()
     n_disks = len(dt.disks)
@@ -423,15 +421,13 @@ def _provenance(dt: Drivetrain, new: Mapping[int, Any]) -> dict[str, str]:
     return {k: v for k, v in dt.provenance.items() if k not in stale}
 
 
-def with_values(dt: Drivetrain, changes: Mapping[str, Mapping[str, Any]]) -> Drivetrain:
+def with_values(dt: _Model, changes: Mapping[str, Mapping[str, Any]]) -> _Model:
     """The variant of ``dt`` with new values (see :meth:`Drivetrain.with_values`).
 
     Plain numbers for values the model has go the fast way (:func:`_on_structure`: one vectorised
     check, the structure shared); quantities, a value that appears or vanishes, and every error go
     the general way below, value by value.
     """
-    from mechdyn.drivetrain.model import Drivetrain
-
     layout: ValueLayout | None = dt._value_layout
     if layout is not None:
         fast_variant = _on_structure(dt, layout, changes)
@@ -503,7 +499,7 @@ def with_values(dt: Drivetrain, changes: Mapping[str, Mapping[str, Any]]) -> Dri
     disks, elements = tuple(items[:n_disks]), tuple(items[n_disks:])
     if not fast:
         return dataclasses.replace(dt, disks=disks, elements=elements, provenance=provenance)
-    variant = trusted(Drivetrain, disks=disks, elements=elements, name=dt.name, provenance=provenance)
+    variant = trusted(type(dt), disks=disks, elements=elements, name=dt.name, provenance=provenance)
     d = variant.__dict__
     for key in _STRUCTURE:
         if key in dt.__dict__:
