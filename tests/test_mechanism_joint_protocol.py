@@ -19,7 +19,7 @@ import numpy as np
 
 import mechdyn
 from mechdyn.mechanism import Body, Driver, Mechanism, Revolute, inverse_dynamics
-from mechdyn.mechanism.constraints import JointTerms, _perp, _rotate
+from mechdyn.mechanism.joint_terms import JointTerms, _perp, _rotate
 
 
 class DistanceTerms(JointTerms):

@@ -18,7 +18,7 @@ from mechdyn.errors import MechdynError
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
-    from mechdyn.mechanism.dynamics import DynamicsResult
+    from mechdyn.mechanism.plots import CycleResult
 
 __all__ = ["animate", "check_animation_path"]
 
@@ -58,7 +58,7 @@ def check_animation_path(path: str | Path) -> Path:
     return p
 
 
-def _cycle_order(result: DynamicsResult) -> np.ndarray:
+def _cycle_order(result: CycleResult) -> np.ndarray:
     """The samples in the order the crank passes them, from the first (the angle datum): the arrays
     are sorted by crank angle counted counter-clockwise, and a crank turning clockwise passes them
     backwards."""
@@ -67,7 +67,7 @@ def _cycle_order(result: DynamicsResult) -> np.ndarray:
 
 
 def animate(
-    result: DynamicsResult,
+    result: CycleResult,
     path: str | Path | None = None,
     frames: int = FRAMES,
     *,

@@ -10,20 +10,32 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
 from mechdyn.errors import ModelError
+from mechdyn.mechanism.joint_terms import GearTerms, PrismaticTerms, RevoluteTerms
 from mechdyn.units import si_field
-
-if TYPE_CHECKING:
-    from mechdyn.mechanism.model import Mechanism
 
 __all__ = ["GROUND", "Body", "Counterweight", "GearJoint", "Prismatic", "Revolute"]
 
 GROUND = "ground"
 """Name of the frame in joint definitions."""
+
+
+class Drawn(Protocol):
+    """What a joint reads of the mechanism it belongs to (:class:`~mechdyn.mechanism.model.Mechanism`)
+    to build its constraint terms."""
+
+    def local(self, body: str, point: str) -> np.ndarray:
+        """A drawing point in a body's frame, m (see :meth:`Mechanism.local`)."""
+        ...
+
+    @property
+    def gear_laws(self) -> Mapping[str, Any]:
+        """Each gear pair's rolling law by joint name (see :attr:`Mechanism.gear_laws`)."""
+        ...
 
 
 def _point(owner: str, field_name: str, value: Any) -> tuple[float, float]:
@@ -179,8 +191,8 @@ class Revolute(_AtAPoint):
     pins: ClassVar[bool] = True  # its two bodies share the point and turn about it
     slides: ClassVar[bool] = False
 
-    def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
-        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.RevoluteTerms`).
+    def terms(self, mechanism: Drawn, slot: Callable[[str], int]) -> Any:
+        """Its constraint terms (:class:`~mechdyn.mechanism.joint_terms.RevoluteTerms`).
 
         Parameters
         ----------
@@ -189,8 +201,6 @@ class Revolute(_AtAPoint):
         slot : callable
             Body name → index of its first coordinate in the mechanism's coordinate vector.
         """
-        from mechdyn.mechanism.constraints import RevoluteTerms
-
         a, b = self.bodies
         return RevoluteTerms(slot(a), slot(b), mechanism.local(a, self.point), mechanism.local(b, self.point))
 
@@ -226,8 +236,8 @@ class Prismatic(_AtAPoint):
     def __post_init__(self) -> None:
         object.__setattr__(self, "axis", si_field(self.name, "axis", self.axis, "rad"))
 
-    def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
-        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.PrismaticTerms`).
+    def terms(self, mechanism: Drawn, slot: Callable[[str], int]) -> Any:
+        """Its constraint terms (:class:`~mechdyn.mechanism.joint_terms.PrismaticTerms`).
 
         Parameters
         ----------
@@ -236,8 +246,6 @@ class Prismatic(_AtAPoint):
         slot : callable
             Body name → index of its first coordinate in the mechanism's coordinate vector.
         """
-        from mechdyn.mechanism.constraints import PrismaticTerms
-
         a, b = self.bodies
         normal = np.array([-math.sin(self.axis), math.cos(self.axis)])
         sa, sb = mechanism.local(a, self.point), mechanism.local(b, self.point)
@@ -361,8 +369,8 @@ class GearJoint:
         """Gear 1's pivot (where the joint is drawn)."""
         return self.points[0]
 
-    def terms(self, mechanism: Mechanism, slot: Callable[[str], int]) -> Any:
-        """Its constraint terms (:class:`~mechdyn.mechanism.constraints.GearTerms`).
+    def terms(self, mechanism: Drawn, slot: Callable[[str], int]) -> Any:
+        """Its constraint terms (:class:`~mechdyn.mechanism.joint_terms.GearTerms`).
 
         Parameters
         ----------
@@ -371,8 +379,6 @@ class GearJoint:
         slot : callable
             Body name → index of its first coordinate in the mechanism's coordinate vector.
         """
-        from mechdyn.mechanism.constraints import GearTerms
-
         c1, c2 = (mechanism.local(self.carrier, p) for p in self.points)
         g1, g2 = (slot(b) for b in self.bodies)
         law = mechanism.gear_laws[self.name]

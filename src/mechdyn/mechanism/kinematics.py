@@ -16,11 +16,15 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
 from mechdyn.mechanism.constraints import ConstraintSet
+from mechdyn.mechanism.dyads import NotDecomposable, cycle
+from mechdyn.mechanism.dyads.angles import crank_angles
 from mechdyn.mechanism.linalg import solve_with_det
 from mechdyn.mechanism.model import GROUND, Mechanism
+from mechdyn.mechanism.motion import mechanism_dyads, point_motion, transmission_angle
+from mechdyn.mechanism.revolution import MAX_ANGLES, AssemblyError, SingularPositionError, check_angles
+from mechdyn.mechanism.screening import ANGLE_TOL
 
 __all__ = [
     "MAX_ANGLES",
@@ -36,35 +40,9 @@ __all__ = [
     "newton_motion",
 ]
 
-MAX_ANGLES = 100_000
-"""The most crank angles per revolution an analysis takes (as a model file's ``n_angles``)."""
 TOL = 1e-11  # residual tolerance relative to the mechanism's size
 MAX_ITER = 30
 SINGULAR_RATIO = 1e-12  # |det Φ_q| / Π ‖rows‖ below this counts as singular
-
-
-def check_angles(n_angles: Any) -> int:
-    """The number of crank angles per revolution, checked: a whole number from 4 to :data:`MAX_ANGLES`.
-
-    Parameters
-    ----------
-    n_angles : int
-        Crank angles per revolution.
-
-    Raises
-    ------
-    mechdyn.errors.ModelError
-        Naming ``n_angles``, its value and the range.
-    """
-    return check_count(None, "n_angles", n_angles, low=4, high=MAX_ANGLES, what="crank angles")
-
-
-class AssemblyError(ModelError):
-    """The mechanism cannot be assembled at some crank angle."""
-
-
-class SingularPositionError(ModelError):
-    """The constraint Jacobian is singular (a toggle or dead-centre position)."""
 
 
 @dataclass(frozen=True)
@@ -134,8 +112,6 @@ class KinematicsResult:
         """Each dyad's transmission angle over the cycle, rad from 0 to π/2, keyed by the joint at the
         dyad's inner point (see :mod:`mechdyn.mechanism.motion` for the definition); empty for a
         mechanism that does not decompose into RRR/RRP dyads."""
-        from mechdyn.mechanism.motion import mechanism_dyads, point_motion, transmission_angle
-
         out = {}
         for dyad in mechanism_dyads(self.mechanism):
             z = {}
@@ -231,8 +207,6 @@ def kinematics(mechanism: Mechanism, n_angles: int = 360, method: Any = "auto") 
         )
     if method != "auto":
         return MOTION_SOLVERS[method](mechanism, n_angles)
-    from mechdyn.mechanism.dyads import NotDecomposable
-
     try:
         return dyad_motion(mechanism, n_angles)
     except NotDecomposable:
@@ -254,8 +228,6 @@ def dyad_motion(mechanism: Mechanism, n_angles: int) -> KinematicsResult:
     NotDecomposable
         When the mechanism is not a crank with RRR/RRP dyads.
     """
-    from mechdyn.mechanism.dyads import cycle
-
     return _from_cycle(mechanism, cycle(mechanism, check_angles(n_angles)))
 
 
@@ -400,8 +372,6 @@ def _raise_lost(
     datum: float,
 ) -> NoReturn:
     """The loops stop closing between θ = lo (solved) and hi: bisect to ANGLE_TOL and name the joint."""
-    from mechdyn.mechanism.screening import ANGLE_TOL
-
     state = (q, qd, qdd)
     while abs(hi - lo) > ANGLE_TOL:
         mid = 0.5 * (lo + hi)
@@ -433,8 +403,6 @@ def _raise_singular(
     """Locate a singular position (det Φ_q changes sign, or the branch is lost) between the samples
     to ANGLE_TOL and raise naming it and the joints whose constraints become dependent there.
     Returns when no sign change is found (the caller then raises its sampled report)."""
-    from mechdyn.mechanism.screening import ANGLE_TOL
-
     n = thetas.size
     det = solve_with_det(cs.evaluate(Q, thetas).jacobian, np.zeros((n, cs.m)))[1]
     for k in range(n):
@@ -559,54 +527,6 @@ def output_position(mechanism: Mechanism, q: np.ndarray) -> np.ndarray | None:
     )
     u = np.array([math.cos(j.axis), math.sin(j.axis)])
     return (p - np.asarray(mechanism.points[j.point])) @ u
-
-
-def crank_angles(
-    mechanism: Mechanism, theta_draw: np.ndarray, step: float, s: np.ndarray | None, n: int
-) -> np.ndarray:
-    """Crank angle from the datum at every step of each variant's cycle, rad, in [0, 2π) (with
-    ``"bdc"``, in [−h/2, 2π − h/2): BDC is located between the samples, and the sample nearest it
-    comes first).
-
-    Parameters
-    ----------
-    mechanism : Mechanism
-        Its ``angle_datum``: a fixed crank angle, or ``"bdc"`` (the lowest output position, located
-        between the samples).
-    theta_draw : ndarray
-        (V,) each variant's drawing crank angle, rad.
-    step : float
-        Signed crank step, rad.
-    s : ndarray or None
-        (V, n) output positions in cycle order (for ``"bdc"``).
-    n : int
-        Steps per revolution.
-    """
-    k = np.arange(n)[None, :]
-    if mechanism.angle_datum == "bdc":
-        if s is None:
-            raise ModelError("angle_datum = 'bdc' needs a prismatic output", element="angle_datum")
-        filled = np.where(np.isfinite(s), s, np.inf)
-        lowest = np.argmin(filled, axis=1)
-        # BDC itself, between the samples: the least of the quartic through the five samples about
-        # the lowest one (to h⁴), so that an angle from BDC means the same crank position on any grid
-        offset = -step * (lowest + _between(filled, lowest))[:, None]
-        half = 0.5 * abs(step)  # the sample nearest BDC keeps the first place, at about 0
-        return np.mod(step * k + offset + half, 2 * math.pi) - half
-    offset = (np.asarray(theta_draw, dtype=float) - float(mechanism.angle_datum))[:, None]
-    return np.mod(step * k + offset + 1e-12, 2 * math.pi) - 1e-12
-
-
-def _between(s: np.ndarray, lowest: np.ndarray) -> np.ndarray:
-    """Where, in steps from the lowest sample of each row of ``s`` (V, n), a cycle's least value lies:
-    the minimum of the quartic through the five samples about it, within half a step (0 where the
-    samples do not allow it: fewer than five, or not finite). Compiled, over all rows at once
-    (:func:`mechdyn.mechanism.dyads._reduce.between`): no Python work per variant."""
-    from mechdyn.mechanism.dyads._reduce import between
-
-    out = np.empty(s.shape[0])
-    between(np.ascontiguousarray(s, dtype=float), np.ascontiguousarray(lowest, dtype=np.int64), out)
-    return out
 
 
 MOTION_SOLVERS = {"dyads": dyad_motion, "newton": newton_motion}

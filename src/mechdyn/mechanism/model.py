@@ -288,9 +288,9 @@ class Mechanism:
         """The bodies as assembled, one row per body: mass (kg), inertia about the centre of mass
         (kg·m²), centre of mass (m) and a two-point link's length (m), as drawn
         (:func:`mechdyn.mechanism.summary.model_frame`)."""
-        from mechdyn.mechanism.summary import model_frame
+        import pandas as pd
 
-        return model_frame(self)
+        return pd.DataFrame(_body_rows(self))
 
     def com(self, body: Body) -> np.ndarray:
         """Drawing position of a body's centre of mass, m.
@@ -372,3 +372,58 @@ class Mechanism:
             if self.output[0] in j.bodies:
                 return j
         return None
+
+    def output_rocker(self) -> tuple[str, str, str] | None:
+        """The output as a rocker: (body, frame pivot, the point whose direction from the pivot is the
+        rocker's angle); None when the output is a slide (its stroke is the output's travel) or there
+        is no single link pinned to the frame besides the crank.
+
+        The output named in the model (``output = [body, point]``) is used when it is pinned to the
+        frame; otherwise the one body other than the crank that is pinned to the frame (a four-bar's
+        rocker).
+        """
+        if self.output_joint() is not None:
+            return None
+        pivots = {_other(j, GROUND): j.point for j in self.joints if j.pins and GROUND in j.bodies}
+        if self.output is not None:
+            body, wanted = self.output
+            if body not in pivots:
+                return None
+        else:
+            rockers = [b for b in pivots if b != self.driver.body]
+            if len(rockers) != 1:
+                return None
+            body, wanted = rockers[0], None
+        pivot = pivots[body]
+        pts = self.bodies[self._index[body]].points
+        pinned = [j.point for j in self.joints if j.pins and body in j.bodies and GROUND not in j.bodies]
+        tip = next((p for p in (wanted, *pinned, *pts) if p is not None and p != pivot and p in pts), None)
+        return None if tip is None else (body, pivot, tip)
+
+
+def _other(joint: Any, body: str) -> str:
+    """The joint's body that is not ``body``."""
+    return joint.bodies[0] if joint.bodies[1] == body else joint.bodies[1]
+
+
+def _body_rows(mechanism: Mechanism) -> list[dict[str, Any]]:
+    """One row per body as assembled, SI: name, points, mass (kg), inertia about the centre of mass
+    (kg·m²), centre of mass (m), a two-point link's length (m) and whether it is the crank."""
+    rows = []
+    for b in mechanism.bodies:
+        com = mechanism.com(b)
+        pts = [mechanism.points[p] for p in b.points]
+        length = math.dist(pts[0], pts[1]) if len(pts) == 2 else None
+        rows.append(
+            {
+                "body": b.name,
+                "points": ", ".join(b.points),
+                "mass_kg": float(b.mass),
+                "inertia_kg_m2": float(b.inertia),
+                "center_of_mass_x_m": float(com[0]),
+                "center_of_mass_y_m": float(com[1]),
+                "length_m": length,
+                "driven": b.name == mechanism.driver.body,
+            }
+        )
+    return rows

@@ -22,17 +22,16 @@ dyad's joint to its other pin. sin μ is the singularity measure the dyad path s
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
-from mechdyn.mechanism.model import GROUND, Mechanism
-
-if TYPE_CHECKING:
-    from mechdyn.mechanism.kinematics import KinematicsResult
+from mechdyn.mechanism.dyads.decomposition import NotDecomposable, plan
+from mechdyn.mechanism.model import GROUND, Mechanism, _other
 
 __all__ = [
     "Dyad",
+    "Motion",
     "coupler_bodies",
     "mechanism_dyads",
     "motion_columns",
@@ -41,6 +40,46 @@ __all__ = [
     "rocker_link",
     "transmission_angle",
 ]
+
+
+class Motion(Protocol):
+    """What the functions here read of a motion over the crank cycle
+    (:class:`~mechdyn.mechanism.kinematics.KinematicsResult`)."""
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The mechanism that moves."""
+        ...
+
+    @property
+    def angle(self) -> np.ndarray:
+        """(N,) crank angle from the datum, rad."""
+        ...
+
+    @property
+    def q(self) -> np.ndarray:
+        """(N, n) body coordinates (x_G, y_G in m, φ in rad per body)."""
+        ...
+
+    @property
+    def qd(self) -> np.ndarray:
+        """(N, n) their rates, m/s and rad/s."""
+        ...
+
+    @property
+    def qdd(self) -> np.ndarray:
+        """(N, n) their accelerations, m/s² and rad/s²."""
+        ...
+
+    @property
+    def transmission_angles(self) -> dict[str, np.ndarray]:
+        """Each dyad's transmission angle over the cycle, rad, by the joint at its inner point."""
+        ...
+
+    def point(self, body: str, point: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Position, velocity and acceleration of a drawing point on a body, each (N, 2): m, m/s,
+        m/s²."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -86,8 +125,6 @@ def mechanism_dyads(mechanism: Mechanism) -> tuple[Dyad, ...]:
     mechanism : Mechanism
         The mechanism, as drawn.
     """
-    from mechdyn.mechanism.dyads import NotDecomposable, plan
-
     try:
         steps = plan(mechanism)
     except NotDecomposable:
@@ -119,10 +156,6 @@ def mechanism_dyads(mechanism: Mechanism) -> tuple[Dyad, ...]:
     return tuple(out)
 
 
-def _other(joint: Any, body: str) -> str:
-    return joint.bodies[0] if joint.bodies[1] == body else joint.bodies[1]
-
-
 def transmission_angle(dyad: Dyad, z: dict[str, np.ndarray]) -> np.ndarray:
     """A dyad's transmission angle (see the module docstring), rad, from 0 to π/2.
 
@@ -147,7 +180,7 @@ def transmission_angle(dyad: Dyad, z: dict[str, np.ndarray]) -> np.ndarray:
 def output_rocker(mechanism: Mechanism) -> tuple[str, str, str] | None:
     """The output as a rocker: (body, frame pivot, the point whose direction from the pivot is the
     rocker's angle); None when the output is a slide (its stroke is the output's travel) or there is
-    no single link pinned to the frame besides the crank.
+    no single link pinned to the frame besides the crank (:meth:`Mechanism.output_rocker`).
 
     The output named in the model (``output = [body, point]``) is used when it is pinned to the frame;
     otherwise the one body other than the crank that is pinned to the frame (a four-bar's rocker).
@@ -157,24 +190,7 @@ def output_rocker(mechanism: Mechanism) -> tuple[str, str, str] | None:
     mechanism : Mechanism
         The mechanism, as drawn.
     """
-    m = mechanism
-    if m.output_joint() is not None:
-        return None
-    pivots = {_other(j, GROUND): j.point for j in m.joints if j.pins and GROUND in j.bodies}
-    if m.output is not None:
-        body, wanted = m.output
-        if body not in pivots:
-            return None
-    else:
-        rockers = [b for b in pivots if b != m.driver.body]
-        if len(rockers) != 1:
-            return None
-        body, wanted = rockers[0], None
-    pivot = pivots[body]
-    pts = m.bodies[m.body_index[body]].points
-    pinned = [j.point for j in m.joints if j.pins and body in j.bodies and GROUND not in j.bodies]
-    tip = next((p for p in (wanted, *pinned, *pts) if p is not None and p != pivot and p in pts), None)
-    return None if tip is None else (body, pivot, tip)
+    return mechanism.output_rocker()
 
 
 def coupler_bodies(mechanism: Mechanism) -> tuple[str, ...]:
@@ -191,13 +207,13 @@ def coupler_bodies(mechanism: Mechanism) -> tuple[str, ...]:
     return tuple(b.name for b in mechanism.bodies if b.name not in on_frame | carriers)
 
 
-def point_motion(kinematics: KinematicsResult, point: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def point_motion(kinematics: Motion, point: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Position, velocity and acceleration of a drawing point over the cycle, each (N, 2): m, m/s, m/s².
 
     Parameters
     ----------
-    kinematics : KinematicsResult
-        The motion.
+    kinematics : Motion
+        The motion (a :class:`~mechdyn.mechanism.kinematics.KinematicsResult`).
     point : str
         A point of the drawing; one on no body stays where the drawing puts it.
     """
@@ -215,7 +231,7 @@ def _deg_wrapped(phi: np.ndarray) -> np.ndarray:
     return -np.degrees(np.angle(np.exp(-1j * np.asarray(phi))))
 
 
-def motion_columns(kinematics: KinematicsResult, traced: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
+def motion_columns(kinematics: Motion, traced: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     """The per-angle motion columns of a result table, each name ending with its unit.
 
     Per body ``body_NAME_x_m``, ``_y_m`` (centre of mass), ``_angle_deg`` (rotation from the drawing,
@@ -228,8 +244,8 @@ def motion_columns(kinematics: KinematicsResult, traced: tuple[str, ...] = ()) -
 
     Parameters
     ----------
-    kinematics : KinematicsResult
-        The motion.
+    kinematics : Motion
+        The motion (a :class:`~mechdyn.mechanism.kinematics.KinematicsResult`).
     traced : tuple of str
         Points of the drawing whose motion is tabulated.
     """
@@ -271,20 +287,20 @@ def motion_columns(kinematics: KinematicsResult, traced: tuple[str, ...] = ()) -
     return cols
 
 
-def _link(kinematics: KinematicsResult, pivot: str, tip: str) -> np.ndarray:
+def _link(kinematics: Motion, pivot: str, tip: str) -> np.ndarray:
     """(N,) complex: from ``pivot`` to ``tip`` over the cycle, m."""
     (p, _, _), (t, _, _) = point_motion(kinematics, pivot), point_motion(kinematics, tip)
     return (t[:, 0] - p[:, 0]) + 1j * (t[:, 1] - p[:, 1])
 
 
-def rocker_link(kinematics: KinematicsResult) -> np.ndarray | None:
+def rocker_link(kinematics: Motion) -> np.ndarray | None:
     """(N,) complex: the rocker output's direction, from its frame pivot to its other point, m (None
     without a rocker output, see :func:`output_rocker`).
 
     Parameters
     ----------
-    kinematics : KinematicsResult
-        The motion.
+    kinematics : Motion
+        The motion (a :class:`~mechdyn.mechanism.kinematics.KinematicsResult`).
     """
     rocker = output_rocker(kinematics.mechanism)
     if rocker is None:

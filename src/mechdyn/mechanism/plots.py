@@ -3,7 +3,7 @@ transmission angles and the coupler curves."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any, Protocol, cast
 
 import numpy as np
 
@@ -11,10 +11,11 @@ from mechdyn.plotting import dead_centre_marks, display_unit, legend, new_axes, 
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
-    from mechdyn.mechanism.dynamics import DynamicsResult
-    from mechdyn.mechanism.model import GearJoint
+    from mechdyn.mechanism.kinematics import KinematicsResult
+    from mechdyn.mechanism.model import GearJoint, Mechanism
 
 __all__ = [
+    "CycleResult",
     "coupler_points",
     "plot_coupler_curves",
     "plot_frames",
@@ -29,7 +30,75 @@ __all__ = [
 ]
 
 
-def _dead_centres(ax: Any, result: DynamicsResult) -> None:
+class CycleResult(Protocol):
+    """What the figures here read of one design's cycle, a
+    :class:`~mechdyn.mechanism.DynamicsResult` (arrays over the N crank angles)."""
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The mechanism."""
+        ...
+
+    @property
+    def kinematics(self) -> KinematicsResult:
+        """Its motion over the cycle."""
+        ...
+
+    @property
+    def angle(self) -> np.ndarray:
+        """(N,) crank angle from the datum, rad."""
+        ...
+
+    @property
+    def driving_torque(self) -> np.ndarray:
+        """(N,) the torque the motor applies to the crank, N·m."""
+        ...
+
+    @property
+    def inertia_force(self) -> np.ndarray:
+        """(N, 2) the total inertia force −Σ m a_G, N."""
+        ...
+
+    @property
+    def inertia_forces(self) -> np.ndarray:
+        """(N, bodies, 2) each body's inertia force, N."""
+        ...
+
+    @property
+    def shaking_force(self) -> np.ndarray:
+        """(N, 2) the force on the frame, N."""
+        ...
+
+    @property
+    def output_position(self) -> np.ndarray | None:
+        """(N,) the output slide's position along its axis, m (None without a slide)."""
+        ...
+
+    @property
+    def trace(self) -> tuple[str, ...]:
+        """The drawing points whose paths are drawn."""
+        ...
+
+    @property
+    def _columns(self) -> dict[str, np.ndarray]:
+        """The per-angle table's columns, each name ending with its unit."""
+        ...
+
+    @property
+    def _tonnage(self) -> tuple[dict[str, Any], dict[str, np.ndarray]] | None:
+        """The tonnage figures and columns (with a press rating), else None."""
+        ...
+
+    def summary(self) -> dict[str, Any]:
+        """The cycle's scalar figures, SI (angles in degrees)."""
+        ...
+
+    def joint_load(self, joint: str, body: str) -> np.ndarray:
+        """(N, 3) the load ``joint`` puts on ``body``: force (N) and moment (N·m)."""
+        ...
+
+
+def _dead_centres(ax: Any, result: CycleResult) -> None:
     s = result.summary()
     if "bdc_deg" in s:
         dead_centre_marks(ax, {"BDC": s["bdc_deg"], "TDC": s["tdc_deg"]})
@@ -43,7 +112,7 @@ def _dead_centres(ax: Any, result: DynamicsResult) -> None:
         )
 
 
-def plot_output_motion(result: DynamicsResult, ax: Any = None) -> Any:
+def plot_output_motion(result: CycleResult, ax: Any = None) -> Any:
     """Displacement, velocity and acceleration of the output along its axis (a slide), or its angle,
     angular velocity and angular acceleration (a rocker), against crank angle.
 
@@ -84,7 +153,7 @@ def plot_output_motion(result: DynamicsResult, ax: Any = None) -> Any:
     return axes[0]
 
 
-def plot_inertia_forces(result: DynamicsResult, ax: Any = None) -> Any:
+def plot_inertia_forces(result: CycleResult, ax: Any = None) -> Any:
     """Each body's inertia force along the output axis (or its magnitude) and the total, in the unit
     the largest reads best in (N, kN or MN: :func:`mechdyn.plotting.display_unit`)."""
     ax = new_axes(ax)
@@ -108,7 +177,7 @@ def plot_inertia_forces(result: DynamicsResult, ax: Any = None) -> Any:
     return ax
 
 
-def plot_torque(result: DynamicsResult, ax: Any = None) -> Any:
+def plot_torque(result: CycleResult, ax: Any = None) -> Any:
     """Driving torque (the torque the motor applies to the crank), in N·m or kN·m by its size."""
     ax = new_axes(ax)
     deg = np.degrees(result.angle)
@@ -129,7 +198,7 @@ def _mm(value: Any) -> Any:
     return convert(value, "m", "mm")
 
 
-def _pitch_circles(result: DynamicsResult) -> list[tuple[np.ndarray, float]]:
+def _pitch_circles(result: CycleResult) -> list[tuple[np.ndarray, float]]:
     """Both gears of every gear pair: (centre over the cycle (N, 2), mean pitch radius), m, from the
     rolling law at the drawing's centre distance."""
     m, k = result.mechanism, result.kinematics
@@ -156,7 +225,7 @@ def _pitch_circles(result: DynamicsResult) -> list[tuple[np.ndarray, float]]:
     return out
 
 
-def linkage_tracks(result: DynamicsResult) -> dict[tuple[str, str], np.ndarray]:
+def linkage_tracks(result: CycleResult) -> dict[tuple[str, str], np.ndarray]:
     """Every body's points over the cycle: (body, point) → (N, 2) positions, mm.
 
     Parameters
@@ -169,7 +238,7 @@ def linkage_tracks(result: DynamicsResult) -> dict[tuple[str, str], np.ndarray]:
 
 
 def linkage_view(
-    result: DynamicsResult, tracks: dict[tuple[str, str], np.ndarray], *extra: np.ndarray
+    result: CycleResult, tracks: dict[tuple[str, str], np.ndarray], *extra: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, float]:
     """The box that holds the whole motion: lower and upper corners and a margin, mm.
 
@@ -188,7 +257,7 @@ def linkage_view(
     return lo, hi, 0.08 * float((hi - lo).max())
 
 
-def draw_frame_marks(ax: Any, result: DynamicsResult, reach: float, zorder: float | None = None) -> None:
+def draw_frame_marks(ax: Any, result: CycleResult, reach: float, zorder: float | None = None) -> None:
     """The frame's pivots (▲) and guides (dashed lines ``reach`` mm either side of their point), mm.
 
     Parameters
@@ -232,9 +301,7 @@ class LinkagePose:
         :func:`linkage_tracks` (mm), to share between poses.
     """
 
-    def __init__(
-        self, ax: Any, result: DynamicsResult, tracks: dict[tuple[str, str], np.ndarray] | None = None
-    ):
+    def __init__(self, ax: Any, result: CycleResult, tracks: dict[tuple[str, str], np.ndarray] | None = None):
         self.tracks = linkage_tracks(result) if tracks is None else tracks
         self.links = [
             (b, ax.plot([], [], "-o", color=f"C{n % 10}", ms=3, lw=2, label=b.name)[0])
@@ -270,7 +337,7 @@ class LinkagePose:
         return self.artists
 
 
-def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any:
+def plot_frames(result: CycleResult, frames: int = 12, ax: Any = None) -> Any:
     """The mechanism drawn at equally spaced crank angles: each link in its colour (legend), the
     frame's pivots (▲) and guides (dashed), the gears' pitch circles (dotted), lengths in mm.
 
@@ -338,7 +405,7 @@ def plot_frames(result: DynamicsResult, frames: int = 12, ax: Any = None) -> Any
     return np.ravel(axes)[0]
 
 
-def linkage_legend(result: DynamicsResult) -> tuple[list[Any], list[str]]:
+def linkage_legend(result: CycleResult) -> tuple[list[Any], list[str]]:
     """Legend entries of a drawn linkage: each link in its colour, the frame's pivot, the pitch circles.
 
     Parameters
@@ -361,7 +428,7 @@ def linkage_legend(result: DynamicsResult) -> tuple[list[Any], list[str]]:
     return handles, labels
 
 
-def plot_joint_forces(result: DynamicsResult, joints: list[str] | None = None, ax: Any = None) -> Any:
+def plot_joint_forces(result: CycleResult, joints: list[str] | None = None, ax: Any = None) -> Any:
     """Magnitude of each joint's force over the cycle (on the joint's second body), N or kN or MN;
     with gear pairs, their tooth forces too."""
     ax = new_axes(ax)
@@ -384,7 +451,7 @@ def plot_joint_forces(result: DynamicsResult, joints: list[str] | None = None, a
     return ax
 
 
-def plot_shaking_polar(result: DynamicsResult, ax: Any = None) -> Any:
+def plot_shaking_polar(result: CycleResult, ax: Any = None) -> Any:
     """The shaking force vector over the cycle: its tip traced in the (Fx, Fy) plane, N or kN."""
     ax = new_axes(ax, figsize=(6.0, 6.0))
     unit, factor = display_unit(result.shaking_force, "N")
@@ -415,7 +482,7 @@ def plot_shaking_polar(result: DynamicsResult, ax: Any = None) -> Any:
 
 
 def plot_trajectory(
-    result: DynamicsResult, points: list[str], field_velocity: tuple[float, float] | None = None
+    result: CycleResult, points: list[str], field_velocity: tuple[float, float] | None = None
 ) -> Any:
     """Paths of drawing points relative to the machine and, with the machine's velocity over the
     field, over the ground for two revolutions (m)."""
@@ -450,7 +517,7 @@ def plot_trajectory(
     return axes[0, 0]
 
 
-def plot_transmission_angle(result: DynamicsResult, ax: Any = None) -> Any:
+def plot_transmission_angle(result: CycleResult, ax: Any = None) -> Any:
     """Each dyad's transmission angle against crank angle, deg, its smallest marked, with the band
     below 40° shaded (where Norton, *Design of Machinery* §4.10, advises against running a linkage).
 
@@ -494,7 +561,7 @@ def plot_transmission_angle(result: DynamicsResult, ax: Any = None) -> Any:
     return ax
 
 
-def coupler_points(result: DynamicsResult) -> dict[str, np.ndarray]:
+def coupler_points(result: CycleResult) -> dict[str, np.ndarray]:
     """The coupler curves a plot draws: label → (N, 2) path, m. The traced points of the model, or,
     with none traced, the centre of mass of every body in general plane motion (a coupler point).
 
@@ -514,7 +581,7 @@ def coupler_points(result: DynamicsResult) -> dict[str, np.ndarray]:
     }
 
 
-def plot_coupler_curves(result: DynamicsResult, ax: Any = None) -> Any:
+def plot_coupler_curves(result: CycleResult, ax: Any = None) -> Any:
     """The coupler curves (see :func:`coupler_points`) over one revolution, in mm, over the linkage
     drawn in grey at crank angle 0, with crank angles marked along each curve.
 
@@ -564,7 +631,7 @@ def plot_coupler_curves(result: DynamicsResult, ax: Any = None) -> Any:
     return ax
 
 
-def plot_tonnage(result: DynamicsResult, ax: Any = None, length_unit: str = "mm") -> Any:
+def plot_tonnage(result: CycleResult, ax: Any = None, length_unit: str = "mm") -> Any:
     """The tonnage curve: the force the rated crank torque can deliver against the distance before
     BDC on the working stroke (a logarithmic axis, from 1 mm before BDC), with the process force on
     the slide and the rated point over it (:mod:`mechdyn.mechanism.tonnage`).

@@ -3,39 +3,16 @@ link length in the drawing, and each joint, as tables for the CLI, reports and `
 
 from __future__ import annotations
 
-import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from mechdyn.mechanism.model import Mechanism, _body_rows
 from mechdyn.results import Table
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
     import pandas as pd
 
-    from mechdyn.mechanism.model import Mechanism
-
 __all__ = ["model_frame", "model_tables"]
-
-
-def _body_rows(mechanism: Mechanism) -> list[dict[str, Any]]:
-    rows = []
-    for b in mechanism.bodies:
-        com = mechanism.com(b)
-        pts = [mechanism.points[p] for p in b.points]
-        length = math.dist(pts[0], pts[1]) if len(pts) == 2 else None
-        rows.append(
-            {
-                "body": b.name,
-                "points": ", ".join(b.points),
-                "mass_kg": float(b.mass),
-                "inertia_kg_m2": float(b.inertia),
-                "center_of_mass_x_m": float(com[0]),
-                "center_of_mass_y_m": float(com[1]),
-                "length_m": length,
-                "driven": b.name == mechanism.driver.body,
-            }
-        )
-    return rows
 
 
 def model_tables(mechanism: Mechanism) -> list[Table]:

@@ -22,25 +22,23 @@ refused here and run on the general engine.
 The package by job: :mod:`.decomposition` (the plan: the order in which the points become known),
 :mod:`.arguments` (the plan and the loads encoded for the kernel, :class:`~.arguments.KernelArgs`),
 :mod:`._kernel` (the compiled kernel, motion and λ in one pass), :mod:`.run` (:func:`cycle`),
-:mod:`.sequence` (:func:`variants`), :mod:`.results` (:class:`CycleBatch`, :class:`DesignBatch`),
-and :mod:`.summary` with :mod:`._reduce` (:func:`cycle_summary`: the scalar figures alone, reduced
-in compiled code).
+:mod:`.results` (:class:`CycleBatch`), :mod:`.angles` (the crank angles of a cycle), and
+:mod:`.summary` with :mod:`._reduce` (:func:`cycle_summary`: the scalar figures alone, reduced in
+compiled code). Variant *models* in one evaluation, and the general engine's batch for what does not
+decompose: :mod:`mechdyn.mechanism.designs`.
 """
 
 from mechdyn.mechanism.dyads.decomposition import NotDecomposable, plan
 from mechdyn.mechanism.dyads.decomposition import Step as Step  # the plan's steps, as before
-from mechdyn.mechanism.dyads.results import CycleBatch, DesignBatch
+from mechdyn.mechanism.dyads.results import CycleBatch
 from mechdyn.mechanism.dyads.run import cycle
-from mechdyn.mechanism.dyads.sequence import variants
 from mechdyn.mechanism.dyads.summary import CycleSummary, cycle_summary
 
 __all__ = [
     "CycleBatch",
     "CycleSummary",
-    "DesignBatch",
     "NotDecomposable",
     "cycle",
     "cycle_summary",
     "plan",
-    "variants",
 ]

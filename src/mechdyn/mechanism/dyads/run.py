@@ -2,7 +2,7 @@
 one pass of the compiled kernel over every crank angle and design variant, with the positions the
 samples may have stepped over screened between them (:mod:`mechdyn.mechanism.screening`); and its
 steps (:class:`Setup`, :func:`run_block`, :func:`screen_block`), which the summary-only batch
-(:mod:`.summary`) runs block by block. A sequence of variant models: :mod:`.sequence`.
+(:mod:`.summary`) runs block by block. A sequence of variant models: :mod:`mechdyn.mechanism.designs`.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import numpy as np
 
 from mechdyn.checks import check_array
 from mechdyn.errors import ModelError
+from mechdyn.mechanism.dyads.angles import crank_angles
 from mechdyn.mechanism.dyads.arguments import (
     KernelArgs,
     _cross,
@@ -25,9 +26,8 @@ from mechdyn.mechanism.dyads.arguments import (
 )
 from mechdyn.mechanism.dyads.decomposition import Step, plan
 from mechdyn.mechanism.dyads.results import CycleBatch
-from mechdyn.mechanism.kinematics import AssemblyError, SingularPositionError, check_angles, crank_angles
 from mechdyn.mechanism.model import GROUND, Mechanism
-from mechdyn.mechanism.motion import output_rocker
+from mechdyn.mechanism.revolution import AssemblyError, SingularPositionError, check_angles
 from mechdyn.mechanism.screening import SCREEN, Finding, screen
 
 __all__ = ["Outputs", "Setup", "cycle", "dyad_plan", "nominal_setup", "run_block", "screen_block"]
@@ -331,7 +331,7 @@ def _setup(m, steps, n_angles, given, masses, inertias, store_points, encode_all
             {pf.point for pf in m.process_forces}
             | {f"__com__{pf.body}" for pf in m.process_forces}
             | ({m.driver.pivot, *link} if (link := m.output_link()) else set())  # for layout_figures
-            | (set(rocker[1:]) if (rocker := output_rocker(m)) else set())  # for swing_figures
+            | (set(rocker[1:]) if (rocker := m.output_rocker()) else set())  # for swing_figures
         )
     )
     N = n_angles

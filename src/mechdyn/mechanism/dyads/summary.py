@@ -19,10 +19,10 @@ from typing import Any
 
 import numpy as np
 
+from mechdyn.mechanism.dyads.angles import crank_angles
 from mechdyn.mechanism.dyads.run import Outputs, _setup, checked_variants, dyad_plan, run_block, screen_block
-from mechdyn.mechanism.kinematics import check_angles, crank_angles
 from mechdyn.mechanism.model import Mechanism
-from mechdyn.mechanism.motion import output_rocker
+from mechdyn.mechanism.revolution import check_angles
 from mechdyn.results import Result
 
 __all__ = ["CHUNK", "CycleSummary", "cycle_summary"]
@@ -151,7 +151,7 @@ def cycle_summary(
     chunk = check_count("cycle_summary", "chunk", chunk, low=1, high=100_000, what="variants")
     steps = dyad_plan(m)
     given, masses, inertias = checked_variants(m, points, masses, inertias)
-    rocker = output_rocker(m)
+    rocker = m.output_rocker()
     bdc = m.angle_datum == "bdc"
     has_output = m.output_joint() is not None
     # one parallel pass over lanes where each variant's curves are its own (constant speed, no

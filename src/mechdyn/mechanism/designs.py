@@ -1,23 +1,102 @@
 """Many variant models of one mechanism in one batched evaluation (:func:`variants`): the models'
-differences in points, masses and inertias become the arrays of one :func:`~.run.cycle`; any other
-mechanism runs design by design (:class:`~.results.DesignBatch`).
+differences in points, masses and inertias become the arrays of one compiled
+:func:`~mechdyn.mechanism.dyads.cycle`; any other mechanism runs design by design on the general engine
+(:class:`DesignBatch`, one :class:`~mechdyn.mechanism.DynamicsResult` per variant).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from mechdyn.errors import ModelError
-from mechdyn.mechanism.dyads.decomposition import NotDecomposable, plan
-from mechdyn.mechanism.dyads.results import CycleBatch, DesignBatch
-from mechdyn.mechanism.dyads.run import cycle
-from mechdyn.mechanism.kinematics import check_angles
+from mechdyn.mechanism.dyads import CycleBatch, NotDecomposable, cycle, plan
+from mechdyn.mechanism.dynamics import inverse_dynamics
 from mechdyn.mechanism.model import Mechanism
+from mechdyn.mechanism.revolution import check_angles
+from mechdyn.results import Result
 
-__all__ = ["variants"]
+__all__ = ["DesignBatch", "variants"]
+
+
+@dataclass(frozen=True, repr=False)  # the short repr of Result
+class DesignBatch(Result):
+    """Variants run design by design on the general engine: one result per variant, with its status.
+
+    Attributes
+    ----------
+    results : tuple of DynamicsResult or None
+        None for a variant that could not be computed.
+    status : tuple of str
+        ``"ok"``, or the error that stopped the variant.
+    """
+
+    results: tuple[Any, ...]
+    status: tuple[str, ...]
+
+    @classmethod
+    def run(cls, models: Sequence[Mechanism], n_angles: int, method: Any = "auto") -> DesignBatch:
+        """Each model's :func:`~mechdyn.mechanism.inverse_dynamics` with the motion solver
+        ``method``; an error is kept, not raised.
+
+        Parameters
+        ----------
+        models : sequence of Mechanism
+            Variants of one topology.
+        n_angles : int
+            Crank positions over one revolution, a whole number from 4 to 100 000.
+        method : str or callable
+            The motion solver (see :func:`~mechdyn.mechanism.inverse_dynamics`)."""
+        n_angles = check_angles(n_angles)
+        results: list[Any] = []
+        status: list[str] = []
+        for i, m in enumerate(models):
+            try:
+                results.append(inverse_dynamics(m, n_angles, method))
+                status.append("ok")
+            except ModelError as exc:
+                results.append(None)
+                status.append(f"variant {i}: {exc.detail}")
+        return cls(tuple(results), tuple(status))
+
+    @property
+    def assembled(self) -> np.ndarray:
+        """(V,) True for the variants that were computed."""
+        return np.array([r is not None for r in self.results])
+
+    def summary(self) -> dict[str, Any]:
+        """Per variant (arrays over V, NaN for a failed one): the scalar figures of each design's
+        :meth:`DynamicsResult.summary`, and the joint-force peaks."""
+        rows = [r.summary() if r is not None else None for r in self.results]
+        done = [row for row in rows if row is not None]
+        if not done:
+            return {}
+        keys = [k for k, v in done[0].items() if isinstance(v, (int, float)) and not isinstance(v, bool)]
+        out: dict[str, Any] = {
+            k: np.array([row.get(k, np.nan) if row is not None else np.nan for row in rows], dtype=float)
+            for k in keys
+        }
+        joints = list(done[0]["joint_force_peak_N"])
+        out["joint_force_peak_N"] = {
+            j: np.array([row["joint_force_peak_N"][j] if row is not None else np.nan for row in rows])
+            for j in joints
+        }
+        return out
+
+    def to_frame(self) -> Any:
+        """One row per variant: its status and its figures."""
+        import pandas as pd
+
+        cols: dict[str, Any] = {"variant": np.arange(len(self.results)), "status": list(self.status)}
+        for key, value in self.summary().items():
+            if isinstance(value, dict):
+                cols |= {f"joint_{name}_force_peak_N": v for name, v in value.items()}
+            else:
+                cols[key] = value
+        return pd.DataFrame(cols)
 
 
 def variants(
@@ -34,7 +113,7 @@ def variants(
     n_angles : int
         Crank angles per revolution, a whole number from 4 to 100 000.
     store_points : bool
-        Keep the motions (and with them every joint force); see :func:`cycle`.
+        Keep the motions (and with them every joint force); see :func:`~mechdyn.mechanism.cycle`.
     method : {"auto", "dyads", "newton"} or callable
         The motion solver, as for :func:`~mechdyn.mechanism.kinematics`: ``"auto"`` and ``"dyads"``
         run one compiled batch where the mechanism decomposes; ``"newton"`` or a callable
