@@ -111,7 +111,7 @@ def _bdc_row(s, step, out):
     """One row of :func:`bdc_degrees`: ``s`` (N,) output positions, m; ``out`` (N,) degrees."""
     N = s.shape[0]
     half = 0.5 * abs(step)
-    lowest, least = 0, np.inf
+    lowest, least = np.int64(0), np.inf
     for k in range(N):
         x = s[k] if np.isfinite(s[k]) else np.inf
         if x < least:
@@ -209,10 +209,10 @@ def _summarise_one(
         f = np.empty(N)
         for k in range(N):
             f[k] = inertia[v, k].real * axis.real + inertia[v, k].imag * axis.imag
-        ib, s_min = _peak(s, -1.0, -1)
-        it, s_max = _peak(s, 1.0, -1)
-        fa, f_max = _peak(f, 1.0, -1)
-        fb, f_min = _peak(f, -1.0, -1)
+        ib, s_min = _peak(s, -1.0, np.int64(-1))
+        it, s_max = _peak(s, 1.0, np.int64(-1))
+        fa, f_max = _peak(f, 1.0, np.int64(-1))
+        fb, f_min = _peak(f, -1.0, np.int64(-1))
         b_at, t_at, a_max, a_min = _angle_at(d, ib), _angle_at(d, it), _angle_at(d, fa), _angle_at(d, fb)
         origin = b_at
         if bdc:
@@ -226,7 +226,7 @@ def _summarise_one(
             # the obliquity arccos(c) is largest where c is least: locate the sample on c, and
             # take the arc cosine at the five samples the quartic goes through
             obl = np.empty(N)
-            kk, least = 0, np.inf
+            kk, least = np.int64(0), np.inf
             for k in range(N):
                 c = _cosine(pos[v, k, ends[1]] - pos[v, k, ends[0]], axis)
                 if c < least:
@@ -253,7 +253,7 @@ def _summarise_one(
                     least = x
             low = math.degrees(math.asin(least)) if least < np.inf else np.inf
             # equal minima (round-off apart): the one at the smallest crank angle from the datum
-            kk, first = 0, np.inf
+            kk, first = np.int64(0), np.inf
             for k in range(N):
                 x = min(abs(measure[v, k, j]), 1.0)
                 if least < np.inf and not x <= least + 1e-8:
@@ -306,7 +306,20 @@ def summarise(deg, torque, force, moment, stroke, inertia, axis, pos, ends, meas
     """
     for v in numba.prange(torque.shape[0]):
         _summarise_one(
-            v, deg, torque, force, moment, stroke, inertia, axis, pos, ends, measure, failed, bdc, out[v]
+            np.int64(v),
+            deg,
+            torque,
+            force,
+            moment,
+            stroke,
+            inertia,
+            axis,
+            pos,
+            ends,
+            measure,
+            failed,
+            bdc,
+            out[v],
         )
 
 
@@ -325,7 +338,7 @@ def run_and_summarise(args, step, deg, bdc, axis, ends, out):
         if bdc and args.stroke.shape[0] > 0:
             _bdc_row(args.stroke[v], step, deg[v])
         _summarise_one(
-            v,
+            np.int64(v),  # prange's index is unsigned: one signature of _summarise_one
             deg,
             args.torque,
             args.force,
@@ -383,7 +396,7 @@ def run_lanes(args, step, bdc, offsets, axis, ends, screen_tol, deg, out, suspec
             else:
                 _fixed_row(offsets[v], step, deg[lane])
             _summarise_one(
-                lane,
+                np.int64(lane),
                 deg,
                 args.torque,
                 args.force,
