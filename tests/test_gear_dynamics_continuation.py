@@ -17,8 +17,9 @@ import pytest
 
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh
 from mechdyn.gear_dynamics import GearSystem
+from mechdyn.gear_dynamics._stability import _spectral
 from mechdyn.gear_dynamics.continuation import FOLD_RTOL, ContinuedBranch, follow
-from mechdyn.gear_dynamics.floquet import _spectral, linear_periodic, period_plan
+from mechdyn.gear_dynamics.floquet import linear_periodic, period_plan
 from mechdyn.gear_dynamics.shooting import _shoot_nonlinear, _warm_start
 from mechdyn.gear_dynamics.sweep import EDGE_RTOL, speed_sweep
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -10,22 +10,63 @@ from mechdyn.plotting import legend, new_axes
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
-    from mechdyn.drive.result import DriveResult
+    from mechdyn.drive.forward import StartUp, SteadyState
+    from mechdyn.drive.inertia import ReducedMechanism
 
 __all__ = ["plot_motor", "plot_shaking", "plot_speed", "plot_startup", "plot_torque"]
 
 
-def _turned_deg(r: DriveResult) -> np.ndarray:
+class DriveCurves(Protocol):
+    """What the figures read of a drive analysis (:class:`.result.DriveResult`): the result is passed
+    as it is.
+
+    Attributes
+    ----------
+    drive : Drive
+        Motor, gearing, flywheel and mechanism (its name, the motor's rated torque).
+    reduced : ReducedMechanism
+        The mechanism reduced to its crank (the constant-speed torque).
+    steady : SteadyState
+        One revolution of the steady state: angles turned (rad), speeds (rad/s), crank torque (N·m).
+    startup : StartUp or None
+        The run-up from rest: times (s), speeds (rad/s).
+    motor_torque, mechanism_torque : ndarray
+        (N,) motor shaft torque and torque into the crank, N·m.
+    motor_power : ndarray
+        (N,) motor shaft power, W.
+    _columns : dict of str → ndarray
+        The per-sample columns, SI units by their names (the shaking forces, N).
+    """
+
+    @property
+    def drive(self) -> Any: ...
+    @property
+    def reduced(self) -> ReducedMechanism: ...
+    @property
+    def steady(self) -> SteadyState: ...
+    @property
+    def startup(self) -> StartUp | None: ...
+    @property
+    def motor_torque(self) -> np.ndarray: ...
+    @property
+    def motor_power(self) -> np.ndarray: ...
+    @property
+    def mechanism_torque(self) -> np.ndarray: ...
+    @property
+    def _columns(self) -> dict[str, np.ndarray]: ...
+
+
+def _turned_deg(r: DriveCurves) -> np.ndarray:
     return np.degrees(r.steady.turned)
 
 
-def plot_speed(r: DriveResult, ax: Any = None) -> Any:
+def plot_speed(r: DriveCurves, ax: Any = None) -> Any:
     """Crank speed over one revolution of the steady state, rpm, with its mean.
 
     Parameters
     ----------
     r : DriveResult
-        The drive analysis.
+        The drive analysis (or anything with what :class:`DriveCurves` names).
     ax : matplotlib Axes, optional
         Where to draw.
     """
@@ -41,13 +82,13 @@ def plot_speed(r: DriveResult, ax: Any = None) -> Any:
     return ax
 
 
-def plot_motor(r: DriveResult, ax: Any = None) -> Any:
+def plot_motor(r: DriveCurves, ax: Any = None) -> Any:
     """Motor torque (N·m) and power (kW) over one revolution, with the rated torque where known.
 
     Parameters
     ----------
     r : DriveResult
-        The drive analysis.
+        The drive analysis (or anything with what :class:`DriveCurves` names).
     ax : matplotlib Axes, optional
         Where to draw.
     """
@@ -69,13 +110,13 @@ def plot_motor(r: DriveResult, ax: Any = None) -> Any:
     return ax
 
 
-def plot_torque(r: DriveResult, ax: Any = None) -> Any:
+def plot_torque(r: DriveCurves, ax: Any = None) -> Any:
     """Torque into the crank at the real speed against the constant-speed driving torque, kN·m.
 
     Parameters
     ----------
     r : DriveResult
-        The drive analysis.
+        The drive analysis (or anything with what :class:`DriveCurves` names).
     ax : matplotlib Axes, optional
         Where to draw.
     """
@@ -94,13 +135,13 @@ def plot_torque(r: DriveResult, ax: Any = None) -> Any:
     return ax
 
 
-def plot_shaking(r: DriveResult, force_unit: str | None = None, ax: Any = None) -> Any:
+def plot_shaking(r: DriveCurves, force_unit: str | None = None, ax: Any = None) -> Any:
     """Magnitude of the shaking force at the real speed and at the constant mean speed.
 
     Parameters
     ----------
     r : DriveResult
-        The drive analysis.
+        The drive analysis (or anything with what :class:`DriveCurves` names).
     force_unit : str, optional
         Display unit of force (default kN).
     ax : matplotlib Axes, optional
@@ -122,13 +163,13 @@ def plot_shaking(r: DriveResult, force_unit: str | None = None, ax: Any = None) 
     return ax
 
 
-def plot_startup(r: DriveResult, ax: Any = None) -> Any:
+def plot_startup(r: DriveCurves, ax: Any = None) -> Any:
     """Crank speed during the run-up from rest, rpm, with the moment the work is engaged.
 
     Parameters
     ----------
     r : DriveResult
-        The drive analysis (with a start-up).
+        The drive analysis, with a start-up (or anything with what :class:`DriveCurves` names).
     ax : matplotlib Axes, optional
         Where to draw.
     """

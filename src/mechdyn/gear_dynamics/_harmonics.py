@@ -31,6 +31,7 @@ __all__ = [
     "estimated_error",
     "harmonics_for",
     "needed_harmonics",
+    "truncation_warning",
 ]
 
 #: The harmonics reach this multiple of the highest natural frequency at the lowest speed.
@@ -88,3 +89,28 @@ def estimated_error(kv_h: np.ndarray, kv_2h: np.ndarray) -> float:
     if not ok.any():
         return float("nan")
     return float(8.0 / 7.0 * np.max(np.abs(a[ok] - b[ok]) / np.abs(b[ok])))
+
+
+def truncation_warning(H: int, error: float) -> tuple[str, ...]:
+    """The warning of a result whose K_v may be off by more than :data:`HARMONICS_RTOL` from the
+    truncation, in words; none within it.
+
+    Parameters
+    ----------
+    H : int
+        Harmonics per mesh frequency, a count.
+    error : float
+        The estimated largest relative error of K_v (:func:`estimated_error`), dimensionless; NaN
+        where not estimated.
+
+    Returns
+    -------
+    tuple of str
+        One warning, or none.
+    """
+    if not error > HARMONICS_RTOL:
+        return ()
+    return (
+        f"K_v may be off by {100 * error:.2g} % with {H} harmonics per mesh (the change when they are "
+        f"doubled): give more (harmonics = {min(4 * H, 2000)}) or leave the count to be chosen",
+    )

@@ -55,7 +55,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechdyn.gear_dynamics._nonsmooth import FlowError, NonsmoothFlow
-from mechdyn.gear_dynamics.floquet import UNSTABLE_MARGIN
+from mechdyn.gear_dynamics._stability import UNSTABLE_MARGIN
 from mechdyn.gear_dynamics.periodic import LinearPeriodic, PeriodPlan
 
 if TYPE_CHECKING:

@@ -13,7 +13,8 @@ solve_ivp); the rigid-body multiplier is removed by the model's boundary (:mod:`
 
 :func:`floquet` gives the multipliers over speed (:class:`FloquetResult`), :func:`stability_chart`
 the spectral radius over speed and one mesh's stiffness variation (:class:`StabilityChart`, an
-Ince–Strutt chart); the steady-state solvers judge the orbits they find by :func:`_spectral`.
+Ince–Strutt chart); the steady-state solvers judge the orbits they find by the same margin and
+multipliers (:mod:`._stability`).
 """
 
 from __future__ import annotations
@@ -26,12 +27,14 @@ import numpy as np
 from mechdyn.checks import check_array, check_count
 from mechdyn.errors import ModelError
 
-# PeriodPlan, interpolate, segments and product_harmonics were defined here before the periodic model,
-# its propagators and harmonic balance had modules of their own: importable from here still
+# UNSTABLE_MARGIN and _spectral, and PeriodPlan, interpolate, segments and product_harmonics, were defined
+# here before the stability margin, the periodic model, its propagators and harmonic balance had modules
+# of their own: importable from here still
+from mechdyn.gear_dynamics._stability import UNSTABLE_MARGIN as UNSTABLE_MARGIN
+from mechdyn.gear_dynamics._stability import _spectral as _spectral
 from mechdyn.gear_dynamics.harmonic_balance import product_harmonics as product_harmonics
 from mechdyn.gear_dynamics.periodic import (
     Boundary,
-    LinearPeriodic,
     _natural_frequencies,
     _speeds,
     linear_periodic,
@@ -47,18 +50,6 @@ if TYPE_CHECKING:
     import pandas as pd
 
 __all__ = ["FloquetResult", "StabilityChart", "floquet", "monodromy", "stability_chart"]
-
-#: Multipliers above 1 + this are unstable (1e-9 allows for the rounding of an undamped system's
-#: multipliers, which lie on the unit circle where stable).
-UNSTABLE_MARGIN = 1e-9
-
-
-def _spectral(Phi: np.ndarray, lin: LinearPeriodic | None = None) -> tuple[np.ndarray, float]:
-    """Floquet multipliers (largest first) and spectral radius of ``Phi``, without the rigid-body
-    angle's multiplier of ``lin`` where it is in the state."""
-    mu = np.linalg.eigvals(lin.deflate(Phi) if lin is not None else Phi)
-    mu = mu[np.argsort(-np.abs(mu), kind="stable")]
-    return mu, float(np.abs(mu[0])) if mu.size else 0.0
 
 
 @dataclass(frozen=True, repr=False)

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -10,9 +11,74 @@ from mechdyn.plotting import display_unit, legend, new_axes
 from mechdyn.units import SHOWN_UNITS, convert
 
 if TYPE_CHECKING:
-    from mechdyn.gear_dynamics.result import SimulationResult
+    from mechdyn.gear_dynamics.system import GearSystem
 
 __all__ = ["plot_dte", "plot_mesh_forces", "plot_speeds"]
+
+
+class LostContact(Protocol):
+    """What the figures read of an interval of lost contact (:class:`.result.ContactLoss`).
+
+    Attributes
+    ----------
+    mesh : str
+        The mesh.
+    start : float
+        When the loaded flanks parted, s.
+    end : float or None
+        When they closed again, s; None if still open at the end of the run.
+    """
+
+    @property
+    def mesh(self) -> str: ...
+    @property
+    def start(self) -> float: ...
+    @property
+    def end(self) -> float | None: ...
+
+
+class TimeHistories(Protocol):
+    """What the figures read of a time simulation (:class:`.result.SimulationResult`): the result is
+    passed as it is.
+
+    Attributes
+    ----------
+    system : GearSystem
+        The simulated system (its drivetrain's name, its meshes and their backlash).
+    time : ndarray
+        (N,) sample times, s.
+    speeds : ndarray
+        (n_dofs, N) disk speeds, rad/s, rows as :attr:`disk_names`.
+    mesh_forces : ndarray
+        (n_meshes, N) mesh forces along the line of action, N.
+    dte : ndarray
+        (n_meshes, N) dynamic transmission error, m.
+    static_mesh_forces : ndarray or None
+        (n_meshes,) quasi-static mesh forces, N.
+    contact_losses : sequence of LostContact
+        The intervals of lost drive-side contact.
+    disk_names, mesh_names : tuple of str
+        The rows of :attr:`speeds` and of the mesh arrays.
+    """
+
+    @property
+    def system(self) -> GearSystem: ...
+    @property
+    def time(self) -> np.ndarray: ...
+    @property
+    def speeds(self) -> np.ndarray: ...
+    @property
+    def mesh_forces(self) -> np.ndarray: ...
+    @property
+    def dte(self) -> np.ndarray: ...
+    @property
+    def static_mesh_forces(self) -> np.ndarray | None: ...
+    @property
+    def contact_losses(self) -> Sequence[LostContact]: ...
+    @property
+    def disk_names(self) -> tuple[str, ...]: ...
+    @property
+    def mesh_names(self) -> tuple[str, ...]: ...
 
 
 def _unit(values: Any, si: str, unit: str | None) -> tuple[str, float]:
@@ -21,7 +87,7 @@ def _unit(values: Any, si: str, unit: str | None) -> tuple[str, float]:
     return display_unit(values, si)
 
 
-def _losses(result: SimulationResult, ax: Any, mesh: str | None = None) -> None:
+def _losses(result: TimeHistories, ax: Any, mesh: str | None = None) -> None:
     """Shade the intervals of lost drive-side contact."""
     end = float(result.time[-1])
     labelled = False
@@ -33,13 +99,13 @@ def _losses(result: SimulationResult, ax: Any, mesh: str | None = None) -> None:
         labelled = True
 
 
-def plot_speeds(result: SimulationResult, ax: Any = None) -> Any:
+def plot_speeds(result: TimeHistories, ax: Any = None) -> Any:
     """Speed of every disk over time, rpm.
 
     Parameters
     ----------
     result : SimulationResult
-        The simulation.
+        The simulation (or anything with what :class:`TimeHistories` names).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on (default: a new figure).
 
@@ -57,14 +123,14 @@ def plot_speeds(result: SimulationResult, ax: Any = None) -> Any:
     return ax
 
 
-def plot_mesh_forces(result: SimulationResult, unit: str | None = None, ax: Any = None) -> Any:
+def plot_mesh_forces(result: TimeHistories, unit: str | None = None, ax: Any = None) -> Any:
     """Mesh forces along the lines of action over time, with the quasi-static forces dashed and the
     contact losses shaded.
 
     Parameters
     ----------
     result : SimulationResult
-        The simulation.
+        The simulation (or anything with what :class:`TimeHistories` names).
     unit : str, optional
         Force unit of the axis (e.g. ``"kN"``; default: the one the peak reads best in).
     ax : matplotlib.axes.Axes, optional
@@ -88,13 +154,13 @@ def plot_mesh_forces(result: SimulationResult, unit: str | None = None, ax: Any 
     return ax
 
 
-def plot_dte(result: SimulationResult, unit: str | None = None, ax: Any = None) -> Any:
+def plot_dte(result: TimeHistories, unit: str | None = None, ax: Any = None) -> Any:
     """Dynamic transmission error δ − e of every mesh over time, with its backlash band.
 
     Parameters
     ----------
     result : SimulationResult
-        The simulation.
+        The simulation (or anything with what :class:`TimeHistories` names).
     unit : str, optional
         Length unit of the axis (e.g. ``"um"``; default: the one the peak reads best in).
     ax : matplotlib.axes.Axes, optional

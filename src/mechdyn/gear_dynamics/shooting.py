@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechdyn.gear_dynamics._nonsmooth import FlowError, NonsmoothFlow
-from mechdyn.gear_dynamics.floquet import UNSTABLE_MARGIN, _spectral
+from mechdyn.gear_dynamics._stability import UNSTABLE_MARGIN, _spectral
 from mechdyn.gear_dynamics.periodic import LinearPeriodic, PeriodPlan
 from mechdyn.gear_dynamics.propagators import ivp_propagators, ordered_product, propagators, segments
 

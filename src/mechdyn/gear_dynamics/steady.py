@@ -38,9 +38,9 @@ import numpy as np
 from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
 from mechdyn.gear_dynamics._contact import BY_SIGN, NO_BACKLASH, announce, mesh_forces
-from mechdyn.gear_dynamics._harmonics import HARMONICS_RTOL, estimated_error, harmonics_for
+from mechdyn.gear_dynamics._harmonics import estimated_error, harmonics_for, truncation_warning
 from mechdyn.gear_dynamics._nonsmooth import FlowError
-from mechdyn.gear_dynamics.floquet import UNSTABLE_MARGIN, _spectral
+from mechdyn.gear_dynamics._stability import UNSTABLE_MARGIN, _spectral
 from mechdyn.gear_dynamics.harmonic_balance import _balance, _hb_solve, _series
 from mechdyn.gear_dynamics.periodic import (
     Boundary,
@@ -416,7 +416,7 @@ class SteadyState(Result):
         return (
             self.notes
             + (() if self.converged else ("Newton's method did not converge",))
-            + _truncation_warning(self.harmonics, self.harmonics_error)
+            + truncation_warning(self.harmonics, self.harmonics_error)
         )
 
 
@@ -512,15 +512,6 @@ def _harmonics_words(H: int, auto: bool, error: float) -> str:
         else ""
     )
     return f"harmonic balance ({H} harmonics per mesh, {how}{est})"
-
-
-def _truncation_warning(H: int, error: float) -> tuple[str, ...]:
-    if not error > HARMONICS_RTOL:
-        return ()
-    return (
-        f"K_v may be off by {100 * error:.2g} % with {H} harmonics per mesh (the change when they are "
-        f"doubled): give more (harmonics = {min(4 * H, 2000)}) or leave the count to be chosen",
-    )
 
 
 # -- names that moved ---------------------------------------------------------------------------------

@@ -40,8 +40,8 @@ from mechdyn.errors import ModelError
 from mechdyn.gear_dynamics._cost import check as check_cost
 from mechdyn.gear_dynamics._cost import sweep_cost
 from mechdyn.gear_dynamics._harmonics import HARMONICS_RTOL, MAX_AUTO, harmonics_for, needed_harmonics
+from mechdyn.gear_dynamics._stability import UNSTABLE_MARGIN
 from mechdyn.gear_dynamics.continuation import ContinuedBranch, follow
-from mechdyn.gear_dynamics.floquet import UNSTABLE_MARGIN
 from mechdyn.gear_dynamics.periodic import (
     LinearPeriodic,
     PeriodPlan,

@@ -2,17 +2,165 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
 from mechdyn.plotting import legend
 
-if TYPE_CHECKING:
-    from mechdyn.gear_dynamics.floquet import FloquetResult, StabilityChart
-    from mechdyn.gear_dynamics.sweep_result import SpeedSweepResult
-
 __all__ = ["plot_floquet", "plot_speed_sweep", "plot_stability_chart", "plot_sweep_dte"]
+
+
+# -- what each figure reads (the results are passed as they are: these only name what is drawn) -------
+class BranchCurves(Protocol):
+    """What the sweep's figure reads of a branch followed by continuation
+    (:class:`.continuation.ContinuedBranch`).
+
+    Attributes
+    ----------
+    speeds : ndarray
+        (n,) reference speeds along the branch, rad/s.
+    dynamic_factor : ndarray
+        (n, J) K_v of every mesh, dimensionless (NaN where unloaded).
+    stable : ndarray
+        (n,) True where the orbit is stable.
+    fold_indices : ndarray
+        The points that are folds, indices.
+    """
+
+    @property
+    def speeds(self) -> np.ndarray: ...
+    @property
+    def dynamic_factor(self) -> np.ndarray: ...
+    @property
+    def stable(self) -> np.ndarray: ...
+    @property
+    def fold_indices(self) -> np.ndarray: ...
+
+
+class SweepCurves(Protocol):
+    """What :func:`plot_speed_sweep` and :func:`plot_sweep_dte` read of a speed sweep
+    (:class:`.sweep_result.SpeedSweepResult`).
+
+    Attributes
+    ----------
+    speeds : ndarray
+        (n_s,) reference speeds Ω, rad/s.
+    reference : str
+        The disk whose speed is Ω.
+    mesh_names : tuple of str
+        The meshes, the columns of the (n_s, J) arrays.
+    force_max, force_amplitude : ndarray
+        (n_s, J) largest and half peak-to-peak mesh force, N.
+    dynamic_factor, iso_dynamic_factor : ndarray
+        (n_s, J) computed and ISO 6336-1 K_v, dimensionless (NaN where not given).
+    dte_amplitude : ndarray
+        (n_s, J) half peak-to-peak dynamic transmission error, m.
+    stable : ndarray
+        (n_s,) True where the periodic solution is stable.
+    iso_resonance_speed : ndarray or None
+        (J,) the reference speed at which ISO's pair alone resonates, rad/s.
+    period_multiple : ndarray or None
+        (n_s,) 1, or 2 where the orbit shown is period-doubled.
+    down : SweepCurves or None
+        The down sweep over the same speeds.
+    branches : tuple of BranchCurves
+        The branches followed by continuation.
+    """
+
+    @property
+    def speeds(self) -> np.ndarray: ...
+    @property
+    def reference(self) -> str: ...
+    @property
+    def mesh_names(self) -> tuple[str, ...]: ...
+    @property
+    def force_max(self) -> np.ndarray: ...
+    @property
+    def force_amplitude(self) -> np.ndarray: ...
+    @property
+    def dynamic_factor(self) -> np.ndarray: ...
+    @property
+    def iso_dynamic_factor(self) -> np.ndarray: ...
+    @property
+    def dte_amplitude(self) -> np.ndarray: ...
+    @property
+    def stable(self) -> np.ndarray: ...
+    @property
+    def iso_resonance_speed(self) -> np.ndarray | None: ...
+    @property
+    def period_multiple(self) -> np.ndarray | None: ...
+    @property
+    def down(self) -> SweepCurves | None: ...
+    @property
+    def branches(self) -> tuple[BranchCurves, ...]: ...
+
+    def resonances(self) -> dict[str, list[float]]:
+        """Per mesh, the speeds of the peaks of its force amplitude, rad/s."""
+        ...
+
+    def train_resonances(self) -> dict[str, list[tuple[int, int, float, float]]]:
+        """Per mesh, (mode number, order, frequency in Hz, reference speed in rad/s) where an order
+        of its frequency meets a natural frequency of the train."""
+        ...
+
+
+class FloquetCurve(Protocol):
+    """What :func:`plot_floquet` reads of a Floquet analysis (:class:`.floquet.FloquetResult`).
+
+    Attributes
+    ----------
+    speeds : ndarray
+        (n_s,) reference speeds Ω, rad/s.
+    spectral_radius : ndarray
+        (n_s,) ρ, the largest multiplier modulus, dimensionless.
+    reference : str
+        The disk whose speed is Ω.
+    """
+
+    @property
+    def speeds(self) -> np.ndarray: ...
+    @property
+    def spectral_radius(self) -> np.ndarray: ...
+    @property
+    def reference(self) -> str: ...
+
+    def unstable_ranges(self) -> list[tuple[float, float]]:
+        """The speed ranges (from, to) where ρ > 1, rad/s."""
+        ...
+
+
+class ChartRegions(Protocol):
+    """What :func:`plot_stability_chart` reads of a stability chart (:class:`.floquet.StabilityChart`).
+
+    Attributes
+    ----------
+    speeds : ndarray
+        (n_s,) reference speeds Ω, rad/s.
+    amplitudes : ndarray
+        (n_e,) stiffness variations ε of the mesh, dimensionless.
+    unstable : ndarray
+        (n_e, n_s) True where ρ > 1.
+    reference : str
+        The disk whose speed is Ω.
+    mesh : str
+        The mesh whose stiffness varies.
+    """
+
+    @property
+    def speeds(self) -> np.ndarray: ...
+    @property
+    def amplitudes(self) -> np.ndarray: ...
+    @property
+    def unstable(self) -> np.ndarray: ...
+    @property
+    def reference(self) -> str: ...
+    @property
+    def mesh(self) -> str: ...
+
+    def critical_speeds(self, orders: int = 2) -> np.ndarray:
+        """The speeds where the mesh frequency is 2 f_n / k, k = 1 … ``orders``, rad/s."""
+        ...
 
 
 def _rpm(speeds: np.ndarray) -> np.ndarray:
@@ -21,7 +169,7 @@ def _rpm(speeds: np.ndarray) -> np.ndarray:
     return np.asarray(convert(speeds, "rad/s", "rpm"))
 
 
-def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: Any) -> Any:
+def plot_speed_sweep(result: SweepCurves, ax: Any = None, **display_units: Any) -> Any:
     """Dynamic factor K_v of every mesh over the reference speed (rpm), ISO 6336-1 K_v dashed where
     given (labelled as the pair alone, with its own resonance speed), the peaks marked, and the speeds
     where a mesh order meets a train mode drawn as grey lines labelled with the mode and the order.
@@ -29,6 +177,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
     Parameters
     ----------
     result : SpeedSweepResult
+        The sweep (or anything with what :class:`SweepCurves` names).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on (default: a new figure).
     **display_units : str
@@ -108,7 +257,7 @@ def plot_speed_sweep(result: SpeedSweepResult, ax: Any = None, **display_units: 
     return ax
 
 
-def _continued(ax: Any, result: SpeedSweepResult, j: int, color: Any) -> None:
+def _continued(ax: Any, result: SweepCurves, j: int, color: Any) -> None:
     """The branches followed by continuation (:attr:`SpeedSweepResult.branches`, the down sweep's
     too): K_v of mesh ``j`` dashed where the orbit is unstable (between the folds), thin where it is
     stable, the folds marked by crosses; labelled once."""
@@ -148,7 +297,7 @@ def _continued(ax: Any, result: SpeedSweepResult, j: int, color: Any) -> None:
         labelled = True
 
 
-def _doubled(result: SpeedSweepResult) -> np.ndarray | None:
+def _doubled(result: SweepCurves) -> np.ndarray | None:
     return None if result.period_multiple is None else np.asarray(result.period_multiple) == 2
 
 
@@ -174,12 +323,13 @@ def _branch(ax: Any, x: np.ndarray, y: np.ndarray, stable: np.ndarray, **kw: Any
     return line
 
 
-def plot_sweep_dte(result: SpeedSweepResult, ax: Any = None, **display_units: Any) -> Any:
+def plot_sweep_dte(result: SweepCurves, ax: Any = None, **display_units: Any) -> Any:
     """Amplitude of the dynamic transmission error of every mesh over speed (rpm).
 
     Parameters
     ----------
     result : SpeedSweepResult
+        The sweep (or anything with what :class:`SweepCurves` names).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on (default: a new figure).
     **display_units : str
@@ -207,12 +357,13 @@ def plot_sweep_dte(result: SpeedSweepResult, ax: Any = None, **display_units: An
     return ax
 
 
-def plot_floquet(result: FloquetResult, ax: Any = None) -> Any:
+def plot_floquet(result: FloquetCurve, ax: Any = None) -> Any:
     """Largest Floquet multiplier modulus ρ over speed (rpm), unstable ranges shaded.
 
     Parameters
     ----------
     result : FloquetResult
+        The Floquet analysis (or anything with what :class:`FloquetCurve` names).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on (default: a new figure).
 
@@ -235,13 +386,14 @@ def plot_floquet(result: FloquetResult, ax: Any = None) -> Any:
     return ax
 
 
-def plot_stability_chart(chart: StabilityChart, ax: Any = None) -> Any:
+def plot_stability_chart(chart: ChartRegions, ax: Any = None) -> Any:
     """Unstable regions (ρ > 1) over speed (rpm) and stiffness variation ε, with the speeds where the
     mesh frequency is 2 f_n / k marked.
 
     Parameters
     ----------
     chart : StabilityChart
+        The chart (or anything with what :class:`ChartRegions` names).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on (default: a new figure).
 

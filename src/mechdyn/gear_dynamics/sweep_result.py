@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mechdyn.gear_dynamics._harmonics import truncation_warning
 from mechdyn.gear_dynamics._resonance import crossings, iso_note
+from mechdyn.gear_dynamics._stability import UNSTABLE_MARGIN
 from mechdyn.gear_dynamics.continuation import ContinuedBranch
-from mechdyn.gear_dynamics.floquet import UNSTABLE_MARGIN
-from mechdyn.gear_dynamics.steady import _truncation_warning
 from mechdyn.results import Result, Table
 
 if TYPE_CHECKING:
@@ -548,7 +548,7 @@ class SpeedSweepResult(Result):
                     f"Newton's method did not converge at {bad.size} speeds (from {bad.min():.4g} rad/s)"
                     + (" sweeping down" if sweep is self.down else "")
                 )
-        out.extend(_truncation_warning(self.harmonics, self.harmonics_error))
+        out.extend(truncation_warning(self.harmonics, self.harmonics_error))
         if not self.stable.all():
             bad = self.speeds[~self.stable]
             out.append(

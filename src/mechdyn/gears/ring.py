@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
@@ -48,9 +48,6 @@ from mechdyn.checks import check_count
 from mechdyn.errors import ModelError
 from mechdyn.gears.tooth import SHEAR_COEFFICIENT
 from mechdyn.units import check_poisson_ratio, show, si_field
-
-if TYPE_CHECKING:
-    from mechdyn.gears.geometry import SpurGear
 
 __all__ = ["RIM_POSITIONS", "RingRim", "ring_rim_supports"]
 
@@ -60,6 +57,43 @@ Legendre nodes: the series stiffness is smooth in the position)."""
 
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(48)  # along the beam, each side of the load
 _SPAN_NODES, _SPAN_WEIGHTS = np.polynomial.legendre.leggauss(RIM_POSITIONS)
+
+
+class RimGear(Protocol):
+    """What :meth:`RingRim.from_gear` reads of an internal gear (:class:`mechdyn.gears.SpurGear`).
+
+    Attributes
+    ----------
+    name : str
+        The gear, for messages.
+    root_radius : float
+        r_f, m.
+    face_width : float
+        b, m.
+    rim_thickness : float or None
+        s_R, the rim's radial thickness outside the root circle, m.
+    rim_supports : int or None
+        N_s, the number of evenly spaced supports.
+    youngs_modulus : float
+        E, Pa.
+    poisson_ratio : float
+        ν, dimensionless.
+    """
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def root_radius(self) -> float: ...
+    @property
+    def face_width(self) -> float: ...
+    @property
+    def rim_thickness(self) -> float | None: ...
+    @property
+    def rim_supports(self) -> int | None: ...
+    @property
+    def youngs_modulus(self) -> float: ...
+    @property
+    def poisson_ratio(self) -> float: ...
 
 
 @dataclass(frozen=True)
@@ -117,14 +151,14 @@ class RingRim:
             )
 
     @classmethod
-    def from_gear(cls, gear: SpurGear) -> RingRim:
+    def from_gear(cls, gear: RimGear) -> RingRim:
         """The rim of an internal gear with ``rim_thickness`` s_R and ``rim_supports``: centroidal
         radius r_f + s_R/2, section face width × s_R, the gear's E and ν.
 
         Parameters
         ----------
         gear : SpurGear
-            An internal gear with both.
+            An internal gear with both (or anything with what :class:`RimGear` names).
         """
         if gear.rim_thickness is None or gear.rim_supports is None:
             raise ModelError("the rim's curved beam needs rim_thickness and rim_supports", element=gear.name)

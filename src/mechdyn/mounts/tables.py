@@ -2,15 +2,35 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from mechdyn.results import Table
 from mechdyn.units import convert, key_label, readable, readable_unit
 
-if TYPE_CHECKING:
-    from mechdyn.mounts.analysis import MountResult
-
 __all__ = ["isolation_verdict", "mount_tables"]
+
+
+class MountData(Protocol):
+    """What the tables read of a mount analysis (:class:`mechdyn.mounts.analysis.MountResult`): the
+    result is passed as it is.
+
+    Attributes
+    ----------
+    name : str
+        The mount.
+    kind : str
+        Its type (``"bolted"``, ``"pad"``, …).
+    data : dict
+        The figures, SI units by their keys (``stiffness_N_per_m``, ``breakdown``, ``fe_convergence``,
+        ``contact``, ``calibration``, ``frf_fit``, ``isolation`` where they apply).
+    """
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def data(self) -> dict[str, Any]: ...
 
 
 def _rows(d: dict[str, Any]) -> list[list[Any]]:
@@ -76,14 +96,28 @@ def isolation_verdict(transmissibility: float, frequency_ratio: float | None = N
 
 
 def mount_tables(
-    result: MountResult,
+    result: MountData,
     length_unit: str = "mm",
     pressure_unit: str = "MPa",
     stiffness_unit: str | None = None,
 ) -> list[Table]:
     """The estimate, frusta, FE convergence, contact pressure, calibration, FRF fit and isolation,
     lengths, pressures and stiffnesses in the given display units (a stiffness, by default, in the unit
-    the mount's own stiffness reads best in: kN/mm for most)."""
+    the mount's own stiffness reads best in: kN/mm for most).
+
+    Parameters
+    ----------
+    result : MountResult
+        The mount analysis (or anything with what :class:`MountData` names).
+    length_unit, pressure_unit : str
+        Display units of lengths (default mm) and pressures (default MPa).
+    stiffness_unit : str, optional
+        Display unit of stiffnesses (default: the one the mount's stiffness reads best in).
+
+    Returns
+    -------
+    list of Table
+    """
     s = result.data
     stiffness_unit = stiffness_unit or readable_unit(s["stiffness_N_per_m"], "N/m")[0]
 
