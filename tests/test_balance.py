@@ -17,6 +17,7 @@ from mechdyn.balance import CounterweightSlot, balance, influence
 from mechdyn.balance.solve import Evaluator
 from mechdyn.errors import ModelError, ModelFileError
 from mechdyn.mechanism import Counterweight, inverse_dynamics
+from mechdyn.mechanism.summary import model_tables
 
 FOURBAR = EXAMPLES / "fourbar.toml"
 PRESS = EXAMPLES / "press_link_drive.toml"
@@ -165,7 +166,7 @@ def test_counterweights_fold_into_their_link_and_come_back_from_a_saved_file(tmp
     assert text.count("[[counterweights]]") == 2 and 'name = "rocker weight"' in text
     again = mechdyn.load(path).model
     assert again == loaded and again.counterweights == cws
-    tables = loaded.to_frame(), mechdyn.mechanism.summary.model_tables(loaded)
+    tables = loaded.to_frame(), model_tables(loaded)
     assert tables[1][-1].title.endswith("the counterweights") and len(tables[1][-1].rows) == 2
 
 

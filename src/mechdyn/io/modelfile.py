@@ -25,6 +25,7 @@ from mechdyn.errors import ModelError, ModelFileError
 from mechdyn.registry import LoadedModel, ModelType, model_types, resolve
 
 __all__ = [
+    "SCATTER_TABLES",
     "LoadedModel",
     "ModelSource",
     "field_context",
@@ -37,10 +38,14 @@ __all__ = [
     "referenced",
     "register_model_type",
     "schema_of",
+    "strip",
     "validate",
 ]
 
 M = TypeVar("M", bound=BaseModel)
+
+SCATTER_TABLES = ("scatter", "correlations")
+"""The top-level tables of a model file that give its scatter (no model type's schema reads them)."""
 
 
 def register_model_type(name: str, builder: str, schema: str | None = None) -> None:
@@ -391,14 +396,27 @@ def _known_fields(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> list[s
     return list(getattr(node, "model_fields", {}))
 
 
+def strip(data: Mapping[str, Any]) -> Mapping[str, Any]:
+    """A model file's parsed TOML without its scatter tables, for its type's schema: every model
+    type accepts them and none reads them (a file that is no model file, without ``[model]``, is
+    given back as it is).
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed TOML.
+    """
+    if not isinstance(data.get("model"), Mapping) or not any(k in data for k in SCATTER_TABLES):
+        return data
+    return {k: v for k, v in data.items() if k not in SCATTER_TABLES}
+
+
 def validate(schema: type[M], source: ModelSource) -> M:
     """Validate parsed TOML against a schema, turning pydantic errors into a ModelFileError that
     lists every problem of the file, each with its table, field, value and what was expected.
 
     A model file's ``[[scatter]]`` and ``[[correlations]]`` (:mod:`mechdyn.io.scatter`) are left out:
     every model type takes them, :func:`load_model` checks them."""
-    from mechdyn.io.scatter import strip
-
     try:  # the scatter tables of a model file are every type's, read by mechdyn.io.scatter
         return schema.model_validate(strip(source.data))
     except ValidationError as exc:

@@ -34,13 +34,11 @@ as it loads the file, a ``tolerance`` study takes them as the default scatter of
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from mechdyn.errors import MechdynError, ModelFileError
-
-if TYPE_CHECKING:
-    from mechdyn.io.modelfile import ModelSource
+from mechdyn.io.modelfile import SCATTER_TABLES, ModelSource, strip
+from mechdyn.io.reference_rows import FieldRow, FileTable
 
 __all__ = [
     "CORRELATION_FIELDS",
@@ -51,29 +49,8 @@ __all__ = [
     "strip",
 ]
 
-SCATTER_TABLES = ("scatter", "correlations")
-"""The top-level tables of a model file that give its scatter (no model type's schema reads them)."""
-
 CORRELATION_FIELDS = ("between", "coefficient", "measure")
 """The fields of a ``[[correlations]]`` row, as a tolerance study's."""
-
-# -- reading --------------------------------------------------------------------------------------------
-
-
-def strip(data: Mapping[str, Any]) -> Mapping[str, Any]:
-    """A model file's parsed TOML without its scatter tables, for its type's schema: every model
-    type accepts them and none reads them (a file that is no model file, without ``[model]``, is
-    given back as it is).
-
-    Parameters
-    ----------
-    data : mapping
-        The parsed TOML.
-    """
-    if not isinstance(data.get("model"), Mapping) or not any(k in data for k in SCATTER_TABLES):
-        return data
-    return {k: v for k, v in data.items() if k not in SCATTER_TABLES}
-
 
 # -- writing --------------------------------------------------------------------------------------------
 
@@ -120,7 +97,6 @@ def check_written(text: str, path: str, source: ModelSource) -> None:
     import hashlib
     import tomllib
 
-    from mechdyn.io.modelfile import ModelSource
     from mechdyn.registry import model_scatter
 
     written = ModelSource(path, text, hashlib.sha256(text.encode()).hexdigest(), tomllib.loads(text))
@@ -143,9 +119,8 @@ def reference_tables() -> list[Any]:
 
     Returns
     -------
-    list of mechdyn.io.reference.FileTable
+    list of mechdyn.io.reference_rows.FileTable
     """
-    from mechdyn.io.reference import FieldRow, FileTable
     from mechdyn.uncertainty.tables import DISTRIBUTION_KEYS, TOLERANCE_KEYS
     from mechdyn.uncertainty.tolerances import tolerance_classes
 

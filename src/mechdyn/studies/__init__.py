@@ -17,7 +17,7 @@ __all__ = attach(
         "ModelTree": "paths",
         "Objective": "outputs",
         "Parameter": "parameters",
-        "Study": "study",
+        "Study": "plan",
         "StudyError": "errors",
         "StudyResult": "result",
         "Watched": "outputs",

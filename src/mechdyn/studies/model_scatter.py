@@ -26,8 +26,8 @@ if TYPE_CHECKING:
     import numpy as np
 
     from mechdyn.io.modelfile import ModelSource
+    from mechdyn.studies.parameters import Parameter
     from mechdyn.studies.paths import ModelTree
-    from mechdyn.studies.spec import Parameter
     from mechdyn.uncertainty import InputSpace, Variable
 
 __all__ = ["ModelScatter", "ScatterRow", "read_scatter"]
@@ -176,8 +176,8 @@ def _cause(exc: BaseException) -> ModelError | None:
 def _parameter(tree: ModelTree, row: ScatterRow, where: str, path: str) -> Parameter:
     """The study parameter a row makes, its errors as the file's (the field the error is about)."""
     from mechdyn.studies.errors import StudyError
+    from mechdyn.studies.parameters import Parameter
     from mechdyn.studies.paths import PathError
-    from mechdyn.studies.spec import Parameter
     from mechdyn.units import UnitError
 
     try:

@@ -25,7 +25,7 @@ from typing import Any
 from mechdyn.studies.errors import StudyError
 from mechdyn.studies.paths import Location, ModelTree, Nature, file_text
 
-__all__ = ["Parameter", "level_kinds", "parse_relative"]
+__all__ = ["Parameter", "parse_relative"]
 
 
 _RELATIVE = re.compile(r"^\s*(±|\+/-|\+-|[+-])?\s*(\d+(?:\.\d*)?|\.\d+)\s*%\s*$")
@@ -139,6 +139,7 @@ class Parameter:
         where: str = "",
         scatter: Any = None,
         design_scatter: bool = False,
+        level_kinds: Sequence[str] = (),
     ) -> list[Parameter]:
         """The parameter(s) a study file's row names: a vector (``points.C``) gives one parameter
         per component (``points.C.x``, ``points.C.y``).
@@ -169,6 +170,9 @@ class Parameter:
         design_scatter : bool
             Take a range and a scatter together (an ``optimize`` study's design variable whose value
             scatters about each design's: robust design).
+        level_kinds : sequence of str
+            The study kinds that take levels (:func:`mechdyn.studies.kinds.base.level_kinds`), named
+            when a whole number or a choice is given a range.
         """
         if scatter is not None:
             if levels is not None or (range is not None and not design_scatter):
@@ -191,14 +195,21 @@ class Parameter:
             groups = [(name, groups[0][1])]
         out = []
         for label, locs in groups:
-            out.append(cls._one(tree, label, locs, range, levels, where))
+            out.append(cls._one(tree, label, locs, range, levels, where, level_kinds))
         if scatter is not None:
             return [_scattered(p, scatter, len(groups), where) for p in out]
         return out
 
     @classmethod
     def _one(
-        cls, tree: ModelTree, name: str, locs: list[Location], range_: Any, levels: Any, where: str
+        cls,
+        tree: ModelTree,
+        name: str,
+        locs: list[Location],
+        range_: Any,
+        levels: Any,
+        where: str,
+        level_kinds: Sequence[str] = (),
     ) -> Parameter:
         natures = [tree.nature(loc) for loc in locs]
         if any(n.kind != natures[0].kind or n.of != natures[0].of for n in natures):
@@ -208,7 +219,7 @@ class Parameter:
                 "each kind a parameter of its own"
             )
         if natures[0].kind != "quantity":
-            return cls._discrete(tree, name, locs, natures[0], range_, levels, where)
+            return cls._discrete(tree, name, locs, natures[0], range_, levels, where, level_kinds)
         values = [tree.value(loc) for loc in locs]
         unit = _file_unit(values[0])
         bases = []
@@ -296,6 +307,7 @@ class Parameter:
         range_: Any,
         levels: Any,
         where: str,
+        level_kinds: Sequence[str] = (),
     ) -> Parameter:
         """A whole number or a choice: levels only, checked against what the model accepts."""
         values = [tree.value(loc) for loc in locs]
@@ -309,10 +321,10 @@ class Parameter:
             others = [c for c in nature.choices if c != values[0]][:2] or [values[0]]
             example = "[" + ", ".join(file_text(c) for c in others) + "]"
         if range_ is not None:
+            kinds = f" (studies of kind {' or '.join(level_kinds)} take levels)" if level_kinds else ""
             raise StudyError(
                 f"{where}: {name!r} is {what} ({shown} in the model), not a quantity: it takes levels, "
-                f"not a range; give levels = {example} (studies of kind {' or '.join(level_kinds())} "
-                "take levels)"
+                f"not a range; give levels = {example}{kinds}"
             )
         if not isinstance(levels, (list, tuple)) or not levels:
             raise StudyError(f"{where}: levels of {name!r} must be a non-empty list, e.g. {example}")
@@ -553,14 +565,6 @@ def _bound_problem(bound: Any, value: float, field: str) -> str | None:
         if b is not None and not holds(b):
             return f"{value:g} is out of range; {field} must be {words} {b:g}"
     return None
-
-
-def level_kinds() -> tuple[str, ...]:
-    """The study kinds that take levels (one-at-a-time and factorial): those a whole number or a
-    choice can be a parameter of."""
-    from mechdyn.studies.kinds import KINDS
-
-    return tuple(name for name, k in KINDS.items() if k.uses == "levels")
 
 
 def _what(nature: Nature) -> str:

@@ -13,7 +13,7 @@ from mechdyn.studies.cells import number, parameter_text, percent, signed, unit_
 
 if TYPE_CHECKING:
     from mechdyn.studies.outputs import Watched
-    from mechdyn.studies.result import StudyResult
+    from mechdyn.studies.plan import StudyFindings
     from mechdyn.studies.storage import StoredVariant
 
 __all__ = [
@@ -29,7 +29,7 @@ __all__ = [
 ]
 
 
-def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
+def tornado(result: StudyFindings, w: Watched, ax: Any = None) -> Any:
     """One bar per parameter from its lowest to its highest level's change of one output (in % of the
     base value; a negative output growing in size reads as growing), each end labelled with its level,
     the parameter with the larger effect on top."""
@@ -70,7 +70,7 @@ def tornado(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     return ax
 
 
-def main_effects(result: StudyResult, w: Watched, ax: Any = None) -> Any:
+def main_effects(result: StudyFindings, w: Watched, ax: Any = None) -> Any:
     """A factorial study's main effects on one output: the mean over the grid at each level of each
     parameter, the parameters side by side on one axis (their levels as written), the grid mean dashed."""
     e = result.findings["factorial"][w.key]
@@ -94,7 +94,7 @@ def main_effects(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     return ax
 
 
-def sobol_bars(result: StudyResult, w: Watched, ax: Any = None) -> Any:
+def sobol_bars(result: StudyFindings, w: Watched, ax: Any = None) -> Any:
     """First- and total-order indices of one output with their 95 % intervals."""
     ind = result.findings["indices"][w.key]
     names = sorted(ind, key=lambda n: -ind[n]["ST"])
@@ -123,7 +123,7 @@ def sobol_bars(result: StudyResult, w: Watched, ax: Any = None) -> Any:
     return ax
 
 
-def history(result: StudyResult, ax: Any = None) -> Any:
+def history(result: StudyFindings, ax: Any = None) -> Any:
     """The objective of each evaluated variant in the order stored (those that break a constraint
     in light grey) and the best feasible one so far."""
     st = result.study
@@ -156,7 +156,7 @@ def history(result: StudyResult, ax: Any = None) -> Any:
     return ax
 
 
-def pareto(result: StudyResult, ax: Any = None) -> Any:
+def pareto(result: StudyFindings, ax: Any = None) -> Any:
     """The first two objectives of every feasible variant and the Pareto front."""
     st = result.study
     ok = [v for v in result.variants if v.status == "ok"]
@@ -195,7 +195,7 @@ def pareto(result: StudyResult, ax: Any = None) -> Any:
     return ax
 
 
-def parallel(result: StudyResult, ax: Any = None) -> Any:
+def parallel(result: StudyFindings, ax: Any = None) -> Any:
     """Parallel coordinates: each variant a line through its parameters and outputs, each axis from
     the variants' smallest to their largest value, written at its ends in the study's units; the lines
     coloured by the objective (else the last output), with its colour bar."""

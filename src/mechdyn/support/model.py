@@ -14,9 +14,11 @@ Vibration Handbook*, ch. 30 "Theory of vibration isolation", rigid body on resil
 from __future__ import annotations
 
 import math
+import re
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,7 +26,19 @@ from mechdyn.checks import check_array, check_number
 from mechdyn.errors import ModelError
 from mechdyn.units import STANDARD_GRAVITY, si_field
 
-__all__ = ["DOFS", "MAX_DAMPING_RATIO", "PLANAR", "SPATIAL", "Mount", "MountedMachine", "RigidBody"]
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = [
+    "DOFS",
+    "MAX_DAMPING_RATIO",
+    "PLANAR",
+    "SPATIAL",
+    "Mount",
+    "MountedMachine",
+    "RigidBody",
+    "model_frame",
+]
 
 MAX_DAMPING_RATIO = 10.0
 """The largest damping ratio ζ a support may have: ten times critical, far beyond any mount (rubber
@@ -236,9 +250,7 @@ class MountedMachine:
     def to_frame(self) -> Any:
         """The mounts as assembled, one row per mount: position (m), stiffness (N/m) and damping
         (N·s/m) along its axes, anchored, and where the values came from
-        (:func:`mechdyn.support.summary.model_frame`)."""
-        from mechdyn.support.summary import model_frame
-
+        (:func:`model_frame`)."""
         return model_frame(self)
 
     def __post_init__(self) -> None:
@@ -422,3 +434,43 @@ class MountedMachine:
             replace(m, stiffness=m.stiffness * stiffness, damping=m.damping * damping) for m in self.mounts
         )
         return replace(self, mounts=mounts)
+
+
+# -- the machine as assembled, one row per mount -------------------------------------------------------
+
+
+def _source(name: str, drawn: Mapping[str, Any]) -> str:
+    """Where a mount's stiffness came from, in words."""
+    d = drawn.get(name)
+    if d is None:
+        return "given"
+    kind = re.sub(r"(?<!^)(?=[A-Z])", " ", str(d["estimate"])).lower()  # ElastomerPad: elastomer pad
+    said = f"{kind} estimate from {d['source']}"
+    calibration = d.get("calibration", "as drawn")
+    if isinstance(calibration, Mapping):
+        said += f", calibrated ({calibration.get('provenance', 'stored')})"
+    return said
+
+
+def model_frame(machine: MountedMachine, drawn: Mapping[str, Any] | None = None) -> pd.DataFrame:
+    """The mounts as assembled, one row per mount, SI: position (m), stiffness (N/m) and damping
+    (N·s/m) along the mount's axes, anchored, and where the values came from.
+
+    Parameters
+    ----------
+    machine : MountedMachine
+        The machine as analysed.
+    drawn : mapping, optional
+        The mounts estimated from their drawings, as for :func:`mechdyn.support.summary.model_tables`.
+    """
+    import pandas as pd
+
+    rows = []
+    for m in machine.mounts:
+        row: dict[str, Any] = {"mount": m.name}
+        row |= {f"{c}_m": float(v) for c, v in zip("xyz", m.position, strict=True)}
+        row |= {f"stiffness_{a}_N_per_m": float(k) for a, k in zip("123", m.stiffness, strict=True)}
+        row |= {f"damping_{a}_N_s_per_m": float(c) for a, c in zip("123", m.damping, strict=True)}
+        row |= {"anchored": bool(m.anchored), "from": _source(m.name, drawn or {})}
+        rows.append(row)
+    return pd.DataFrame(rows)

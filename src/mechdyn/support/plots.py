@@ -3,7 +3,7 @@ forces, mode shapes, and a rotating unbalance's floor force over speed."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -11,9 +11,8 @@ from mechdyn.plotting import display_unit, legend, new_axes, overlaid
 from mechdyn.units import convert
 
 if TYPE_CHECKING:
-    from mechdyn.support.modes import SupportModes
-    from mechdyn.support.response import SupportResponse
-    from mechdyn.support.sweep import UnbalanceSweep
+    from mechdyn.support.excitation import PeriodicLoad
+    from mechdyn.support.model import MountedMachine
 
 __all__ = [
     "plot_displacement",
@@ -26,6 +25,73 @@ __all__ = [
 ]
 
 
+# -- what the figures read ------------------------------------------------------------------------------
+
+
+class ResponseCurves(Protocol):
+    """What the response figures read of a response over time (a
+    :class:`~mechdyn.support.response.ResponseCurves`): the machine, its load, and the curves in SI
+    (s, m, N)."""
+
+    @property
+    def machine(self) -> MountedMachine: ...
+    @property
+    def load(self) -> PeriodicLoad: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def time(self) -> np.ndarray: ...
+    @property
+    def vertical_displacement(self) -> np.ndarray: ...
+    @property
+    def exciting_force(self) -> np.ndarray: ...
+    @property
+    def transmitted_force(self) -> np.ndarray: ...
+    @property
+    def mount_forces(self) -> np.ndarray: ...
+
+
+class ModeShapes(Protocol):
+    """What the mode figures read of a machine's modes (a :class:`~mechdyn.support.modes.SupportModes`):
+    the machine, the frequencies (Hz), the shapes (m, rad per unit modal amplitude), each mode's
+    kinetic-energy shares and dominant coordinate."""
+
+    @property
+    def machine(self) -> MountedMachine: ...
+    @property
+    def frequencies_hz(self) -> np.ndarray: ...
+    @property
+    def shapes(self) -> np.ndarray: ...
+    @property
+    def kinetic_energy(self) -> np.ndarray: ...
+    @property
+    def dominant(self) -> list[str]: ...
+
+
+class SpeedCurves(Protocol):
+    """What the unbalance figure reads of a sweep over speed (an
+    :class:`~mechdyn.support.sweep.UnbalanceSweep`): the speeds (rad/s), the forces (N), the
+    transmissibility, the running speed and the speeds that meet a natural frequency."""
+
+    @property
+    def machine(self) -> MountedMachine: ...
+    @property
+    def speed(self) -> np.ndarray: ...
+    @property
+    def unbalance_force(self) -> np.ndarray: ...
+    @property
+    def floor_force(self) -> np.ndarray: ...
+    @property
+    def transmissibility(self) -> np.ndarray: ...
+    @property
+    def running_speed(self) -> float: ...
+    @property
+    def resonance_speeds(self) -> np.ndarray: ...
+
+
+# -- the figures ----------------------------------------------------------------------------------------
+
+
 def _force_scale(values: np.ndarray, force_unit: str | None) -> tuple[float, str]:
     """(newtons per unit shown, the unit shown) of a force axis: ``force_unit`` where given, else the
     unit the largest force reads best in, as the tables choose it (:func:`mechdyn.plotting.display_unit`)."""
@@ -35,7 +101,7 @@ def _force_scale(values: np.ndarray, force_unit: str | None) -> tuple[float, str
     return float(convert(1.0, force_unit, "N")), force_unit
 
 
-def _abscissa(r: SupportResponse) -> tuple[np.ndarray, str]:
+def _abscissa(r: ResponseCurves) -> tuple[np.ndarray, str]:
     """Crank (or rotors' shaft) angle when the load has one and the response is one steady period."""
     a = r.load.angle
     if a is not None and r.kind == "steady state" and a.size == r.time.size:
@@ -45,7 +111,7 @@ def _abscissa(r: SupportResponse) -> tuple[np.ndarray, str]:
     return r.time, "time (s)"
 
 
-def plot_displacement(startup: SupportResponse, steady: SupportResponse, ax: Any = None) -> Any:
+def plot_displacement(startup: ResponseCurves, steady: ResponseCurves, ax: Any = None) -> Any:
     """Bed displacement z(t): the start-up from rest and the steady state repeated over it, mm."""
     ax = new_axes(ax, figsize=(8.0, 4.0))
     ax.plot(startup.time, convert(startup.vertical_displacement, "m", "mm"), lw=1, label="start-up from rest")
@@ -62,7 +128,7 @@ def plot_displacement(startup: SupportResponse, steady: SupportResponse, ax: Any
     return ax
 
 
-def plot_forces(r: SupportResponse, ax: Any = None, force_unit: str | None = None) -> Any:
+def plot_forces(r: ResponseCurves, ax: Any = None, force_unit: str | None = None) -> Any:
     """Exciting (inertia) force F and transmitted force F_T over one period."""
     ax = new_axes(ax)
     scale, unit = _force_scale(r.exciting_force, force_unit)
@@ -77,7 +143,7 @@ def plot_forces(r: SupportResponse, ax: Any = None, force_unit: str | None = Non
     return ax
 
 
-def plot_transmitted_vs_exciting(r: SupportResponse, ax: Any = None, force_unit: str | None = None) -> Any:
+def plot_transmitted_vs_exciting(r: ResponseCurves, ax: Any = None, force_unit: str | None = None) -> Any:
     """F_T against F over one period: a line of slope 1 means quasi-static transmission."""
     ax = new_axes(ax, figsize=(5.5, 5.0))
     scale, unit = _force_scale(r.exciting_force, force_unit)
@@ -94,7 +160,7 @@ def plot_transmitted_vs_exciting(r: SupportResponse, ax: Any = None, force_unit:
     return ax
 
 
-def plot_mount_forces(r: SupportResponse, ax: Any = None, force_unit: str | None = None) -> Any:
+def plot_mount_forces(r: ResponseCurves, ax: Any = None, force_unit: str | None = None) -> Any:
     """Vertical force of each mount on the floor over one period (dynamic part)."""
     ax = new_axes(ax)
     scale, unit = _force_scale(r.mount_forces[..., 2], force_unit)
@@ -110,7 +176,7 @@ def plot_mount_forces(r: SupportResponse, ax: Any = None, force_unit: str | None
     return ax
 
 
-def plot_modes(m: SupportModes, ax: Any = None) -> Any:
+def plot_modes(m: ModeShapes, ax: Any = None) -> Any:
     """Each mode's kinetic energy shares by coordinate (stacked bars), frequencies on the axis."""
     ax = new_axes(ax, figsize=(7.0, 4.0))
     shares = 100 * m.kinetic_energy.T
@@ -131,7 +197,7 @@ def plot_modes(m: SupportModes, ax: Any = None) -> Any:
     return ax
 
 
-def plot_mode_shapes(m: SupportModes) -> Any:
+def plot_mode_shapes(m: ModeShapes) -> Any:
     """Each mode drawn on the machine's outline: side view (x–z) above, top view (x–y) below.
 
     The outline is the box over the mounts up to twice the height of the centre of mass; the mode
@@ -174,13 +240,13 @@ def plot_mode_shapes(m: SupportModes) -> Any:
     return axes[0, 0]
 
 
-def plot_unbalance_sweep(sweep: UnbalanceSweep, force_unit: str | None = None) -> Any:
+def plot_unbalance_sweep(sweep: SpeedCurves, force_unit: str | None = None) -> Any:
     """A rotating unbalance over speed: its force and the floor force above, the transmissibility
     below (log scale), the running speed and the speeds that meet a natural frequency marked.
 
     Parameters
     ----------
-    sweep : UnbalanceSweep
+    sweep : UnbalanceSweep or SpeedCurves
         The sweep (:func:`mechdyn.support.unbalance_sweep`).
     force_unit : str, optional
         The unit the forces are shown in (by default N, or kN from 1 kN).

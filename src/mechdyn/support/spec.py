@@ -7,16 +7,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from mechdyn.errors import ModelFileError
+from mechdyn.support.analysis_table import AnalysisTable
 from mechdyn.support.excitation import PeriodicLoad, Placement
 from mechdyn.support.model import MountedMachine
-
-if TYPE_CHECKING:
-    from mechdyn.support.schema import AnalysisTable
 
 __all__ = ["DriveExcitation", "MechanismExcitation", "PlacedEstimate", "SupportSpec"]
 

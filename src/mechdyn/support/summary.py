@@ -1,38 +1,20 @@
 """The machine on its mounts as assembled: the rigid body (mass, centre of mass, inertia) and each
 mount (where it holds the machine, its stiffness and damping along its axes, and where they came from:
-given, estimated from the mount's drawing, or calibrated), as tables for the CLI, reports and
-``to_frame()``."""
+given, estimated from the mount's drawing, or calibrated), as tables for the CLI and reports; the same
+rows as a frame, ``to_frame()``, are the model's own (:func:`mechdyn.support.model.model_frame`)."""
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from mechdyn.results import Table
+from mechdyn.support.model import MountedMachine, _source, model_frame
 from mechdyn.units import convert, readable_unit
 
-if TYPE_CHECKING:
-    import pandas as pd
-
-    from mechdyn.support.model import MountedMachine
-
 __all__ = ["model_frame", "model_tables"]
-
-
-def _source(name: str, drawn: Mapping[str, Any]) -> str:
-    """Where a mount's stiffness came from, in words."""
-    d = drawn.get(name)
-    if d is None:
-        return "given"
-    kind = re.sub(r"(?<!^)(?=[A-Z])", " ", str(d["estimate"])).lower()  # ElastomerPad: elastomer pad
-    said = f"{kind} estimate from {d['source']}"
-    calibration = d.get("calibration", "as drawn")
-    if isinstance(calibration, Mapping):
-        said += f", calibrated ({calibration.get('provenance', 'stored')})"
-    return said
 
 
 def model_tables(machine: MountedMachine, drawn: Mapping[str, Any] | None = None) -> list[Table]:
@@ -106,27 +88,3 @@ def model_tables(machine: MountedMachine, drawn: Mapping[str, Any] | None = None
         "mount is turned).",
     )
     return [body, mounts]
-
-
-def model_frame(machine: MountedMachine, drawn: Mapping[str, Any] | None = None) -> pd.DataFrame:
-    """The mounts as assembled, one row per mount, SI: position (m), stiffness (N/m) and damping
-    (N·s/m) along the mount's axes, anchored, and where the values came from.
-
-    Parameters
-    ----------
-    machine : MountedMachine
-        The machine as analysed.
-    drawn : mapping, optional
-        The mounts estimated from their drawings, as for :func:`model_tables`.
-    """
-    import pandas as pd
-
-    rows = []
-    for m in machine.mounts:
-        row: dict[str, Any] = {"mount": m.name}
-        row |= {f"{c}_m": float(v) for c, v in zip("xyz", m.position, strict=True)}
-        row |= {f"stiffness_{a}_N_per_m": float(k) for a, k in zip("123", m.stiffness, strict=True)}
-        row |= {f"damping_{a}_N_s_per_m": float(c) for a, c in zip("123", m.damping, strict=True)}
-        row |= {"anchored": bool(m.anchored), "from": _source(m.name, drawn or {})}
-        rows.append(row)
-    return pd.DataFrame(rows)

@@ -26,15 +26,13 @@ import numpy as np
 from mechdyn.results import Table
 from mechdyn.studies.cells import number, parameter_text, table, unit_text
 from mechdyn.studies.errors import StudyError
-from mechdyn.studies.parameters import level_kinds
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
     from mechdyn.studies.parameters import Parameter
-    from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.study import Study
+    from mechdyn.studies.plan import Study, StudyFindings
 
-__all__ = ["KINDS", "Found", "Kind", "Ran", "kind", "least_violation", "register"]
+__all__ = ["KINDS", "Found", "Kind", "Ran", "kind", "least_violation", "level_kinds", "register"]
 
 
 @dataclass(frozen=True)
@@ -162,15 +160,15 @@ class Kind:
         raise NotImplementedError
 
     # -- showing ------------------------------------------------------------------------------
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         """The tables a designer expects of the kind, in the study's units."""
         return []
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         """The kind's plots: file name → a function that draws it."""
         return {}
 
-    def views(self, result: StudyResult) -> dict[str, Any] | None:
+    def views(self, result: StudyFindings) -> dict[str, Any] | None:
         """What a report and the dashboard's study page lead with, or None (the findings' tables
         and plots alone): ``title``, ``headline`` (sentences), ``note``, ``warnings`` and ``figures``
         ((file name, caption, draw) each), as :meth:`mechdyn.studies.kinds.tolerance.Tolerance.views`
@@ -198,12 +196,16 @@ def kind(name: str) -> Kind:
     StudyError
         For a name no kind has, listing those there are.
     """
-    from mechdyn.studies import kinds as _  # noqa: F401  (registers the kinds)
-
-    try:
+    try:  # importing this module ran its package's __init__, which registers every kind
         return KINDS[name]
     except KeyError:
         raise StudyError(f"no study kind {name!r}: the kinds are {', '.join(KINDS)}") from None
+
+
+def level_kinds() -> tuple[str, ...]:
+    """The study kinds that take levels (one-at-a-time and factorial): those a whole number or a
+    choice can be a parameter of."""
+    return tuple(name for name, k in KINDS.items() if k.uses == "levels")
 
 
 # -- what the kinds share ---------------------------------------------------------------------
@@ -284,7 +286,7 @@ def least_violation(study: Study, variants: Sequence[StoredVariant]) -> dict[str
     }
 
 
-def least_violation_table(result: StudyResult) -> Table:
+def least_violation_table(result: StudyFindings) -> Table:
     """:func:`least_violation` of the findings as a table: the variant that came nearest, and how far
     it breaks each constraint in the constraint's display unit."""
     st, near = result.study, result.findings.get("least_violation")
@@ -318,7 +320,7 @@ def describe(study: Study, v: StoredVariant) -> dict[str, Any]:
     }
 
 
-def variant_table(result: StudyResult, d: dict[str, Any], title: str) -> Table:
+def variant_table(result: StudyFindings, d: dict[str, Any], title: str) -> Table:
     """One variant of the findings (:func:`describe`) as a table: its parameters as the study file
     gives them, each output in words in the study's unit (else the unit its size reads best in),
     whether each constraint holds."""
@@ -342,7 +344,7 @@ def safe(key: str) -> str:
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in key)
 
 
-def parallel_plot(result: StudyResult) -> dict[str, Callable[[], Any]]:
+def parallel_plot(result: StudyFindings) -> dict[str, Callable[[], Any]]:
     """The parallel-coordinates plot of the variants."""
     from mechdyn.studies import plots as sp
 

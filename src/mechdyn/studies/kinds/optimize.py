@@ -41,8 +41,7 @@ from mechdyn.studies.polish import (
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
-    from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.study import Study
+    from mechdyn.studies.plan import Study, StudyFindings
 
 __all__ = ["FIRST_ORDER", "TIE", "Optimize", "objective_of", "pareto_front"]
 
@@ -232,7 +231,7 @@ class Optimize(Kind):
         return Found(out, frozenset({chosen.id}) if chosen is not None else frozenset())
 
     # -- showing ------------------------------------------------------------------------------
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         f = result.findings
         out: list[Table] = []
         if "pareto_front" in f:
@@ -249,7 +248,7 @@ class Optimize(Kind):
         out.append(_optimality_table(result))
         return out
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         from mechdyn.studies import plots as sp
 
         out: dict[str, Callable[[], Any]] = {"history.png": lambda: sp.history(result)}
@@ -306,7 +305,7 @@ def _front_role(findings: dict[str, Any], variant: int) -> str:
     return ", ".join(roles)
 
 
-def _front_table(result: StudyResult) -> Table:
+def _front_table(result: StudyFindings) -> Table:
     st, f = result.study, result.findings
     ws = [o.output.readable(d["outputs"].get(o.output.key) for d in f["pareto_front"]) for o in st.objectives]
     return table(
@@ -325,7 +324,7 @@ def _front_table(result: StudyResult) -> Table:
     )
 
 
-def _optimality_table(result: StudyResult) -> Table:
+def _optimality_table(result: StudyFindings) -> Table:
     """How far the optimum can be trusted: the verdict on its first-order measure, what holds it
     (the active constraints and bounds, each with what relaxing it by one unit is worth; only at a
     converged optimum, where the multipliers mean that), where each polish start ended and with what

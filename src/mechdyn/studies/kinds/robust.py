@@ -40,7 +40,7 @@ from mechdyn.studies.outputs import Statistic, Watched, output_problem, statisti
 
 if TYPE_CHECKING:
     from mechdyn.studies.parameters import Parameter
-    from mechdyn.studies.study import Study
+    from mechdyn.studies.plan import Study
     from mechdyn.uncertainty import InputSpace
 
 __all__ = [

@@ -15,8 +15,7 @@ from mechdyn.studies.kinds.base import Found, Kind, parallel_plot, register, saf
 from mechdyn.studies.storage import StoredVariant
 
 if TYPE_CHECKING:
-    from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.study import Study
+    from mechdyn.studies.plan import Study, StudyFindings
 
 __all__ = ["Sobol"]
 
@@ -84,7 +83,7 @@ class Sobol(Kind):
             }
         return Found({"base_samples": study.samples or 256, "indices": indices})
 
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         """Per output (in words): each parameter's first- and total-order index with its 95 %
         interval, the largest total order first."""
         words = {w.key: w.words for w in result.study.watched}
@@ -103,7 +102,7 @@ class Sobol(Kind):
             )
         return out
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         from mechdyn.studies import plots as sp
 
         out: dict[str, Callable[[], Any]] = {}

@@ -27,8 +27,7 @@ from mechdyn.studies.kinds.base import (
 from mechdyn.studies.storage import StoredVariant
 
 if TYPE_CHECKING:
-    from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.study import Study
+    from mechdyn.studies.plan import Study, StudyFindings
 
 __all__ = ["Factorial", "LatinHypercube", "OneAtATime", "factorial_effects", "grid", "sweep"]
 
@@ -98,7 +97,7 @@ class OneAtATime(Kind):
         base_out = {w.key: (None if math.isnan(y := value(b, w.key)) else y) for w in study.watched}
         return Found({"base": base_out, "base_variant": b.id, "effects": table})
 
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         """The base, then one row per parameter and level: the level as the study file gives it
         (and in % of the base), each output in words with its change in % of the base value."""
         st, f = result.study, result.findings
@@ -125,7 +124,7 @@ class OneAtATime(Kind):
             rows.append(row)
         return [table(f"{st.name}: one at a time", cols, rows)]
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         from mechdyn.studies import plots as sp
 
         return {f"tornado_{safe(w.key)}.png": partial(sp.tornado, result, w) for w in result.study.watched}
@@ -165,7 +164,7 @@ def sweep(study: Study, variants: Sequence[StoredVariant]) -> Found:
     return Found(findings, frozenset({b.id}) if b is not None else frozenset())
 
 
-def _sweep_tables(result: StudyResult) -> list[Table]:
+def _sweep_tables(result: StudyFindings) -> list[Table]:
     """Each output's range over the variants and the parameters ranked by their rank correlation with
     it (ρ from −1 to 1; the sign says whether the output grows with the parameter), the strongest
     first; then the best design (with an objective) and the base."""
@@ -209,10 +208,10 @@ class Factorial(Kind):
         found.findings["factorial"] = factorial_effects(study, variants[1:], _levels(study))
         return found
 
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         return _sweep_tables(result)[:1] + _factorial_tables(result) + _sweep_tables(result)[1:]
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         from mechdyn.studies import plots as sp
 
         out: dict[str, Callable[[], Any]] = {}
@@ -293,7 +292,7 @@ def factorial_effects(study: Study, variants: list[StoredVariant], levels: list[
     return out
 
 
-def _factorial_tables(result: StudyResult) -> list[Table]:
+def _factorial_tables(result: StudyFindings) -> list[Table]:
     """Per output of a factorial study: main effects by level (parameters by the spread of their
     effects), the two-way interactions, and the designs where it is lowest and highest; the output
     in words, in its study unit (else the unit its level means read best in)."""
@@ -367,8 +366,8 @@ class LatinHypercube(Kind):
         """As :func:`sweep`."""
         return sweep(study, variants)
 
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         return _sweep_tables(result)
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         return parallel_plot(result)

@@ -39,8 +39,7 @@ from mechdyn.studies.polish import (
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
-    from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.study import Study
+    from mechdyn.studies.plan import Study, StudyFindings
 
 __all__ = ["Synthesis"]
 
@@ -245,7 +244,7 @@ class Synthesis(Kind):
         keep = {v.id for v in (best_v, base) if v is not None}
         return Found(out, frozenset(keep))
 
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         st, f = result.study, result.findings
         out = [
             variant_table(result, f[k], t)
@@ -285,7 +284,7 @@ class Synthesis(Kind):
         out.append(_search_table(result))
         return out
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         from mechdyn.studies import plots as sp
 
         return {"history.png": lambda: sp.history(result)} | parallel_plot(result)
@@ -306,7 +305,7 @@ def _distinct(res: Any, bounds: np.ndarray, n: int, apart: float = 0.1) -> list[
     return chosen
 
 
-def _search_table(result: StudyResult) -> Table:
+def _search_table(result: StudyFindings) -> Table:
     """How the fit was found: each stage's seed, generations, best least-squares fit and whether it
     met every target (a run only: a stored study keeps its variants, not its stages), the first-order
     measure at the fit and the variants evaluated."""

@@ -51,8 +51,7 @@ from mechdyn.studies.kinds.base import Found, Kind, Ran, register, value
 from mechdyn.studies.storage import StoredVariant, variant_key
 
 if TYPE_CHECKING:
-    from mechdyn.studies.result import StudyResult
-    from mechdyn.studies.study import Study
+    from mechdyn.studies.plan import Study, StudyFindings
     from mechdyn.uncertainty import InputSpace
 
 __all__ = [
@@ -510,7 +509,7 @@ class Tolerance(Kind):
         )
 
     # -- showing (mechdyn.studies.kinds.tolerance_show) ---------------------------------------
-    def tables(self, result: StudyResult) -> list[Table]:
+    def tables(self, result: StudyFindings) -> list[Table]:
         """The scatter and its correlations; each output's distribution (95 % intervals) in its unit;
         each limit's probability with its interval, and a rare limit's by its small-probability
         method; each ranking, largest share first, with its method."""
@@ -518,13 +517,13 @@ class Tolerance(Kind):
 
         return tables(result)
 
-    def plots(self, result: StudyResult) -> dict[str, Callable[[], Any]]:
+    def plots(self, result: StudyFindings) -> dict[str, Callable[[], Any]]:
         """Per output: its histogram and its empirical CDF, each limit drawn."""
         from mechdyn.studies.kinds.tolerance_show import plots
 
         return plots(result)
 
-    def views(self, result: StudyResult) -> dict[str, Any]:
+    def views(self, result: StudyFindings) -> dict[str, Any]:
         """What a report and the dashboard lead with: each limit's probability in words, the sample
         size and how far to trust it, each output's histogram and CDF and each limit's ranking as a
         bar chart (:func:`mechdyn.studies.kinds.tolerance_show.views`)."""

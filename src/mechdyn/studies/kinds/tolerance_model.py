@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING
 from mechdyn.studies.errors import StudyError
 
 if TYPE_CHECKING:
+    from mechdyn.studies.parameters import Parameter
     from mechdyn.studies.paths import ModelTree
-    from mechdyn.studies.spec import Parameter
 
 __all__ = ["with_model_scatter"]
 

@@ -22,7 +22,7 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from mechdyn.studies.outputs import Watched
-    from mechdyn.studies.result import StudyResult
+    from mechdyn.studies.plan import StudyFindings
 
 __all__ = ["distribution_plot", "headline", "plots", "ranking_plot", "statement", "tables", "views"]
 
@@ -61,7 +61,7 @@ def _scatter_row(name: str, d: dict[str, Any]) -> list[Any]:
     return [name, shown, scatter, d["mean"] * factor, d["std"] * factor]
 
 
-def tables(result: StudyResult) -> list[Table]:
+def tables(result: StudyFindings) -> list[Table]:
     """The scatter and its correlations; each output's distribution (95 % intervals) in its unit;
     each limit's probability with its interval, and a rare limit's by its small-probability
     method; each ranking, largest share first, with its method."""
@@ -181,7 +181,7 @@ def tables(result: StudyResult) -> list[Table]:
     return out
 
 
-def _small_rows(result: StudyResult) -> list[list[Any]]:
+def _small_rows(result: StudyFindings) -> list[list[Any]]:
     """One row per rare limit: its small-probability estimate with its interval and cost."""
     watched = {w.key: w for w in result.study.watched}
     rows: list[list[Any]] = []
@@ -213,7 +213,7 @@ def _importance_ranking(importance: dict[str, float]) -> dict[str, Any]:
     }
 
 
-def _rankings(result: StudyResult) -> list[tuple[str, dict[str, Any]]]:
+def _rankings(result: StudyFindings) -> list[tuple[str, dict[str, Any]]]:
     f, watched = result.findings, {w.key: w for w in result.study.watched}
     out = [
         (f"the scatter of {watched[k].words}", d["ranking"])
@@ -230,7 +230,7 @@ def _rankings(result: StudyResult) -> list[tuple[str, dict[str, Any]]]:
     return out
 
 
-def plots(result: StudyResult) -> dict[str, Callable[[], Any]]:
+def plots(result: StudyFindings) -> dict[str, Callable[[], Any]]:
     """Per output: its histogram and its empirical CDF, each limit drawn."""
     out: dict[str, Callable[[], Any]] = {}
     for w in result.study.watched:
@@ -239,7 +239,7 @@ def plots(result: StudyResult) -> dict[str, Callable[[], Any]]:
     return out
 
 
-def distribution_plot(result: StudyResult, w: Watched, ax: Any = None) -> Any:
+def distribution_plot(result: StudyFindings, w: Watched, ax: Any = None) -> Any:
     """One output's histogram over its samples with its empirical CDF (right axis), each of its limits
     drawn as a vertical line with its probability.
 
@@ -318,7 +318,7 @@ def _rare_sentence(event: str, s: dict[str, Any]) -> str:
     return f"P({event}) = {_p(s['value'])} {interval} ({level}, {s['method']}, {cost}{cov})"
 
 
-def headline(result: StudyResult) -> list[str]:
+def headline(result: StudyFindings) -> list[str]:
     """Each limit's exceedance probability in words, as a designer signs it:
     ``P(displacement max > 1.30 mm) = 0.328 [0.264, 0.392] (95 %, randomized quasi-Monte Carlo, 21 of
     64 samples beyond the limit)``; a rarely exceeded limit's by its small-probability method
@@ -348,7 +348,7 @@ def headline(result: StudyResult) -> list[str]:
     return lines
 
 
-def statement(result: StudyResult) -> tuple[str, list[str]]:
+def statement(result: StudyFindings) -> tuple[str, list[str]]:
     """How far to trust the probabilities: the sample size, the sampling method and how each interval
     is made, each estimate's coefficient of variation; then what limits their validity (the
     warnings of :func:`mechdyn.uncertainty.estimates.validity`, each naming its limit), or that no
@@ -398,7 +398,7 @@ def statement(result: StudyResult) -> tuple[str, list[str]]:
     return text, warnings
 
 
-def _limit_ranking(result: StudyResult, index: int) -> dict[str, Any] | None:
+def _limit_ranking(result: StudyFindings, index: int) -> dict[str, Any] | None:
     """The ranking a limit's bar chart shows: the samples' (an indicator's share), else FORM's
     importance factors at a rare limit's design point; None where neither ranks anything."""
     d = result.findings["limits"][index]
@@ -408,7 +408,7 @@ def _limit_ranking(result: StudyResult, index: int) -> dict[str, Any] | None:
     return _importance_ranking(importance) if importance else None
 
 
-def ranking_plot(result: StudyResult, index: int, ax: Any = None) -> Any:
+def ranking_plot(result: StudyFindings, index: int, ax: Any = None) -> Any:
     """The tolerances ranked by their share of one limit's probability, as horizontal bars, the
     largest share on top (the measure as the ranking table gives it: a Sobol index, a signed
     Spearman rank correlation or FORM's importance factor; :mod:`mechdyn.studies.kinds.tolerance`).
@@ -439,7 +439,7 @@ def ranking_plot(result: StudyResult, index: int, ax: Any = None) -> Any:
     return ax
 
 
-def views(result: StudyResult) -> dict[str, Any]:
+def views(result: StudyFindings) -> dict[str, Any]:
     """What a report and the dashboard lead with for a tolerance study.
 
     Parameters
