@@ -183,7 +183,7 @@ _WARMING = pytest.StashKey()  # the controller's thread that waits for the compi
 
 
 def pytest_configure(config):
-    """Before the xdist workers start, start compiling numba's kernels in three processes (one per
+    """Before the xdist workers start, start compiling numba's kernels in two processes (one per
     family, ``tests/warm_kernels.py``): on a clean clone the cache is empty, and each worker, and each
     command-line subprocess of a test, would compile the same kernels at once. With a warm cache
     each process finds them cached and exits. The workers collect the tests meanwhile (a core is
@@ -198,7 +198,7 @@ def pytest_configure(config):
     import threading
 
     script = str(Path(__file__).with_name("warm_kernels.py"))
-    jobs = [subprocess.Popen([sys.executable, script, family]) for family in ("cycle", "summary", "gears")]
+    jobs = [subprocess.Popen([sys.executable, script, family]) for family in ("dyads", "gears")]
     ready = Path(tempfile.mkdtemp(prefix="mechdyn-kernels-")) / "ready"
     os.environ[_KERNELS_READY] = str(ready)  # the workers, started after this hook, inherit it
 
