@@ -57,18 +57,24 @@ def _chain_reference(J, links, grounds=(), n_rigid=1, modes=None):
             return count
 
         top = 4 * max(diag)  # above every eigenvalue (Gershgorin)
-        wanted = range(n_rigid, n if modes is None else n_rigid + modes)
-        omega = []
-        for j in wanted:  # eigenvalue j (0-based): count_below(lo) ≤ j < count_below(hi)
-            lo, hi = mpmath.mpf(10) ** -80, top
-            while hi / lo - 1 > mpmath.mpf(10) ** -14:
-                mid = mpmath.sqrt(lo * hi)
-                if count_below(mid) <= j:
-                    lo = mid
-                else:
-                    hi = mid
-            omega.append(float(mpmath.sqrt(lo)))
-        return np.array(omega)
+        first, end = n_rigid, n if modes is None else n_rigid + modes
+        found = {}
+        # eigenvalue j (0-based) lies in (lo, hi] where count_below(lo) ≤ j < count_below(hi): each
+        # interval holds the wanted j in [a, b) and is halved (geometrically) until it is narrow, so
+        # that the eigenvalues share the halvings that their intervals share (each j sees the same
+        # mid-points as a bisection of its own)
+        stack = [(mpmath.mpf(10) ** -80, top, first, end)]
+        while stack:
+            lo, hi, a, b = stack.pop()
+            if a >= b:
+                continue
+            if hi / lo - 1 <= mpmath.mpf(10) ** -14:
+                found.update({j: float(mpmath.sqrt(lo)) for j in range(a, b)})
+                continue
+            mid = mpmath.sqrt(lo * hi)
+            c = min(max(count_below(mid), a), b)
+            stack += [(lo, mid, a, c), (mid, hi, c, b)]
+        return np.array([found[j] for j in range(first, end)])
 
 
 def _dense_reference(J, springs, n_rigid):
