@@ -89,11 +89,26 @@ def test_the_updated_model_frf_overlays_the_measured_one_better(result):
     np.testing.assert_allclose(result.model_frf.H[40, 2, 0], -(w**2) * b @ receptance @ b, rtol=1e-10)
 
 
-def test_the_command_line_plots_stores_and_writes_the_updated_model(tmp_path, capsys):
-    plots, written, db = tmp_path / "plots", tmp_path / "machine_updated.toml", tmp_path / "r.db"
-    argv = ["modes-from-test", str(TAP_TEST), "--bootstrap", "0", "--starts", "0", "--db", str(db)]
-    assert main([*argv, "--plots", str(plots), "--write-updated", str(written), "--json"]) == 0
-    doc = json.loads(capsys.readouterr().out)
+@pytest.fixture(scope="module")
+def command_run(tmp_path_factory):
+    """One run of the command on the tap test with its plots, its report and the updated model
+    written, as JSON: the folder its files went to, the arguments and the printed document (the
+    checks of the files, the store, the report and the dashboard read the same run)."""
+    import contextlib
+    import io
+
+    tmp = tmp_path_factory.mktemp("command")
+    argv = ["modes-from-test", str(TAP_TEST), "--bootstrap", "0", "--starts", "0", "--db", str(tmp / "r.db")]
+    extra = ["--plots", str(tmp / "plots"), "--write-updated", str(tmp / "machine_updated.toml")]
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        assert main([*argv, *extra, "--report", str(tmp / "test.html"), "--json"]) == 0
+    return tmp, argv, json.loads(printed.getvalue())
+
+
+def test_the_command_line_plots_stores_and_writes_the_updated_model(command_run, tmp_path, capsys):
+    folder, argv, doc = command_run
+    written, db = folder / "machine_updated.toml", folder / "r.db"
     assert doc["analysis"] == "modes-from-test" and doc["updated_model_file"] == str(written)
     names = {p.rsplit("/", 1)[-1] for p in doc["plots"]}
     # the file's [predict] table adds the prediction's plot (tests/test_measurement_predict.py)
@@ -203,7 +218,7 @@ def test_a_test_of_a_drivetrain_maps_its_points_to_disks(tmp_path):
     assert r.update is None and "updated_values" not in s
 
 
-def test_the_report_and_the_dashboard_show_the_model_against_the_measurement(tmp_path, capsys):
+def test_the_report_and_the_dashboard_show_the_model_against_the_measurement(command_run):
     """The run's report and its dashboard page: the paired modes (MAC, frequency errors) before and
     after updating, the updated values, and the four pictures (stabilisation chart, MAC, FRF overlay,
     frequency errors), with nothing special written for them (the result protocol)."""
@@ -213,17 +228,14 @@ def test_the_report_and_the_dashboard_show_the_model_against_the_measurement(tmp
     from conftest import serving
     from mechdyn.dashboard.app import create_app
 
-    db, report = str(tmp_path / "r.db"), tmp_path / "test.html"
-    argv = ["modes-from-test", str(TAP_TEST), "--bootstrap", "0", "--starts", "0", "--db", db]
-    assert main([*argv, "--report", str(report)]) == 0
-    capsys.readouterr()
-    html = report.read_text(encoding="utf-8")
+    folder, _, doc = command_run
+    db, html = str(folder / "r.db"), (folder / "test.html").read_text(encoding="utf-8")
     words = ("model against the test (paired by MAC)", "updated values", "frequency error")
     for text in words:
         assert text in html, text
     assert len(re.findall(r'<img[^>]+src="data:image/png;base64,', html)) >= 4
     with serving(create_app(db)) as address:
-        with urllib.request.urlopen(address + "/runs/1", timeout=60) as response:
+        with urllib.request.urlopen(f"{address}/runs/{doc['run_id']}", timeout=60) as response:
             page = response.read().decode()
     assert "modes-from-test" in page and "tap test" in page.lower()
     assert "frequency error" in page and "updated values" in page

@@ -36,13 +36,17 @@ def tpe(database):
     return run_study(_box10(), database, progress=False)
 
 
+def test_the_optimum_improves_several_times_on_the_trials_and_holds_the_stroke_at_its_limit(tpe):
+    # several times what 400 TPE trials found (0.9 %), the stroke held at its limit
+    assert tpe.findings["improvement_percent"] > 5.0
+    assert tpe.findings["best"]["outputs"]["excitation.stroke_m"] == pytest.approx(1.4953, abs=1e-7)
+
+
+@pytest.mark.slow  # a second optimization of the box from another sampler and seed
 def test_the_optimum_is_the_same_whatever_the_seed_or_the_sampler(tpe, tmp_path):
     other = run_study(_box10(sampler="qmc", seed=11), str(tmp_path / "r.db"), progress=False)
     a, b = (r.findings["best"]["outputs"][KEY] for r in (tpe, other))
     assert a == pytest.approx(b, rel=1e-3)
-    # several times what 400 TPE trials found (0.9 %), the stroke held at its limit
-    assert tpe.findings["improvement_percent"] > 5.0
-    assert tpe.findings["best"]["outputs"]["excitation.stroke_m"] == pytest.approx(1.4953, abs=1e-7)
 
 
 def test_the_optimum_is_a_first_order_point_and_says_what_holds_it(tpe):
