@@ -111,7 +111,7 @@ def test_gear_dynamics_quick_run_holds_both_sides_to_the_same_accuracy():
     assert doc["within_target"] and doc["ratio"] > 0
 
 
-@pytest.mark.parametrize("name", ["model_loading", "frf_memory"])
+@pytest.mark.parametrize("name", ["model_loading", pytest.param("frf_memory", marks=pytest.mark.slow)])
 def test_spine_benchmarks_run_quick_and_print_json(name):
     out = subprocess.run(
         [sys.executable, str(ROOT / "benchmarks" / f"{name}.py"), "--quick", "--json"],

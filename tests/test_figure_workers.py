@@ -251,7 +251,11 @@ def test_expecting_modules_without_processes_started_early_is_nothing(tmp_path):
     assert _no_children_left()
 
 
-@pytest.mark.parametrize("free", [True, False], ids=["a core free: forked early", "no core free: late"])
+@pytest.mark.parametrize(  # the late start in CI's heavy step; the copies' own tests cover it by default
+    "free",
+    [True, pytest.param(False, marks=pytest.mark.slow)],
+    ids=["a core free: forked early", "no core free: late"],
+)
 def test_the_command_draws_the_same_plots_whether_a_core_is_free_or_not(tmp_path, monkeypatch, free):
     import mechdyn.figure_workers
     from conftest import EXAMPLES

@@ -150,6 +150,7 @@ def anchor_result():
     return analyse(mechdyn.load(EXAMPLES / "anchor_concrete.toml").settings)
 
 
+@pytest.mark.slow  # a second, finer FE solution (8-10 s); the anchor's golden figures run by default
 def test_the_anchor_reference_agrees_with_an_independent_p2_solution_to_its_stated_bound(
     anchor_result, p2_reference
 ):

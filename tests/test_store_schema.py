@@ -435,6 +435,9 @@ output = "transmitted_force_range_N"
 """
 
 
+@pytest.mark.parametrize(  # the same path on PostgreSQL in CI's heavy step
+    "store_url", ["sqlite", pytest.param("postgresql", marks=pytest.mark.slow)], indirect=True
+)
 def test_a_block_of_variants_the_database_refuses_is_kept_and_imported(store_url, tmp_path, monkeypatch):
     from mechdyn.studies import load_study, run_study
 

@@ -884,6 +884,7 @@ def test_every_mount_stiffness_moves_together_and_the_modes_follow(tmp_path):
         np.testing.assert_allclose(a.stiffness, 0.81 * np.asarray(b.stiffness), rtol=1e-12)
 
 
+@pytest.mark.slow  # every kind's findings from the database alone: tests/test_study_kinds.py, by default
 def test_a_stored_study_gives_its_findings_from_the_database_alone(tmp_path):
     """What a dashboard shows: the findings rebuilt from the stored variants, read-only, equal the
     run's own (one-at-a-time); for an optimization the stored best keeps its constraints."""
