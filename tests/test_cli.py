@@ -207,7 +207,7 @@ def test_there_are_the_mount_examples():
     assert {"pad_shore60.toml", "anchor_concrete.toml", "wedge_mount.toml", "mount_frf.toml"} <= names
 
 
-@pytest.mark.parametrize("example", _one_by_default(MOUNT_EXAMPLES, "pad_shore60.toml"), ids=lambda p: p.stem)
+@pytest.mark.parametrize("example", _one_by_default(MOUNT_EXAMPLES, "press_pad.toml"), ids=lambda p: p.stem)
 def test_every_mount_example_runs(example, db, capsys, tmp_path):
     plots = tmp_path / "plots"
     doc = run_json(capsys, "mount", str(example), "--plots", str(plots))
