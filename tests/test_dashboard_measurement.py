@@ -286,6 +286,7 @@ def test_the_overlays_kept_are_bounded_and_follow_their_files(made, tmp_path):
         state.store.close()
 
 
+@pytest.mark.slow  # the overlay and modes by HTTP by default (above); in Chromium in CI's heavy step
 def test_the_overlay_is_visible_in_a_real_browser(server, made):
     from playwright.sync_api import expect, sync_playwright
 

@@ -259,6 +259,7 @@ def test_the_dashboards_importances_are_the_studys_own_ranking_of_its_tolerances
         assert got["values"] == pytest.approx(ranking["measures"], rel=1e-12)
 
 
+@pytest.mark.slow  # the dashboard's page by HTTP by default (above); drawn in Chromium in CI's heavy step
 @pytest.mark.usefixtures("patient_browser_checks")
 def test_the_probabilities_and_their_pictures_show_in_a_real_browser(server, ran):
     from playwright.sync_api import expect, sync_playwright
