@@ -8,6 +8,7 @@ with their provenance, and :meth:`MaterialDatabase.from_store` reads them back.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -343,9 +344,15 @@ class MaterialDatabase:
 
 
 def default_materials() -> MaterialDatabase:
-    """The shipped materials."""
+    """The shipped materials (a new database each time: the shipped file is read once a process)."""
+    return MaterialDatabase({m.name: m for m in _shipped()})
+
+
+@functools.lru_cache(maxsize=1)
+def _shipped() -> tuple[Material, ...]:
+    """The shipped file's materials, read and checked once (each :class:`Material` is immutable)."""
     with resources.as_file(resources.files("mechdyn.mounts").joinpath("data/materials.toml")) as path:
-        return MaterialDatabase({m.name: m for m in _read(path)})
+        return tuple(_read(path))
 
 
 def save_materials(store: Any, materials: MaterialDatabase, provenance: str) -> list[int]:
