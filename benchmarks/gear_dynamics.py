@@ -52,7 +52,8 @@ from scipy.integrate import solve_ivp
 
 from mechdyn.drivetrain import Disk, Drivetrain, GearMesh, Shaft
 from mechdyn.gear_dynamics import GearSystem
-from mechdyn.gear_dynamics.floquet import LinearPeriodic, PeriodPlan, linear_periodic, period_plan, segments
+from mechdyn.gear_dynamics.periodic import LinearPeriodic, PeriodPlan, linear_periodic, period_plan
+from mechdyn.gear_dynamics.propagators import segments
 from mechdyn.gear_dynamics.steady import _grid, speed_sweep
 from mechdyn.gears import GearPair, SpurGear
 
