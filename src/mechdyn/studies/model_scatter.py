@@ -122,17 +122,24 @@ def _label(rows: Any, i: int, table: str = "scatter") -> str:
     return label
 
 
-def _rows(source: ModelSource) -> list[ScatterRow]:
-    """The ``[[scatter]]`` rows, their form checked (a table each, a text path, an optional name)."""
-    raw = source.data.get("scatter", [])
+def _tables(source: ModelSource, table: str, fix: str) -> list[Mapping[str, Any]]:
+    """The rows of the array of tables ``table`` (none where the file has none); an error naming the
+    file, the table, the value and ``fix`` (what to write) where it is not an array of tables."""
+    raw = source.data.get(table, [])
     if not isinstance(raw, list) or not all(isinstance(r, Mapping) for r in raw):
         raise ModelFileError(
-            source.path,
-            "[[scatter]]",
-            f"{raw!r} is not an array of tables; write each scattered value as a [[scatter]] table "
-            'with path = "..." and its distribution',
-            raw,
+            source.path, f"[[{table}]]", f"{raw!r} is not an array of tables; write {fix}", raw
         )
+    return raw
+
+
+def _rows(source: ModelSource) -> list[ScatterRow]:
+    """The ``[[scatter]]`` rows, their form checked (a table each, a text path, an optional name)."""
+    raw = _tables(
+        source,
+        "scatter",
+        'each scattered value as a [[scatter]] table with path = "..." and its distribution',
+    )
     out = []
     for i, row in enumerate(raw):
         where = _label(raw, i)
@@ -214,15 +221,11 @@ def _correlations(
     matrix: ``R = 2 sin(π ρ_S / 6)`` for a Spearman coefficient (Kruskal, *JASA* 53, 1958)."""
     import numpy as np
 
-    raw = source.data.get("correlations", [])
-    if not isinstance(raw, list) or not all(isinstance(r, Mapping) for r in raw):
-        raise ModelFileError(
-            source.path,
-            "[[correlations]]",
-            f"{raw!r} is not an array of tables; write each correlated pair as a [[correlations]] table "
-            "with between = [name_a, name_b] and coefficient",
-            raw,
-        )
+    raw = _tables(
+        source,
+        "correlations",
+        "each correlated pair as a [[correlations]] table with between = [name_a, name_b] and coefficient",
+    )
     if not raw:
         return (), None
     if not names:
