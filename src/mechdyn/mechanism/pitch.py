@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -47,31 +47,45 @@ _N = 4096  # samples of one turn for the Fourier representation
 
 @dataclass(frozen=True)
 class PitchCurve:
-    """r(θ) of a gear about its pivot, with its θ-derivatives (callable on arrays, m)."""
+    """r(θ) of a gear about its pivot, with its θ-derivatives (callable on arrays, m).
+
+    ``coefficients``, where the curve is a Fourier series already (:func:`sampled`), are its
+    coefficients weighted for the real series, r(θ) = Re Σ_h c_h e^{ihθ} (h = 0, 1, …); otherwise
+    they come from :data:`_N` samples of ``radius`` over one turn.
+    """
 
     name: str
     radius: Callable[[np.ndarray], np.ndarray]
     circular: bool = False
+    coefficients: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     @cached_property
     def _series(self) -> tuple[np.ndarray, np.ndarray]:
         """Fourier coefficients of r (weighted for the real series) and their orders, trimmed to
         the terms that matter."""
-        c = np.fft.rfft(self.radius(2 * np.pi * np.arange(_N) / _N)) / _N
-        h = np.arange(c.size)
-        w = np.where(h == 0, 1.0, 2.0)
-        w[-1] = 1.0
-        cw = c * w
+        if self.coefficients is not None:  # a series already: the same terms as its samples' FFT
+            cw = np.asarray(self.coefficients, dtype=complex)
+        else:
+            c = np.fft.rfft(self.radius(2 * np.pi * np.arange(_N) / _N)) / _N
+            w = np.where(np.arange(c.size) == 0, 1.0, 2.0)
+            w[-1] = 1.0
+            cw = c * w
+        h = np.arange(cw.size)
         keep = np.nonzero(np.abs(cw) > 1e-14 * np.abs(cw).max())[0]  # above round-off
         n = int(keep.max()) + 1 if keep.size else 1
         return cw[:n], h[:n]
 
+    @cached_property
+    def _derivative_terms(self) -> tuple[np.ndarray, np.ndarray]:
+        """The orders h and the (h, 3) coefficients of r, r′ and r″ in e^{ihθ}."""
+        cw, h = self._series
+        return h, np.stack([cw, 1j * h * cw, -(h**2) * cw], axis=-1)
+
     def derivatives(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """r, r′, r″ at θ, by the Fourier series of r over one turn (exact for smooth curves)."""
-        th = np.asarray(theta, dtype=float)
-        cw, h = self._series
-        e = np.exp(1j * np.multiply.outer(th, h)) * cw
-        return e.real.sum(-1), (1j * h * e).real.sum(-1), (-(h**2) * e).real.sum(-1)
+        h, terms = self._derivative_terms
+        s = (np.exp(1j * np.multiply.outer(np.asarray(theta, dtype=float), h)) @ terms).real
+        return s[..., 0], s[..., 1], s[..., 2]
 
     def convexity(self) -> float:
         """min over θ of (r² + 2r′² − r r″)/r²: positive for a convex curve."""
@@ -138,7 +152,7 @@ def sampled(radii: Any, name: str = "sampled curve") -> PitchCurve:
     def radius(th):
         return (np.exp(1j * np.multiply.outer(np.asarray(th, dtype=float), h)) * (c * w)).real.sum(-1)
 
-    return PitchCurve(name, radius)
+    return PitchCurve(name, radius, coefficients=c * w)
 
 
 @dataclass(frozen=True)
@@ -171,19 +185,22 @@ class PitchLaw:
         r, r1, r2 = self.curve.derivatives(self.line_angle - np.asarray(psi1, dtype=float))
         return r, -r1, r2
 
+    @cached_property
+    def _terms(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """The orders h, the (h, 3) coefficients of P, P′ and P″ in e^{ihψ}, and P's constant."""
+        h = np.arange(self._coef.size)
+        c = np.where(h > 0, 2 * self._coef, 0)
+        terms = np.stack([c / (1j * np.where(h == 0, 1, h)), c, c * 1j * h], axis=-1)
+        return h, terms, float(terms[:, 0].sum().real)
+
     def __call__(self, psi1: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """ψ₂, dψ₂/dψ₁, d²ψ₂/dψ₁² at ψ₁ (external pairs turn opposite ways)."""
         psi = np.asarray(psi1, dtype=float)
-        h = np.arange(self._coef.size)
-        e = np.exp(1j * np.multiply.outer(psi, h))
-        c = self._coef
+        h, terms, constant = self._terms
         # P(ψ) = Σ_{h≥1} 2 Re(c_h (e^{ihψ} − 1)/(ih)), P′ = h-series of the ratio's periodic part
-        ih = 1j * np.where(h == 0, 1, h)
-        P = (2 * np.where(h > 0, c / ih, 0) * (e - 1)).real.sum(-1)
-        dP = (2 * np.where(h > 0, c, 0) * e).real.sum(-1)
-        ddP = (2 * np.where(h > 0, c * 1j * h, 0) * e).real.sum(-1)
+        p = (np.exp(1j * np.multiply.outer(psi, h)) @ terms).real
         s = 1.0 if self.internal else -1.0
-        return s * (self.ratio * psi + P), s * (self.ratio + dP), s * ddP
+        return s * (self.ratio * psi + p[..., 0] - constant), s * (self.ratio + p[..., 1]), s * p[..., 2]
 
     def pitch_tangent_lean(self, psi1: Any) -> np.ndarray:
         """ν = atan(dr/dθ / r): how far the common pitch tangent leans from the normal to the line
