@@ -62,7 +62,10 @@ def peak(y: np.ndarray, sense: float, sample: np.ndarray | None = None) -> tuple
     for _ in range(30):  # Newton on the derivative, from the sample
         d1 = c[..., 1] + 2 * c[..., 2] * t + 3 * c[..., 3] * t**2 + 4 * c[..., 4] * t**3
         d2 = 2 * c[..., 2] + 6 * c[..., 3] * t + 12 * c[..., 4] * t**2
-        t = np.clip(t - np.divide(d1, d2, out=np.zeros_like(t), where=d2 != 0), -1.0, 1.0)
+        step = np.clip(t - np.divide(d1, d2, out=np.zeros_like(t), where=d2 != 0), -1.0, 1.0)
+        if np.array_equal(step, t, equal_nan=True):  # a fixed point: the steps left change nothing
+            break
+        t = step
     value = c[..., 0] + c[..., 1] * t + c[..., 2] * t**2 + c[..., 3] * t**3 + c[..., 4] * t**4
     # a flat or ragged neighbourhood: keep the sample
     keep = ~np.isfinite(value) | (sense * value < sense * np.take_along_axis(y, k[..., None], -1)[..., 0])
