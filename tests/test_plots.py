@@ -249,3 +249,52 @@ def test_a_legend_goes_to_the_corner_its_curves_leave_clearest():
     ax.plot(x, 1 - x, label="falling")
     assert legend(ax, loc="center")._loc == 10  # a place given is kept
     plt.close(fig)
+
+
+def test_a_legend_keeps_clear_of_bars_as_of_curves():
+    """Bars are drawn areas too: with bars falling from zero to the lower right (the frequency errors
+    of a model update), the legend goes where no bar is (the lower left, matplotlib's code 3), and
+    its box overlaps none of them."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mechdyn.plotting import legend
+
+    fig, ax = plt.subplots()
+    bars = ax.bar(range(6), [1.0, -2.0, -4.0, -6.0, -8.0, -8.5], label="error")
+    ax.axhline(0.0, color="0.5", label="zero")
+    box = legend(ax)
+    assert box._loc == 3
+    fig.canvas.draw()
+    drawn = box.get_window_extent()
+    assert not any(drawn.overlaps(bar.get_window_extent()) for bar in bars)
+    plt.close(fig)
+
+
+def test_every_legend_the_product_draws_is_placed_explicitly():
+    """No legend is left to matplotlib's "best" search: every ``.legend(...)`` call in the package
+    names its ``loc`` (not ``"best"``), or goes through :func:`mechdyn.plotting.legend`, which picks
+    the corner (the helper's own call is the one exception)."""
+    import ast
+    from pathlib import Path
+
+    import mechdyn
+
+    root = Path(mechdyn.__file__).parent
+    unplaced = []
+    for path in sorted(root.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Attribute)
+                and node.func.attr == "legend"
+                and not any(
+                    k.arg == "loc"
+                    and not (isinstance(k.value, ast.Constant) and k.value.value in ("best", 0))
+                    for k in node.keywords
+                )
+            ):
+                unplaced.append(f"{path.relative_to(root)}:{node.lineno}")
+    assert [u.split(":")[0] for u in unplaced] == ["plotting.py"], unplaced  # the helper's own call

@@ -198,7 +198,8 @@ def legend(ax: Any, **kwargs: Any) -> Any:
 
     Matplotlib's ``loc="best"`` searches every candidate place against every drawn point, and on a
     loaded machine with long curves it takes seconds and says so in a warning; this counts a
-    subsample of the drawn points (at most 2000 per artist) in each corner's 40 % × 40 % box, in axes
+    subsample of the drawn points (at most 2000 per artist; of a patch, a bar or a band, the points of
+    a 50 × 50 lattice over the axes that it covers) in each corner's 40 % × 40 % box, in axes
     coordinates, and takes the emptiest (the first of :data:`CORNERS` on a tie).
 
     Parameters
@@ -225,12 +226,21 @@ def legend(ax: Any, **kwargs: Any) -> Any:
         for coll in ax.collections:
             xy = np.asarray(coll.get_offsets(), dtype=float).reshape(-1, 2)
             points.append(xy[:: max(1, len(xy) // 2000)])
+        u_parts = [to_axes.transform(xy) for xy in points if len(xy)]
+        lattice = (np.arange(50) + 0.5) / 50
+        for patch in ax.patches:  # bars and bands: the points of a 50 × 50 lattice of the axes they cover
+            (x0, x1), (y0, y1) = np.sort(
+                ax.transAxes.inverted().transform(patch.get_window_extent().get_points()).T, axis=1
+            )
+            gx, gy = np.meshgrid(
+                lattice[(lattice >= x0) & (lattice <= x1)], lattice[(lattice >= y0) & (lattice <= y1)]
+            )
+            u_parts.append(np.column_stack([gx.ravel(), gy.ravel()]))
         counts = dict.fromkeys(CORNERS, 0)
-        if points:
-            xy = np.concatenate(points)
-            xy = xy[np.isfinite(xy).all(axis=1)]
-            if len(xy):
-                u = to_axes.transform(xy)
+        if u_parts:
+            u = np.concatenate(u_parts)
+            u = u[np.isfinite(u).all(axis=1)]
+            if len(u):
                 for corner in CORNERS:
                     right, upper = "right" in corner, "upper" in corner
                     inx = u[:, 0] > 0.6 if right else u[:, 0] < 0.4

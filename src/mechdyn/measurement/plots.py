@@ -81,6 +81,8 @@ def plot_frf_overlay(
     """
     import matplotlib.pyplot as plt
 
+    from mechdyn.plotting import legend
+
     for what, frf in (("model", model), ("updated", updated)):
         if frf is not None and frf.H.shape != measured.H.shape:
             raise ValueError(
@@ -108,5 +110,5 @@ def plot_frf_overlay(
         ax.set_visible(False)
     for ax in axes[-1]:
         ax.set_xlabel("frequency (Hz)")
-    axes[0, 0].legend(fontsize="small")
+    legend(axes[0, 0], fontsize="small")
     return axes[0, 0]

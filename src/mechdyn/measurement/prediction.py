@@ -512,6 +512,8 @@ class Prediction:
 
         import matplotlib.pyplot as plt
 
+        from mechdyn.plotting import legend
+
         k = len(self.spec.outputs)
         if ax is None:
             _, ax = plt.subplots(figsize=(max(4.5, 2.4 * k + 1.5), 3.8))
@@ -536,7 +538,7 @@ class Prediction:
         ax.set_xlim(-0.6, k - 0.4)
         ax.set_ylabel("relative to the tested model")
         ax.set_title(f"prediction of the {self.spec.analysis} analysis", fontsize="small")
-        ax.legend(fontsize="small")
+        legend(ax, fontsize="small")
         ax.figure.tight_layout()
         return ax
 

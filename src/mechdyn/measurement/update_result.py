@@ -347,6 +347,8 @@ class ModelUpdate:
         """
         import matplotlib.pyplot as plt
 
+        from mechdyn.plotting import legend
+
         if ax is None:
             _, ax = plt.subplots(figsize=(6, 3.5))
         k = np.arange(len(self.after.pairs))
@@ -364,5 +366,5 @@ class ModelUpdate:
         ax.set_xticks(k, [f"{f:.3g} Hz" for f in self.after.measured_hz])
         ax.set_ylabel("frequency error (%)")
         ax.axhline(0.0, color="0.5", lw=0.8)
-        ax.legend(fontsize="small")
+        legend(ax, fontsize="small")
         return ax

@@ -287,5 +287,5 @@ def plot_unbalance_sweep(sweep: SpeedCurves, force_unit: str | None = None) -> A
                         color="C3",
                     )
         ax.grid(alpha=0.3)
-        ax.legend(fontsize="small", loc="best")
+        legend(ax, fontsize="small")
     return top
