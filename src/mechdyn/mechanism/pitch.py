@@ -51,7 +51,7 @@ class PitchCurve:
 
     ``coefficients``, where the curve is a Fourier series already (:func:`sampled`), are its
     coefficients weighted for the real series, r(θ) = Re Σ_h c_h e^{ihθ} (h = 0, 1, …); otherwise
-    they come from :data:`_N` samples of ``radius`` over one turn.
+    they come from 4096 samples of ``radius`` over one turn.
     """
 
     name: str
